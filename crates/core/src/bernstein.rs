@@ -1,0 +1,137 @@
+//! Binomials and the Bernstein basis `B_i^n(t) = C(n,i) tⁱ(1−t)ⁿ⁻ⁱ`, `i = 0..n`.
+
+/// The highest degree per axis that bezsolid supports (DESIGN §5: degree ≤ 16 per axis).
+pub const MAX_DEGREE: usize = 16;
+
+/// The binomial coefficient `C(n, k)` as `f64`; exact for every `n ≤ MAX_DEGREE`.
+///
+/// Returns 0 when `k > n`.
+#[must_use]
+pub fn binomial(n: usize, k: usize) -> f64 {
+    if k > n {
+        return 0.0;
+    }
+    let k = k.min(n - k);
+    let mut c = 1u64;
+    for i in 0..k {
+        // c · (n − i) / (i + 1) stays an integer at every step.
+        c = c * (n - i) as u64 / (i as u64 + 1);
+    }
+    c as f64
+}
+
+/// One Bernstein polynomial `B_i^n(t)`; 0 when `i > n`.
+#[must_use]
+pub fn bernstein(n: usize, i: usize, t: f64) -> f64 {
+    if i > n {
+        return 0.0;
+    }
+    binomial(n, i) * powi(t, i) * powi(1.0 - t, n - i)
+}
+
+/// All `n + 1` values `B_0^n(t) … B_n^n(t)`, written to `out[..=n]`, by the triangular recurrence
+/// `B_i^k = (1−t) B_i^(k−1) + t B_(i−1)^(k−1)` (stable for any `t`, no binomials).
+///
+/// # Panics
+///
+/// If `out.len() <= n`.
+pub fn basis(n: usize, t: f64, out: &mut [f64]) {
+    assert!(out.len() > n, "basis of degree {n} needs {} slots", n + 1);
+    let s = 1.0 - t;
+    out[0] = 1.0;
+    for k in 1..=n {
+        let mut prev = 0.0;
+        for slot in out.iter_mut().take(k) {
+            let b = *slot;
+            *slot = s * b + prev;
+            prev = t * b;
+        }
+        out[k] = prev;
+    }
+}
+
+/// The basis of degree `n` at `t` in a fixed array (entries past `n` are 0).
+///
+/// # Panics
+///
+/// If `n > MAX_DEGREE`.
+#[must_use]
+pub fn basis_array(n: usize, t: f64) -> [f64; MAX_DEGREE + 1] {
+    let mut out = [0.0; MAX_DEGREE + 1];
+    basis(n, t, &mut out);
+    out
+}
+
+fn powi(x: f64, e: usize) -> f64 {
+    let mut r = 1.0;
+    for _ in 0..e {
+        r *= x;
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::Rng;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn binomial_pascal_rows() {
+        assert_eq!(binomial(4, 2), 6.0);
+        assert_eq!(binomial(16, 8), 12870.0);
+        assert_eq!(binomial(3, 5), 0.0);
+        for n in 1..=MAX_DEGREE {
+            for k in 1..n {
+                assert_eq!(binomial(n, k), binomial(n - 1, k - 1) + binomial(n - 1, k));
+            }
+        }
+    }
+
+    #[test]
+    fn bernstein_partition_of_unity() {
+        let mut rng = Rng::new(1);
+        for n in 1..=MAX_DEGREE {
+            for _ in 0..50 {
+                let t = rng.range(-0.5, 1.5);
+                let b = basis_array(n, t);
+                let sum: f64 = b.iter().sum();
+                // Outside [0, 1] the terms alternate in sign and grow: the error is relative to Σ|B_i|.
+                let scale: f64 = b.iter().map(|x| x.abs()).sum();
+                assert!(
+                    (sum - 1.0).abs() < 1e-14 * scale.max(1.0) * n as f64,
+                    "n = {n}, t = {t}: Σ = {sum}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn bernstein_symmetry() {
+        let mut rng = Rng::new(2);
+        for n in 1..=MAX_DEGREE {
+            for _ in 0..20 {
+                let t = rng.range(0.0, 1.0);
+                for i in 0..=n {
+                    let a = bernstein(n, i, t);
+                    let b = bernstein(n, n - i, 1.0 - t);
+                    assert!((a - b).abs() < 1e-14, "B_{i}^{n}({t}) = {a} ≠ {b}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn bernstein_recurrence_equals_explicit_formula() {
+        let mut rng = Rng::new(3);
+        for n in 1..=MAX_DEGREE {
+            let t = rng.range(0.0, 1.0);
+            let b = basis_array(n, t);
+            for (i, &bi) in b.iter().enumerate().take(n + 1) {
+                assert!((bi - bernstein(n, i, t)).abs() < 1e-13);
+            }
+            assert!(b[n + 1..].iter().all(|&x| x == 0.0));
+        }
+    }
+}

@@ -1,0 +1,402 @@
+//! Marching squares: the zero contour of a sampled field as polylines with the solid (`f > 0`) on
+//! their left, so closed loops around material run counter-clockwise and holes clockwise.
+//!
+//! The segment rule is derived, not tabulated: walk a cell's edges counter-clockwise; an edge that goes
+//! from inside to outside starts a segment and one that goes from outside to inside ends one. A cell
+//! has zero, one or two of each. With two (a saddle), the function at the cell centre decides: inside,
+//! the material connects through the middle and each start pairs with the next end counter-clockwise;
+//! outside, with the previous one. Because neighbouring cells walk their shared edge in opposite
+//! directions, an edge that ends a segment in one cell starts one in the next, and segments chain into
+//! polylines by edge id alone.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use glam::DVec2;
+
+/// A regular grid of `nx × ny` samples over the box `[min, max]` (corners included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid2 {
+    /// The lower corner.
+    pub min: DVec2,
+    /// The upper corner.
+    pub max: DVec2,
+    /// Samples along x (at least 2).
+    pub nx: usize,
+    /// Samples along y (at least 2).
+    pub ny: usize,
+}
+
+impl Grid2 {
+    /// A grid of `nx × ny` samples over `[min, max]`; counts below 2 are raised to 2.
+    #[must_use]
+    pub fn new(min: DVec2, max: DVec2, nx: usize, ny: usize) -> Self {
+        Self {
+            min,
+            max,
+            nx: nx.max(2),
+            ny: ny.max(2),
+        }
+    }
+
+    /// The x coordinates of the sample columns.
+    #[must_use]
+    pub fn xs(&self) -> Vec<f64> {
+        lin(self.min.x, self.max.x, self.nx)
+    }
+
+    /// The y coordinates of the sample rows.
+    #[must_use]
+    pub fn ys(&self) -> Vec<f64> {
+        lin(self.min.y, self.max.y, self.ny)
+    }
+
+    /// The position of sample `(i, j)`.
+    #[must_use]
+    pub fn point(&self, i: usize, j: usize) -> DVec2 {
+        let t = DVec2::new(
+            i as f64 / (self.nx - 1) as f64,
+            j as f64 / (self.ny - 1) as f64,
+        );
+        self.min + (self.max - self.min) * t
+    }
+}
+
+fn lin(a: f64, b: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| a + (b - a) * (i as f64 / (n - 1) as f64))
+        .collect()
+}
+
+/// One piece of the zero contour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polyline {
+    /// The vertices, in order, with `f > 0` on the left. A closed loop does not repeat its first
+    /// vertex at the end.
+    pub points: Vec<DVec2>,
+    /// Whether the last vertex connects back to the first. Open polylines end on the grid's border.
+    pub closed: bool,
+}
+
+impl Polyline {
+    /// The signed area (shoelace) of the closed polygon through the points: positive for a
+    /// counter-clockwise loop, that is, for a loop around material.
+    #[must_use]
+    pub fn signed_area(&self) -> f64 {
+        let n = self.points.len();
+        (0..n)
+            .map(|k| self.points[k].perp_dot(self.points[(k + 1) % n]))
+            .sum::<f64>()
+            * 0.5
+    }
+}
+
+/// The zero contour of `f` sampled on `grid`; see [`contour`].
+pub fn contour_grid(grid: &Grid2, mut f: impl FnMut(DVec2) -> f64, accuracy: f64) -> Vec<Polyline> {
+    let mut values = Vec::with_capacity(grid.nx * grid.ny);
+    for j in 0..grid.ny {
+        for i in 0..grid.nx {
+            values.push(f(grid.point(i, j)));
+        }
+    }
+    contour(grid, &values, f, accuracy)
+}
+
+/// The zero contour of `f` from its samples `values` on `grid` (row-major: `values[j·nx + i]` at
+/// [`Grid2::point`]`(i, j)`).
+///
+/// `f` itself is called at the centres of saddle cells and to refine every vertex on its cell edge
+/// until `|f| ≤ accuracy` (Illinois regula falsi, at most 100 steps: a function that is not continuous
+/// along the edge gets the best point found).
+///
+/// # Panics
+///
+/// If `values.len() != grid.nx · grid.ny`.
+pub fn contour(
+    grid: &Grid2,
+    values: &[f64],
+    mut f: impl FnMut(DVec2) -> f64,
+    accuracy: f64,
+) -> Vec<Polyline> {
+    let (nx, ny) = (grid.nx, grid.ny);
+    assert_eq!(values.len(), nx * ny, "one sample per grid point");
+    let horizontal = (nx - 1) * ny;
+    let edge_count = horizontal + nx * (ny - 1);
+    let h = |i: usize, j: usize| j * (nx - 1) + i;
+    let v = |i: usize, j: usize| horizontal + j * nx + i;
+    let inside = |i: usize, j: usize| values[j * nx + i] > 0.0;
+
+    const NONE: u32 = u32::MAX;
+    let mut next = vec![NONE; edge_count];
+    let mut has_pred = vec![false; edge_count];
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let ins = corners.map(|(a, b)| inside(a, b));
+            if ins.iter().all(|&x| x) || ins.iter().all(|&x| !x) {
+                continue;
+            }
+            let edges = [h(i, j), v(i + 1, j), h(i, j + 1), v(i, j)];
+            let mut starts = [0usize; 2];
+            let mut ends = [0usize; 2];
+            let (mut ns, mut ne) = (0, 0);
+            for k in 0..4 {
+                match (ins[k], ins[(k + 1) % 4]) {
+                    (true, false) => {
+                        starts[ns] = k;
+                        ns += 1;
+                    }
+                    (false, true) => {
+                        ends[ne] = k;
+                        ne += 1;
+                    }
+                    _ => {}
+                }
+            }
+            let mut link = |s: usize, e: usize| {
+                next[edges[s]] = edges[e] as u32;
+                has_pred[edges[e]] = true;
+            };
+            if ns == 1 {
+                link(starts[0], ends[0]);
+            } else {
+                let centre = (grid.point(i, j) + grid.point(i + 1, j + 1)) * 0.5;
+                let step = if f(centre) > 0.0 { 1 } else { 3 };
+                for &s in &starts[..2] {
+                    let mut k = (s + step) % 4;
+                    while !ends[..2].contains(&k) {
+                        k = (k + step) % 4;
+                    }
+                    link(s, k);
+                }
+            }
+        }
+    }
+
+    // The endpoints of an edge id, for vertex refinement.
+    let ends_of = |e: usize| -> (DVec2, DVec2, f64, f64) {
+        let ((i0, j0), (i1, j1)) = if e < horizontal {
+            let (i, j) = (e % (nx - 1), e / (nx - 1));
+            ((i, j), (i + 1, j))
+        } else {
+            let k = e - horizontal;
+            let (i, j) = (k % nx, k / nx);
+            ((i, j), (i, j + 1))
+        };
+        (
+            grid.point(i0, j0),
+            grid.point(i1, j1),
+            values[j0 * nx + i0],
+            values[j1 * nx + i1],
+        )
+    };
+    let mut vertex = |e: usize| {
+        let (a, b, fa, fb) = ends_of(e);
+        refine(&mut f, a, b, fa, fb, accuracy)
+    };
+
+    let mut visited = vec![false; edge_count];
+    let mut lines = Vec::new();
+    // Open chains first (they start on the border, where no cell leads in), then the loops.
+    for pass_open in [true, false] {
+        for start in 0..edge_count {
+            if next[start] == NONE || visited[start] || (pass_open && has_pred[start]) {
+                continue;
+            }
+            let mut points = Vec::new();
+            let mut e = start;
+            let closed = loop {
+                visited[e] = true;
+                points.push(vertex(e));
+                let n = next[e];
+                if n == NONE {
+                    break false;
+                }
+                e = n as usize;
+                if e == start {
+                    break true;
+                }
+                if visited[e] {
+                    // Cannot happen for a consistent chain; end the piece rather than loop.
+                    break false;
+                }
+            };
+            lines.push(Polyline { points, closed });
+        }
+    }
+    lines
+}
+
+/// A zero of `f` on the segment `[a, b]` where `fa`, `fb` have opposite signs: Illinois regula falsi.
+fn refine(
+    f: &mut impl FnMut(DVec2) -> f64,
+    a: DVec2,
+    b: DVec2,
+    fa: f64,
+    fb: f64,
+    accuracy: f64,
+) -> DVec2 {
+    let (mut t0, mut t1, mut f0, mut f1) = (0.0, 1.0, fa, fb);
+    let mut best = if f0.abs() <= f1.abs() {
+        (t0, f0)
+    } else {
+        (t1, f1)
+    };
+    let mut side = 0i8;
+    for _ in 0..100 {
+        if best.1.abs() <= accuracy {
+            break;
+        }
+        let denom = f1 - f0;
+        let mut t = if denom != 0.0 {
+            (t0 * f1 - t1 * f0) / denom
+        } else {
+            0.5 * (t0 + t1)
+        };
+        if !(t > t0.min(t1) && t < t0.max(t1)) {
+            t = 0.5 * (t0 + t1);
+        }
+        let ft = f(a.lerp(b, t));
+        if ft.abs() < best.1.abs() {
+            best = (t, ft);
+        }
+        if (ft > 0.0) == (f1 > 0.0) {
+            t1 = t;
+            f1 = ft;
+            if side == 1 {
+                f0 *= 0.5;
+            }
+            side = 1;
+        } else {
+            t0 = t;
+            f0 = ft;
+            if side == -1 {
+                f1 *= 0.5;
+            }
+            side = -1;
+        }
+        if (t1 - t0).abs() < 1e-15 {
+            break;
+        }
+    }
+    a.lerp(b, best.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::Rng;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn disc(c: DVec2, r: f64) -> impl Fn(DVec2) -> f64 {
+        move |p| r * r - (p - c).length_squared()
+    }
+
+    #[test]
+    fn contour_circle_is_one_closed_ccw_loop_on_the_zero_set() {
+        let mut rng = Rng::new(40);
+        for _ in 0..20 {
+            let c = DVec2::new(rng.range(0.3, 0.7), rng.range(0.3, 0.7));
+            let r = rng.range(0.1, 0.25);
+            let accuracy = 1e-10;
+            let n = rng.int(8, 80);
+            let f = disc(c, r);
+            let lines = contour_grid(&Grid2::new(DVec2::ZERO, DVec2::ONE, n, n + 3), &f, accuracy);
+            assert_eq!(lines.len(), 1, "one loop for a circle");
+            let line = &lines[0];
+            assert!(line.closed);
+            assert!(line.points.len() >= 4);
+            for p in &line.points {
+                assert!(f(*p).abs() <= accuracy, "|f| = {} at {p}", f(*p).abs());
+            }
+            // Material on the left: counter-clockwise, with about the disc's area.
+            let area = line.signed_area();
+            let exact = core::f64::consts::PI * r * r;
+            assert!(
+                area > 0.0 && (area - exact).abs() < 0.2 * exact,
+                "area {area} vs {exact}"
+            );
+        }
+    }
+
+    #[test]
+    fn contour_hole_runs_clockwise() {
+        let ring = |p: DVec2| {
+            let d = (p - DVec2::splat(0.5)).length();
+            (0.4 - d).min(d - 0.2)
+        };
+        let lines = contour_grid(&Grid2::new(DVec2::ZERO, DVec2::ONE, 50, 50), ring, 1e-12);
+        assert_eq!(lines.len(), 2);
+        let mut areas: Vec<f64> = lines.iter().map(Polyline::signed_area).collect();
+        areas.sort_by(f64::total_cmp);
+        assert!(areas[0] < 0.0 && areas[1] > 0.0, "{areas:?}");
+        assert!(lines.iter().all(|l| l.closed));
+    }
+
+    #[test]
+    fn contour_open_where_it_meets_the_border() {
+        // A half-plane x < 0.4 cuts the box from bottom to top.
+        let lines = contour_grid(
+            &Grid2::new(DVec2::ZERO, DVec2::ONE, 11, 7),
+            |p| 0.4 - p.x,
+            1e-12,
+        );
+        assert_eq!(lines.len(), 1);
+        let line = &lines[0];
+        assert!(!line.closed);
+        // Material (x < 0.4) on the left means walking upwards.
+        assert!(line.points[0].y < line.points[line.points.len() - 1].y);
+        assert!(line.points.iter().all(|p| (p.x - 0.4).abs() < 1e-12));
+    }
+
+    #[test]
+    fn contour_saddle_follows_the_cell_centre() {
+        // Samples of a saddle on a single cell: inside at (0,0) and (1,1).
+        let grid = Grid2::new(DVec2::ZERO, DVec2::ONE, 2, 2);
+        let values = [1.0, -1.0, -1.0, 1.0];
+        // The bilinear interpolant (1 − 2x)(1 − 2y) is 0 at the centre; lift or lower it a little.
+        let bilinear = |p: DVec2| (1.0 - 2.0 * p.x) * (1.0 - 2.0 * p.y);
+        let joined = contour(&grid, &values, |p| bilinear(p) + 0.1, 1e-12);
+        let split = contour(&grid, &values, |p| bilinear(p) - 0.1, 1e-12);
+        assert_eq!((joined.len(), split.len()), (2, 2));
+        // Joined through the centre: each segment cuts off an outside corner (1,0) or (0,1); split:
+        // each cuts off an inside corner. In both, the corner cut off is on the segment's
+        // right (outside) or left (inside).
+        for l in &joined {
+            let (a, b) = (l.points[0], l.points[1]);
+            let corner = if a.x + b.x > 1.0 {
+                DVec2::new(1.0, 0.0)
+            } else {
+                DVec2::new(0.0, 1.0)
+            };
+            assert!(
+                (b - a).perp_dot(corner - a) < 0.0,
+                "outside corner on the right"
+            );
+        }
+        for l in &split {
+            let (a, b) = (l.points[0], l.points[1]);
+            let corner = if a.x + b.x > 1.0 {
+                DVec2::ONE
+            } else {
+                DVec2::ZERO
+            };
+            assert!(
+                (b - a).perp_dot(corner - a) > 0.0,
+                "inside corner on the left"
+            );
+        }
+    }
+
+    #[test]
+    fn contour_of_fig9_solid_is_one_loop() {
+        let s = crate::Solid2::fig9();
+        let grid = Grid2::new(DVec2::splat(-0.2), DVec2::splat(1.2), 97, 97);
+        let values = s.f_grid(&grid.xs(), &grid.ys());
+        let lines = contour(&grid, &values, |p| s.f(p), 1e-9);
+        assert_eq!(lines.len(), 1);
+        assert!(lines[0].closed && lines[0].signed_area() > 0.0);
+        assert!(lines[0].points.iter().all(|p| s.f(*p).abs() <= 1e-9));
+    }
+}

@@ -1,0 +1,57 @@
+//! # bezsolid-core
+//!
+//! The geometry of bezsolid: solids defined by Bézier patches (2D) and volumes (3D) by extended space
+//! mapping (Schmitt, Pasko, Schlick). A patch `S(u, v) = Σ_i Σ_j P_ij B_i^n(u) B_j^m(v)` with control
+//! points `P_ij = (x, y, ξ)` defines the 2D solid `f(x, y) ≥ 0`, where `f(x, y) = S_ξ(u, v)` at the
+//! parameters with `(S_x, S_y)(u, v) = (x, y)`, clipped to the parameter square by R-functions.
+//!
+//! A tour, from the bottom up:
+//!
+//! - [`bernstein`]: binomials and the Bernstein basis `B_i^n(t) = C(n,i) tⁱ(1−t)ⁿ⁻ⁱ`.
+//! - [`Patch`]: a tensor-product Bézier patch of any degree (1 to [`MAX_DEGREE`]) per axis: evaluation
+//!   in basis form and by de Casteljau, and grid evaluation one axis at a time.
+//! - [`rfunc`]: the R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)` and the functional
+//!   clipping `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)` of the paper's §3.3.1.
+//! - [`Solid2`]: a patch solid on a regular grid: `f(p)`, function-mapping edits, the paper's Fig. 9.
+//! - [`contour`]: marching squares to closed polylines with the solid on their left.
+//!
+//! ```
+//! use bezsolid_core::{Solid2, contour::{contour_grid, Grid2}};
+//! use glam::DVec2;
+//!
+//! let solid = Solid2::fig9();
+//! assert!(solid.f(DVec2::new(0.5, 0.5)) > 0.0); // the middle is inside
+//! assert!(solid.f(DVec2::new(0.02, 0.02)) < 0.0); // a corner is outside
+//! assert!(solid.f(DVec2::new(1.5, 0.5)) < 0.0); // clipping: negative outside the square
+//!
+//! let grid = Grid2::new(DVec2::splat(-0.1), DVec2::splat(1.1), 64, 64);
+//! let loops = contour_grid(&grid, |p| solid.f(p), 1e-9);
+//! assert_eq!(loops.len(), 1);
+//! assert!(loops[0].closed);
+//! ```
+//!
+//! ## Features
+//!
+//! - `std` (default): `std::error::Error` is implemented through `core::error::Error` either way; `std`
+//!   makes glam use the platform's math instead of `libm`. Without it the crate is `no_std` + `alloc`
+//!   (CI builds it so for `wasm32-unknown-unknown`).
+#![no_std]
+#![cfg_attr(docsrs, feature(doc_auto_cfg))]
+
+extern crate alloc;
+#[cfg(any(feature = "std", test))]
+extern crate std;
+
+pub mod bernstein;
+pub mod contour;
+mod math;
+pub mod rfunc;
+mod solid;
+mod tensor;
+
+pub use bernstein::MAX_DEGREE;
+pub use solid::{Solid2, SolidError};
+pub use tensor::{ControlPoint, Patch, PatchError};
+
+#[cfg(test)]
+pub(crate) mod testutil;

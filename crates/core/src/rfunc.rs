@@ -1,0 +1,90 @@
+//! R-functions and functional clipping (first paper, §3.3.1).
+//!
+//! The R0 system: `f1 & f2 = f1 + f2 − √(f1² + f2²)` is positive exactly where both arguments are,
+//! `f1 | f2 = f1 + f2 + √(f1² + f2²)` where either is, and `−f` is the complement. Functional clipping
+//! intersects the patch's function with the parameter square so that it is negative outside it:
+//! `S_clip(u, v) = S_ξ(u, v) & F_s(u, v)`, `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)`.
+
+use crate::math::sqrt;
+
+/// R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)`.
+#[must_use]
+#[inline]
+pub fn intersect(f1: f64, f2: f64) -> f64 {
+    f1 + f2 - sqrt(f1 * f1 + f2 * f2)
+}
+
+/// R-function union `f1 | f2 = f1 + f2 + √(f1² + f2²)`.
+#[must_use]
+#[inline]
+pub fn union(f1: f64, f2: f64) -> f64 {
+    f1 + f2 + sqrt(f1 * f1 + f2 * f2)
+}
+
+/// Complement `−f`.
+#[must_use]
+#[inline]
+pub fn negate(f: f64) -> f64 {
+    -f
+}
+
+/// The unit strip `F_b(t) = t(1 − t)`: positive for `0 < t < 1`.
+#[must_use]
+#[inline]
+pub fn strip(t: f64) -> f64 {
+    t * (1.0 - t)
+}
+
+/// The unit square `F_s(u, v) = F_b(u) & F_b(v)`.
+#[must_use]
+#[inline]
+pub fn unit_square(u: f64, v: f64) -> f64 {
+    intersect(strip(u), strip(v))
+}
+
+/// Functional clipping of a patch value `s = S_ξ(u, v)` to the unit square: `s & F_s(u, v)`.
+#[must_use]
+#[inline]
+pub fn clip2(s: f64, u: f64, v: f64) -> f64 {
+    intersect(s, unit_square(u, v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::Rng;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn rfunc_intersection_sign_is_logical_and() {
+        let mut rng = Rng::new(20);
+        for _ in 0..1000 {
+            let (a, b) = (rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+            assert_eq!(intersect(a, b) > 0.0, a > 0.0 && b > 0.0, "{a} & {b}");
+            assert_eq!(union(a, b) > 0.0, a > 0.0 || b > 0.0, "{a} | {b}");
+        }
+        assert_eq!(intersect(2.0, 0.0), 0.0);
+    }
+
+    /// Paper Fig. 4: after clipping the function is negative outside the unit square and keeps the
+    /// sign of the unclipped function inside.
+    #[test]
+    fn rfunc_clipping_negative_outside_same_sign_inside() {
+        let mut rng = Rng::new(21);
+        for _ in 0..5000 {
+            let (u, v) = (rng.range(-1.0, 2.0), rng.range(-1.0, 2.0));
+            let s = rng.range(-2.0, 2.0);
+            let c = clip2(s, u, v);
+            let inside = 0.0 < u && u < 1.0 && 0.0 < v && v < 1.0;
+            if inside {
+                assert_eq!(c > 0.0, s > 0.0, "s = {s} at ({u}, {v}) clipped to {c}");
+            } else {
+                assert!(
+                    c <= 0.0,
+                    "clipped value {c} at ({u}, {v}) outside the square"
+                );
+            }
+        }
+    }
+}

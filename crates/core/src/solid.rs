@@ -1,0 +1,284 @@
+//! Bézier solids: the F-rep `f(p) ≥ 0` defined by a patch whose extra coordinate ξ is the function.
+
+use alloc::vec::Vec;
+use core::fmt;
+
+use glam::{DVec2, DVec3};
+
+use crate::rfunc::clip2;
+use crate::tensor::{Patch, PatchError};
+
+/// Why a solid could not be built or edited.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolidError {
+    /// The control net is not a valid patch.
+    Patch(PatchError),
+    /// A coordinate is NaN or infinite.
+    NonFinite,
+    /// The control points' `(x, y)` do not form a regular axis-aligned grid. Space mapping (moved
+    /// control points) comes with the inverse map.
+    NotRegular,
+    /// The grid's box has no area.
+    DegenerateBox,
+}
+
+impl fmt::Display for SolidError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Patch(e) => write!(f, "invalid control net: {e}"),
+            Self::NonFinite => f.write_str("a control point has a coordinate that is not a finite number"),
+            Self::NotRegular => {
+                f.write_str("control points do not form a regular axis-aligned grid (space mapping is not supported yet)")
+            }
+            Self::DegenerateBox => f.write_str("the control grid's box has zero width or height"),
+        }
+    }
+}
+
+impl core::error::Error for SolidError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Self::Patch(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<PatchError> for SolidError {
+    fn from(e: PatchError) -> Self {
+        Self::Patch(e)
+    }
+}
+
+/// A 2D Bézier solid: a patch with control points `P_ij = (x, y, ξ)`.
+///
+/// On a regular grid (`P_ij^x = x0 + (i/n)(x1 − x0)`, `P_ij^y = y0 + (j/m)(y1 − y0)`) linear precision
+/// gives `S_x = x0 + u(x1 − x0)`, `S_y = y0 + v(y1 − y0)`: the inverse map is a scaling, and
+/// `f(x, y) = S_ξ(u, v) & F_s(u, v)` exactly (paper §3.2–§3.3.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solid2 {
+    patch: Patch<DVec3>,
+    min: DVec2,
+    max: DVec2,
+}
+
+impl Solid2 {
+    /// A solid on the regular grid over the box `[min, max]` with `ξ(P_ij) = xi(i, j)`.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError`] for a degree out of range, a non-finite value or an empty box.
+    pub fn regular(
+        degree: (usize, usize),
+        min: DVec2,
+        max: DVec2,
+        mut xi: impl FnMut(usize, usize) -> f64,
+    ) -> Result<Self, SolidError> {
+        let (n, m) = degree;
+        let patch = Patch::from_fn(degree, |i, j| {
+            let t = DVec2::new(i as f64 / n as f64, j as f64 / m as f64);
+            let p = min + (max - min) * t;
+            DVec3::new(p.x, p.y, xi(i, j))
+        })?;
+        Self::try_from_patch(patch)
+    }
+
+    /// A solid from a control net, checked to be a regular axis-aligned grid with finite values.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::NonFinite`], [`SolidError::DegenerateBox`] or [`SolidError::NotRegular`].
+    pub fn try_from_patch(patch: Patch<DVec3>) -> Result<Self, SolidError> {
+        if !patch.points().iter().all(|p| p.is_finite()) {
+            return Err(SolidError::NonFinite);
+        }
+        let (n, m) = patch.degree();
+        let min = patch.point(0, 0).truncate();
+        let max = patch.point(n, m).truncate();
+        let size = max - min;
+        if !(size.x > 0.0 && size.y > 0.0) {
+            return Err(SolidError::DegenerateBox);
+        }
+        // Tolerance relative to the box: the file may round coordinates to a few digits.
+        let tol = 1e-9
+            * size
+                .max_element()
+                .max(min.abs().max_element())
+                .max(max.abs().max_element());
+        for i in 0..=n {
+            for j in 0..=m {
+                let want = min + size * DVec2::new(i as f64 / n as f64, j as f64 / m as f64);
+                let got = patch.point(i, j).truncate();
+                if (got - want).abs().max_element() > tol {
+                    return Err(SolidError::NotRegular);
+                }
+            }
+        }
+        Ok(Self { patch, min, max })
+    }
+
+    /// The first paper's Fig. 9 after its three steps: a 3×3 grid (degree 2) over the unit square,
+    /// flat at ξ = 0.25, the four corners pulled down to −1 and the centre pulled up to +1: one blob
+    /// in the middle of the square.
+    #[must_use]
+    pub fn fig9() -> Self {
+        Self::regular((2, 2), DVec2::ZERO, DVec2::ONE, |i, j| match (i, j) {
+            (1, 1) => 1.0,
+            (0 | 2, 0 | 2) => -1.0,
+            _ => 0.25,
+        })
+        .unwrap_or_else(|_| unreachable!("the Fig. 9 preset is a valid regular grid"))
+    }
+
+    /// The control net.
+    #[must_use]
+    pub fn patch(&self) -> &Patch<DVec3> {
+        &self.patch
+    }
+
+    /// The degree `(n, m)`.
+    #[must_use]
+    pub fn degree(&self) -> (usize, usize) {
+        self.patch.degree()
+    }
+
+    /// The box `[min, max]` of the control grid (the solid's domain).
+    #[must_use]
+    pub fn domain(&self) -> (DVec2, DVec2) {
+        (self.min, self.max)
+    }
+
+    /// `(u, v)` of the point `p`: the inverse map, a scaling on a regular grid.
+    #[must_use]
+    pub fn to_param(&self, p: DVec2) -> DVec2 {
+        (p - self.min) / (self.max - self.min)
+    }
+
+    /// ξ of control point `P_ij`.
+    ///
+    /// # Panics
+    ///
+    /// If `(i, j)` is outside the grid.
+    #[must_use]
+    pub fn xi(&self, i: usize, j: usize) -> f64 {
+        self.patch.point(i, j).z
+    }
+
+    /// Function mapping: set ξ of control point `P_ij` (moves it along its vertical cylinder).
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::NonFinite`] for NaN or infinity; the solid is unchanged.
+    ///
+    /// # Panics
+    ///
+    /// If `(i, j)` is outside the grid.
+    pub fn set_xi(&mut self, i: usize, j: usize, xi: f64) -> Result<(), SolidError> {
+        if !xi.is_finite() {
+            return Err(SolidError::NonFinite);
+        }
+        self.patch.point_mut(i, j).z = xi;
+        Ok(())
+    }
+
+    /// The defining function `f(p) = S_ξ(u, v) & F_s(u, v)`: positive inside the solid, negative
+    /// outside, and negative everywhere outside the domain box.
+    #[must_use]
+    pub fn f(&self, p: DVec2) -> f64 {
+        let uv = self.to_param(p);
+        clip2(self.patch.eval(uv.x, uv.y).z, uv.x, uv.y)
+    }
+
+    /// `f` at every `(xs[a], ys[b])`, row-major by `b` (index `b·xs.len() + a`), by grid evaluation.
+    #[must_use]
+    pub fn f_grid(&self, xs: &[f64], ys: &[f64]) -> Vec<f64> {
+        let size = self.max - self.min;
+        let us: Vec<f64> = xs.iter().map(|x| (x - self.min.x) / size.x).collect();
+        let vs: Vec<f64> = ys.iter().map(|y| (y - self.min.y) / size.y).collect();
+        let (n, m) = self.degree();
+        let xi = Patch::try_new((n, m), self.patch.points().iter().map(|p| p.z).collect())
+            .unwrap_or_else(|_| unreachable!("same degree and count as the validated patch"));
+        let mut values = xi.eval_grid(&us, &vs);
+        for (b, &v) in vs.iter().enumerate() {
+            for (a, &u) in us.iter().enumerate() {
+                let s = &mut values[b * us.len() + a];
+                *s = clip2(*s, u, v);
+            }
+        }
+        values
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::Rng;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn solid_fig9_is_a_blob_in_the_square() {
+        let s = Solid2::fig9();
+        assert!(s.f(DVec2::splat(0.5)) > 0.0);
+        for p in [
+            DVec2::new(0.5, 0.01),
+            DVec2::new(0.01, 0.5),
+            DVec2::new(0.99, 0.99),
+        ] {
+            assert!(s.f(p) < 0.0, "{p}");
+        }
+    }
+
+    #[test]
+    fn solid_regular_grid_is_a_scaling() {
+        let mut rng = Rng::new(30);
+        let min = DVec2::new(-2.0, 1.0);
+        let max = DVec2::new(3.0, 1.5);
+        let s = Solid2::regular((3, 4), min, max, |_, _| rng.range(-1.0, 1.0)).unwrap();
+        for _ in 0..100 {
+            let uv = DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+            let point = s.patch().eval(uv.x, uv.y);
+            // Linear precision: S_x, S_y are the scaling of (u, v).
+            let p = min + (max - min) * uv;
+            assert!((point.truncate() - p).abs().max_element() < 1e-12);
+            assert!((s.f(p) - clip2(point.z, uv.x, uv.y)).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn solid_f_grid_equals_pointwise() {
+        let s = Solid2::fig9();
+        let xs = [-0.2, 0.1, 0.5, 0.77, 1.3];
+        let ys = [0.0, 0.25, 0.6];
+        let grid = s.f_grid(&xs, &ys);
+        for (b, &y) in ys.iter().enumerate() {
+            for (a, &x) in xs.iter().enumerate() {
+                assert!((grid[b * xs.len() + a] - s.f(DVec2::new(x, y))).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn solid_rejects_moved_points_and_nan() {
+        let mut patch = Solid2::fig9().patch().clone();
+        patch.point_mut(1, 1).x += 0.1;
+        assert_eq!(
+            Solid2::try_from_patch(patch.clone()),
+            Err(SolidError::NotRegular)
+        );
+        patch.point_mut(1, 1).x = f64::NAN;
+        assert_eq!(Solid2::try_from_patch(patch), Err(SolidError::NonFinite));
+        let mut s = Solid2::fig9();
+        assert_eq!(s.set_xi(0, 0, f64::INFINITY), Err(SolidError::NonFinite));
+        assert_eq!(s, Solid2::fig9());
+    }
+
+    #[test]
+    fn solid_raising_a_point_grows_the_solid() {
+        let mut s = Solid2::fig9();
+        let p = DVec2::new(0.5, 0.2);
+        let before = s.f(p);
+        s.set_xi(1, 0, 1.0).unwrap();
+        assert!(s.f(p) > before);
+    }
+}

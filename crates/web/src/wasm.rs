@@ -1,0 +1,254 @@
+//! The JavaScript face of the modeler: [`start`] brings up wgpu on a canvas and returns a [`Modeler`]
+//! whose methods the page calls on input and on animation frames. Logic stays in [`crate::app`].
+
+use glam::DVec2;
+use wasm_bindgen::prelude::*;
+use web_sys::HtmlCanvasElement;
+
+use crate::app::ContourView;
+use crate::render::Renderer;
+use bezsolid_core::Solid2;
+
+/// The modeler on one canvas: the contour view's state and the GPU that draws it.
+#[wasm_bindgen]
+pub struct Modeler {
+    view: ContourView,
+    renderer: Renderer,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    max_size: u32,
+    backend: &'static str,
+    adapter: String,
+    range: (f64, f64),
+    loops: usize,
+}
+
+fn error(context: &str, e: impl core::fmt::Display) -> JsError {
+    JsError::new(&format!("{context}: {e}"))
+}
+
+/// Brings up the renderer on `canvas` with the default model (the paper's Fig. 9).
+///
+/// `backend` is `"auto"` (WebGPU when the browser has an adapter, else WebGL2), `"webgpu"` or
+/// `"webgl2"`. A canvas keeps its first context type: to fall back after a failure, call again with a
+/// fresh canvas.
+///
+/// # Errors
+///
+/// When no adapter or device can be had on the requested backend.
+#[wasm_bindgen]
+pub async fn start(canvas: HtmlCanvasElement, backend: &str) -> Result<Modeler, JsError> {
+    console_error_panic_hook::set_once();
+    let backends = match backend {
+        "webgpu" => wgpu::Backends::BROWSER_WEBGPU,
+        "webgl2" => wgpu::Backends::GL,
+        "auto" => wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL,
+        other => {
+            return Err(JsError::new(&format!(
+                "unknown backend {other:?}: use auto, webgpu or webgl2"
+            )));
+        }
+    };
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = backends;
+    let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
+    let surface = instance
+        .create_surface(wgpu::SurfaceTarget::Canvas(canvas.clone()))
+        .map_err(|e| error("cannot draw on the canvas", e))?;
+    let adapter = instance
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            compatible_surface: Some(&surface),
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| error("no graphics adapter", e))?;
+    let info = adapter.get_info();
+    let backend = match info.backend {
+        wgpu::Backend::BrowserWebGpu => "WebGPU",
+        wgpu::Backend::Gl => "WebGL2",
+        _ => "unknown",
+    };
+    let limits = wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits());
+    let max_size = limits.max_texture_dimension_2d;
+    let (device, queue) = adapter
+        .request_device(&wgpu::DeviceDescriptor {
+            label: Some("bezsolid"),
+            required_limits: limits,
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| error("no graphics device", e))?;
+    device.on_uncaptured_error(std::sync::Arc::new(|e| {
+        web_sys::console::error_1(&format!("bezsolid: GPU error: {e}").into());
+    }));
+    let caps = surface.get_capabilities(&adapter);
+    // A plain (not sRGB) format: the colours are computed for display as they are.
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(|f| !f.is_srgb())
+        .or(caps.formats.first().copied());
+    let (w, h) = (canvas.width().max(1), canvas.height().max(1));
+    let mut config = surface
+        .get_default_config(&adapter, w, h)
+        .ok_or_else(|| JsError::new("the canvas cannot be drawn on by this adapter"))?;
+    if let Some(format) = format {
+        config.format = format;
+    }
+    let renderer = Renderer::new(device, queue, &adapter, config.format);
+    surface.configure(renderer.device(), &config);
+    Ok(Modeler {
+        view: ContourView::new(Solid2::fig9()),
+        renderer,
+        surface,
+        config,
+        max_size,
+        backend,
+        adapter: info.name,
+        range: (0.0, 0.0),
+        loops: 0,
+    })
+}
+
+#[wasm_bindgen]
+impl Modeler {
+    /// `"WebGPU"` or `"WebGL2"`.
+    #[must_use]
+    pub fn backend(&self) -> String {
+        self.backend.to_owned()
+    }
+
+    /// The adapter's name, as the browser reports it.
+    #[must_use]
+    pub fn adapter(&self) -> String {
+        self.adapter.clone()
+    }
+
+    /// The canvas's size in CSS pixels and the device pixel ratio. Returns the size in device pixels
+    /// that the canvas's `width`/`height` must have (the page sets them).
+    pub fn resize(&mut self, width: f64, height: f64, dpr: f64) -> Vec<u32> {
+        self.view.resize(width, height, dpr);
+        let (w, h) = self.view.device_size();
+        let (w, h) = (w.min(self.max_size), h.min(self.max_size));
+        if (w, h) != (self.config.width, self.config.height) {
+            self.config.width = w;
+            self.config.height = h;
+            self.surface.configure(self.renderer.device(), &self.config);
+        }
+        vec![w, h]
+    }
+
+    /// Draws the current state.
+    pub fn render(&mut self) {
+        let frame = self.view.frame();
+        self.range = frame.range;
+        self.loops = frame.contours.len();
+        let texture = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(self.renderer.device(), &self.config);
+                return;
+            }
+            _ => return,
+        };
+        let view = texture
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        self.renderer
+            .draw(&view, (self.config.width, self.config.height), &frame);
+        self.renderer.queue().present(texture);
+    }
+
+    /// The lowest sampled `f` of the last frame (full blue).
+    #[must_use]
+    pub fn range_min(&self) -> f64 {
+        self.range.0
+    }
+
+    /// The highest sampled `f` of the last frame (full red).
+    #[must_use]
+    pub fn range_max(&self) -> f64 {
+        self.range.1
+    }
+
+    /// How many pieces the zero contour had in the last frame.
+    #[must_use]
+    pub fn contour_count(&self) -> usize {
+        self.loops
+    }
+
+    /// Pointer pressed at CSS pixel `(x, y)` of the canvas; returns whether a point was grabbed.
+    pub fn pointer_down(&mut self, x: f64, y: f64) -> bool {
+        self.view.pointer_down(DVec2::new(x, y))
+    }
+
+    /// Pointer moved; returns whether the solid changed.
+    pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
+        self.view.pointer_move(DVec2::new(x, y))
+    }
+
+    /// Pointer released or cancelled.
+    pub fn pointer_up(&mut self) {
+        self.view.pointer_up();
+    }
+
+    /// Whether a point is being dragged.
+    #[must_use]
+    pub fn dragging(&self) -> bool {
+        self.view.dragging()
+    }
+
+    /// Whether a control point is under CSS pixel `(x, y)` (for the cursor).
+    #[must_use]
+    pub fn hit(&self, x: f64, y: f64) -> bool {
+        self.view.pick(DVec2::new(x, y)).is_some()
+    }
+
+    /// Wheel with `deltaY`; returns whether the solid changed.
+    pub fn wheel(&mut self, delta_y: f64) -> bool {
+        self.view.wheel(delta_y)
+    }
+
+    /// A key (`KeyboardEvent.key`); returns whether the view used it.
+    pub fn key(&mut self, key: &str, shift: bool) -> bool {
+        self.view.key(key, shift)
+    }
+
+    /// `[i, j]` of the selected control point, or `undefined`.
+    #[must_use]
+    pub fn selected(&self) -> Option<Vec<u32>> {
+        self.view.selected().map(|(i, j)| vec![i as u32, j as u32])
+    }
+
+    /// ξ of the selected point, or `undefined`.
+    #[must_use]
+    pub fn selected_xi(&self) -> Option<f64> {
+        self.view.selected_xi()
+    }
+
+    /// Sets ξ of the selected point.
+    ///
+    /// # Errors
+    ///
+    /// When nothing is selected or the value is not a finite number.
+    pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), JsError> {
+        self.view.set_selected_xi(xi).map_err(|e| JsError::new(&e))
+    }
+
+    /// The world point `[x, y]` and `f` there, under CSS pixel `(x, y)`.
+    #[must_use]
+    pub fn probe(&self, x: f64, y: f64) -> Vec<f64> {
+        let q = DVec2::new(x, y);
+        let p = self.view.to_world(q);
+        vec![p.x, p.y, self.view.probe(q)]
+    }
+
+    /// The degree `[n, m]` of the patch.
+    #[must_use]
+    pub fn degree(&self) -> Vec<u32> {
+        let (n, m) = self.view.solid().degree();
+        vec![n as u32, m as u32]
+    }
+}

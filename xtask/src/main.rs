@@ -1,0 +1,104 @@
+//! `cargo xtask`: set-up, build, serve and test orchestration for bezsolid.
+//!
+//! - `cargo xtask serve [--port N]`: sets up a bare machine (wasm32 target, the wasm-bindgen CLI of
+//!   Cargo.lock, npm binaryen for wasm-opt), builds the page as `wasm-pack.toml` says and serves `www/`
+//!   on loopback.
+//! - `cargo xtask test [--update-screenshot]`: fmt, clippy, native tests, docs, the `no_std` build, the
+//!   wasm tests in node, the web build and the browser suite in headless chromium on both backends.
+
+mod build;
+mod recipe;
+mod serve;
+mod setup;
+mod test;
+mod util;
+
+use std::net::TcpListener;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+
+const USAGE: &str = "usage: cargo xtask <command>
+
+commands:
+  serve [--port N]             set up, build the page and serve it (port also from BEZSOLID_PORT)
+  test [--update-screenshot]   every check, in order, stopping at the first failure
+";
+
+fn workspace() -> PathBuf {
+    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    manifest.parent().map_or(manifest.clone(), PathBuf::from)
+}
+
+fn main() -> ExitCode {
+    match real_main() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn real_main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let ws = workspace();
+    match args.first().map(String::as_str) {
+        Some("serve") => serve_command(&ws, &args[1..]),
+        Some("test") => {
+            let mut options = test::Options::default();
+            for a in &args[1..] {
+                match a.as_str() {
+                    "--update-screenshot" => options.update_screenshot = true,
+                    other => bail!("unknown option {other}\n\n{USAGE}"),
+                }
+            }
+            test::all(&ws, &options)
+        }
+        Some("-h" | "--help" | "help") => {
+            print!("{USAGE}");
+            Ok(())
+        }
+        Some(other) => bail!("unknown command {other}\n\n{USAGE}"),
+        None => bail!("no command\n\n{USAGE}"),
+    }
+}
+
+fn serve_command(ws: &std::path::Path, args: &[String]) -> Result<()> {
+    let recipe = recipe::Recipe::load(ws)?;
+    let mut port = match std::env::var("BEZSOLID_PORT") {
+        Ok(p) => p
+            .parse::<u16>()
+            .with_context(|| format!("BEZSOLID_PORT={p} is not a port"))?,
+        Err(_) => recipe.port,
+    };
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--port" => {
+                let p = it.next().context("--port needs a number")?;
+                port = p
+                    .parse()
+                    .with_context(|| format!("--port {p} is not a port"))?;
+            }
+            other => bail!("unknown option {other}\n\n{USAGE}"),
+        }
+    }
+    let (sizes, took) = util::timed(|| build::web(ws, &recipe));
+    let sizes = sizes?;
+    eprintln!("- built in {} ({sizes})", util::human(took));
+    let listener = TcpListener::bind((recipe.address.as_str(), port)).with_context(|| {
+        format!(
+            "cannot listen on {}:{port}; is it in use? choose another with --port",
+            recipe.address
+        )
+    })?;
+    let addr = listener.local_addr()?;
+    println!(
+        "bezsolid: serving {} at http://{addr}/  (Ctrl+C stops)",
+        recipe.root.display()
+    );
+    serve::serve(listener, recipe.root.clone());
+    Ok(())
+}

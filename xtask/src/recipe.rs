@@ -1,0 +1,94 @@
+//! `wasm-pack.toml`: the web packaging recipe (its top comment says what each key does).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use toml::{Table, Value};
+
+/// The recipe, with paths resolved against the workspace root.
+#[derive(Debug, Clone)]
+pub(crate) struct Recipe {
+    pub(crate) krate: String,
+    pub(crate) profile: String,
+    pub(crate) bindgen_target: String,
+    pub(crate) out_dir: PathBuf,
+    pub(crate) out_name: String,
+    pub(crate) wasm_opt: Option<Vec<String>>,
+    pub(crate) root: PathBuf,
+    pub(crate) address: String,
+    pub(crate) port: u16,
+}
+
+impl Recipe {
+    pub(crate) fn load(workspace: &Path) -> Result<Self> {
+        let path = workspace.join("wasm-pack.toml");
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("reading {}", path.display()))?;
+        let table: Table = text
+            .parse()
+            .with_context(|| format!("parsing {}", path.display()))?;
+        let section = |name: &str| -> Result<&Table> {
+            table
+                .get(name)
+                .and_then(Value::as_table)
+                .with_context(|| format!("{}: missing section [{name}]", path.display()))
+        };
+        let string = |t: &Table, key: &str| -> Result<String> {
+            t.get(key)
+                .and_then(Value::as_str)
+                .map(str::to_owned)
+                .with_context(|| format!("{}: missing string `{key}`", path.display()))
+        };
+        let package = section("package")?;
+        let bindgen = section("bindgen")?;
+        let opt = section("wasm-opt")?;
+        let serve = section("serve")?;
+        let wasm_opt = if opt.get("enabled").and_then(Value::as_bool).unwrap_or(false) {
+            let args = opt
+                .get("args")
+                .and_then(Value::as_array)
+                .context("[wasm-opt] needs `args`")?
+                .iter()
+                .map(|v| {
+                    v.as_str()
+                        .map(str::to_owned)
+                        .context("[wasm-opt] args must be strings")
+                })
+                .collect::<Result<Vec<_>>>()?;
+            Some(args)
+        } else {
+            None
+        };
+        let port = serve
+            .get("port")
+            .and_then(Value::as_integer)
+            .context("[serve] needs `port`")?;
+        let Ok(port) = u16::try_from(port) else {
+            bail!("[serve] port {port} is not a TCP port")
+        };
+        Ok(Self {
+            krate: string(package, "crate")?,
+            profile: string(package, "profile")?,
+            bindgen_target: string(bindgen, "target")?,
+            out_dir: workspace.join(string(bindgen, "out-dir")?),
+            out_name: string(bindgen, "out-name")?,
+            wasm_opt,
+            root: workspace.join(string(serve, "root")?),
+            address: string(serve, "address")?,
+            port,
+        })
+    }
+
+    /// The cdylib's file name as cargo writes it.
+    pub(crate) fn artifact(&self, workspace: &Path) -> PathBuf {
+        let dir = if self.profile == "dev" {
+            "debug"
+        } else {
+            &self.profile
+        };
+        workspace
+            .join("target/wasm32-unknown-unknown")
+            .join(dir)
+            .join(format!("{}.wasm", self.krate.replace('-', "_")))
+    }
+}
