@@ -12,6 +12,12 @@ after(async () => { await browser?.close(); });
 // Rows of the scans: 24 CSS px below the centre, clear of the grid line and the control points.
 const ROW = 24;
 
+/** The selected point as "i,j" once the panel has caught up with the last input. */
+async function selected(page) {
+  await settle(page);
+  return page.getAttribute('body', 'data-selected');
+}
+
 test('the page loads without console errors on the expected backend', async () => {
   const { page, errors } = await open(browser);
   assert.equal(await page.textContent('#backend'), EXPECTED_BACKEND);
@@ -70,7 +76,7 @@ test('dragging the centre point up grows the solid; typing a low ξ shrinks it',
   await page.mouse.move(cx, cy - 30, { steps: 3 });
   await page.mouse.move(cx, cy - 60, { steps: 3 });
   await page.mouse.up();
-  assert.equal(await page.getAttribute('body', 'data-selected'), '1,1');
+  assert.equal(await selected(page), '1,1');
   assert.equal(Number(await page.inputValue('#xi')), 1.5);
   const grown = redReach(await canvasPixels(page, 'after-drag'), ROW, scale);
   assert.ok(grown.left > before.left + 3 && grown.right > before.right + 3,
@@ -95,11 +101,10 @@ test('the wheel and the keyboard select points and change ξ', async () => {
   // Keyboard: Tab selects the first point; arrows walk to the centre; Page Down lowers it.
   await page.focus('#view');
   await page.keyboard.press('Tab');
-  assert.equal(await page.getAttribute('body', 'data-selected'), '0,0');
+  assert.equal(await selected(page), '0,0');
   await page.keyboard.press('ArrowRight');
   await page.keyboard.press('ArrowUp');
-  await settle(page);
-  assert.equal(await page.getAttribute('body', 'data-selected'), '1,1');
+  assert.equal(await selected(page), '1,1');
   await page.keyboard.press('PageDown');
   await page.keyboard.press('PageDown');
   await settle(page);

@@ -42,7 +42,7 @@ pub fn diverging(t: f64) -> Rgba {
     let t = if t.is_nan() { 0.0 } else { t.clamp(-1.0, 1.0) };
     let (end, s) = if t < 0.0 { (BLUE, -t) } else { (RED, t) };
     // A slight ease so that values near zero are visibly tinted.
-    let s = s.powf(0.8);
+    let s = s.powf(0.6);
     let c = |k: usize| (WHITE[k] + (end[k] - WHITE[k]) * s) as f32;
     [c(0), c(1), c(2), 1.0]
 }
