@@ -92,3 +92,29 @@ impl Recipe {
             .join(format!("{}.wasm", self.krate.replace('-', "_")))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recipe_of_the_repository_loads() {
+        let ws = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .expect("xtask sits in the workspace");
+        let r = Recipe::load(ws).expect("wasm-pack.toml parses");
+        assert_eq!(r.krate, "bezsolid-web");
+        assert_eq!(r.bindgen_target, "web");
+        assert!(r.out_dir.ends_with("www/pkg"));
+        assert!(
+            r.wasm_opt
+                .as_ref()
+                .is_some_and(|a| a.iter().any(|x| x.starts_with("-O")))
+        );
+        assert_eq!(r.address, "127.0.0.1");
+        assert!(
+            r.artifact(ws)
+                .ends_with("wasm32-unknown-unknown/web/bezsolid_web.wasm")
+        );
+    }
+}
