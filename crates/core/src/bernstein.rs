@@ -3,7 +3,8 @@
 /// The highest degree per axis that bezsolid supports (DESIGN §5: degree ≤ 16 per axis).
 pub const MAX_DEGREE: usize = 16;
 
-/// The binomial coefficient `C(n, k)` as `f64`; exact for every `n ≤ MAX_DEGREE`.
+/// The binomial coefficient `C(n, k)` as `f64`: exact for every `n ≤ MAX_DEGREE` (and far beyond),
+/// never overflowing (it saturates to infinity for huge `n`).
 ///
 /// Returns 0 when `k > n`.
 #[must_use]
@@ -12,12 +13,12 @@ pub fn binomial(n: usize, k: usize) -> f64 {
         return 0.0;
     }
     let k = k.min(n - k);
-    let mut c = 1u64;
+    let mut c = 1.0;
     for i in 0..k {
-        // c · (n − i) / (i + 1) stays an integer at every step.
-        c = c * (n - i) as u64 / (i as u64 + 1);
+        // c · (n − i) / (i + 1) is an integer at every step, exact while it fits in 53 bits.
+        c = c * (n - i) as f64 / (i + 1) as f64;
     }
-    c as f64
+    c
 }
 
 /// One Bernstein polynomial `B_i^n(t)`; 0 when `i > n`.
@@ -82,6 +83,8 @@ mod tests {
         assert_eq!(binomial(4, 2), 6.0);
         assert_eq!(binomial(16, 8), 12870.0);
         assert_eq!(binomial(3, 5), 0.0);
+        assert_eq!(binomial(60, 30), 118_264_581_564_861_424.0);
+        assert!(binomial(usize::MAX, 3).is_finite());
         for n in 1..=MAX_DEGREE {
             for k in 1..n {
                 assert_eq!(binomial(n, k), binomial(n - 1, k - 1) + binomial(n - 1, k));

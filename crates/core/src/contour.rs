@@ -17,14 +17,10 @@ use glam::DVec2;
 /// A regular grid of `nx × ny` samples over the box `[min, max]` (corners included).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid2 {
-    /// The lower corner.
-    pub min: DVec2,
-    /// The upper corner.
-    pub max: DVec2,
-    /// Samples along x (at least 2).
-    pub nx: usize,
-    /// Samples along y (at least 2).
-    pub ny: usize,
+    min: DVec2,
+    max: DVec2,
+    nx: usize,
+    ny: usize,
 }
 
 impl Grid2 {
@@ -37,6 +33,18 @@ impl Grid2 {
             nx: nx.max(2),
             ny: ny.max(2),
         }
+    }
+
+    /// Samples along x (at least 2).
+    #[must_use]
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+
+    /// Samples along y (at least 2).
+    #[must_use]
+    pub fn ny(&self) -> usize {
+        self.ny
     }
 
     /// The x coordinates of the sample columns.
@@ -352,41 +360,64 @@ mod tests {
 
     #[test]
     fn contour_saddle_follows_the_cell_centre() {
-        // Samples of a saddle on a single cell: inside at (0,0) and (1,1).
+        // Samples of a saddle on a single cell: inside at (0,0) and (1,1). The bilinear interpolant
+        // (1 − 2x)(1 − 2y) is 0 at the centre; lifted by 0.1 the material joins through the middle,
+        // lowered by 0.1 it splits. Each case has its own exact pair of segments.
         let grid = Grid2::new(DVec2::ZERO, DVec2::ONE, 2, 2);
         let values = [1.0, -1.0, -1.0, 1.0];
-        // The bilinear interpolant (1 − 2x)(1 − 2y) is 0 at the centre; lift or lower it a little.
         let bilinear = |p: DVec2| (1.0 - 2.0 * p.x) * (1.0 - 2.0 * p.y);
-        let joined = contour(&grid, &values, |p| bilinear(p) + 0.1, 1e-12);
-        let split = contour(&grid, &values, |p| bilinear(p) - 0.1, 1e-12);
-        assert_eq!((joined.len(), split.len()), (2, 2));
-        // Joined through the centre: each segment cuts off an outside corner (1,0) or (0,1); split:
-        // each cuts off an inside corner. In both, the corner cut off is on the segment's
-        // right (outside) or left (inside).
-        for l in &joined {
-            let (a, b) = (l.points[0], l.points[1]);
-            let corner = if a.x + b.x > 1.0 {
-                DVec2::new(1.0, 0.0)
-            } else {
-                DVec2::new(0.0, 1.0)
-            };
-            assert!(
-                (b - a).perp_dot(corner - a) < 0.0,
-                "outside corner on the right"
-            );
-        }
-        for l in &split {
-            let (a, b) = (l.points[0], l.points[1]);
-            let corner = if a.x + b.x > 1.0 {
-                DVec2::ONE
-            } else {
-                DVec2::ZERO
-            };
-            assert!(
-                (b - a).perp_dot(corner - a) > 0.0,
-                "inside corner on the left"
-            );
-        }
+        // Segments as rounded (thousandths) endpoint pairs, sorted, for exact comparison.
+        let segments = |lift: f64| {
+            let mut s: Vec<[[i64; 2]; 2]> = contour(&grid, &values, |p| bilinear(p) + lift, 1e-13)
+                .iter()
+                .map(|l| {
+                    assert!(!l.closed && l.points.len() == 2);
+                    let r = |p: DVec2| [(p.x * 1e3).round() as i64, (p.y * 1e3).round() as i64];
+                    [r(l.points[0]), r(l.points[1])]
+                })
+                .collect();
+            s.sort_unstable();
+            s
+        };
+        // Roots of the lifted interpolant on the edges: (1 − 2t) = ∓0.1 → t = 0.55 or 0.45.
+        // Joined: the segments cut off the outside corners (1,0) and (0,1), material on the left.
+        assert_eq!(
+            segments(0.1),
+            [[[450, 1000], [0, 550]], [[550, 0], [1000, 450]]]
+        );
+        // Split: they cut off the inside corners (0,0) and (1,1).
+        assert_eq!(
+            segments(-0.1),
+            [[[450, 0], [0, 450]], [[550, 1000], [1000, 550]]]
+        );
+    }
+
+    #[test]
+    fn contour_checkerboard_of_saddles_counts_loops() {
+        // cos(πx)·cos(πy) + c on [0, 4]², sampled on the integer lattice only, so that every cell is
+        // a saddle. Lowered (c < 0), the bumps at even-sum points separate: the centre bump and the
+        // four at (1±1, …) inside the border close into counter-clockwise loops. Lifted (c > 0), the
+        // bumps join and the dips around the four interior odd-sum points become clockwise holes.
+        let field = |c: f64| {
+            move |p: DVec2| {
+                (core::f64::consts::PI * p.x).cos() * (core::f64::consts::PI * p.y).cos() + c
+            }
+        };
+        let grid = Grid2::new(DVec2::ZERO, DVec2::splat(4.0), 5, 5);
+        let split = contour_grid(&grid, field(-0.2), 1e-12);
+        let bumps: Vec<&Polyline> = split.iter().filter(|l| l.closed).collect();
+        assert_eq!(bumps.len(), 5);
+        assert!(
+            bumps.iter().all(|l| l.signed_area() > 0.0),
+            "bumps run counter-clockwise"
+        );
+        let joined = contour_grid(&grid, field(0.2), 1e-12);
+        let holes: Vec<&Polyline> = joined.iter().filter(|l| l.closed).collect();
+        assert_eq!(holes.len(), 4);
+        assert!(
+            holes.iter().all(|l| l.signed_area() < 0.0),
+            "holes run clockwise"
+        );
     }
 
     #[test]

@@ -1,14 +1,14 @@
 //! Scalar math that works with and without `std`.
 
-/// `√x`, from the platform with `std`, from `libm` without.
+/// `√(x² + y²)` without overflow or underflow.
 #[inline]
-pub(crate) fn sqrt(x: f64) -> f64 {
+pub(crate) fn hypot(x: f64, y: f64) -> f64 {
     #[cfg(feature = "std")]
     {
-        x.sqrt()
+        x.hypot(y)
     }
     #[cfg(not(feature = "std"))]
     {
-        libm::sqrt(x)
+        libm::hypot(x, y)
     }
 }

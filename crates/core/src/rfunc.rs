@@ -2,23 +2,37 @@
 //!
 //! The R0 system: `f1 & f2 = f1 + f2 − √(f1² + f2²)` is positive exactly where both arguments are,
 //! `f1 | f2 = f1 + f2 + √(f1² + f2²)` where either is, and `−f` is the complement. Functional clipping
+//! `√(f1² + f2²)` is computed as `hypot`, which does not overflow for large values, and the sum
+//! `f1 + f2 ∓ √(…)` is rewritten as `2·f1·f2 / (f1 + f2 ± √(…))` where it would cancel. Functional clipping
 //! intersects the patch's function with the parameter square so that it is negative outside it:
 //! `S_clip(u, v) = S_ξ(u, v) & F_s(u, v)`, `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)`.
 
-use crate::math::sqrt;
+use crate::math::hypot;
 
 /// R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)`.
 #[must_use]
 #[inline]
 pub fn intersect(f1: f64, f2: f64) -> f64 {
-    f1 + f2 - sqrt(f1 * f1 + f2 * f2)
+    let (s, h) = (f1 + f2, hypot(f1, f2));
+    if s > 0.0 {
+        // s − h cancels when one argument dwarfs the other; (s − h)(s + h) = 2·f1·f2 does not.
+        2.0 * f1 * (f2 / (s + h))
+    } else {
+        s - h
+    }
 }
 
 /// R-function union `f1 | f2 = f1 + f2 + √(f1² + f2²)`.
 #[must_use]
 #[inline]
 pub fn union(f1: f64, f2: f64) -> f64 {
-    f1 + f2 + sqrt(f1 * f1 + f2 * f2)
+    let (s, h) = (f1 + f2, hypot(f1, f2));
+    if s < 0.0 {
+        // The mirror of `intersect`: no cancellation between s and h.
+        2.0 * f1 * (f2 / (s - h))
+    } else {
+        s + h
+    }
 }
 
 /// Complement `−f`.
@@ -65,6 +79,26 @@ mod tests {
             assert_eq!(union(a, b) > 0.0, a > 0.0 || b > 0.0, "{a} | {b}");
         }
         assert_eq!(intersect(2.0, 0.0), 0.0);
+    }
+
+    /// Regression: `f1² + f2²` overflowed for |f| above ~1e154 and flipped the sign of the solid.
+    #[test]
+    fn rfunc_large_values_keep_their_sign() {
+        for big in [1e154, 1e200, 1e300] {
+            assert!(intersect(big, big) > 0.0);
+            assert!(intersect(big, 0.5) > 0.0);
+            assert!(union(-big, -big) < 0.0);
+            assert!(intersect(-big, 0.5) < 0.0);
+            assert!(union(-big, 0.5) > 0.0);
+        }
+        // Away from cancellation the rewritten form agrees with the textbook one.
+        let mut rng = Rng::new(22);
+        for _ in 0..1000 {
+            let (a, b) = (rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+            let h = (a * a + b * b).sqrt();
+            assert!((intersect(a, b) - (a + b - h)).abs() < 1e-12);
+            assert!((union(a, b) - (a + b + h)).abs() < 1e-12);
+        }
     }
 
     /// Paper Fig. 4: after clipping the function is negative outside the unit square and keeps the

@@ -20,6 +20,8 @@ pub enum SolidError {
     NotRegular,
     /// The grid's box has no area.
     DegenerateBox,
+    /// A coordinate's magnitude is above [`Solid2::MAX_COORDINATE`].
+    OutOfRange,
 }
 
 impl fmt::Display for SolidError {
@@ -31,6 +33,7 @@ impl fmt::Display for SolidError {
                 f.write_str("control points do not form a regular axis-aligned grid (space mapping is not supported yet)")
             }
             Self::DegenerateBox => f.write_str("the control grid's box has zero width or height"),
+            Self::OutOfRange => write!(f, "a coordinate's magnitude is above {:e}", Solid2::MAX_COORDINATE),
         }
     }
 }
@@ -63,6 +66,10 @@ pub struct Solid2 {
 }
 
 impl Solid2 {
+    /// The largest magnitude of a control point coordinate (x, y or ξ): far beyond any model, and
+    /// small enough that no evaluation overflows (Bernstein sums stay below 2^16 · 10^12).
+    pub const MAX_COORDINATE: f64 = 1e12;
+
     /// A solid on the regular grid over the box `[min, max]` with `ξ(P_ij) = xi(i, j)`.
     ///
     /// # Errors
@@ -91,6 +98,13 @@ impl Solid2 {
     pub fn try_from_patch(patch: Patch<DVec3>) -> Result<Self, SolidError> {
         if !patch.points().iter().all(|p| p.is_finite()) {
             return Err(SolidError::NonFinite);
+        }
+        if patch
+            .points()
+            .iter()
+            .any(|p| p.abs().max_element() > Self::MAX_COORDINATE)
+        {
+            return Err(SolidError::OutOfRange);
         }
         let (n, m) = patch.degree();
         let min = patch.point(0, 0).truncate();
@@ -168,7 +182,8 @@ impl Solid2 {
     ///
     /// # Errors
     ///
-    /// [`SolidError::NonFinite`] for NaN or infinity; the solid is unchanged.
+    /// [`SolidError::NonFinite`] for NaN or infinity, [`SolidError::OutOfRange`] beyond
+    /// [`Solid2::MAX_COORDINATE`]; the solid is unchanged then.
     ///
     /// # Panics
     ///
@@ -176,6 +191,9 @@ impl Solid2 {
     pub fn set_xi(&mut self, i: usize, j: usize, xi: f64) -> Result<(), SolidError> {
         if !xi.is_finite() {
             return Err(SolidError::NonFinite);
+        }
+        if xi.abs() > Self::MAX_COORDINATE {
+            return Err(SolidError::OutOfRange);
         }
         self.patch.point_mut(i, j).z = xi;
         Ok(())
@@ -247,9 +265,17 @@ mod tests {
 
     #[test]
     fn solid_f_grid_equals_pointwise() {
-        let s = Solid2::fig9();
-        let xs = [-0.2, 0.1, 0.5, 0.77, 1.3];
-        let ys = [0.0, 0.25, 0.6];
+        // Asymmetric in every way (degree, box, values), so that x and y cannot be confused.
+        let mut rng = Rng::new(31);
+        let s = Solid2::regular(
+            (3, 4),
+            DVec2::new(-2.0, 1.0),
+            DVec2::new(3.0, 1.5),
+            |_, _| rng.range(-1.0, 1.0),
+        )
+        .unwrap();
+        let xs = [-2.5, -1.0, 0.1, 2.2, 3.3];
+        let ys = [0.9, 1.1, 1.25, 1.45];
         let grid = s.f_grid(&xs, &ys);
         for (b, &y) in ys.iter().enumerate() {
             for (a, &x) in xs.iter().enumerate() {
@@ -270,6 +296,7 @@ mod tests {
         assert_eq!(Solid2::try_from_patch(patch), Err(SolidError::NonFinite));
         let mut s = Solid2::fig9();
         assert_eq!(s.set_xi(0, 0, f64::INFINITY), Err(SolidError::NonFinite));
+        assert_eq!(s.set_xi(0, 0, 1e200), Err(SolidError::OutOfRange));
         assert_eq!(s, Solid2::fig9());
     }
 

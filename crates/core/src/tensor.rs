@@ -104,9 +104,14 @@ impl<P: ControlPoint> Patch<P> {
         degree: (usize, usize),
         mut point: impl FnMut(usize, usize) -> P,
     ) -> Result<Self, PatchError> {
+        for d in [degree.0, degree.1] {
+            if d == 0 || d > MAX_DEGREE {
+                return Err(PatchError::Degree { degree: d });
+            }
+        }
         let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1));
-        for i in 0..=degree.0.min(MAX_DEGREE) {
-            for j in 0..=degree.1.min(MAX_DEGREE) {
+        for i in 0..=degree.0 {
+            for j in 0..=degree.1 {
                 points.push(point(i, j));
             }
         }
@@ -343,6 +348,10 @@ mod tests {
         assert_eq!(
             Patch::<f64>::from_fn((17, 1), |_, _| 0.0),
             Err(PatchError::Degree { degree: 17 })
+        );
+        assert_eq!(
+            Patch::<f64>::from_fn((usize::MAX, 1), |_, _| 0.0),
+            Err(PatchError::Degree { degree: usize::MAX })
         );
     }
 }
