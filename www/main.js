@@ -87,7 +87,14 @@ async function main() {
     redraw();
   };
   new ResizeObserver(resize).observe(canvas);
-  matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`).addEventListener('change', resize);
+  // A media query matches one ratio: listen again at the new one after each change (zoom, new screen).
+  const watchRatio = () => {
+    matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`).addEventListener('change', () => {
+      resize();
+      watchRatio();
+    }, { once: true });
+  };
+  watchRatio();
   resize();
 
   const local = (e) => {

@@ -2,7 +2,7 @@
 // edits of a control point's ξ made through the UI, with the zero contour moving the right way.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { launch, open, canvasPixels, canvasBox, redReach, settle, EXPECTED_BACKEND, ARTIFACTS } from './harness.mjs';
+import { launch, open, canvasPixels, canvasBox, contourCrossings, settle, EXPECTED_BACKEND, ARTIFACTS } from './harness.mjs';
 import { join } from 'node:path';
 
 let browser;
@@ -11,6 +11,13 @@ after(async () => { await browser?.close(); });
 
 // Rows of the scans: 24 CSS px below the centre, clear of the grid line and the control points.
 const ROW = 24;
+
+/** The contour's crossings of the scan row; both must exist (the line bounds the red solid). */
+async function measure(page, scale, name) {
+  const c = contourCrossings(await canvasPixels(page, name), ROW, scale);
+  assert.ok(c.left !== null && c.right !== null, `the zero contour crosses the row on both sides: ${JSON.stringify(c)}`);
+  return c;
+}
 
 /** The selected point as "i,j" once the panel has caught up with the last input. */
 async function selected(page) {
@@ -65,8 +72,8 @@ test('dragging the centre point up grows the solid; typing a low ξ shrinks it',
   const { page, errors } = await open(browser);
   const box = await canvasBox(page);
   const scale = (await canvasPixels(page)).width / box.width;
-  const before = redReach(await canvasPixels(page), ROW, scale);
-  assert.ok(before.left > 10 && before.right > 10, `a red region around the centre: ${JSON.stringify(before)}`);
+  const before = await measure(page, scale);
+  assert.ok(before.left > 10 && before.right > 10, `the contour around the centre: ${JSON.stringify(before)}`);
 
   // Press on the centre control point and drag it up 60 px (ξ + 0.5).
   const cx = box.x + box.width / 2;
@@ -78,14 +85,14 @@ test('dragging the centre point up grows the solid; typing a low ξ shrinks it',
   await page.mouse.up();
   assert.equal(await selected(page), '1,1');
   assert.equal(Number(await page.inputValue('#xi')), 1.5);
-  const grown = redReach(await canvasPixels(page, 'after-drag'), ROW, scale);
+  const grown = await measure(page, scale, 'after-drag');
   assert.ok(grown.left > before.left + 3 && grown.right > before.right + 3,
     `the contour moved outwards: ${JSON.stringify(before)} → ${JSON.stringify(grown)}`);
 
   // The number input: a low ξ pulls the contour inwards, past where it started.
-  await page.fill('#xi', '0.3');
+  await page.fill('#xi', '0.6');
   await page.press('#xi', 'Enter');
-  const shrunk = redReach(await canvasPixels(page, 'after-input'), ROW, scale);
+  const shrunk = await measure(page, scale, 'after-input');
   assert.ok(shrunk.left < before.left - 3 && shrunk.right < before.right - 3,
     `the contour moved inwards: ${JSON.stringify(before)} → ${JSON.stringify(shrunk)}`);
   assert.deepEqual(errors, []);
@@ -96,7 +103,8 @@ test('the wheel and the keyboard select points and change ξ', async () => {
   const { page, errors } = await open(browser);
   const box = await canvasBox(page);
   const scale = (await canvasPixels(page)).width / box.width;
-  const before = redReach(await canvasPixels(page), ROW, scale);
+  const before = await measure(page, scale);
+  assert.ok(before.left > 10 && before.right > 10, `the contour around the centre: ${JSON.stringify(before)}`);
 
   // Keyboard: Tab selects the first point; arrows walk to the centre; Page Down lowers it.
   await page.focus('#view');
@@ -109,7 +117,7 @@ test('the wheel and the keyboard select points and change ξ', async () => {
   await page.keyboard.press('PageDown');
   await settle(page);
   assert.equal(Number(await page.inputValue('#xi')), 0.8);
-  const lowered = redReach(await canvasPixels(page), ROW, scale);
+  const lowered = await measure(page, scale, 'after-keys');
   assert.ok(lowered.left < before.left && lowered.right < before.right,
     `lowering the centre shrinks the solid: ${JSON.stringify(before)} → ${JSON.stringify(lowered)}`);
 
@@ -118,7 +126,7 @@ test('the wheel and the keyboard select points and change ξ', async () => {
   for (let k = 0; k < 5; k++) await page.mouse.wheel(0, -100);
   await settle(page);
   assert.ok(Math.abs(Number(await page.inputValue('#xi')) - 1.3) < 1e-9);
-  const raised = redReach(await canvasPixels(page), ROW, scale);
+  const raised = await measure(page, scale);
   assert.ok(raised.left > before.left + 2 && raised.right > before.right + 2,
     `raising the centre grows the solid: ${JSON.stringify(before)} → ${JSON.stringify(raised)}`);
   assert.deepEqual(errors, []);

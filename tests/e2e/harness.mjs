@@ -57,19 +57,32 @@ export async function canvasBox(page) {
 }
 
 const isRed = ([r, g, b]) => r - b > 40 && r > 120;
+const isDark = ([r, g, b]) => r < 90 && g < 90 && b < 90;
 
 /**
- * Along the row `dy` CSS pixels below the canvas centre, how far the red (inside) region reaches to
- * the left and to the right of the centre, in image pixels. The scan starts a few pixels off the
- * centre to step over the vertical grid line there.
+ * Where the zero contour crosses the row `dy` CSS pixels below the canvas centre, to the left and to
+ * the right, as distances from the centre in image pixels: the middle of the first dark (contour
+ * line) run met going outwards from a red (inside) centre. Checks that the field is reddish just
+ * inside the line and bluish just outside it, so the line found is the boundary of the solid. The
+ * scan starts a few pixels off the centre to step over the vertical grid line there. Returns null
+ * for a side without such a crossing.
  */
-export function redReach(img, dy, scale) {
+export function contourCrossings(img, dy, scale) {
   const cx = Math.round(img.width / 2);
   const y = Math.round(img.height / 2 + dy * scale);
   const start = Math.ceil(4 * scale);
-  let left = start, right = start;
-  if (!isRed(img.at(cx - start, y)) || !isRed(img.at(cx + start, y))) return { left: 0, right: 0 };
-  while (cx - left - 1 >= 0 && isRed(img.at(cx - left - 1, y))) left++;
-  while (cx + right + 1 < img.width && isRed(img.at(cx + right + 1, y))) right++;
-  return { left, right };
+  const gap = Math.ceil(3 * scale);
+  const side = (dir) => {
+    if (!isRed(img.at(cx + dir * start, y))) return null;
+    let first = start;
+    while (first < img.width / 2 - gap - 2 && !isDark(img.at(cx + dir * first, y))) first++;
+    if (!isDark(img.at(cx + dir * first, y))) return null;
+    let last = first;
+    while (isDark(img.at(cx + dir * (last + 1), y))) last++;
+    const [ri, , bi] = img.at(cx + dir * (first - gap), y);
+    const [ro, , bo] = img.at(cx + dir * (last + gap), y);
+    if (!(ri > bi && bo > ro)) return null;
+    return (first + last) / 2;
+  };
+  return { left: side(-1), right: side(1) };
 }

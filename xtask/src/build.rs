@@ -64,9 +64,16 @@ pub(crate) fn web(workspace: &Path, recipe: &Recipe) -> Result<Sizes> {
         && let Some(bin) = setup::wasm_opt(workspace)
     {
         let tmp = wasm.with_extension("opt.wasm");
-        run(Command::new(bin).arg(&wasm).args(args).arg("-o").arg(&tmp))?;
-        std::fs::rename(&tmp, &wasm)?;
-        optimised = Some(size(&wasm)?);
+        match run(Command::new(bin).arg(&wasm).args(args).arg("-o").arg(&tmp)) {
+            Ok(()) => {
+                std::fs::rename(&tmp, &wasm)?;
+                optimised = Some(size(&wasm)?);
+            }
+            Err(e) => {
+                let _ = std::fs::remove_file(&tmp);
+                eprintln!("warning: {e:#}; keeping the unoptimised module");
+            }
+        }
     }
     let bytes = std::fs::read(&wasm)?;
     let gzipped = miniz_oxide::deflate::compress_to_vec(&bytes, 9).len() as u64 + 18;

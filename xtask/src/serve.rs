@@ -1,11 +1,16 @@
 //! A small static file server for the page: loopback only, GET and HEAD, the right MIME type for
 //! `.wasm`, and a Content-Security-Policy that allows what the page needs and nothing more.
 
-use std::io::{BufRead, BufReader, Write};
-use std::net::{TcpListener, TcpStream};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
 use std::time::Duration;
+
+/// The most a request's line and headers may take; more is answered 431.
+const MAX_HEAD: u64 = 16 * 1024;
 
 /// Scripts only from the page's origin, plus compiling WebAssembly (`'wasm-unsafe-eval'`, not
 /// `'unsafe-eval'`); `fetch` of the module is `connect-src`. No inline script or style, no frames.
@@ -15,12 +20,59 @@ pub(crate) const CSP: &str = "default-src 'none'; script-src 'self' 'wasm-unsafe
 
 /// Serves `root` on `listener` until the process ends, one thread per connection.
 pub(crate) fn serve(listener: TcpListener, root: PathBuf) {
-    let root = Arc::new(root);
-    for stream in listener.incoming().flatten() {
-        let root = Arc::clone(&root);
-        std::thread::spawn(move || {
-            let _ = handle(stream, &root);
-        });
+    accept_loop(&listener, &Arc::new(root), None);
+}
+
+/// A server on a background thread that [`Server::stop`] ends (the browser suite's).
+pub(crate) struct Server {
+    stop: Arc<AtomicBool>,
+    addr: SocketAddr,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Server {
+    pub(crate) fn start(listener: TcpListener, root: PathBuf) -> std::io::Result<Self> {
+        let addr = listener.local_addr()?;
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = Arc::clone(&stop);
+        let thread =
+            std::thread::spawn(move || accept_loop(&listener, &Arc::new(root), Some(&flag)));
+        Ok(Self {
+            stop,
+            addr,
+            thread: Some(thread),
+        })
+    }
+
+    /// Stops accepting and waits for the accept loop to end.
+    pub(crate) fn stop(mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+        // Wake the blocking accept with one last connection.
+        let _ = TcpStream::connect_timeout(&self.addr, Duration::from_secs(1));
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn accept_loop(listener: &TcpListener, root: &Arc<PathBuf>, stop: Option<&AtomicBool>) {
+    for stream in listener.incoming() {
+        if stop.is_some_and(|s| s.load(Ordering::SeqCst)) {
+            return;
+        }
+        match stream {
+            Ok(stream) => {
+                let root = Arc::clone(root);
+                std::thread::spawn(move || {
+                    let _ = handle(stream, &root);
+                });
+            }
+            Err(e) => {
+                // Out of file descriptors and the like: say so and back off instead of spinning.
+                eprintln!("serve: accept failed: {e}");
+                std::thread::sleep(Duration::from_millis(100));
+            }
+        }
     }
 }
 
@@ -76,19 +128,34 @@ fn percent_decode(s: &str) -> Option<String> {
 
 fn handle(stream: TcpStream, root: &Path) -> std::io::Result<()> {
     stream.set_read_timeout(Some(Duration::from_secs(10)))?;
-    let mut reader = BufReader::new(stream.try_clone()?);
+    stream.set_write_timeout(Some(Duration::from_secs(10)))?;
+    let mut reader = BufReader::new(stream.try_clone()?.take(MAX_HEAD));
     let mut request = String::new();
     reader.read_line(&mut request)?;
     // Drain the headers; nothing in them changes the answer.
+    let mut complete = false;
     loop {
         let mut line = String::new();
-        if reader.read_line(&mut line)? == 0 || line == "\r\n" || line == "\n" {
+        if reader.read_line(&mut line)? == 0 {
+            break;
+        }
+        if line == "\r\n" || line == "\n" {
+            complete = true;
             break;
         }
     }
+    let mut stream = stream;
+    if !complete {
+        return respond(
+            &mut stream,
+            "431 Request Header Fields Too Large",
+            "text/plain",
+            b"bad request\n",
+            true,
+        );
+    }
     let mut parts = request.split_whitespace();
     let (method, target) = (parts.next().unwrap_or(""), parts.next().unwrap_or("/"));
-    let mut stream = stream;
     if method != "GET" && method != "HEAD" {
         return respond(
             &mut stream,

@@ -27,6 +27,29 @@ pub(crate) fn wasm_target() -> Result<()> {
     }
 }
 
+/// rustfmt and clippy, which a minimal rustup profile leaves out.
+pub(crate) fn rust_components() -> Result<()> {
+    let have = |args: &[&str]| output(cargo().args(args)).is_some();
+    if have(&["fmt", "--version"]) && have(&["clippy", "--version"]) {
+        return Ok(());
+    }
+    eprintln!("- adding the rustfmt and clippy components");
+    run(Command::new("rustup").args(["component", "add", "rustfmt", "clippy"]))
+}
+
+/// node and npm for the browser suite and wasm-opt, from Debian when missing.
+pub(crate) fn node() -> Result<()> {
+    let works = |bin: &str| output(Command::new(bin).arg("--version")).is_some();
+    if works("node") && works("npm") {
+        return Ok(());
+    }
+    apt_install(&["nodejs", "npm"])?;
+    if !(works("node") && works("npm")) {
+        bail!("node and npm are still missing after installing Debian's nodejs and npm");
+    }
+    Ok(())
+}
+
 fn cargo_bin_dir() -> PathBuf {
     let home = std::env::var_os("CARGO_HOME")
         .map(PathBuf::from)
@@ -82,6 +105,10 @@ pub(crate) fn wasm_bindgen(workspace: &Path) -> Result<PathBuf> {
 
 /// A working `wasm-opt` from npm binaryen (xtask/npm's lockfile), or `None` with a warning.
 pub(crate) fn wasm_opt(workspace: &Path) -> Option<PathBuf> {
+    if let Err(e) = node() {
+        eprintln!("warning: no node for npm binaryen ({e:#}); the page is served unoptimised");
+        return None;
+    }
     let dir = workspace.join("xtask/npm");
     let bin = dir.join("node_modules/.bin/wasm-opt");
     let works = |bin: &Path| output(Command::new(bin).arg("--version")).is_some();
@@ -125,7 +152,19 @@ pub(crate) fn browser_packages() -> Result<()> {
     if missing.is_empty() && Path::new("/usr/bin/chromium").exists() {
         return Ok(());
     }
-    eprintln!("- installing {} with apt-get", missing.join(" "));
+    apt_install(&missing)?;
+    if !Path::new("/usr/bin/chromium").exists() {
+        bail!(
+            "/usr/bin/chromium is missing after installing {}",
+            missing.join(" ")
+        );
+    }
+    Ok(())
+}
+
+/// `apt-get install` as root (or through passwordless sudo), non-interactively.
+fn apt_install(packages: &[&str]) -> Result<()> {
+    eprintln!("- installing {} with apt-get", packages.join(" "));
     let root = output(Command::new("id").arg("-u")).is_some_and(|u| u.trim() == "0");
     let apt = |args: &[&str]| {
         let mut cmd = if root {
@@ -140,13 +179,6 @@ pub(crate) fn browser_packages() -> Result<()> {
     };
     apt(&["update", "-qq"]).context("apt-get update (needs root or passwordless sudo)")?;
     let mut args = vec!["install", "-y", "-qq"];
-    args.extend(&missing);
-    apt(&args)?;
-    if !Path::new("/usr/bin/chromium").exists() {
-        bail!(
-            "/usr/bin/chromium is missing after installing {}",
-            missing.join(" ")
-        );
-    }
-    Ok(())
+    args.extend(packages);
+    apt(&args)
 }

@@ -31,7 +31,10 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
     let steps: Vec<Step<'_>> = vec![
         (
             "cargo fmt --check",
-            Box::new(move || run(cargo_in().args(["fmt", "--all", "--", "--check"]))),
+            Box::new(move || {
+                setup::rust_components()?;
+                run(cargo_in().args(["fmt", "--all", "--", "--check"]))
+            }),
         ),
         (
             "clippy (native and wasm32, warnings denied)",
@@ -158,15 +161,14 @@ pub(crate) const WEBGPU_FLAGS: [&str; 4] = [
 
 fn browser_suite(workspace: &Path, options: &Options) -> Result<()> {
     setup::browser_packages()?;
+    setup::node()?;
     let tests = workspace.join("tests");
     setup::npm_ci(&tests)?;
     let recipe = Recipe::load(workspace)?;
     let listener =
         TcpListener::bind((recipe.address.as_str(), 0)).context("binding a loopback port")?;
     let url = format!("http://{}/", listener.local_addr()?);
-    let root = recipe.root.clone();
-    // The server thread ends with the process; nothing else holds the port.
-    std::thread::spawn(move || serve::serve(listener, root));
+    let server = serve::Server::start(listener, recipe.root.clone())?;
     let mut files: Vec<_> = std::fs::read_dir(tests.join("e2e"))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.to_string_lossy().ends_with(".test.mjs"))
@@ -184,7 +186,7 @@ fn browser_suite(workspace: &Path, options: &Options) -> Result<()> {
         use std::os::unix::fs::PermissionsExt;
         std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700))?;
     }
-    for backend in ["webgl2", "webgpu"] {
+    let runs = ["webgl2", "webgpu"].map(|backend| {
         eprintln!("-- {backend} at {url}");
         run(Command::new("node")
             .arg("--test")
@@ -195,7 +197,11 @@ fn browser_suite(workspace: &Path, options: &Options) -> Result<()> {
             .env("BEZSOLID_BACKEND", backend)
             .env("BEZSOLID_ARTIFACTS", &artifacts)
             .env("BEZSOLID_WEBGPU_FLAGS", WEBGPU_FLAGS.join(" "))
-            .env("XDG_RUNTIME_DIR", &runtime))?;
+            .env("XDG_RUNTIME_DIR", &runtime))
+    });
+    server.stop();
+    for r in runs {
+        r?;
     }
     if options.update_screenshot {
         let shot = artifacts.join("webgl2/modeler.png");

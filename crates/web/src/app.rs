@@ -20,7 +20,7 @@ pub const XI_KEY_STEP: f64 = 0.1;
 const MARGIN: f64 = 0.14;
 /// Samples of the field along the view's longer side (the texture is filtered up to the canvas).
 const FIELD_SAMPLES: usize = 320;
-/// Accuracy to which contour vertices are refined onto f = 0.
+/// Accuracy to which contour vertices are refined onto f = 0, relative to the largest |f| sampled.
 pub const CONTOUR_ACCURACY: f64 = 1e-9;
 
 /// An RGBA colour, components in `[0, 1]`, not premultiplied.
@@ -317,7 +317,11 @@ impl ContourView {
                 }
             }
             "ArrowLeft" | "ArrowRight" | "ArrowUp" | "ArrowDown" => {
-                let (i, j) = self.selected().unwrap_or((n / 2, m / 2));
+                // The first arrow press selects the middle point; the next ones walk the grid.
+                let Some((i, j)) = self.selected() else {
+                    self.select(Some((n / 2, m / 2)));
+                    return true;
+                };
                 let (i, j) = match key {
                     "ArrowLeft" => (i.saturating_sub(1), j),
                     "ArrowRight" => ((i + 1).min(n), j),
@@ -401,7 +405,13 @@ impl ContourView {
             rgba,
         };
 
-        let contours = contour(&grid, &values, |p| self.solid.f(p), CONTOUR_ACCURACY);
+        let magnitude = values.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+        let contours = contour(
+            &grid,
+            &values,
+            |p| self.solid.f(p),
+            CONTOUR_ACCURACY * magnitude,
+        );
         let shapes = self.shapes(&contours);
         Frame {
             field,
@@ -605,6 +615,16 @@ mod tests {
         assert!(v.key("ArrowLeft", false));
         assert!(v.key("ArrowDown", false));
         assert_eq!(v.selected(), Some((1, 1)));
+        assert!(v.key("Escape", false));
+        assert!(v.key("ArrowRight", false));
+        assert_eq!(
+            v.selected(),
+            Some((1, 1)),
+            "the first arrow selects the middle point"
+        );
+        assert!(v.key("ArrowRight", false));
+        assert_eq!(v.selected(), Some((2, 1)));
+        assert!(v.key("ArrowLeft", false));
         let xi = v.selected_xi().unwrap();
         assert!(v.key("PageUp", false));
         assert!(v.key("-", true));

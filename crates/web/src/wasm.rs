@@ -130,7 +130,13 @@ impl Modeler {
     pub fn resize(&mut self, width: f64, height: f64, dpr: f64) -> Vec<u32> {
         self.view.resize(width, height, dpr);
         let (w, h) = self.view.device_size();
-        let (w, h) = (w.min(self.max_size), h.min(self.max_size));
+        // Past the largest texture, shrink both sides by one factor: the picture keeps its shape.
+        let shrink = (f64::from(self.max_size) / f64::from(w.max(h))).min(1.0);
+        let (w, h) = (
+            (f64::from(w) * shrink) as u32,
+            (f64::from(h) * shrink) as u32,
+        );
+        let (w, h) = (w.max(1), h.max(1));
         if (w, h) != (self.config.width, self.config.height) {
             self.config.width = w;
             self.config.height = h;
