@@ -43,6 +43,17 @@ test('?backend=webgl2 forces the fallback', async () => {
   await page.close();
 });
 
+test('?backend=webgpu uses WebGPU where it works and falls back to WebGL2 on a fresh canvas where not', async () => {
+  const { page, errors } = await open(browser, '?backend=webgpu');
+  assert.equal(await page.textContent('#backend'), EXPECTED_BACKEND);
+  if (EXPECTED_BACKEND === 'WebGL2') {
+    assert.match(await page.textContent('#status'), /WebGPU could not start/);
+  }
+  assert.ok(isDrawn(await canvasPixels(page, 'requested-webgpu')), 'the canvas is drawn');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 function isDrawn(img) {
   // The field is red in the middle and blue at the corners, with the dark contour between.
   const centre = img.at(img.width / 2 + 20, img.height / 2 + 30);
