@@ -80,11 +80,7 @@ impl<P: ControlPoint> Patch<P> {
     ///
     /// [`PatchError`] when a degree is out of range or the point count does not match.
     pub fn try_new(degree: (usize, usize), points: Vec<P>) -> Result<Self, PatchError> {
-        for d in [degree.0, degree.1] {
-            if d == 0 || d > MAX_DEGREE {
-                return Err(PatchError::Degree { degree: d });
-            }
-        }
+        check_degree(degree)?;
         let expected = (degree.0 + 1) * (degree.1 + 1);
         if points.len() != expected {
             return Err(PatchError::PointCount {
@@ -104,11 +100,7 @@ impl<P: ControlPoint> Patch<P> {
         degree: (usize, usize),
         mut point: impl FnMut(usize, usize) -> P,
     ) -> Result<Self, PatchError> {
-        for d in [degree.0, degree.1] {
-            if d == 0 || d > MAX_DEGREE {
-                return Err(PatchError::Degree { degree: d });
-            }
-        }
+        check_degree(degree)?;
         let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1));
         for i in 0..=degree.0 {
             for j in 0..=degree.1 {
@@ -225,6 +217,13 @@ impl<P: ControlPoint> Patch<P> {
             }
         }
         out
+    }
+}
+
+fn check_degree(degree: (usize, usize)) -> Result<(), PatchError> {
+    match [degree.0, degree.1].into_iter().find(|&d| d == 0 || d > MAX_DEGREE) {
+        Some(d) => Err(PatchError::Degree { degree: d }),
+        None => Ok(()),
     }
 }
 
