@@ -221,7 +221,10 @@ impl<P: ControlPoint> Patch<P> {
 }
 
 fn check_degree(degree: (usize, usize)) -> Result<(), PatchError> {
-    match [degree.0, degree.1].into_iter().find(|&d| d == 0 || d > MAX_DEGREE) {
+    match [degree.0, degree.1]
+        .into_iter()
+        .find(|&d| d == 0 || d > MAX_DEGREE)
+    {
         Some(d) => Err(PatchError::Degree { degree: d }),
         None => Ok(()),
     }
