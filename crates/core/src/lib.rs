@@ -51,7 +51,7 @@ mod tensor;
 
 pub use bernstein::MAX_DEGREE;
 pub use solid::{Solid2, SolidError};
-pub use tensor::{ControlPoint, Patch, PatchError};
+pub use tensor::{ControlPoint, Patch, PatchError, Volume};
 
 #[cfg(test)]
 pub(crate) mod testutil;

@@ -1,4 +1,5 @@
-//! Tensor-product Bézier patches `S(u, v) = Σ_i Σ_j P_ij B_i^n(u) B_j^m(v)`.
+//! Tensor-product Bézier patches `S(u, v) = Σ_i Σ_j P_ij B_i^n(u) B_j^m(v)` and volumes
+//! `S(u, v, w) = Σ_i Σ_j Σ_k P_ijk B_i^n(u) B_j^m(v) B_k^l(w)`.
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -220,6 +221,153 @@ impl<P: ControlPoint> Patch<P> {
     }
 }
 
+/// A tensor-product Bézier volume of degree `(n, m, l)`, each from 1 to [`MAX_DEGREE`].
+///
+/// Control points are stored with `k` fastest: `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`, the order of
+/// the model file (DESIGN §5).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Volume<P> {
+    degree: (usize, usize, usize),
+    points: Vec<P>,
+}
+
+impl<P: ControlPoint> Volume<P> {
+    /// A volume from its degree and `(n + 1)(m + 1)(l + 1)` control points.
+    ///
+    /// # Errors
+    ///
+    /// [`PatchError`] when a degree is out of range or the point count does not match.
+    pub fn try_new(degree: (usize, usize, usize), points: Vec<P>) -> Result<Self, PatchError> {
+        check_degree((degree.0, degree.1))?;
+        check_degree((degree.2, 1))?;
+        let expected = (degree.0 + 1) * (degree.1 + 1) * (degree.2 + 1);
+        if points.len() != expected {
+            return Err(PatchError::PointCount {
+                expected,
+                got: points.len(),
+            });
+        }
+        Ok(Self { degree, points })
+    }
+
+    /// A volume whose control point `P_ijk` is `point(i, j, k)`.
+    ///
+    /// # Errors
+    ///
+    /// [`PatchError::Degree`] when a degree is out of range.
+    pub fn from_fn(
+        degree: (usize, usize, usize),
+        mut point: impl FnMut(usize, usize, usize) -> P,
+    ) -> Result<Self, PatchError> {
+        check_degree((degree.0, degree.1))?;
+        check_degree((degree.2, 1))?;
+        let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1) * (degree.2 + 1));
+        for i in 0..=degree.0 {
+            for j in 0..=degree.1 {
+                for k in 0..=degree.2 {
+                    points.push(point(i, j, k));
+                }
+            }
+        }
+        Self::try_new(degree, points)
+    }
+
+    /// The degree `(n, m, l)`.
+    #[must_use]
+    pub fn degree(&self) -> (usize, usize, usize) {
+        self.degree
+    }
+
+    /// The control points (`P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`).
+    #[must_use]
+    pub fn points(&self) -> &[P] {
+        &self.points
+    }
+
+    /// `P_ijk`.
+    ///
+    /// # Panics
+    ///
+    /// If an index is above its degree.
+    #[must_use]
+    pub fn point(&self, i: usize, j: usize, k: usize) -> P {
+        let (n, m, l) = self.degree;
+        assert!(
+            i <= n && j <= m && k <= l,
+            "P_{i}{j}{k} outside degree {:?}",
+            self.degree
+        );
+        self.points[(i * (m + 1) + j) * (l + 1) + k]
+    }
+
+    /// `S(u, v, w)` in basis form, contracting `w`, then `v`, then `u`.
+    #[must_use]
+    pub fn eval(&self, u: f64, v: f64, w: f64) -> P {
+        let (n, m, l) = self.degree;
+        let bu = basis_array(n, u);
+        let bv = basis_array(m, v);
+        let bw = basis_array(l, w);
+        let mut sum = P::ZERO;
+        for (i, slab) in self.points.chunks_exact((m + 1) * (l + 1)).enumerate() {
+            let mut s = P::ZERO;
+            for (j, row) in slab.chunks_exact(l + 1).enumerate() {
+                let mut r = P::ZERO;
+                for (p, &b) in row.iter().zip(&bw) {
+                    r = r + *p * b;
+                }
+                s = s + r * bv[j];
+            }
+            sum = sum + s * bu[i];
+        }
+        sum
+    }
+
+    /// `S` at every `(us[a], vs[b], ws[c])`, returned with `a` fastest (index
+    /// `(c·|vs| + b)·|us| + a`), one axis at a time: the net is contracted along `w` for each `ws[c]`,
+    /// then along `v`, then along `u`, so a grid point costs about `n + 1` multiply-adds plus shares
+    /// of the earlier contractions, not `(n + 1)(m + 1)(l + 1)`.
+    #[must_use]
+    pub fn eval_grid(&self, us: &[f64], vs: &[f64], ws: &[f64]) -> Vec<P> {
+        let (n, m, l) = self.degree;
+        let table = |deg: usize, ts: &[f64]| {
+            let mut out = vec![0.0; ts.len() * (deg + 1)];
+            for (a, &t) in ts.iter().enumerate() {
+                basis(deg, t, &mut out[a * (deg + 1)..(a + 1) * (deg + 1)]);
+            }
+            out
+        };
+        let (bu, bv, bw) = (table(n, us), table(m, vs), table(l, ws));
+        let mut out = Vec::with_capacity(us.len() * vs.len() * ws.len());
+        let mut plane = vec![P::ZERO; (n + 1) * (m + 1)];
+        let mut column = [P::ZERO; MAX_DEGREE + 1];
+        for wc in bw.chunks_exact(l + 1) {
+            for (slot, row) in plane.iter_mut().zip(self.points.chunks_exact(l + 1)) {
+                *slot = row
+                    .iter()
+                    .zip(wc)
+                    .fold(P::ZERO, |acc, (p, &b)| acc + *p * b);
+            }
+            for vc in bv.chunks_exact(m + 1) {
+                for (i, row) in plane.chunks_exact(m + 1).enumerate() {
+                    column[i] = row
+                        .iter()
+                        .zip(vc)
+                        .fold(P::ZERO, |acc, (p, &b)| acc + *p * b);
+                }
+                for uc in bu.chunks_exact(n + 1) {
+                    out.push(
+                        column
+                            .iter()
+                            .zip(uc)
+                            .fold(P::ZERO, |acc, (p, &b)| acc + *p * b),
+                    );
+                }
+            }
+        }
+        out
+    }
+}
+
 fn check_degree(degree: (usize, usize)) -> Result<(), PatchError> {
     match [degree.0, degree.1]
         .into_iter()
@@ -332,6 +480,84 @@ mod tests {
                 }
             }
         }
+    }
+
+    fn random_volume(rng: &mut Rng, max_degree: usize) -> Volume<DVec4> {
+        let degree = (
+            rng.int(1, max_degree),
+            rng.int(1, max_degree),
+            rng.int(1, max_degree),
+        );
+        Volume::from_fn(degree, |_, _, _| {
+            DVec4::new(
+                rng.range(-2.0, 2.0),
+                rng.range(-2.0, 2.0),
+                rng.range(-2.0, 2.0),
+                rng.range(-2.0, 2.0),
+            )
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn volume_eval_equals_direct_formula() {
+        let mut rng = Rng::new(14);
+        for _ in 0..100 {
+            let vol = random_volume(&mut rng, 8);
+            let (n, m, l) = vol.degree();
+            let (u, v, w) = (
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+            );
+            let mut direct = DVec4::ZERO;
+            for i in 0..=n {
+                for j in 0..=m {
+                    for k in 0..=l {
+                        direct += vol.point(i, j, k)
+                            * bernstein(n, i, u)
+                            * bernstein(m, j, v)
+                            * bernstein(l, k, w);
+                    }
+                }
+            }
+            assert!((vol.eval(u, v, w) - direct).abs().max_element() < 1e-11);
+        }
+    }
+
+    #[test]
+    fn volume_grid_equals_pointwise() {
+        let mut rng = Rng::new(15);
+        for _ in 0..10 {
+            let vol = random_volume(&mut rng, 6);
+            let us: Vec<f64> = (0..4).map(|_| rng.range(-0.1, 1.1)).collect();
+            let vs: Vec<f64> = (0..3).map(|_| rng.range(-0.1, 1.1)).collect();
+            let ws: Vec<f64> = (0..5).map(|_| rng.range(-0.1, 1.1)).collect();
+            let grid = vol.eval_grid(&us, &vs, &ws);
+            for (c, &w) in ws.iter().enumerate() {
+                for (b, &v) in vs.iter().enumerate() {
+                    for (a, &u) in us.iter().enumerate() {
+                        let d = grid[(c * vs.len() + b) * us.len() + a] - vol.eval(u, v, w);
+                        assert!(d.abs().max_element() < 1e-12);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn volume_rejects_bad_input() {
+        assert_eq!(
+            Volume::try_new((1, 1, 1), alloc::vec![0.0; 7]),
+            Err(PatchError::PointCount {
+                expected: 8,
+                got: 7
+            })
+        );
+        assert_eq!(
+            Volume::<f64>::from_fn((1, 1, 17), |_, _, _| 0.0),
+            Err(PatchError::Degree { degree: 17 })
+        );
     }
 
     #[test]
