@@ -50,7 +50,7 @@ mod solid;
 mod tensor;
 
 pub use bernstein::MAX_DEGREE;
-pub use solid::{Solid2, SolidError};
+pub use solid::{Solid2, Solid3, SolidError};
 pub use tensor::{ControlPoint, Patch, PatchError, Volume};
 
 #[cfg(test)]

@@ -3,10 +3,10 @@
 use alloc::vec::Vec;
 use core::fmt;
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 
-use crate::rfunc::clip2;
-use crate::tensor::{Patch, PatchError};
+use crate::rfunc::{clip2, clip3};
+use crate::tensor::{Patch, PatchError, Volume};
 
 /// Why a solid could not be built or edited.
 #[derive(Clone, Debug, PartialEq)]
@@ -227,6 +227,147 @@ impl Solid2 {
     }
 }
 
+/// A 3D Bézier solid: a volume with control points `P_ijk = (x, y, z, ξ)`.
+///
+/// On a regular grid over the box `[min, max]` the inverse map is a scaling and
+/// `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)` exactly (paper §3.2–§3.3.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solid3 {
+    volume: Volume<DVec4>,
+    min: DVec3,
+    max: DVec3,
+}
+
+impl Solid3 {
+    /// A solid on the regular grid over `[min, max]` with `ξ(P_ijk) = xi(i, j, k)`.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError`] for a degree out of range, a bad value or an empty box.
+    pub fn regular(
+        degree: (usize, usize, usize),
+        min: DVec3,
+        max: DVec3,
+        mut xi: impl FnMut(usize, usize, usize) -> f64,
+    ) -> Result<Self, SolidError> {
+        let (n, m, l) = degree;
+        let volume = Volume::from_fn(degree, |i, j, k| {
+            let t = DVec3::new(
+                i as f64 / n as f64,
+                j as f64 / m as f64,
+                k as f64 / l as f64,
+            );
+            (min + (max - min) * t).extend(xi(i, j, k))
+        })?;
+        Self::try_from_volume(volume)
+    }
+
+    /// A solid from a control net, checked to be a regular axis-aligned grid with finite values.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::NonFinite`], [`SolidError::OutOfRange`], [`SolidError::DegenerateBox`] or
+    /// [`SolidError::NotRegular`].
+    pub fn try_from_volume(volume: Volume<DVec4>) -> Result<Self, SolidError> {
+        if !volume.points().iter().all(|p| p.is_finite()) {
+            return Err(SolidError::NonFinite);
+        }
+        if volume
+            .points()
+            .iter()
+            .any(|p| p.abs().max_element() > Solid2::MAX_COORDINATE)
+        {
+            return Err(SolidError::OutOfRange);
+        }
+        let (n, m, l) = volume.degree();
+        let min = volume.point(0, 0, 0).truncate();
+        let max = volume.point(n, m, l).truncate();
+        let size = max - min;
+        if !(size.x > 0.0 && size.y > 0.0 && size.z > 0.0) {
+            return Err(SolidError::DegenerateBox);
+        }
+        let tol = 1e-9
+            * size
+                .max_element()
+                .max(min.abs().max_element())
+                .max(max.abs().max_element());
+        for i in 0..=n {
+            for j in 0..=m {
+                for k in 0..=l {
+                    let t = DVec3::new(
+                        i as f64 / n as f64,
+                        j as f64 / m as f64,
+                        k as f64 / l as f64,
+                    );
+                    let got = volume.point(i, j, k).truncate();
+                    if (got - (min + size * t)).abs().max_element() > tol {
+                        return Err(SolidError::NotRegular);
+                    }
+                }
+            }
+        }
+        Ok(Self { volume, min, max })
+    }
+
+    /// The control net.
+    #[must_use]
+    pub fn volume(&self) -> &Volume<DVec4> {
+        &self.volume
+    }
+
+    /// The degree `(n, m, l)`.
+    #[must_use]
+    pub fn degree(&self) -> (usize, usize, usize) {
+        self.volume.degree()
+    }
+
+    /// The box `[min, max]` of the control grid.
+    #[must_use]
+    pub fn domain(&self) -> (DVec3, DVec3) {
+        (self.min, self.max)
+    }
+
+    /// `(u, v, w)` of the point `p`: a scaling on a regular grid.
+    #[must_use]
+    pub fn to_param(&self, p: DVec3) -> DVec3 {
+        (p - self.min) / (self.max - self.min)
+    }
+
+    /// The defining function `f(p) = S_ξ(u, v, w) & F_s(u, v, w)`.
+    #[must_use]
+    pub fn f(&self, p: DVec3) -> f64 {
+        let t = self.to_param(p);
+        clip3(self.volume.eval(t.x, t.y, t.z).w, t.x, t.y, t.z)
+    }
+
+    /// `f` at every `(xs[a], ys[b], zs[c])`, index `(c·|ys| + b)·|xs| + a`, by grid evaluation.
+    #[must_use]
+    pub fn f_grid(&self, xs: &[f64], ys: &[f64], zs: &[f64]) -> Vec<f64> {
+        let scale = |ts: &[f64], lo: f64, hi: f64| {
+            ts.iter().map(|t| (t - lo) / (hi - lo)).collect::<Vec<_>>()
+        };
+        let us = scale(xs, self.min.x, self.max.x);
+        let vs = scale(ys, self.min.y, self.max.y);
+        let ws = scale(zs, self.min.z, self.max.z);
+        let xi = Volume::try_new(
+            self.degree(),
+            self.volume.points().iter().map(|p| p.w).collect(),
+        )
+        .unwrap_or_else(|_| unreachable!("same degree and count as the validated volume"));
+        let mut values = xi.eval_grid(&us, &vs, &ws);
+        let mut k = 0;
+        for &w in &ws {
+            for &v in &vs {
+                for &u in &us {
+                    values[k] = clip3(values[k], u, v, w);
+                    k += 1;
+                }
+            }
+        }
+        values
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -298,6 +439,57 @@ mod tests {
         assert_eq!(s.set_xi(0, 0, f64::INFINITY), Err(SolidError::NonFinite));
         assert_eq!(s.set_xi(0, 0, 1e200), Err(SolidError::OutOfRange));
         assert_eq!(s, Solid2::fig9());
+    }
+
+    #[test]
+    fn solid3_regular_is_a_scaling_and_grid_matches() {
+        let mut rng = Rng::new(32);
+        let (min, max) = (DVec3::new(-1.0, 0.0, 2.0), DVec3::new(1.0, 3.0, 2.5));
+        let s = Solid3::regular((2, 3, 4), min, max, |_, _, _| rng.range(-1.0, 1.0)).unwrap();
+        for _ in 0..50 {
+            let t = DVec3::new(
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+            );
+            let q = s.volume().eval(t.x, t.y, t.z);
+            let p = min + (max - min) * t;
+            assert!(
+                (q.truncate() - p).abs().max_element() < 1e-12,
+                "linear precision"
+            );
+            assert!((s.f(p) - clip3(q.w, t.x, t.y, t.z)).abs() < 1e-12);
+        }
+        let (xs, ys, zs) = ([-1.2, 0.3, 0.9], [0.0, 1.7], [1.9, 2.2, 2.4, 2.6]);
+        let grid = s.f_grid(&xs, &ys, &zs);
+        for (c, &z) in zs.iter().enumerate() {
+            for (b, &y) in ys.iter().enumerate() {
+                for (a, &x) in xs.iter().enumerate() {
+                    let want = s.f(DVec3::new(x, y, z));
+                    assert!((grid[(c * ys.len() + b) * xs.len() + a] - want).abs() < 1e-12);
+                }
+            }
+        }
+        assert!(
+            s.f(DVec3::new(0.0, 1.0, 3.0)) < 0.0,
+            "negative outside the box"
+        );
+    }
+
+    #[test]
+    fn solid3_rejects_irregular_grids() {
+        let s = Solid3::regular((1, 1, 1), DVec3::ZERO, DVec3::ONE, |_, _, _| 1.0).unwrap();
+        let mut points = s.volume().points().to_vec();
+        points[3].z += 0.2;
+        let moved = Volume::try_new((1, 1, 1), points).unwrap();
+        assert_eq!(Solid3::try_from_volume(moved), Err(SolidError::NotRegular));
+        let flat = Solid3::regular(
+            (1, 1, 1),
+            DVec3::ZERO,
+            DVec3::new(1.0, 1.0, 0.0),
+            |_, _, _| 1.0,
+        );
+        assert_eq!(flat, Err(SolidError::DegenerateBox));
     }
 
     #[test]
