@@ -1,44 +1,56 @@
 //! `bezsolid`: the command line of bezsolid (DESIGN §5).
 //!
-//! This first slice knows its name and version; `eval`, `contour`, `mesh`, `hf` and `link` arrive with
-//! the model file (issue 3 and after) and answer with a clear error until then.
+//! `bezsolid eval MODEL --points FILE.csv` evaluates a model's defining function; the other commands
+//! of DESIGN §5 (`contour`, `mesh`, `hf`, `link`, `bench`) come with later work and answer with a
+//! clear error until then. Errors go to stderr with a non-zero exit; bad input never panics.
 
+mod eval;
+
+use std::path::Path;
 use std::process::ExitCode;
+
+use anyhow::{Context, Result, bail};
+use bezsolid_core::model::{ModelFile, ModelSolid};
 
 const USAGE: &str = "usage: bezsolid <command> [options]
 
 commands (DESIGN §5):
-  eval MODEL --points FILE.csv     f and preimages per point
-  contour MODEL --res N -o OUT.svg zero contours of a patch solid
-  mesh MODEL --res N -o OUT.stl    polygonize a volume solid (stl, obj, ply)
-  hf MODEL -o OUT.hf               HyperFun export
-  link MODEL                       print the share link
-  bench                            benchmarks
+  eval MODEL --points FILE.csv [-o OUT.csv]
+                                   f and the number of preimages per point: CSV x,y[,z],f,preimages
+  contour MODEL --res N -o OUT.svg zero contours of a patch solid      (not in this build yet)
+  mesh MODEL --res N -o OUT.stl    polygonize a volume solid           (not in this build yet)
+  hf MODEL -o OUT.hf               HyperFun export                     (not in this build yet)
+  link MODEL                       print the share link                (not in this build yet)
+  bench                            benchmarks                          (not in this build yet)
+
+MODEL is a model file (.bsolid.json).
 
 options:
   -h, --help       this text
   -V, --version    the version
 ";
 
+/// The largest model file read (a degree-16 volume with long decimals is well under 1 MiB).
+const MAX_MODEL_BYTES: u64 = 16 << 20;
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
-        None | Some("-h" | "--help" | "help") => {
+        None => {
+            eprint!("{USAGE}");
+            ExitCode::from(2)
+        }
+        Some("-h" | "--help" | "help") => {
             print!("{USAGE}");
-            if args.is_empty() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            }
+            ExitCode::SUCCESS
         }
         Some("-V" | "--version") => {
             println!("bezsolid {}", env!("CARGO_PKG_VERSION"));
             ExitCode::SUCCESS
         }
-        Some(cmd @ ("eval" | "contour" | "mesh" | "hf" | "link" | "bench")) => {
-            eprintln!(
-                "bezsolid: `{cmd}` is not available in this build yet (it comes with the model file)"
-            );
+        Some("eval") => report(eval::run(&args[1..])),
+        Some(cmd @ ("contour" | "mesh" | "hf" | "link" | "bench")) => {
+            eprintln!("bezsolid: `{cmd}` is not available in this build yet");
             ExitCode::FAILURE
         }
         Some(other) => {
@@ -46,4 +58,32 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+fn report(result: Result<()>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("bezsolid: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Reads and validates a model file.
+pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
+    if arg.contains("#v1.") {
+        bail!("share links are not supported by this build yet; pass a model file");
+    }
+    let path = Path::new(arg);
+    let size = std::fs::metadata(path)
+        .with_context(|| format!("cannot read {arg}"))?
+        .len();
+    if size > MAX_MODEL_BYTES {
+        bail!("{arg} is {size} bytes; a model file is at most {MAX_MODEL_BYTES}");
+    }
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {arg}"))?;
+    let file: ModelFile =
+        serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))?;
+    file.to_solid().with_context(|| arg.to_string())
 }

@@ -13,7 +13,9 @@
 //! - [`rfunc`]: the R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)` and the functional
 //!   clipping `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)` of the paper's §3.3.1.
 //! - [`Solid2`]: a patch solid on a regular grid: `f(p)`, function-mapping edits, the paper's Fig. 9.
+//! - [`Solid3`]: the same for a volume, `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)`.
 //! - [`contour`]: marching squares to closed polylines with the solid on their left.
+//! - [`model`]: the model file of DESIGN §5 (serde derives behind the `serde` feature).
 //!
 //! ```
 //! use bezsolid_core::{Solid2, contour::{contour_grid, Grid2}};
@@ -32,6 +34,7 @@
 //!
 //! ## Features
 //!
+//! - `serde`: `Serialize`/`Deserialize` for the [`model`] types, in the model file's JSON shape.
 //! - `std` (default): `std::error::Error` is implemented through `core::error::Error` either way; `std`
 //!   makes glam use the platform's math instead of `libm`. Without it the crate is `no_std` + `alloc`
 //!   (CI builds it so for `wasm32-unknown-unknown`).
@@ -45,6 +48,7 @@ extern crate std;
 pub mod bernstein;
 pub mod contour;
 mod math;
+pub mod model;
 pub mod rfunc;
 mod solid;
 mod tensor;

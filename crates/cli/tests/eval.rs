@@ -1,0 +1,231 @@
+//! `bezsolid eval` end to end: model files and point lists written to disk, the binary run, its CSV
+//! parsed back and compared with the paper's formulas written out independently here.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn scratch(name: &str, contents: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("bezsolid-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, contents).unwrap();
+    path
+}
+
+fn bezsolid(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bezsolid"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn binom(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// `B_i^n(t) = C(n,i) tⁱ(1−t)ⁿ⁻ⁱ`.
+fn b(n: usize, i: usize, t: f64) -> f64 {
+    binom(n, i) * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
+}
+
+/// The R-function intersection as the paper writes it.
+fn and(f1: f64, f2: f64) -> f64 {
+    f1 + f2 - (f1 * f1 + f2 * f2).sqrt()
+}
+
+fn fb(t: f64) -> f64 {
+    t * (1.0 - t)
+}
+
+fn rows(out: &Output) -> Vec<Vec<f64>> {
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout.clone()).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    assert!(header.starts_with("x,y"), "{header}");
+    lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn eval_patch_matches_the_paper() {
+    // A degree (2, 3) patch over [1, 3] × [−1, 0.5] with uneven ξ.
+    let (n, m) = (2usize, 3usize);
+    let xi = |i: usize, j: usize| ((i * 7 + j * 3) % 5) as f64 * 0.5 - 1.0;
+    let mut points = Vec::new();
+    for i in 0..=n {
+        for j in 0..=m {
+            let x = 1.0 + 2.0 * i as f64 / n as f64;
+            let y = -1.0 + 1.5 * j as f64 / m as f64;
+            points.push(format!("[{x}, {y}, {}]", xi(i, j)));
+        }
+    }
+    let model = format!(
+        r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "patch", "degree": [{n}, {m}], "points": [{}]}}}}"#,
+        points.join(", ")
+    );
+    let model = scratch("patch.bsolid.json", &model);
+    let queries = [
+        (1.5, -0.5),
+        (2.0, 0.0),
+        (2.9, 0.4),
+        (0.5, 0.0),
+        (3.5, -2.0),
+        (1.0, -1.0),
+    ];
+    let csv: String = queries.iter().map(|(x, y)| format!("{x},{y}\n")).collect();
+    let pts = scratch("patch.csv", &format!("x,y\n{csv}"));
+    let got = rows(&bezsolid(&[
+        "eval",
+        model.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
+    ]));
+    assert_eq!(got.len(), queries.len());
+    for (row, &(x, y)) in got.iter().zip(&queries) {
+        let (u, v) = ((x - 1.0) / 2.0, (y + 1.0) / 1.5);
+        let mut s = 0.0;
+        for i in 0..=n {
+            for j in 0..=m {
+                s += xi(i, j) * b(n, i, u) * b(m, j, v);
+            }
+        }
+        let f = and(s, and(fb(u), fb(v)));
+        assert_eq!((row[0], row[1]), (x, y));
+        assert!(
+            (row[2] - f).abs() <= 1e-12 * f.abs().max(1.0),
+            "f({x}, {y}) = {} vs {f}",
+            row[2]
+        );
+        let inside = (0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v);
+        assert_eq!(row[3], if inside { 1.0 } else { 0.0 });
+    }
+}
+
+#[test]
+fn eval_volume_matches_the_paper() {
+    let (n, m, l) = (1usize, 2usize, 2usize);
+    let xi = |i: usize, j: usize, k: usize| {
+        if (i, j, k) == (1, 1, 1) {
+            2.0
+        } else {
+            ((i + 2 * j + k) % 3) as f64 - 1.2
+        }
+    };
+    let mut points = Vec::new();
+    for i in 0..=n {
+        for j in 0..=m {
+            for k in 0..=l {
+                let (x, y, z) = (
+                    i as f64 / n as f64,
+                    j as f64 / m as f64,
+                    2.0 * k as f64 / l as f64,
+                );
+                points.push(format!("[{x}, {y}, {z}, {}]", xi(i, j, k)));
+            }
+        }
+    }
+    let model = format!(
+        r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "volume", "degree": [{n}, {m}, {l}], "points": [{}]}}}}"#,
+        points.join(", ")
+    );
+    let model = scratch("volume.bsolid.json", &model);
+    let queries = [
+        (0.5, 0.5, 1.0),
+        (0.2, 0.7, 0.3),
+        (0.9, 0.1, 1.9),
+        (1.2, 0.5, 1.0),
+    ];
+    let csv: String = queries
+        .iter()
+        .map(|(x, y, z)| format!("{x},{y},{z}\n"))
+        .collect();
+    let pts = scratch("volume.csv", &csv);
+    let got = rows(&bezsolid(&[
+        "eval",
+        model.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
+    ]));
+    assert_eq!(got.len(), queries.len());
+    for (row, &(x, y, z)) in got.iter().zip(&queries) {
+        let (u, v, w) = (x, y, z / 2.0);
+        let mut s = 0.0;
+        for i in 0..=n {
+            for j in 0..=m {
+                for k in 0..=l {
+                    s += xi(i, j, k) * b(n, i, u) * b(m, j, v) * b(l, k, w);
+                }
+            }
+        }
+        let f = and(s, and(and(fb(u), fb(v)), fb(w)));
+        assert!(
+            (row[3] - f).abs() <= 1e-12 * f.abs().max(1.0),
+            "f({x}, {y}, {z}) = {} vs {f}",
+            row[3]
+        );
+        assert_eq!(row[4], if x <= 1.0 { 1.0 } else { 0.0 });
+    }
+}
+
+#[test]
+fn eval_refuses_bad_input_with_a_message() {
+    let good = r#"{"format":"bezsolid","version":1,"solid":{"kind":"patch","degree":[1,1],"points":[[0,0,1],[0,1,1],[1,0,1],[1,1,1]]}}"#;
+    let pts = scratch("ok.csv", "0.5,0.5\n");
+    let cases = [
+        (
+            "v2.json",
+            good.replace("\"version\":1", "\"version\":2"),
+            "version 2",
+        ),
+        (
+            "count.json",
+            good.replace(",[1,1,1]", ""),
+            "expected 4 control points",
+        ),
+        (
+            "nan.json",
+            good.replace("[1,1,1]", "[1,1,1e999]"),
+            "valid model file",
+        ),
+        (
+            "moved.json",
+            good.replace("[1,0,1]", "[1.3,0,1]"),
+            "regular",
+        ),
+        ("junk.json", "{\"format\": ".to_string(), "valid model file"),
+        ("degree.json", good.replace("[1,1]", "[17,1]"), "degree 17"),
+    ];
+    for (name, text, message) in cases {
+        let model = scratch(name, &text);
+        let out = bezsolid(&[
+            "eval",
+            model.to_str().unwrap(),
+            "--points",
+            pts.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert!(err.contains(message), "{name}: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+    }
+    let model = scratch("good.json", good);
+    let bad_points = scratch("bad.csv", "0.5,0.5\n0.5\n");
+    let out = bezsolid(&[
+        "eval",
+        model.to_str().unwrap(),
+        "--points",
+        bad_points.to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("line 2"));
+    assert!(
+        !bezsolid(&["eval", "/no/such/model.json", "--points", "x.csv"])
+            .status
+            .success()
+    );
+}

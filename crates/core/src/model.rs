@@ -1,0 +1,233 @@
+//! The model file (DESIGN §5): the document a user saves, shares and hands to the command line.
+//!
+//! ```json
+//! { "format": "bezsolid", "version": 1,
+//!   "solid": { "kind": "patch", "degree": [2, 2], "points": [[0.0, 0.0, -1.0], …] } }
+//! ```
+//!
+//! - `kind: "patch"`: `degree [n, m]`, points `[x, y, ξ]`, `P_ij` at `i·(m + 1) + j`.
+//! - `kind: "volume"`: `degree [n, m, l]`, points `[x, y, z, ξ]`, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
+//!
+//! There is no separate box: a regular grid is recognised from the points. Readers ignore fields they
+//! do not know (later kinds add fields) and reject an unknown version. With the `serde` feature the
+//! types derive `Serialize` and `Deserialize` in exactly this shape.
+
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+
+use glam::{DVec3, DVec4};
+
+use crate::solid::{Solid2, Solid3, SolidError};
+use crate::tensor::{Patch, Volume};
+
+/// The value of the `format` field.
+pub const FORMAT: &str = "bezsolid";
+/// The model file version this build writes and reads.
+pub const VERSION: u32 = 1;
+
+/// A model file.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ModelFile {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`] for this build.
+    pub version: u32,
+    /// The one solid of the model.
+    pub solid: SolidSpec,
+}
+
+/// A solid as the file spells it.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "lowercase"))]
+pub enum SolidSpec {
+    /// A 2D solid from a patch: points `[x, y, ξ]`.
+    Patch {
+        /// `[n, m]`.
+        degree: [usize; 2],
+        /// `(n + 1)(m + 1)` points, `P_ij` at `i·(m + 1) + j`.
+        points: Vec<[f64; 3]>,
+    },
+    /// A 3D solid from a volume: points `[x, y, z, ξ]`.
+    Volume {
+        /// `[n, m, l]`.
+        degree: [usize; 3],
+        /// `(n + 1)(m + 1)(l + 1)` points, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
+        points: Vec<[f64; 4]>,
+    },
+}
+
+/// A validated solid of a model.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModelSolid {
+    /// From a patch.
+    Patch(Solid2),
+    /// From a volume.
+    Volume(Solid3),
+}
+
+/// Why a model file was refused.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModelError {
+    /// `format` is not [`FORMAT`].
+    Format(String),
+    /// `version` is not one this build reads.
+    Version(u32),
+    /// The solid is invalid.
+    Solid(SolidError),
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Format(s) => write!(
+                f,
+                "not a bezsolid model (format is {s:?}, expected {FORMAT:?})"
+            ),
+            Self::Version(v) => {
+                write!(
+                    f,
+                    "model file version {v} is not supported (this build reads version {VERSION})"
+                )
+            }
+            Self::Solid(e) => write!(f, "invalid solid: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for ModelError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Self::Solid(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<SolidError> for ModelError {
+    fn from(e: SolidError) -> Self {
+        Self::Solid(e)
+    }
+}
+
+impl ModelFile {
+    /// The model file of a patch solid.
+    #[must_use]
+    pub fn from_solid2(solid: &Solid2) -> Self {
+        let (n, m) = solid.degree();
+        let points = solid
+            .patch()
+            .points()
+            .iter()
+            .map(|p| p.to_array())
+            .collect();
+        Self::new(SolidSpec::Patch {
+            degree: [n, m],
+            points,
+        })
+    }
+
+    /// The model file of a volume solid.
+    #[must_use]
+    pub fn from_solid3(solid: &Solid3) -> Self {
+        let (n, m, l) = solid.degree();
+        let points = solid
+            .volume()
+            .points()
+            .iter()
+            .map(|p| p.to_array())
+            .collect();
+        Self::new(SolidSpec::Volume {
+            degree: [n, m, l],
+            points,
+        })
+    }
+
+    fn new(solid: SolidSpec) -> Self {
+        Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            solid,
+        }
+    }
+
+    /// Checks the header and builds the solid.
+    ///
+    /// # Errors
+    ///
+    /// [`ModelError`] for another format or version, or an invalid control net (wrong count, degree
+    /// outside 1..=16, non-finite or huge values, an empty box, or moved control points, which need
+    /// the inverse map of a later version).
+    pub fn to_solid(&self) -> Result<ModelSolid, ModelError> {
+        if self.format != FORMAT {
+            return Err(ModelError::Format(self.format.clone()));
+        }
+        if self.version != VERSION {
+            return Err(ModelError::Version(self.version));
+        }
+        Ok(match &self.solid {
+            SolidSpec::Patch { degree, points } => {
+                let pts = points.iter().map(|&p| DVec3::from_array(p)).collect();
+                let patch =
+                    Patch::try_new((degree[0], degree[1]), pts).map_err(SolidError::from)?;
+                ModelSolid::Patch(Solid2::try_from_patch(patch)?)
+            }
+            SolidSpec::Volume { degree, points } => {
+                let pts = points.iter().map(|&p| DVec4::from_array(p)).collect();
+                let volume = Volume::try_new((degree[0], degree[1], degree[2]), pts)
+                    .map_err(SolidError::from)?;
+                ModelSolid::Volume(Solid3::try_from_volume(volume)?)
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tensor::PatchError;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn model_round_trips_solids() {
+        let s2 = Solid2::fig9();
+        assert_eq!(
+            ModelFile::from_solid2(&s2).to_solid(),
+            Ok(ModelSolid::Patch(s2))
+        );
+        let s3 = Solid3::regular((1, 2, 1), DVec3::ZERO, DVec3::ONE, |i, j, k| {
+            (i + j + k) as f64 - 1.5
+        })
+        .unwrap();
+        assert_eq!(
+            ModelFile::from_solid3(&s3).to_solid(),
+            Ok(ModelSolid::Volume(s3))
+        );
+    }
+
+    #[test]
+    fn model_rejects_bad_header_and_nets() {
+        let mut m = ModelFile::from_solid2(&Solid2::fig9());
+        m.version = 2;
+        assert_eq!(m.to_solid(), Err(ModelError::Version(2)));
+        m.version = 1;
+        m.format = "other".into();
+        assert!(matches!(m.to_solid(), Err(ModelError::Format(_))));
+        let short = ModelFile::new(SolidSpec::Patch {
+            degree: [2, 2],
+            points: alloc::vec![[0.0; 3]; 8],
+        });
+        assert_eq!(
+            short.to_solid(),
+            Err(ModelError::Solid(SolidError::Patch(
+                PatchError::PointCount {
+                    expected: 9,
+                    got: 8
+                }
+            )))
+        );
+    }
+}
