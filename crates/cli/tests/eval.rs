@@ -1,6 +1,7 @@
 //! `bezsolid eval` end to end: model files and point lists written to disk, the binary run, its CSV
 //! parsed back and compared with the paper's formulas written out independently here.
 
+#![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
