@@ -1,9 +1,10 @@
 //! `bezsolid`: the command line of bezsolid (DESIGN §5).
 //!
-//! `bezsolid eval MODEL --points FILE.csv` evaluates a model's defining function; the other commands
-//! of DESIGN §5 (`contour`, `mesh`, `hf`, `link`, `bench`) come with later work and answer with a
+//! `bezsolid eval` evaluates a model's defining function and `bezsolid contour` writes the zero
+//! contour of a patch model as SVG; the other commands of DESIGN §5 (`mesh`, `hf`, `link`, `bench`) come with later work and answer with a
 //! clear error until then. Errors go to stderr with a non-zero exit; bad input never panics.
 
+mod contour;
 mod eval;
 
 use std::path::Path;
@@ -17,7 +18,9 @@ const USAGE: &str = "usage: bezsolid <command> [options]
 commands (DESIGN §5):
   eval MODEL --points FILE.csv [-o OUT.csv]
                                    f and the number of preimages per point: CSV x,y[,z],f,preimages
-  contour MODEL --res N -o OUT.svg zero contours of a patch solid      (not in this build yet)
+  contour MODEL [--res N] -o OUT.svg [--accuracy A]
+                                   zero contours of a patch solid (N cells per side, default
+                                   256; vertices refined to |f| <= A, default 1e-9)
   mesh MODEL --res N -o OUT.stl    polygonize a volume solid           (not in this build yet)
   hf MODEL -o OUT.hf               HyperFun export                     (not in this build yet)
   link MODEL                       print the share link                (not in this build yet)
@@ -49,7 +52,8 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Some("eval") => report(eval::run(&args[1..])),
-        Some(cmd @ ("contour" | "mesh" | "hf" | "link" | "bench")) => {
+        Some("contour") => report(contour::run(&args[1..])),
+        Some(cmd @ ("mesh" | "hf" | "link" | "bench")) => {
             eprintln!("bezsolid: `{cmd}` is not available in this build yet");
             ExitCode::FAILURE
         }

@@ -230,3 +230,75 @@ fn eval_refuses_bad_input_with_a_message() {
             .success()
     );
 }
+
+#[test]
+fn contour_svg_lies_on_the_zero_set() {
+    // The Fig. 9 patch, moved to the box [2, 4] × [0, 1].
+    let xi = [[-1.0, 0.25, -1.0], [0.25, 1.0, 0.25], [-1.0, 0.25, -1.0]];
+    let mut points = Vec::new();
+    for (i, row) in xi.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            points.push(format!("[{}, {}, {v}]", 2.0 + i as f64, j as f64 * 0.5));
+        }
+    }
+    let model = format!(
+        r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "patch", "degree": [2, 2], "points": [{}]}}}}"#,
+        points.join(",")
+    );
+    let model = scratch("fig9.bsolid.json", &model);
+    let svg_path =
+        std::env::temp_dir().join(format!("bezsolid-cli-{}/fig9.svg", std::process::id()));
+    let out = bezsolid(&[
+        "contour",
+        model.to_str().unwrap(),
+        "--res",
+        "64",
+        "-o",
+        svg_path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    // Parse the paths back: one closed loop, every vertex on f = 0.
+    let paths: Vec<&str> = svg
+        .split("d=\"")
+        .skip(1)
+        .map(|s| s.split('"').next().unwrap())
+        .collect();
+    assert_eq!(paths.len(), 1, "{svg}");
+    assert!(paths[0].ends_with('Z'));
+    let mut count = 0;
+    for token in paths[0].trim_end_matches('Z').split_whitespace() {
+        let (x, y) = token
+            .trim_start_matches(['M', 'L'])
+            .split_once(',')
+            .unwrap();
+        let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
+        let (u, v) = ((x - 2.0) / 2.0, y);
+        let mut s = 0.0;
+        for (i, row) in xi.iter().enumerate() {
+            for (j, value) in row.iter().enumerate() {
+                s += value * b(2, i, u) * b(2, j, v);
+            }
+        }
+        let f = and(s, and(fb(u), fb(v)));
+        assert!(f.abs() <= 1e-9 + 1e-15, "f({x}, {y}) = {f}");
+        count += 1;
+    }
+    assert!(count > 20, "a loop with many vertices ({count})");
+    // A volume model is refused with a pointer to the right command.
+    let vol = scratch(
+        "cube.json",
+        r#"{"format":"bezsolid","version":1,"solid":{"kind":"volume","degree":[1,1,1],"points":[[0,0,0,1],[0,0,1,1],[0,1,0,1],[0,1,1,1],[1,0,0,1],[1,0,1,1],[1,1,0,1],[1,1,1,1]]}}"#,
+    );
+    let out = bezsolid(&[
+        "contour",
+        vol.to_str().unwrap(),
+        "-o",
+        svg_path.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("patch"));
+}

@@ -15,6 +15,7 @@
 //! - [`Solid2`]: a patch solid on a regular grid: `f(p)`, function-mapping edits, the paper's Fig. 9.
 //! - [`Solid3`]: the same for a volume, `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)`.
 //! - [`contour`]: marching squares to closed polylines with the solid on their left.
+//! - [`mesh`]: writers; so far SVG of contours.
 //! - [`model`]: the model file of DESIGN §5 (serde derives behind the `serde` feature).
 //!
 //! ```
@@ -48,6 +49,7 @@ extern crate std;
 pub mod bernstein;
 pub mod contour;
 mod math;
+pub mod mesh;
 pub mod model;
 pub mod rfunc;
 mod solid;

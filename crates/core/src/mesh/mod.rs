@@ -1,0 +1,3 @@
+//! Meshes and the files they are written to. So far: SVG of 2D contours ([`svg`]).
+
+pub mod svg;
