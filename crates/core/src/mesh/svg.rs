@@ -28,7 +28,7 @@ pub fn contours_svg(lines: &[Polyline], min: DVec2, max: DVec2) -> String {
         -max.y,
         size.x,
         size.y,
-        (800.0 * size.y / size.x).round().clamp(1.0, 1e5),
+        libm::round(800.0 * size.y / size.x).clamp(1.0, 1e5),
     );
     out.push_str("<title>bezsolid zero contours</title>\n");
     let _ = writeln!(
