@@ -8,6 +8,7 @@
 //! A tour, from the bottom up:
 //!
 //! - [`bernstein`]: binomials and the Bernstein basis `B_i^n(t) = C(n,i) tⁱ(1−t)ⁿ⁻ⁱ`.
+//! - [`BezierCurve`]: curves of any degree: evaluation, derivative, de Casteljau split, elevation.
 //! - [`Patch`]: a tensor-product Bézier patch of any degree (1 to [`MAX_DEGREE`]) per axis: evaluation
 //!   in basis form and by de Casteljau, and grid evaluation one axis at a time.
 //! - [`rfunc`]: the R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)` and the functional
@@ -48,6 +49,7 @@ extern crate std;
 
 pub mod bernstein;
 pub mod contour;
+mod curve;
 mod math;
 pub mod mesh;
 pub mod model;
@@ -56,6 +58,7 @@ mod solid;
 mod tensor;
 
 pub use bernstein::MAX_DEGREE;
+pub use curve::BezierCurve;
 pub use solid::{Solid2, Solid3, SolidError};
 pub use tensor::{ControlPoint, Patch, PatchError, Volume};
 
