@@ -53,6 +53,19 @@ impl From<PatchError> for SolidError {
     }
 }
 
+/// Every coordinate finite and within [`Solid2::MAX_COORDINATE`].
+fn check_values(mut values: impl Iterator<Item = f64>) -> Result<(), SolidError> {
+    values.try_for_each(|v| {
+        if !v.is_finite() {
+            Err(SolidError::NonFinite)
+        } else if v.abs() > Solid2::MAX_COORDINATE {
+            Err(SolidError::OutOfRange)
+        } else {
+            Ok(())
+        }
+    })
+}
+
 /// A 2D Bézier solid: a patch with control points `P_ij = (x, y, ξ)`.
 ///
 /// On a regular grid (`P_ij^x = x0 + (i/n)(x1 − x0)`, `P_ij^y = y0 + (j/m)(y1 − y0)`) linear precision
@@ -96,16 +109,7 @@ impl Solid2 {
     ///
     /// [`SolidError::NonFinite`], [`SolidError::DegenerateBox`] or [`SolidError::NotRegular`].
     pub fn try_from_patch(patch: Patch<DVec3>) -> Result<Self, SolidError> {
-        if !patch.points().iter().all(|p| p.is_finite()) {
-            return Err(SolidError::NonFinite);
-        }
-        if patch
-            .points()
-            .iter()
-            .any(|p| p.abs().max_element() > Self::MAX_COORDINATE)
-        {
-            return Err(SolidError::OutOfRange);
-        }
+        check_values(patch.points().iter().flat_map(|p| p.to_array()))?;
         let (n, m) = patch.degree();
         let min = patch.point(0, 0).truncate();
         let max = patch.point(n, m).truncate();
@@ -189,12 +193,7 @@ impl Solid2 {
     ///
     /// If `(i, j)` is outside the grid.
     pub fn set_xi(&mut self, i: usize, j: usize, xi: f64) -> Result<(), SolidError> {
-        if !xi.is_finite() {
-            return Err(SolidError::NonFinite);
-        }
-        if xi.abs() > Self::MAX_COORDINATE {
-            return Err(SolidError::OutOfRange);
-        }
+        check_values(core::iter::once(xi))?;
         self.patch.point_mut(i, j).z = xi;
         Ok(())
     }
@@ -269,16 +268,7 @@ impl Solid3 {
     /// [`SolidError::NonFinite`], [`SolidError::OutOfRange`], [`SolidError::DegenerateBox`] or
     /// [`SolidError::NotRegular`].
     pub fn try_from_volume(volume: Volume<DVec4>) -> Result<Self, SolidError> {
-        if !volume.points().iter().all(|p| p.is_finite()) {
-            return Err(SolidError::NonFinite);
-        }
-        if volume
-            .points()
-            .iter()
-            .any(|p| p.abs().max_element() > Solid2::MAX_COORDINATE)
-        {
-            return Err(SolidError::OutOfRange);
-        }
+        check_values(volume.points().iter().flat_map(|p| p.to_array()))?;
         let (n, m, l) = volume.degree();
         let min = volume.point(0, 0, 0).truncate();
         let max = volume.point(n, m, l).truncate();
