@@ -81,14 +81,7 @@ impl<P: ControlPoint> Patch<P> {
     ///
     /// [`PatchError`] when a degree is out of range or the point count does not match.
     pub fn try_new(degree: (usize, usize), points: Vec<P>) -> Result<Self, PatchError> {
-        check_degree(degree)?;
-        let expected = (degree.0 + 1) * (degree.1 + 1);
-        if points.len() != expected {
-            return Err(PatchError::PointCount {
-                expected,
-                got: points.len(),
-            });
-        }
+        check_net(&[degree.0, degree.1], points.len())?;
         Ok(Self { degree, points })
     }
 
@@ -101,7 +94,7 @@ impl<P: ControlPoint> Patch<P> {
         degree: (usize, usize),
         mut point: impl FnMut(usize, usize) -> P,
     ) -> Result<Self, PatchError> {
-        check_degree(degree)?;
+        check_degrees(&[degree.0, degree.1])?;
         let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1));
         for i in 0..=degree.0 {
             for j in 0..=degree.1 {
@@ -238,15 +231,7 @@ impl<P: ControlPoint> Volume<P> {
     ///
     /// [`PatchError`] when a degree is out of range or the point count does not match.
     pub fn try_new(degree: (usize, usize, usize), points: Vec<P>) -> Result<Self, PatchError> {
-        check_degree((degree.0, degree.1))?;
-        check_degree((degree.2, 1))?;
-        let expected = (degree.0 + 1) * (degree.1 + 1) * (degree.2 + 1);
-        if points.len() != expected {
-            return Err(PatchError::PointCount {
-                expected,
-                got: points.len(),
-            });
-        }
+        check_net(&[degree.0, degree.1, degree.2], points.len())?;
         Ok(Self { degree, points })
     }
 
@@ -259,8 +244,7 @@ impl<P: ControlPoint> Volume<P> {
         degree: (usize, usize, usize),
         mut point: impl FnMut(usize, usize, usize) -> P,
     ) -> Result<Self, PatchError> {
-        check_degree((degree.0, degree.1))?;
-        check_degree((degree.2, 1))?;
+        check_degrees(&[degree.0, degree.1, degree.2])?;
         let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1) * (degree.2 + 1));
         for i in 0..=degree.0 {
             for j in 0..=degree.1 {
@@ -368,14 +352,22 @@ impl<P: ControlPoint> Volume<P> {
     }
 }
 
-fn check_degree(degree: (usize, usize)) -> Result<(), PatchError> {
-    match [degree.0, degree.1]
-        .into_iter()
-        .find(|&d| d == 0 || d > MAX_DEGREE)
-    {
-        Some(d) => Err(PatchError::Degree { degree: d }),
+/// Every degree in `1..=MAX_DEGREE`; checked before anything is sized by the degrees.
+fn check_degrees(degrees: &[usize]) -> Result<(), PatchError> {
+    match degrees.iter().find(|&&d| d == 0 || d > MAX_DEGREE) {
+        Some(&degree) => Err(PatchError::Degree { degree }),
         None => Ok(()),
     }
+}
+
+/// Valid degrees and `Π (d + 1)` control points, for a net of any dimension.
+fn check_net(degrees: &[usize], got: usize) -> Result<(), PatchError> {
+    check_degrees(degrees)?;
+    let expected = degrees.iter().map(|d| d + 1).product();
+    if got != expected {
+        return Err(PatchError::PointCount { expected, got });
+    }
+    Ok(())
 }
 
 /// de Casteljau's algorithm on a scratch slice of control points (overwritten).

@@ -369,14 +369,14 @@ impl ContourView {
         // Samples at texel centres, so the filtered texture and the contour agree.
         let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
         let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
-        let values = self.solid.f_grid(&grid.xs(), &grid.ys());
+        let (xs, ys) = (grid.xs(), grid.ys());
+        let values = self.solid.f_grid(&xs, &ys);
 
         // Each sign is scaled to its own extreme, so the whole blue-white-red range is in use and zero
         // stays white whatever the magnitudes.
         // The range is taken inside the domain box: outside it the clipping falls off steeply and
         // would wash out the interior; those samples clamp to full blue.
         let (dmin, dmax) = self.solid.domain();
-        let (xs, ys) = (grid.xs(), grid.ys());
         let mut range = (0.0f64, 0.0f64);
         for (b, &y) in ys.iter().enumerate() {
             for (a, &x) in xs.iter().enumerate() {
