@@ -63,6 +63,27 @@ pub fn basis_array(n: usize, t: f64) -> [f64; MAX_DEGREE + 1] {
     out
 }
 
+/// The basis of degree `n` at `t` and its derivative, `d/dt B_i^n(t) = n·(B_(i−1)^(n−1)(t) − B_i^(n−1)(t))`
+/// (entries past `n` are 0).
+///
+/// # Panics
+///
+/// If `n > MAX_DEGREE`.
+#[must_use]
+pub fn basis_and_derivative(n: usize, t: f64) -> ([f64; MAX_DEGREE + 1], [f64; MAX_DEGREE + 1]) {
+    let value = basis_array(n, t);
+    let mut slope = [0.0; MAX_DEGREE + 1];
+    if n > 0 {
+        let lower = basis_array(n - 1, t);
+        let scale = n as f64;
+        slope[0] = -scale * lower[0];
+        for i in 1..=n {
+            slope[i] = scale * (lower[i - 1] - lower[i]);
+        }
+    }
+    (value, slope)
+}
+
 fn powi(x: f64, e: usize) -> f64 {
     let mut r = 1.0;
     for _ in 0..e {
@@ -88,6 +109,29 @@ mod tests {
         for n in 1..=MAX_DEGREE {
             for k in 1..n {
                 assert_eq!(binomial(n, k), binomial(n - 1, k - 1) + binomial(n - 1, k));
+            }
+        }
+    }
+
+    #[test]
+    fn basis_derivative_matches_finite_differences() {
+        let mut rng = Rng::new(7);
+        for n in 1..=MAX_DEGREE {
+            for _ in 0..20 {
+                let t = rng.range(0.0, 1.0);
+                let (value, slope) = basis_and_derivative(n, t);
+                assert_eq!(value, basis_array(n, t));
+                let h = 1e-6;
+                let (up, down) = (basis_array(n, t + h), basis_array(n, t - h));
+                for i in 0..=n {
+                    let fd = (up[i] - down[i]) / (2.0 * h);
+                    assert!(
+                        (fd - slope[i]).abs() <= 1e-5 * (1.0 + fd.abs()),
+                        "n={n} i={i}"
+                    );
+                }
+                // Σ B_i' = 0: the basis sums to one everywhere.
+                assert!(slope.iter().sum::<f64>().abs() < 1e-9 * n as f64 * n as f64);
             }
         }
     }

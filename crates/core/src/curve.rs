@@ -96,6 +96,12 @@ impl<P: ControlPoint> BezierCurve<P> {
         (Self { points: left }, Self { points: right })
     }
 
+    /// The componentwise box of the control points, which holds the curve over `[0, 1]`.
+    #[must_use]
+    pub fn bounds(&self) -> (P, P) {
+        crate::tensor::bounds_of(&self.points)
+    }
+
     /// Degree elevation by one: the same curve with `n + 2` control points,
     /// `Q_i = (i/(n+1)) P_(i−1) + (1 − i/(n+1)) P_i`.
     ///

@@ -56,11 +56,12 @@ pub mod model;
 pub mod rfunc;
 mod solid;
 mod tensor;
+pub mod triangular;
 
 pub use bernstein::MAX_DEGREE;
 pub use curve::BezierCurve;
 pub use solid::{Solid2, Solid3, SolidError};
-pub use tensor::{ControlPoint, Patch, PatchError, Volume};
+pub use tensor::{Axis, ControlPoint, Patch, PatchError, Volume};
 
 #[cfg(test)]
 pub(crate) mod testutil;

@@ -8,7 +8,7 @@ use core::ops::{Add, Mul, Sub};
 
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::bernstein::{MAX_DEGREE, basis, basis_array};
+use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative, basis_array};
 
 /// What a control point must do: be added, scaled by `f64`, and copied. Implemented for `f64` and the
 /// glam `f64` vectors, so one patch type serves scalar fields, `(x, y, ξ)` points and `(x, y, z, ξ)`.
@@ -17,24 +17,76 @@ pub trait ControlPoint:
 {
     /// The additive identity.
     const ZERO: Self;
+    /// The componentwise minimum.
+    #[must_use]
+    fn min_components(self, other: Self) -> Self;
+    /// The componentwise maximum.
+    #[must_use]
+    fn max_components(self, other: Self) -> Self;
 }
 
 impl ControlPoint for f64 {
     const ZERO: Self = 0.0;
+    fn min_components(self, other: Self) -> Self {
+        self.min(other)
+    }
+    fn max_components(self, other: Self) -> Self {
+        self.max(other)
+    }
 }
-impl ControlPoint for DVec2 {
-    const ZERO: Self = DVec2::ZERO;
+
+macro_rules! glam_control_point {
+    ($($t:ty),*) => {$(
+        impl ControlPoint for $t {
+            const ZERO: Self = <$t>::ZERO;
+            fn min_components(self, other: Self) -> Self {
+                self.min(other)
+            }
+            fn max_components(self, other: Self) -> Self {
+                self.max(other)
+            }
+        }
+    )*};
 }
-impl ControlPoint for DVec3 {
-    const ZERO: Self = DVec3::ZERO;
+glam_control_point!(DVec2, DVec3, DVec4);
+
+/// One of the parameters of a patch (`U`, `V`) or a volume (`U`, `V`, `W`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// The first parameter, `u` (index `i`).
+    U,
+    /// The second parameter, `v` (index `j`).
+    V,
+    /// The third parameter, `w` (index `k`); volumes only.
+    W,
 }
-impl ControlPoint for DVec4 {
-    const ZERO: Self = DVec4::ZERO;
+
+impl Axis {
+    fn index(self) -> usize {
+        match self {
+            Self::U => 0,
+            Self::V => 1,
+            Self::W => 2,
+        }
+    }
+}
+
+/// The componentwise box `(min, max)` of a set of points; `(ZERO, ZERO)` for none.
+pub(crate) fn bounds_of<P: ControlPoint>(points: &[P]) -> (P, P) {
+    let first = points.first().copied().unwrap_or(P::ZERO);
+    points.iter().fold((first, first), |(lo, hi), &p| {
+        (lo.min_components(p), hi.max_components(p))
+    })
 }
 
 /// Why a patch could not be built.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum PatchError {
+    /// The parameter asked for does not exist (`W` of a patch).
+    Axis {
+        /// The parameter asked for.
+        axis: Axis,
+    },
     /// A degree is 0 or above [`MAX_DEGREE`].
     Degree {
         /// The degree given.
@@ -52,6 +104,7 @@ pub enum PatchError {
 impl fmt::Display for PatchError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::Axis { axis } => write!(f, "a patch has no parameter {axis:?}"),
             Self::Degree { degree } => {
                 write!(f, "degree {degree} is outside 1..={MAX_DEGREE}")
             }
@@ -212,6 +265,79 @@ impl<P: ControlPoint> Patch<P> {
         }
         out
     }
+
+    /// `S(u, v)` with its partial derivatives `(S, ∂S/∂u, ∂S/∂v)`.
+    #[must_use]
+    pub fn eval_with_partials(&self, u: f64, v: f64) -> (P, P, P) {
+        let (n, m) = self.degree;
+        let (bu, du) = basis_and_derivative(n, u);
+        let (bv, dv) = basis_and_derivative(m, v);
+        let (mut s, mut su, mut sv) = (P::ZERO, P::ZERO, P::ZERO);
+        for (i, row) in self.points.chunks_exact(m + 1).enumerate() {
+            let (mut r, mut rv) = (P::ZERO, P::ZERO);
+            for (j, p) in row.iter().enumerate() {
+                r = r + *p * bv[j];
+                rv = rv + *p * dv[j];
+            }
+            s = s + r * bu[i];
+            su = su + r * du[i];
+            sv = sv + rv * bu[i];
+        }
+        (s, su, sv)
+    }
+
+    /// de Casteljau split along `axis` at `t`: the halves over `[0, t]` and `[t, 1]` of that parameter,
+    /// each of the same degree, reproducing the patch on their parts.
+    ///
+    /// # Errors
+    ///
+    /// [`PatchError::Axis`] for [`Axis::W`].
+    pub fn split(&self, axis: Axis, t: f64) -> Result<(Self, Self), PatchError> {
+        let a = self.axis(axis)?;
+        let dims = [self.degree.0 + 1, self.degree.1 + 1];
+        let (left, right) = split_net(&self.points, &dims, a, t);
+        Ok((
+            Self {
+                degree: self.degree,
+                points: left,
+            },
+            Self {
+                degree: self.degree,
+                points: right,
+            },
+        ))
+    }
+
+    /// Degree elevation by one along `axis`: the same patch with one more row of control points.
+    ///
+    /// # Errors
+    ///
+    /// [`PatchError::Axis`] for [`Axis::W`]; [`PatchError::Degree`] when that degree is already
+    /// [`MAX_DEGREE`].
+    pub fn elevate(&self, axis: Axis) -> Result<Self, PatchError> {
+        let a = self.axis(axis)?;
+        let mut degrees = [self.degree.0, self.degree.1];
+        let points = elevate_net(&self.points, &degrees, a)?;
+        degrees[a] += 1;
+        Ok(Self {
+            degree: (degrees[0], degrees[1]),
+            points,
+        })
+    }
+
+    /// The componentwise box of the control points, which holds the whole patch over `[0, 1]²`
+    /// (convex hull property).
+    #[must_use]
+    pub fn bounds(&self) -> (P, P) {
+        bounds_of(&self.points)
+    }
+
+    fn axis(&self, axis: Axis) -> Result<usize, PatchError> {
+        match axis {
+            Axis::W => Err(PatchError::Axis { axis }),
+            _ => Ok(axis.index()),
+        }
+    }
 }
 
 /// A tensor-product Bézier volume of degree `(n, m, l)`, each from 1 to [`MAX_DEGREE`].
@@ -350,6 +476,72 @@ impl<P: ControlPoint> Volume<P> {
         }
         out
     }
+
+    /// `S(u, v, w)` with its gradient `[∂S/∂u, ∂S/∂v, ∂S/∂w]`.
+    #[must_use]
+    pub fn eval_with_gradient(&self, u: f64, v: f64, w: f64) -> (P, [P; 3]) {
+        let (n, m, l) = self.degree;
+        let (bu, du) = basis_and_derivative(n, u);
+        let (bv, dv) = basis_and_derivative(m, v);
+        let (bw, dw) = basis_and_derivative(l, w);
+        let (mut s, mut su, mut sv, mut sw) = (P::ZERO, P::ZERO, P::ZERO, P::ZERO);
+        for (i, slab) in self.points.chunks_exact((m + 1) * (l + 1)).enumerate() {
+            let (mut t, mut tv, mut tw) = (P::ZERO, P::ZERO, P::ZERO);
+            for (j, row) in slab.chunks_exact(l + 1).enumerate() {
+                let (mut r, mut rw) = (P::ZERO, P::ZERO);
+                for (k, p) in row.iter().enumerate() {
+                    r = r + *p * bw[k];
+                    rw = rw + *p * dw[k];
+                }
+                t = t + r * bv[j];
+                tv = tv + r * dv[j];
+                tw = tw + rw * bv[j];
+            }
+            s = s + t * bu[i];
+            su = su + t * du[i];
+            sv = sv + tv * bu[i];
+            sw = sw + tw * bu[i];
+        }
+        (s, [su, sv, sw])
+    }
+
+    /// de Casteljau split along `axis` at `t`: the halves over `[0, t]` and `[t, 1]` of that parameter.
+    #[must_use]
+    pub fn split(&self, axis: Axis, t: f64) -> (Self, Self) {
+        let (n, m, l) = self.degree;
+        let (left, right) = split_net(&self.points, &[n + 1, m + 1, l + 1], axis.index(), t);
+        (
+            Self {
+                degree: self.degree,
+                points: left,
+            },
+            Self {
+                degree: self.degree,
+                points: right,
+            },
+        )
+    }
+
+    /// Degree elevation by one along `axis`.
+    ///
+    /// # Errors
+    ///
+    /// [`PatchError::Degree`] when that degree is already [`MAX_DEGREE`].
+    pub fn elevate(&self, axis: Axis) -> Result<Self, PatchError> {
+        let mut degrees = [self.degree.0, self.degree.1, self.degree.2];
+        let points = elevate_net(&self.points, &degrees, axis.index())?;
+        degrees[axis.index()] += 1;
+        Ok(Self {
+            degree: (degrees[0], degrees[1], degrees[2]),
+            points,
+        })
+    }
+
+    /// The componentwise box of the control points, which holds the whole volume over `[0, 1]³`.
+    #[must_use]
+    pub fn bounds(&self) -> (P, P) {
+        bounds_of(&self.points)
+    }
 }
 
 /// Every degree in `1..=MAX_DEGREE`; checked before anything is sized by the degrees.
@@ -368,6 +560,84 @@ fn check_net(degrees: &[usize], got: usize) -> Result<(), PatchError> {
         return Err(PatchError::PointCount { expected, got });
     }
     Ok(())
+}
+
+/// Applies `f` to every line of a net along `axis` (`dims` are the point counts per axis, the last
+/// fastest), where `f` maps a line of `dims[axis]` points to one of `out_len`; returns the new net.
+fn map_lines<P: ControlPoint>(
+    points: &[P],
+    dims: &[usize],
+    axis: usize,
+    out_len: usize,
+    mut f: impl FnMut(&[P], &mut [P]),
+) -> Vec<P> {
+    let inner: usize = dims[axis + 1..].iter().product();
+    let outer: usize = dims[..axis].iter().product();
+    let len = dims[axis];
+    let mut out = vec![P::ZERO; outer * out_len * inner];
+    let mut line = [P::ZERO; MAX_DEGREE + 2];
+    let mut mapped = [P::ZERO; MAX_DEGREE + 2];
+    for o in 0..outer {
+        for c in 0..inner {
+            for (a, slot) in line[..len].iter_mut().enumerate() {
+                *slot = points[(o * len + a) * inner + c];
+            }
+            f(&line[..len], &mut mapped[..out_len]);
+            for (a, &p) in mapped[..out_len].iter().enumerate() {
+                out[(o * out_len + a) * inner + c] = p;
+            }
+        }
+    }
+    out
+}
+
+/// The two halves of a net split at `t` along `axis`.
+fn split_net<P: ControlPoint>(
+    points: &[P],
+    dims: &[usize],
+    axis: usize,
+    t: f64,
+) -> (Vec<P>, Vec<P>) {
+    let len = dims[axis];
+    let half = |left: bool| {
+        map_lines(points, dims, axis, len, |line, out| {
+            // The triangle of de Casteljau: its left edge is the left half, its right edge the right.
+            let mut tri = [P::ZERO; MAX_DEGREE + 2];
+            tri[..len].copy_from_slice(line);
+            for k in 0..len {
+                if left {
+                    out[k] = tri[0];
+                } else {
+                    out[len - 1 - k] = tri[len - 1 - k];
+                }
+                for i in 0..len - 1 - k {
+                    tri[i] = tri[i] * (1.0 - t) + tri[i + 1] * t;
+                }
+            }
+        })
+    };
+    (half(true), half(false))
+}
+
+/// A net elevated by one degree along `axis`: `Q_i = (i/(n+1))·P_(i−1) + (1 − i/(n+1))·P_i`.
+fn elevate_net<P: ControlPoint>(
+    points: &[P],
+    degrees: &[usize],
+    axis: usize,
+) -> Result<Vec<P>, PatchError> {
+    let n = degrees[axis];
+    if n >= MAX_DEGREE {
+        return Err(PatchError::Degree { degree: n + 1 });
+    }
+    let dims: Vec<usize> = degrees.iter().map(|d| d + 1).collect();
+    Ok(map_lines(points, &dims, axis, n + 2, |line, out| {
+        out[0] = line[0];
+        out[n + 1] = line[n];
+        for i in 1..=n {
+            let a = i as f64 / (n + 1) as f64;
+            out[i] = line[i - 1] * a + line[i] * (1.0 - a);
+        }
+    }))
 }
 
 /// de Casteljau's algorithm on a scratch slice of control points (overwritten).
@@ -573,5 +843,178 @@ mod tests {
             Patch::<f64>::from_fn((usize::MAX, 1), |_, _| 0.0),
             Err(PatchError::Degree { degree: usize::MAX })
         );
+    }
+
+    fn close3(a: DVec3, b: DVec3, tol: f64) -> bool {
+        (a - b).abs().max_element() <= tol * (1.0 + a.abs().max_element())
+    }
+
+    fn close4(a: DVec4, b: DVec4, tol: f64) -> bool {
+        (a - b).abs().max_element() <= tol * (1.0 + a.abs().max_element())
+    }
+
+    #[test]
+    fn patch_partials_match_finite_differences() {
+        let mut rng = Rng::new(21);
+        let h = 1e-6;
+        for _ in 0..60 {
+            let patch = random_patch(&mut rng, 8);
+            let (u, v) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+            let (s, su, sv) = patch.eval_with_partials(u, v);
+            assert!(close3(s, patch.eval(u, v), 1e-12));
+            let fu = (patch.eval(u + h, v) - patch.eval(u - h, v)) / (2.0 * h);
+            let fv = (patch.eval(u, v + h) - patch.eval(u, v - h)) / (2.0 * h);
+            assert!(close3(su, fu, 1e-5), "{su} vs {fu}");
+            assert!(close3(sv, fv, 1e-5), "{sv} vs {fv}");
+        }
+    }
+
+    #[test]
+    fn volume_gradient_matches_finite_differences() {
+        let mut rng = Rng::new(22);
+        let h = 1e-6;
+        for _ in 0..40 {
+            let vol = random_volume(&mut rng, 6);
+            let p = [
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+            ];
+            let (s, grad) = vol.eval_with_gradient(p[0], p[1], p[2]);
+            assert!(close4(s, vol.eval(p[0], p[1], p[2]), 1e-12));
+            for (axis, g) in grad.iter().enumerate() {
+                let (mut up, mut down) = (p, p);
+                up[axis] += h;
+                down[axis] -= h;
+                let fd = (vol.eval(up[0], up[1], up[2]) - vol.eval(down[0], down[1], down[2]))
+                    / (2.0 * h);
+                assert!(close4(*g, fd, 1e-5), "axis {axis}: {g} vs {fd}");
+            }
+        }
+    }
+
+    #[test]
+    fn patch_split_halves_reproduce_the_patch() {
+        let mut rng = Rng::new(23);
+        for _ in 0..40 {
+            let patch = random_patch(&mut rng, 8);
+            let t = rng.range(0.05, 0.95);
+            for axis in [Axis::U, Axis::V] {
+                let (left, right) = patch.split(axis, t).unwrap();
+                for _ in 0..10 {
+                    let (a, b) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+                    // (a, b) in a half is (t·a, b) or (t + (1 − t)·a, b) in the whole, along `axis`.
+                    let whole = |x: f64| match axis {
+                        Axis::U => patch.eval(x, b),
+                        _ => patch.eval(b, x),
+                    };
+                    let (l, r) = match axis {
+                        Axis::U => (left.eval(a, b), right.eval(a, b)),
+                        _ => (left.eval(b, a), right.eval(b, a)),
+                    };
+                    assert!(close3(l, whole(t * a), 1e-10));
+                    assert!(close3(r, whole(t + (1.0 - t) * a), 1e-10));
+                }
+            }
+        }
+        assert_eq!(
+            random_patch(&mut rng, 3).split(Axis::W, 0.5),
+            Err(PatchError::Axis { axis: Axis::W })
+        );
+    }
+
+    #[test]
+    fn volume_split_halves_reproduce_the_volume() {
+        let mut rng = Rng::new(24);
+        for _ in 0..20 {
+            let vol = random_volume(&mut rng, 5);
+            let t = rng.range(0.05, 0.95);
+            for (axis, ix) in [(Axis::U, 0), (Axis::V, 1), (Axis::W, 2)] {
+                let (left, right) = vol.split(axis, t);
+                for _ in 0..5 {
+                    let p = [
+                        rng.range(0.0, 1.0),
+                        rng.range(0.0, 1.0),
+                        rng.range(0.0, 1.0),
+                    ];
+                    let (mut pl, mut pr) = (p, p);
+                    pl[ix] = t * p[ix];
+                    pr[ix] = t + (1.0 - t) * p[ix];
+                    let at = |v: &Volume<DVec4>, q: [f64; 3]| v.eval(q[0], q[1], q[2]);
+                    assert!(close4(at(&left, p), at(&vol, pl), 1e-10));
+                    assert!(close4(at(&right, p), at(&vol, pr), 1e-10));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn elevation_preserves_every_point() {
+        let mut rng = Rng::new(25);
+        for _ in 0..40 {
+            let patch = random_patch(&mut rng, 8);
+            let vol = random_volume(&mut rng, 5);
+            for axis in [Axis::U, Axis::V] {
+                let up = patch.elevate(axis).unwrap();
+                let (n, m) = patch.degree();
+                let expect = if axis == Axis::U {
+                    (n + 1, m)
+                } else {
+                    (n, m + 1)
+                };
+                assert_eq!(up.degree(), expect);
+                for _ in 0..10 {
+                    let (u, v) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
+                    assert!(close3(up.eval(u, v), patch.eval(u, v), 1e-10));
+                }
+            }
+            for axis in [Axis::U, Axis::V, Axis::W] {
+                let up = vol.elevate(axis).unwrap();
+                for _ in 0..5 {
+                    let p = [
+                        rng.range(0.0, 1.0),
+                        rng.range(0.0, 1.0),
+                        rng.range(0.0, 1.0),
+                    ];
+                    assert!(close4(
+                        up.eval(p[0], p[1], p[2]),
+                        vol.eval(p[0], p[1], p[2]),
+                        1e-10
+                    ));
+                }
+            }
+        }
+        let top = Patch::from_fn((MAX_DEGREE, 1), |_, _| 0.0).unwrap();
+        assert_eq!(
+            top.elevate(Axis::U),
+            Err(PatchError::Degree {
+                degree: MAX_DEGREE + 1
+            })
+        );
+        assert!(top.elevate(Axis::V).is_ok());
+    }
+
+    #[test]
+    fn bounds_hold_the_patch_and_the_volume() {
+        let mut rng = Rng::new(26);
+        for _ in 0..30 {
+            let patch = random_patch(&mut rng, 8);
+            let vol = random_volume(&mut rng, 5);
+            let (lo, hi) = patch.bounds();
+            let (vlo, vhi) = vol.bounds();
+            for _ in 0..20 {
+                let (u, v, w) = (
+                    rng.range(0.0, 1.0),
+                    rng.range(0.0, 1.0),
+                    rng.range(0.0, 1.0),
+                );
+                let p = patch.eval(u, v);
+                assert!(p.cmpge(lo - 1e-12).all() && p.cmple(hi + 1e-12).all());
+                let q = vol.eval(u, v, w);
+                assert!(q.cmpge(vlo - 1e-12).all() && q.cmple(vhi + 1e-12).all());
+            }
+            // The corners are control points, so the box is tight at them.
+            assert!(patch.points().iter().any(|p| p.x == lo.x));
+        }
     }
 }
