@@ -53,6 +53,7 @@ mod curve;
 mod math;
 pub mod mesh;
 pub mod model;
+pub mod presets;
 pub mod rfunc;
 mod solid;
 mod tensor;

@@ -22,6 +22,20 @@ pub fn intersect(f1: f64, f2: f64) -> f64 {
     }
 }
 
+/// [`intersect`] with its partial derivatives `(f1 & f2, ∂/∂f1, ∂/∂f2)`: `∂/∂f1 = 1 − f1/√(f1² + f2²)`.
+/// At `f1 = f2 = 0`, where `&` has no derivative, both partials are taken along the diagonal:
+/// `1 − 1/√2`.
+#[must_use]
+#[inline]
+pub fn intersect_with_partials(f1: f64, f2: f64) -> (f64, f64, f64) {
+    let h = hypot(f1, f2);
+    if h == 0.0 {
+        let d = 1.0 - core::f64::consts::FRAC_1_SQRT_2;
+        return (0.0, d, d);
+    }
+    (intersect(f1, f2), 1.0 - f1 / h, 1.0 - f2 / h)
+}
+
 /// R-function union `f1 | f2 = f1 + f2 + √(f1² + f2²)`.
 #[must_use]
 #[inline]
@@ -78,12 +92,85 @@ pub fn clip3(s: f64, u: f64, v: f64, w: f64) -> f64 {
     intersect(s, unit_cube(u, v, w))
 }
 
+/// [`clip2`] with its gradient in `(u, v)`, given `s` and its gradient `ds`: the chain rule through
+/// [`intersect_with_partials`].
+#[must_use]
+pub fn clip2_with_gradient(s: f64, ds: [f64; 2], u: f64, v: f64) -> (f64, [f64; 2]) {
+    let (c, cu, cv) = intersect_with_partials(strip(u), strip(v));
+    let (f, fs, fc) = intersect_with_partials(s, c);
+    (
+        f,
+        [
+            fs * ds[0] + fc * cu * (1.0 - 2.0 * u),
+            fs * ds[1] + fc * cv * (1.0 - 2.0 * v),
+        ],
+    )
+}
+
+/// [`clip3`] with its gradient in `(u, v, w)`, given `s` and its gradient `ds`.
+#[must_use]
+pub fn clip3_with_gradient(s: f64, ds: [f64; 3], u: f64, v: f64, w: f64) -> (f64, [f64; 3]) {
+    let (c1, c1u, c1v) = intersect_with_partials(strip(u), strip(v));
+    let (c, cc1, cw) = intersect_with_partials(c1, strip(w));
+    let (f, fs, fc) = intersect_with_partials(s, c);
+    (
+        f,
+        [
+            fs * ds[0] + fc * cc1 * c1u * (1.0 - 2.0 * u),
+            fs * ds[1] + fc * cc1 * c1v * (1.0 - 2.0 * v),
+            fs * ds[2] + fc * cw * (1.0 - 2.0 * w),
+        ],
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::testutil::Rng;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn rfunc_clip_gradients_match_finite_differences() {
+        let mut rng = Rng::new(40);
+        let h = 1e-6;
+        for _ in 0..500 {
+            // A smooth stand-in for S_ξ: s = a + b·u + c·v·w.
+            let (a, b, c) = (
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            let s = |p: [f64; 3]| a + b * p[0] + c * p[1] * p[2];
+            let p = [
+                rng.range(-0.3, 1.3),
+                rng.range(-0.3, 1.3),
+                rng.range(-0.3, 1.3),
+            ];
+            let ds = [b, c * p[2], c * p[1]];
+            let (f, grad) = clip3_with_gradient(s(p), ds, p[0], p[1], p[2]);
+            assert_eq!(f, clip3(s(p), p[0], p[1], p[2]));
+            let (f2, grad2) = clip2_with_gradient(s(p), [ds[0], ds[1]], p[0], p[1]);
+            assert_eq!(f2, clip2(s(p), p[0], p[1]));
+            for axis in 0..3 {
+                let (mut up, mut down) = (p, p);
+                up[axis] += h;
+                down[axis] -= h;
+                let fd3 = (clip3(s(up), up[0], up[1], up[2])
+                    - clip3(s(down), down[0], down[1], down[2]))
+                    / (2.0 * h);
+                assert!(
+                    (fd3 - grad[axis]).abs() < 1e-5 * (1.0 + fd3.abs()),
+                    "{p:?} axis {axis}"
+                );
+                if axis < 2 {
+                    let fd2 =
+                        (clip2(s(up), up[0], up[1]) - clip2(s(down), down[0], down[1])) / (2.0 * h);
+                    assert!((fd2 - grad2[axis]).abs() < 1e-5 * (1.0 + fd2.abs()));
+                }
+            }
+        }
+    }
 
     #[test]
     fn rfunc_intersection_sign_is_logical_and() {

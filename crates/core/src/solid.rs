@@ -5,8 +5,8 @@ use core::fmt;
 
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::rfunc::{clip2, clip3};
-use crate::tensor::{Patch, PatchError, Volume};
+use crate::rfunc::{clip2, clip2_with_gradient, clip3, clip3_with_gradient};
+use crate::tensor::{Axis, Patch, PatchError, Volume};
 
 /// Why a solid could not be built or edited.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +22,13 @@ pub enum SolidError {
     DegenerateBox,
     /// A coordinate's magnitude is above [`Solid2::MAX_COORDINATE`].
     OutOfRange,
+    /// A control point or row index past the end of the net.
+    Index {
+        /// The index given.
+        index: usize,
+        /// The number of points or rows along that axis.
+        len: usize,
+    },
 }
 
 impl fmt::Display for SolidError {
@@ -34,6 +41,7 @@ impl fmt::Display for SolidError {
             }
             Self::DegenerateBox => f.write_str("the control grid's box has zero width or height"),
             Self::OutOfRange => write!(f, "a coordinate's magnitude is above {:e}", Solid2::MAX_COORDINATE),
+            Self::Index { index, len } => write!(f, "index {index} is past the {len} control points along that axis"),
         }
     }
 }
@@ -206,6 +214,43 @@ impl Solid2 {
         clip2(self.patch.eval(uv.x, uv.y).z, uv.x, uv.y)
     }
 
+    /// `f(p)` and its gradient `∇f(p)` (the chain rule through the clipping and the scaling).
+    #[must_use]
+    pub fn f_with_gradient(&self, p: DVec2) -> (f64, DVec2) {
+        let uv = self.to_param(p);
+        let (s, su, sv) = self.patch.eval_with_partials(uv.x, uv.y);
+        let (f, g) = clip2_with_gradient(s.z, [su.z, sv.z], uv.x, uv.y);
+        (f, DVec2::from_array(g) / (self.max - self.min))
+    }
+
+    /// Function mapping on a whole row: ξ of every `P_ij` with `i = index` (`axis` [`Axis::U`]) or
+    /// `j = index` ([`Axis::V`]) set to `xi`.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] for a row past the end or [`Axis::W`], and the errors of
+    /// [`Solid2::set_xi`]; the solid is unchanged then.
+    pub fn set_row_xi(&mut self, axis: Axis, index: usize, xi: f64) -> Result<(), SolidError> {
+        check_values(core::iter::once(xi))?;
+        let (n, m) = self.degree();
+        let len = match axis {
+            Axis::U => n + 1,
+            Axis::V => m + 1,
+            Axis::W => 0,
+        };
+        if index >= len {
+            return Err(SolidError::Index { index, len });
+        }
+        for i in 0..=n {
+            for j in 0..=m {
+                if (axis == Axis::U && i == index) || (axis == Axis::V && j == index) {
+                    self.patch.point_mut(i, j).z = xi;
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// `f` at every `(xs[a], ys[b])`, row-major by `b` (index `b·xs.len() + a`), by grid evaluation.
     #[must_use]
     pub fn f_grid(&self, xs: &[f64], ys: &[f64]) -> Vec<f64> {
@@ -330,6 +375,85 @@ impl Solid3 {
         clip3(self.volume.eval(t.x, t.y, t.z).w, t.x, t.y, t.z)
     }
 
+    /// The scalar volume `S_ξ`: the ξ coordinates of the net.
+    #[must_use]
+    pub fn xi_volume(&self) -> Volume<f64> {
+        Volume::try_new(
+            self.degree(),
+            self.volume.points().iter().map(|p| p.w).collect(),
+        )
+        .unwrap_or_else(|_| unreachable!("same degree and count as the validated volume"))
+    }
+
+    /// `f(p)` and its gradient `∇f(p)`.
+    #[must_use]
+    pub fn f_with_gradient(&self, p: DVec3) -> (f64, DVec3) {
+        let t = self.to_param(p);
+        let (s, [su, sv, sw]) = self.volume.eval_with_gradient(t.x, t.y, t.z);
+        let (f, g) = clip3_with_gradient(s.w, [su.w, sv.w, sw.w], t.x, t.y, t.z);
+        (f, DVec3::from_array(g) / (self.max - self.min))
+    }
+
+    /// ξ of control point `P_ijk`, `None` past the end of the net.
+    #[must_use]
+    pub fn xi(&self, i: usize, j: usize, k: usize) -> Option<f64> {
+        let (n, m, l) = self.degree();
+        (i <= n && j <= m && k <= l)
+            .then(|| self.volume.points()[(i * (m + 1) + j) * (l + 1) + k].w)
+    }
+
+    /// Function mapping: set ξ of control point `P_ijk`.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] past the end of the net, [`SolidError::NonFinite`] or
+    /// [`SolidError::OutOfRange`] for a bad value; the solid is unchanged then.
+    pub fn set_xi(&mut self, i: usize, j: usize, k: usize, xi: f64) -> Result<(), SolidError> {
+        check_values(core::iter::once(xi))?;
+        let (n, m, l) = self.degree();
+        for (index, d) in [(i, n), (j, m), (k, l)] {
+            if index > d {
+                return Err(SolidError::Index { index, len: d + 1 });
+            }
+        }
+        self.volume = self.with_xi(|a, b, c, old| if (a, b, c) == (i, j, k) { xi } else { old });
+        Ok(())
+    }
+
+    /// Function mapping on a whole slice: ξ of every control point whose index along `axis` is
+    /// `index` set to `xi` (the slice the paper's interface opens in the patch editor).
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] for a slice past the end, [`SolidError::NonFinite`] or
+    /// [`SolidError::OutOfRange`] for a bad value; the solid is unchanged then.
+    pub fn set_slice_xi(&mut self, axis: Axis, index: usize, xi: f64) -> Result<(), SolidError> {
+        check_values(core::iter::once(xi))?;
+        let (n, m, l) = self.degree();
+        let len = [n, m, l][axis.index()] + 1;
+        if index >= len {
+            return Err(SolidError::Index { index, len });
+        }
+        self.volume = self.with_xi(|i, j, k, old| {
+            if [i, j, k][axis.index()] == index {
+                xi
+            } else {
+                old
+            }
+        });
+        Ok(())
+    }
+
+    fn with_xi(&self, mut xi: impl FnMut(usize, usize, usize, f64) -> f64) -> Volume<DVec4> {
+        let (_, m, l) = self.degree();
+        let pts = self.volume.points();
+        Volume::from_fn(self.degree(), |i, j, k| {
+            let p = pts[(i * (m + 1) + j) * (l + 1) + k];
+            p.truncate().extend(xi(i, j, k, p.w))
+        })
+        .unwrap_or_else(|_| unreachable!("the degree of a valid volume"))
+    }
+
     /// `f` at every `(xs[a], ys[b], zs[c])`, index `(c·|ys| + b)·|xs| + a`, by grid evaluation.
     #[must_use]
     pub fn f_grid(&self, xs: &[f64], ys: &[f64], zs: &[f64]) -> Vec<f64> {
@@ -339,11 +463,7 @@ impl Solid3 {
         let us = scale(xs, self.min.x, self.max.x);
         let vs = scale(ys, self.min.y, self.max.y);
         let ws = scale(zs, self.min.z, self.max.z);
-        let xi = Volume::try_new(
-            self.degree(),
-            self.volume.points().iter().map(|p| p.w).collect(),
-        )
-        .unwrap_or_else(|_| unreachable!("same degree and count as the validated volume"));
+        let xi = self.xi_volume();
         let mut values = xi.eval_grid(&us, &vs, &ws);
         let mut k = 0;
         for &w in &ws {

@@ -62,7 +62,7 @@ pub enum Axis {
 }
 
 impl Axis {
-    fn index(self) -> usize {
+    pub(crate) fn index(self) -> usize {
         match self {
             Self::U => 0,
             Self::V => 1,
