@@ -1,17 +1,21 @@
 //! `bezsolid`: the command line of bezsolid (DESIGN §5).
 //!
-//! `bezsolid eval` evaluates a model's defining function and `bezsolid contour` writes the zero
-//! contour of a patch model as SVG; the other commands of DESIGN §5 (`mesh`, `hf`, `link`, `bench`) come with later work and answer with a
-//! clear error until then. Errors go to stderr with a non-zero exit; bad input never panics.
+//! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a patch
+//! model as SVG, `mesh` the closed boundary mesh of a volume model as STL, OBJ or PLY, and `hf` either
+//! as HyperFun; `link` and `bench` come with later work and answer with a clear error until then.
+//! Errors go to stderr with a non-zero exit; bad input never panics.
 
 mod contour;
 mod eval;
+mod hf;
+mod mesh;
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use bezsolid_core::model::{ModelFile, ModelSolid};
+use bezsolid_core::presets::Preset;
 
 const USAGE: &str = "usage: bezsolid <command> [options]
 
@@ -21,12 +25,16 @@ commands (DESIGN §5):
   contour MODEL [--res N] -o OUT.svg [--accuracy A]
                                    zero contours of a patch solid (N cells per side, default
                                    256; vertices refined to |f| <= A, default 1e-9)
-  mesh MODEL --res N -o OUT.stl    polygonize a volume solid           (not in this build yet)
-  hf MODEL -o OUT.hf               HyperFun export                     (not in this build yet)
+  mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A]
+                                   closed boundary mesh of a volume solid (N cells along the
+                                   longest side, default 64; vertices refined to |f| <= A,
+                                   default 1e-9)
+  hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum)
   link MODEL                       print the share link                (not in this build yet)
   bench                            benchmarks                          (not in this build yet)
 
-MODEL is a model file (.bsolid.json).
+MODEL is a model file (.bsolid.json) or a preset: preset:fig9, preset:blob, preset:ring,
+preset:fish.
 
 options:
   -h, --help       this text
@@ -53,7 +61,9 @@ fn main() -> ExitCode {
         }
         Some("eval") => report(eval::run(&args[1..])),
         Some("contour") => report(contour::run(&args[1..])),
-        Some(cmd @ ("mesh" | "hf" | "link" | "bench")) => {
+        Some("mesh") => report(mesh::run(&args[1..])),
+        Some("hf") => report(hf::run(&args[1..])),
+        Some(cmd @ ("link" | "bench")) => {
             eprintln!("bezsolid: `{cmd}` is not available in this build yet");
             ExitCode::FAILURE
         }
@@ -74,8 +84,14 @@ fn report(result: Result<()>) -> ExitCode {
     }
 }
 
-/// Reads and validates a model file.
+/// Reads and validates a model file, or names a preset (`preset:NAME`).
 pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
+    if let Some(name) = arg.strip_prefix("preset:") {
+        let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
+        return Preset::from_name(name)
+            .map(Preset::solid)
+            .with_context(|| format!("no preset `{name}`; the presets are {}", names.join(", ")));
+    }
     if arg.contains("#v1.") {
         bail!("share links are not supported by this build yet; pass a model file");
     }

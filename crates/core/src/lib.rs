@@ -50,6 +50,7 @@ extern crate std;
 pub mod bernstein;
 pub mod contour;
 mod curve;
+pub mod hyperfun;
 mod math;
 pub mod mesh;
 pub mod model;

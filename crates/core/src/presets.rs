@@ -16,7 +16,8 @@ pub enum Preset {
     /// A torus-like ring: degree (6, 6, 2) over `[-1, 1]² × [-0.4, 0.4]`, ξ positive on a circle of
     /// control points in the middle layer.
     Ring,
-    /// A fish: degree (6, 3, 2), a body tapering into a forked tail along x.
+    /// A fish: degree (6, 4, 2) over `[0, 3] × [−0.8, 0.8] × [−0.5, 0.5]`, a round body, a waist and
+    /// a tail fin that is wide in y and thin in z.
     Fish,
 }
 
@@ -86,22 +87,28 @@ fn ring() -> Solid3 {
 }
 
 fn fish() -> Solid3 {
-    // Along x: nose, head, belly, back, narrow waist, tail. The body is round in y and z; the tail
-    // spreads in y (the two outer columns) and stays thin in z.
-    const SPINE: [f64; 7] = [-0.6, 0.7, 1.0, 0.9, 0.4, -0.5, 0.3];
-    const FLANK: [f64; 7] = [-1.0, -0.4, 0.1, 0.0, -0.5, -0.6, 0.6];
+    // Along x (i): nose, head, belly, back, waist, tail root, tail. Across y (j) the rows are outer,
+    // near, centre, near, outer; in z (k) the middle layer and the top/bottom layers. The body is
+    // high in the middle layer and not too low above and below (round); the tail is wide in y (the
+    // outer rows rise at i = 6) and thin in z (top and bottom well below the middle).
+    const MIDDLE: [[f64; 7]; 3] = [
+        [-1.0, -1.0, -1.0, -1.0, -1.0, -1.5, 2.6],
+        [-1.0, 1.2, 2.4, 2.0, 0.2, 0.8, 1.8],
+        [-0.5, 2.5, 3.5, 3.2, 2.6, 3.2, 1.2],
+    ];
+    const OUTER: [[f64; 7]; 3] = [
+        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -2.2],
+        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -1.3],
+        [-1.0, -0.2, 0.3, 0.0, -1.0, -1.8, -1.0],
+    ];
+    const ROW: [usize; 5] = [0, 1, 2, 1, 0];
     valid(Solid3::regular(
-        (6, 3, 2),
-        DVec3::new(0.0, -0.6, -0.4),
-        DVec3::new(3.0, 0.6, 0.4),
+        (6, 4, 2),
+        DVec3::new(0.0, -0.8, -0.5),
+        DVec3::new(3.0, 0.8, 0.5),
         |i, j, k| {
-            let centre_row = j == 1 || j == 2;
-            match (centre_row, k) {
-                (true, 1) => SPINE[i],
-                (false, 1) => FLANK[i],
-                (true, _) => 0.5 * SPINE[i] - 0.6,
-                (false, _) => -1.0,
-            }
+            let layer = if k == 1 { &MIDDLE } else { &OUTER };
+            layer[ROW[j]][i]
         },
     ))
 }

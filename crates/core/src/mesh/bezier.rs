@@ -300,7 +300,11 @@ mod tests {
         let h = 0.2;
         let bevel = 16.0 * (h / 2.0) * (h / 2.0) / 2.0;
         // (The corners, where three bevels meet, give a little back.)
-        assert!((mesh.volume() - (2.0 - bevel)).abs() < 0.01, "{}", mesh.volume());
+        assert!(
+            (mesh.volume() - (2.0 - bevel)).abs() < 0.01,
+            "{}",
+            mesh.volume()
+        );
         for p in &mesh.positions {
             let on_face = p.x.abs() < 1e-9
                 || (p.x - 2.0).abs() < 1e-9

@@ -1,0 +1,382 @@
+//! HyperFun (`.hf`) export of regular-grid solids.
+//!
+//! The model is written as the explicit Bernstein sum in plain HyperFun arithmetic (`+ − * /` and the
+//! R-function intersection `&`, which HyperFun defines as `f1 + f2 − sqrt(f1² + f2²)`, the paper's), so
+//! it needs no library primitive and is exact: the same polynomial, the same clipping. Numbers are
+//! written in Rust's shortest round-trip decimal, so they read back to the same `f64`s.
+//!
+//! A comment in the file says which library call would be equivalent: `hfBezierVolume(x, l, m, n,
+//! bbox, w)`, whose `l, m, n` are control-point counts (degree + 1), whose second and third counts and
+//! `w` index run along z and y (in that order), and which clips in world units, `(x1 − x)(x − x0)`, so
+//! it matches this file only on a unit box.
+
+use alloc::format;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt::Write as _;
+
+use glam::{DVec2, DVec3};
+
+use crate::bernstein::binomial;
+use crate::{Solid2, Solid3};
+
+/// A number as a HyperFun literal: negative ones in parentheses, so `a*(-0.5)` parses.
+fn num(x: f64) -> String {
+    if x < 0.0 {
+        format!("({x})")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// `C(n, i)·t^i·(1 − t)^(n − i)` for the parameter named `t` (and `1 − t` named `s`), by repeated
+/// products.
+fn basis_term(n: usize, i: usize, t: &str, s: &str) -> String {
+    let mut factors: Vec<String> = Vec::with_capacity(n + 1);
+    let c = binomial(n, i);
+    if c != 1.0 {
+        factors.push(num(c));
+    }
+    factors.extend((0..i).map(|_| String::from(t)));
+    factors.extend((0..n - i).map(|_| String::from(s)));
+    factors.join("*")
+}
+
+/// Lines that define the parameter `t` of axis `k` (1-based `x[k]`) over `[lo, hi]`, `1 − t` and the
+/// basis values `{t}0..{t}n`.
+fn axis_lines(out: &mut String, t: &str, k: usize, lo: f64, hi: f64, n: usize) {
+    let _ = writeln!(out, "  {t} = (x[{k}] - {}) / {};", num(lo), num(hi - lo));
+    let _ = writeln!(out, "  {t}s = 1 - {t};");
+    for i in 0..=n {
+        let _ = writeln!(
+            out,
+            "  b{t}{i} = {};",
+            basis_term(n, i, t, &format!("{t}s"))
+        );
+    }
+}
+
+fn header(out: &mut String, what: &str) {
+    let _ = writeln!(out, "-- {what}, exported by bezsolid.");
+    let _ = writeln!(
+        out,
+        "-- f = S_xi(u, v[, w]) & F_b(u) & F_b(v)[ & F_b(w)], F_b(t) = t(1 - t): the explicit Bernstein"
+    );
+    let _ = writeln!(
+        out,
+        "-- sum of the control points' xi over the parameters (a scaling of x), clipped to the box."
+    );
+}
+
+/// The HyperFun model of a 2D solid: a function of `x[1], x[2]` (HyperFun models are 3D, so `x[3]` is
+/// unused and the solid is a prism along z).
+#[must_use]
+pub fn solid2_hf(solid: &Solid2) -> String {
+    let (n, m) = solid.degree();
+    let (min, max): (DVec2, DVec2) = solid.domain();
+    let mut out = String::new();
+    header(
+        &mut out,
+        &format!("A Bezier patch solid of degree ({n}, {m})"),
+    );
+    let _ = writeln!(
+        out,
+        "-- HyperFun has no 2D patch primitive; x[3] is unused (a prism along z)."
+    );
+    let _ = writeln!(out, "my_model(x[3], a[1])\n{{");
+    axis_lines(&mut out, "u", 1, min.x, max.x, n);
+    axis_lines(&mut out, "v", 2, min.y, max.y, m);
+    let mut rows = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let terms: Vec<String> = (0..=m)
+            .map(|j| format!("bv{j}*{}", num(solid.xi(i, j))))
+            .collect();
+        rows.push(format!("bu{i}*({})", terms.join(" + ")));
+    }
+    let _ = writeln!(out, "  s = {};", rows.join("\n    + "));
+    let _ = writeln!(out, "  my_model = s & ((u*us) & (v*vs));\n}}");
+    out
+}
+
+/// The HyperFun model of a 3D solid: the explicit Bernstein sum, with the equivalent
+/// `hfBezierVolume` call in a comment.
+#[must_use]
+pub fn solid3_hf(solid: &Solid3) -> String {
+    let (n, m, l) = solid.degree();
+    let (min, max): (DVec3, DVec3) = solid.domain();
+    let xi = solid.xi_volume();
+    let at = |i: usize, j: usize, k: usize| xi.points()[(i * (m + 1) + j) * (l + 1) + k];
+    let mut out = String::new();
+    header(
+        &mut out,
+        &format!("A Bezier volume solid of degree ({n}, {m}, {l})"),
+    );
+    let _ = writeln!(
+        out,
+        "-- The HyperFun library primitive for this is hfBezierVolume(x, {}, {}, {}, bbox, w): its counts",
+        n + 1,
+        l + 1,
+        m + 1
+    );
+    let _ = writeln!(
+        out,
+        "-- are control points per axis (degree + 1) along x, z, y in that order, with w indexed"
+    );
+    let _ = writeln!(
+        out,
+        "-- [i*{}*{} + kz*{} + jy]; it clips in world units, (x1 - x)(x - x0), so it equals this",
+        l + 1,
+        m + 1,
+        m + 1
+    );
+    let _ = writeln!(out, "-- model only on a unit box. With:");
+    let _ = writeln!(
+        out,
+        "--   bbox = [{}, {}, {}, {}, {}, {}];",
+        min.x, min.y, min.z, max.x, max.y, max.z
+    );
+    let mut w = Vec::with_capacity((n + 1) * (m + 1) * (l + 1));
+    for i in 0..=n {
+        for k in 0..=l {
+            for j in 0..=m {
+                w.push(format!("{}", at(i, j, k)));
+            }
+        }
+    }
+    let lines: Vec<String> = w.chunks(8).map(|chunk| chunk.join(", ")).collect();
+    for (c, line) in lines.iter().enumerate() {
+        let lead = if c == 0 { "--   w = [" } else { "--        " };
+        let tail = if c + 1 == lines.len() { "];" } else { "," };
+        let _ = writeln!(out, "{lead}{line}{tail}");
+    }
+    let _ = writeln!(out, "my_model(x[3], a[1])\n{{");
+    axis_lines(&mut out, "u", 1, min.x, max.x, n);
+    axis_lines(&mut out, "v", 2, min.y, max.y, m);
+    axis_lines(&mut out, "w", 3, min.z, max.z, l);
+    let mut slabs = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let mut rows = Vec::with_capacity(m + 1);
+        for j in 0..=m {
+            let terms: Vec<String> = (0..=l)
+                .map(|k| format!("bw{k}*{}", num(at(i, j, k))))
+                .collect();
+            rows.push(format!("bv{j}*({})", terms.join(" + ")));
+        }
+        slabs.push(format!("bu{i}*({})", rows.join("\n      + ")));
+    }
+    let _ = writeln!(out, "  s = {};", slabs.join("\n    + "));
+    let _ = writeln!(out, "  my_model = s & (((u*us) & (v*vs)) & (w*ws));\n}}");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::ModelSolid;
+    use crate::presets::Preset;
+    use crate::testutil::Rng;
+    use alloc::collections::BTreeMap;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// An interpreter for the subset of HyperFun the exporter writes: a `my_model(x[3], a[1])` body of
+    /// `name = expr;` lines with numbers, names, `x[k]`, parentheses, unary minus, `+ - * /` and `&`
+    /// (the R-function intersection, lowest precedence). Comments start with `--`.
+    fn run_hf(text: &str, x: [f64; 3]) -> f64 {
+        let body: String = text
+            .lines()
+            .map(|l| l.split("--").next().unwrap())
+            .collect::<Vec<_>>()
+            .join("\n");
+        let open = body.find('{').unwrap();
+        let close = body.rfind('}').unwrap();
+        assert!(body[..open].trim().starts_with("my_model(x[3], a[1])"));
+        let mut vars: BTreeMap<String, f64> = BTreeMap::new();
+        for stmt in body[open + 1..close]
+            .split(';')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+        {
+            let (name, expr) = stmt.split_once('=').unwrap();
+            let tokens = tokenize(expr);
+            let mut p = Parser {
+                tokens: &tokens,
+                at: 0,
+                vars: &vars,
+                x,
+            };
+            let value = p.and();
+            assert_eq!(p.at, tokens.len(), "trailing tokens in {stmt}");
+            vars.insert(name.trim().to_lowercase(), value);
+        }
+        vars["my_model"]
+    }
+
+    #[derive(Debug, PartialEq)]
+    enum Tok {
+        Num(f64),
+        Name(String),
+        Op(char),
+    }
+
+    fn tokenize(s: &str) -> Vec<Tok> {
+        let chars: Vec<char> = s.chars().collect();
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < chars.len() {
+            let c = chars[i];
+            if c.is_whitespace() {
+                i += 1;
+            } else if c.is_ascii_digit() || c == '.' {
+                let start = i;
+                while i < chars.len()
+                    && (chars[i].is_ascii_digit() || chars[i] == '.' || chars[i] == 'e')
+                {
+                    i += 1;
+                }
+                out.push(Tok::Num(
+                    chars[start..i].iter().collect::<String>().parse().unwrap(),
+                ));
+            } else if c.is_ascii_alphabetic() {
+                let start = i;
+                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                    i += 1;
+                }
+                out.push(Tok::Name(
+                    chars[start..i].iter().collect::<String>().to_lowercase(),
+                ));
+            } else {
+                assert!("+-*/&()[]".contains(c), "unexpected {c:?}");
+                out.push(Tok::Op(c));
+                i += 1;
+            }
+        }
+        out
+    }
+
+    struct Parser<'a> {
+        tokens: &'a [Tok],
+        at: usize,
+        vars: &'a BTreeMap<String, f64>,
+        x: [f64; 3],
+    }
+
+    impl Parser<'_> {
+        fn peek(&self, op: char) -> bool {
+            self.tokens.get(self.at) == Some(&Tok::Op(op))
+        }
+        fn and(&mut self) -> f64 {
+            let mut a = self.sum();
+            while self.peek('&') {
+                self.at += 1;
+                let b = self.sum();
+                a = a + b - (a * a + b * b).sqrt();
+            }
+            a
+        }
+        fn sum(&mut self) -> f64 {
+            let mut a = self.product();
+            loop {
+                if self.peek('+') {
+                    self.at += 1;
+                    a += self.product();
+                } else if self.peek('-') {
+                    self.at += 1;
+                    a -= self.product();
+                } else {
+                    return a;
+                }
+            }
+        }
+        fn product(&mut self) -> f64 {
+            let mut a = self.unary();
+            loop {
+                if self.peek('*') {
+                    self.at += 1;
+                    a *= self.unary();
+                } else if self.peek('/') {
+                    self.at += 1;
+                    a /= self.unary();
+                } else {
+                    return a;
+                }
+            }
+        }
+        fn unary(&mut self) -> f64 {
+            if self.peek('-') {
+                self.at += 1;
+                return -self.unary();
+            }
+            let tok = &self.tokens[self.at];
+            self.at += 1;
+            match tok {
+                Tok::Num(v) => *v,
+                Tok::Op('(') => {
+                    let v = self.and();
+                    assert!(self.peek(')'));
+                    self.at += 1;
+                    v
+                }
+                Tok::Name(n) if n == "x" => {
+                    assert!(self.peek('['));
+                    let Tok::Num(k) = self.tokens[self.at + 1] else {
+                        panic!("x[k]")
+                    };
+                    self.at += 3;
+                    self.x[k as usize - 1]
+                }
+                Tok::Name(n) => *self.vars.get(n).unwrap_or_else(|| panic!("undefined {n}")),
+                t => panic!("unexpected {t:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn exported_volumes_evaluate_to_f() {
+        let mut rng = Rng::new(60);
+        for preset in [Preset::Blob, Preset::Ring, Preset::Fish] {
+            let ModelSolid::Volume(solid) = preset.solid() else {
+                panic!()
+            };
+            let text = solid3_hf(&solid);
+            assert!(text.contains("hfBezierVolume"));
+            let (min, max) = solid.domain();
+            for _ in 0..50 {
+                let t = DVec3::new(
+                    rng.range(-0.2, 1.2),
+                    rng.range(-0.2, 1.2),
+                    rng.range(-0.2, 1.2),
+                );
+                let p = min + (max - min) * t;
+                let got = run_hf(&text, p.to_array());
+                let want = solid.f(p);
+                assert!(
+                    (got - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                    "{preset:?} at {p}: {got} vs {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn exported_patches_evaluate_to_f() {
+        let mut rng = Rng::new(61);
+        let solid = Solid2::regular(
+            (3, 2),
+            DVec2::new(-1.0, 2.0),
+            DVec2::new(0.5, 3.0),
+            |_, _| rng.range(-1.0, 1.0),
+        )
+        .unwrap();
+        let text = solid2_hf(&solid);
+        for _ in 0..50 {
+            let p = DVec2::new(rng.range(-1.2, 0.7), rng.range(1.8, 3.2));
+            let got = run_hf(&text, [p.x, p.y, rng.range(-5.0, 5.0)]);
+            let want = solid.f(p);
+            assert!(
+                (got - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                "{p}: {got} vs {want}"
+            );
+        }
+    }
+}
