@@ -12,7 +12,9 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
+
+use crate::{Axis, Solid3};
 
 /// A regular grid of `nx × ny` samples over the box `[min, max]` (corners included).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -290,6 +292,55 @@ fn refine(
     a.lerp(b, best.0)
 }
 
+/// The zero contours of a [`Solid3`] on the plane where the coordinate `axis` is `at` (the paper's
+/// Fig. 11 stack is several of these): polylines in the plane's coordinates, the other two axes in
+/// increasing order (`(y, z)` for [`Axis::U`], `(x, z)` for [`Axis::V`], `(x, y)` for [`Axis::W`]),
+/// solid on the left, from a grid of `resolution` cells along the longer side of the section with a
+/// cell of margin, vertices refined to `|f| ≤ accuracy`.
+///
+/// Returns no lines for a resolution below 2 or a bad accuracy, and for a plane that misses the box.
+#[must_use]
+pub fn cross_section(
+    solid: &Solid3,
+    axis: Axis,
+    at: f64,
+    resolution: usize,
+    accuracy: f64,
+) -> Vec<Polyline> {
+    let a = axis.index();
+    let (b, d) = if a == 0 {
+        (1, 2)
+    } else if a == 1 {
+        (0, 2)
+    } else {
+        (0, 1)
+    };
+    let (min, max) = solid.domain();
+    let in_box = (min[a]..=max[a]).contains(&at);
+    if resolution < 2 || !accuracy.is_finite() || accuracy <= 0.0 || !in_box {
+        return Vec::new();
+    }
+    let (lo, hi) = (DVec2::new(min[b], min[d]), DVec2::new(max[b], max[d]));
+    let size = hi - lo;
+    let cell = size.max_element() / resolution as f64;
+    let cells = (size / cell).ceil().max(DVec2::ONE);
+    let step = size / cells;
+    let grid = Grid2::new(
+        lo - step,
+        hi + step,
+        cells.x as usize + 3,
+        cells.y as usize + 3,
+    );
+    let lift = |p: DVec2| {
+        let mut q = DVec3::ZERO;
+        q[a] = at;
+        q[b] = p.x;
+        q[d] = p.y;
+        q
+    };
+    contour_grid(&grid, |p| solid.f(lift(p)), accuracy)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -429,5 +480,45 @@ mod tests {
         assert_eq!(lines.len(), 1);
         assert!(lines[0].closed && lines[0].signed_area() > 0.0);
         assert!(lines[0].points.iter().all(|p| s.f(*p).abs() <= 1e-9));
+    }
+
+    #[test]
+    fn ring_cross_sections_have_a_hole_across_and_two_discs_along() {
+        let crate::model::ModelSolid::Volume(ring) = crate::presets::Preset::Ring.solid() else {
+            panic!("the ring is a volume")
+        };
+        let accuracy = 1e-10;
+        let lift = |axis: Axis, at: f64, p: DVec2| match axis {
+            Axis::U => DVec3::new(at, p.x, p.y),
+            Axis::V => DVec3::new(p.x, at, p.y),
+            Axis::W => DVec3::new(p.x, p.y, at),
+        };
+        // Across the axis: an annulus, the outer loop counter-clockwise, the hole clockwise.
+        let flat = cross_section(&ring, Axis::W, 0.0, 64, accuracy);
+        assert_eq!(flat.len(), 2);
+        let mut areas: Vec<f64> = flat.iter().map(Polyline::signed_area).collect();
+        areas.sort_by(f64::total_cmp);
+        assert!(areas[0] < 0.0 && areas[1] > 0.0 && areas[1] > -areas[0]);
+        // Along it (through the axis): the tube cut twice, two discs.
+        for axis in [Axis::U, Axis::V] {
+            let cut = cross_section(&ring, axis, 0.0, 64, accuracy);
+            assert_eq!(cut.len(), 2, "{axis:?}");
+            for line in &cut {
+                assert!(line.closed && line.signed_area() > 0.0);
+                for p in &line.points {
+                    assert!(ring.f(lift(axis, 0.0, *p)).abs() <= accuracy);
+                }
+            }
+        }
+        for line in &flat {
+            for p in &line.points {
+                assert!(ring.f(lift(Axis::W, 0.0, *p)).abs() <= accuracy);
+            }
+        }
+        // Planes that miss the box, and bad arguments, give nothing.
+        assert!(cross_section(&ring, Axis::W, 5.0, 64, accuracy).is_empty());
+        assert!(cross_section(&ring, Axis::W, f64::NAN, 64, accuracy).is_empty());
+        assert!(cross_section(&ring, Axis::W, 0.0, 1, accuracy).is_empty());
+        assert!(cross_section(&ring, Axis::W, 0.0, 64, f64::NAN).is_empty());
     }
 }
