@@ -6,6 +6,7 @@
 //! - `cargo xtask test [--update-screenshot]`: fmt, clippy, native tests, docs, the `no_std` build, the
 //!   wasm tests in node, the web build and the browser suite in headless chromium on both backends.
 
+mod bench;
 mod build;
 mod recipe;
 mod serve;
@@ -24,6 +25,7 @@ const USAGE: &str = "usage: cargo xtask <command>
 commands:
   serve [--port N]             set up, build the page and serve it (port also from BEZSOLID_PORT)
   test [--update-screenshot]   every check, in order, stopping at the first failure
+  bench [--quick]              benchmarks, native (with peers) and wasm in node; writes BENCHMARKS.md
 ";
 
 fn workspace() -> PathBuf {
@@ -55,6 +57,16 @@ fn real_main() -> Result<()> {
                 }
             }
             test::all(&ws, &options)
+        }
+        Some("bench") => {
+            let mut quick = false;
+            for a in &args[1..] {
+                match a.as_str() {
+                    "--quick" => quick = true,
+                    other => bail!("unknown option {other}\n\n{USAGE}"),
+                }
+            }
+            bench::all(&ws, quick)
         }
         Some("-h" | "--help" | "help") => {
             print!("{USAGE}");

@@ -9,14 +9,22 @@
 //!
 //! - [`bernstein`]: binomials and the Bernstein basis `B_i^n(t) = C(n,i) tⁱ(1−t)ⁿ⁻ⁱ`.
 //! - [`BezierCurve`]: curves of any degree: evaluation, derivative, de Casteljau split, elevation.
-//! - [`Patch`]: a tensor-product Bézier patch of any degree (1 to [`MAX_DEGREE`]) per axis: evaluation
-//!   in basis form and by de Casteljau, and grid evaluation one axis at a time.
+//! - [`Patch`], [`Volume`]: tensor-product Bézier patches and volumes of any degree (1 to
+//!   [`MAX_DEGREE`]) per axis: evaluation in basis form and by de Casteljau, partial derivatives, de
+//!   Casteljau split, degree elevation, bounds, and grid evaluation one axis at a time.
+//! - [`triangular`]: triangular Bézier patches of any degree.
 //! - [`rfunc`]: the R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)` and the functional
 //!   clipping `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)` of the paper's §3.3.1.
-//! - [`Solid2`]: a patch solid on a regular grid: `f(p)`, function-mapping edits, the paper's Fig. 9.
-//! - [`Solid3`]: the same for a volume, `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)`.
-//! - [`contour`]: marching squares to closed polylines with the solid on their left.
-//! - [`mesh`]: writers; so far SVG of contours.
+//! - [`Solid2`]: a patch solid on a regular grid: `f(p)`, `∇f(p)`, function-mapping edits, the
+//!   paper's Fig. 9.
+//! - [`Solid3`]: the same for a volume, `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)`, and its
+//!   polygonization ([`Solid3::polygonize`]).
+//! - [`contour`]: marching squares to closed polylines with the solid on their left; cross-sections of
+//!   volumes.
+//! - [`mesh`]: indexed meshes, a manifold marching cubes, manifold checks, and the STL, OBJ, PLY and
+//!   SVG writers.
+//! - [`hyperfun`]: HyperFun export.
+//! - [`presets`]: Fig. 9, a blob, a ring and a fish.
 //! - [`model`]: the model file of DESIGN §5 (serde derives behind the `serde` feature).
 //!
 //! ```

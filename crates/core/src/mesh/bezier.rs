@@ -10,8 +10,8 @@ use glam::DVec3;
 
 use super::Mesh;
 use super::polygonize::{EdgeRoots, SampleGrid, linear_root, polygonize};
-use crate::bernstein::{MAX_DEGREE, basis, basis_array};
-use crate::rfunc::clip3;
+use crate::bernstein::{MAX_DEGREE, basis_and_derivative};
+use crate::rfunc::{clip3, clip3_with_gradient};
 use crate::{Solid3, Volume};
 
 /// The most cells along the longest side of the box.
@@ -72,6 +72,10 @@ impl Solid3 {
     /// The closed, outward-oriented triangle mesh of the solid's boundary at `resolution` cells along
     /// the longest side of the box: vertices on `f = 0` to within `accuracy` (in `f`), normals `−∇f`.
     ///
+    /// The grid is sampled with `S_ξ` alone inside the box and with `f` on the outer samples: inside
+    /// the box `F_s > 0`, where `S_ξ & F_s` has the sign of `S_ξ`, so the cubes see the same inside and
+    /// outside as with `f`, for the cost of the polynomial; each vertex is then found on `f = 0` itself.
+    ///
     /// # Errors
     ///
     /// [`MeshError`] for a resolution out of range or a bad accuracy.
@@ -81,23 +85,41 @@ impl Solid3 {
         }
         let grid = self.mesh_grid(resolution)?;
         let mut roots = SolidRoots::new(self, &grid, accuracy);
-        let xs = roots.axis_points(0);
-        let ys = roots.axis_points(1);
-        let zs = roots.axis_points(2);
-        let values = self.f_grid(&xs, &ys, &zs);
+        let [us, vs, ws] = &roots.params;
+        let mut values = roots.xi.eval_grid(us, vs, ws);
+        let inner = |t: f64| t > 0.0 && t < 1.0;
+        let mut i = 0;
+        for &w in ws {
+            for &v in vs {
+                let row_inside = inner(v) && inner(w);
+                for &u in us {
+                    if !(row_inside && inner(u)) {
+                        values[i] = clip3(values[i], u, v, w);
+                    }
+                    i += 1;
+                }
+            }
+        }
         Ok(polygonize(&grid, &values, &mut roots))
     }
 }
 
 /// Roots on grid edges of a [`Solid3`]: along an edge two parameters are fixed, so `S_ξ` is a Bézier
-/// curve whose coefficients are the net contracted with the two fixed basis rows.
+/// curve whose coefficients are the net contracted with the two fixed basis rows; the gradient across
+/// the edge comes from the same contraction with one derivative row.
 struct SolidRoots<'a> {
     solid: &'a Solid3,
     xi: Volume<f64>,
-    grid: SampleGrid,
-    /// Parameters of the samples along each axis, and their basis rows.
+    /// Parameters of the samples along each axis, and their basis and derivative rows.
     params: [Vec<f64>; 3],
     basis: [Vec<f64>; 3],
+    slope: [Vec<f64>; 3],
+    /// The net contracted along w at every sample's `w` (`(n + 1)(m + 1)` values each), and with the
+    /// derivative row; and along u at every sample's `u` (`(m + 1)(l + 1)` each).
+    w_planes: [Vec<f64>; 2],
+    u_planes: [Vec<f64>; 2],
+    /// `1 / (max − min)`: from parameter to world derivatives.
+    scale: DVec3,
     accuracy: f64,
 }
 
@@ -115,51 +137,106 @@ impl<'a> SolidRoots<'a> {
                 })
                 .collect()
         });
-        let basis = core::array::from_fn(|axis| {
+        let tables = |axis: usize| {
             let d = degrees[axis] + 1;
-            let mut table = vec![0.0; params[axis].len() * d];
-            for (row, &t) in table.chunks_exact_mut(d).zip(&params[axis]) {
-                basis(degrees[axis], t, row);
+            let mut value = vec![0.0; params[axis].len() * d];
+            let mut slope = vec![0.0; params[axis].len() * d];
+            for (a, &t) in params[axis].iter().enumerate() {
+                let (b, db) = basis_and_derivative(degrees[axis], t);
+                value[a * d..(a + 1) * d].copy_from_slice(&b[..d]);
+                slope[a * d..(a + 1) * d].copy_from_slice(&db[..d]);
             }
-            table
-        });
+            (value, slope)
+        };
+        let (b0, s0) = tables(0);
+        let (b1, s1) = tables(1);
+        let (b2, s2) = tables(2);
+        let (dn, dm, dl) = (degrees[0] + 1, degrees[1] + 1, degrees[2] + 1);
+        let pts = xi.points();
+        let mut w_planes = [Vec::new(), Vec::new()];
+        for (plane, rows) in w_planes.iter_mut().zip([&b2, &s2]) {
+            for row in rows.chunks_exact(dl) {
+                for ij in pts.chunks_exact(dl) {
+                    plane.push(ij.iter().zip(row).map(|(p, b)| p * b).sum());
+                }
+            }
+        }
+        let mut u_planes = [Vec::new(), Vec::new()];
+        for (plane, rows) in u_planes.iter_mut().zip([&b0, &s0]) {
+            for row in rows.chunks_exact(dn) {
+                for jk in 0..dm * dl {
+                    plane.push((0..dn).map(|i| pts[i * dm * dl + jk] * row[i]).sum());
+                }
+            }
+        }
         Self {
             solid,
             xi,
-            grid: *grid,
             params,
-            basis,
+            basis: [b0, b1, b2],
+            slope: [s0, s1, s2],
+            w_planes,
+            u_planes,
+            scale: (max - min).recip(),
             accuracy,
         }
     }
 
-    fn axis_points(&self, axis: usize) -> Vec<f64> {
-        (0..self.grid.dims[axis])
-            .map(|a| self.grid.origin[axis] + self.grid.step[axis] * a as f64)
-            .collect()
-    }
-
-    /// The coefficients of `S_ξ` along `axis` through sample `lower` (the other two parameters fixed).
-    fn line(&self, axis: usize, lower: [usize; 3]) -> [f64; MAX_DEGREE + 1] {
+    /// Along `axis` through sample `lower`: the coefficients of `S_ξ` as a curve in that parameter, and
+    /// of its derivatives along the two other axes (in increasing axis order), from the contracted
+    /// planes: `(degree + 1)²` multiply-adds each.
+    fn line(&self, axis: usize, lower: [usize; 3]) -> [[f64; MAX_DEGREE + 1]; 3] {
         let (n, m, l) = self.xi.degree();
-        let dims = [n + 1, m + 1, l + 1];
-        let ones = [1.0; MAX_DEGREE + 1];
-        // Basis rows of the two fixed parameters, and ones along the edge's own axis.
-        let rows: [&[f64]; 3] = core::array::from_fn(|ax| {
-            if ax == axis {
-                &ones[..dims[ax]]
-            } else {
-                &self.basis[ax][lower[ax] * dims[ax]..(lower[ax] + 1) * dims[ax]]
+        let (dn, dm, dl) = (n + 1, m + 1, l + 1);
+        let [a, b, c] = lower;
+        let row =
+            |table: &[Vec<f64>; 3], ax: usize, at: usize, len: usize| -> [f64; MAX_DEGREE + 1] {
+                let mut r = [0.0; MAX_DEGREE + 1];
+                r[..len].copy_from_slice(&table[ax][at * len..(at + 1) * len]);
+                r
+            };
+        let mut out = [[0.0; MAX_DEGREE + 1]; 3];
+        match axis {
+            0 | 1 => {
+                // The (i, j) plane at this sample's w.
+                let size = dn * dm;
+                let p = &self.w_planes[0][c * size..(c + 1) * size];
+                let dp = &self.w_planes[1][c * size..(c + 1) * size];
+                if axis == 0 {
+                    let (bv, dbv) = (row(&self.basis, 1, b, dm), row(&self.slope, 1, b, dm));
+                    for i in 0..dn {
+                        for j in 0..dm {
+                            let (x, dx) = (p[i * dm + j], dp[i * dm + j]);
+                            out[0][i] += x * bv[j];
+                            out[1][i] += x * dbv[j];
+                            out[2][i] += dx * bv[j];
+                        }
+                    }
+                } else {
+                    let (bu, dbu) = (row(&self.basis, 0, a, dn), row(&self.slope, 0, a, dn));
+                    for i in 0..dn {
+                        for j in 0..dm {
+                            let (x, dx) = (p[i * dm + j], dp[i * dm + j]);
+                            out[0][j] += x * bu[i];
+                            out[1][j] += x * dbu[i];
+                            out[2][j] += dx * bu[i];
+                        }
+                    }
+                }
             }
-        });
-        let pts = self.xi.points();
-        let mut out = [0.0; MAX_DEGREE + 1];
-        for (i, &wi) in rows[0].iter().enumerate() {
-            for (j, &wj) in rows[1].iter().enumerate() {
-                let wij = wi * wj;
-                let base = (i * dims[1] + j) * dims[2];
-                for (k, &wk) in rows[2].iter().enumerate() {
-                    out[[i, j, k][axis]] += pts[base + k] * (wij * wk);
+            _ => {
+                // The (j, k) plane at this sample's u.
+                let size = dm * dl;
+                let q = &self.u_planes[0][a * size..(a + 1) * size];
+                let dq = &self.u_planes[1][a * size..(a + 1) * size];
+                let (bv, dbv) = (row(&self.basis, 1, b, dm), row(&self.slope, 1, b, dm));
+                for j in 0..dm {
+                    for k in 0..dl {
+                        let (x, dx) = (q[j * dl + k], dq[j * dl + k]);
+                        out[0][k] += x * bv[j];
+                        out[1][k] += dx * bv[j];
+                        out[2][k] += x * dbv[j];
+                    }
                 }
             }
         }
@@ -167,42 +244,105 @@ impl<'a> SolidRoots<'a> {
     }
 }
 
+/// A Bézier curve with coefficients `c[..=degree]` at `t`, by de Casteljau.
+fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
+    let mut p = *c;
+    for k in 1..=degree {
+        for i in 0..=degree - k {
+            p[i] += (p[i + 1] - p[i]) * t;
+        }
+    }
+    p[0]
+}
+
 impl EdgeRoots for SolidRoots<'_> {
-    fn root(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> f64 {
-        let coef = self.line(axis, lower);
-        let degree = [self.xi.degree().0, self.xi.degree().1, self.xi.degree().2][axis];
+    fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
+        let [coef, dp, dq] = self.line(axis, lower);
+        let (n, m, l) = self.xi.degree();
+        let degree = [n, m, l][axis];
         let (t0, t1) = (
             self.params[axis][lower[axis]],
             self.params[axis][lower[axis] + 1],
         );
-        let p = |ax: usize| self.params[ax][lower[ax]];
+        let mut uvw = [0; 3].map(|_| 0.0);
+        for (ax, slot) in uvw.iter_mut().enumerate() {
+            *slot = self.params[ax][lower[ax]];
+        }
+        let dot = |c: &[f64; MAX_DEGREE + 1], b: &[f64; MAX_DEGREE + 1]| -> f64 {
+            c[..=degree]
+                .iter()
+                .zip(&b[..=degree])
+                .map(|(c, b)| c * b)
+                .sum()
+        };
         let g = |t: f64| {
             let s = t0 + (t1 - t0) * t;
-            let b = basis_array(degree, s);
-            let value: f64 = coef[..=degree].iter().zip(&b).map(|(c, b)| c * b).sum();
-            let mut uvw = [p(0), p(1), p(2)];
-            uvw[axis] = s;
-            clip3(value, uvw[0], uvw[1], uvw[2])
+            let mut at = uvw;
+            at[axis] = s;
+            clip3(bezier1(&coef, degree, s), at[0], at[1], at[2])
         };
-        illinois(g, f0, f1, self.accuracy)
+        // The end values of f itself (the samples may hold S_ξ, of the same sign): refine only if
+        // they still bracket a root after rounding, else keep the linear estimate.
+        // Inside the box F_s > 0, where f = S_ξ & F_s has the zeros of S_ξ and |f| ≤ |S_ξ| + S_ξ²/(2F_s):
+        // refine on the polynomial alone (no square roots), then check f; otherwise refine on f.
+        let inner = |t: f64| t > 0.0 && t < 1.0;
+        let interior = uvw
+            .iter()
+            .enumerate()
+            .all(|(ax, &t)| ax == axis || inner(t))
+            && inner(t0)
+            && inner(t1);
+        let poly = |t: f64| bezier1(&coef, degree, t0 + (t1 - t0) * t);
+        let quick = if interior {
+            let (p0, p1) = (poly(0.0), poly(1.0));
+            ((p0 > 0.0) != (p1 > 0.0))
+                .then(|| illinois(poly, p0, p1, 0.5 * self.accuracy))
+                .filter(|&t| g(t).abs() <= self.accuracy)
+        } else {
+            None
+        };
+        let t = match quick {
+            Some(t) => t,
+            None => {
+                let (g0, g1) = (g(0.0), g(1.0));
+                if (g0 > 0.0) != (g1 > 0.0) {
+                    illinois(g, g0, g1, self.accuracy)
+                } else {
+                    linear_root(f0, f1)
+                }
+            }
+        };
+        let s = t0 + (t1 - t0) * t;
+        let (b, db) = basis_and_derivative(degree, s);
+        let mut at = uvw;
+        at[axis] = s;
+        let mut grad = [0.0; 3];
+        grad[axis] = dot(&coef, &db);
+        let (p, q) = match axis {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        grad[p] = dot(&dp, &b);
+        grad[q] = dot(&dq, &b);
+        let (_, g) = clip3_with_gradient(dot(&coef, &b), grad, at[0], at[1], at[2]);
+        (t, -(DVec3::from_array(g) * self.scale).normalize_or_zero())
     }
 
-    fn normal(&mut self, p: DVec3) -> DVec3 {
-        -self.solid.f_with_gradient(p).1.normalize_or_zero()
-    }
-
-    fn centre(&mut self, mean: DVec3, lo: DVec3, hi: DVec3) -> DVec3 {
+    fn centre(&mut self, mean: DVec3, lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
         // Newton steps along the gradient, kept in the cube.
         let mut p = mean;
+        let mut grad = DVec3::ZERO;
         for _ in 0..8 {
             let (f, g) = self.solid.f_with_gradient(p);
+            grad = g;
             let g2 = g.length_squared();
             if f.abs() <= self.accuracy || g2 == 0.0 || !g2.is_finite() {
                 break;
             }
             p = (p - g * (f / g2)).clamp(lo, hi);
         }
-        p
+        (p, -grad.normalize_or_zero())
     }
 }
 

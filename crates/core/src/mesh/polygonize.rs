@@ -27,6 +27,7 @@
 //! indices only for two layers of edges.
 
 use alloc::vec;
+use alloc::vec::Vec;
 
 use glam::DVec3;
 
@@ -55,19 +56,18 @@ impl SampleGrid {
 /// Where the surface crosses a grid edge, and the normal there. The polygonizer asks only about edges
 /// whose end values have opposite signs (`f ≤ 0` at one end, `f > 0` at the other).
 pub trait EdgeRoots {
-    /// The root's position on the edge from sample `lower` to the next sample along `axis` (0, 1, 2
-    /// for x, y, z), as a fraction `t ∈ [0, 1]` of the edge; `f0` and `f1` are the end values.
-    fn root(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> f64;
+    /// The root on the edge from sample `lower` to the next sample along `axis` (0, 1, 2 for x, y, z),
+    /// as a fraction `t ∈ [0, 1]` of the edge, and the outward unit normal there (`−∇f/|∇f|`, zero if
+    /// unknown); `f0` and `f1` are the end values.
+    fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3);
 
-    /// The outward unit normal at `p`, a point on the surface (`−∇f/|∇f|`); zero if unknown.
-    fn normal(&mut self, p: DVec3) -> DVec3;
-
-    /// A vertex for the middle of a loop that cannot be fanned (rare: only around ambiguous faces):
-    /// `mean` is the mean of the loop's vertices and `[lo, hi]` the cube. The default keeps `mean`; a
-    /// field that can be evaluated should move it onto `f = 0` within the cube.
-    fn centre(&mut self, mean: DVec3, lo: DVec3, hi: DVec3) -> DVec3 {
+    /// A vertex and its normal for the middle of a loop that cannot be fanned (rare: only around
+    /// ambiguous faces): `mean` is the mean of the loop's vertices and `[lo, hi]` the cube. The
+    /// default keeps `mean` with no normal; a field that can be evaluated should move it onto `f = 0`
+    /// within the cube.
+    fn centre(&mut self, mean: DVec3, lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
         let _ = (lo, hi);
-        mean
+        (mean, DVec3::ZERO)
     }
 }
 
@@ -76,12 +76,8 @@ pub trait EdgeRoots {
 pub struct LinearRoots;
 
 impl EdgeRoots for LinearRoots {
-    fn root(&mut self, _axis: usize, _lower: [usize; 3], f0: f64, f1: f64) -> f64 {
-        linear_root(f0, f1)
-    }
-
-    fn normal(&mut self, _p: DVec3) -> DVec3 {
-        DVec3::ZERO
+    fn vertex(&mut self, _axis: usize, _lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
+        (linear_root(f0, f1), DVec3::ZERO)
     }
 }
 
@@ -231,23 +227,67 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
     let mut xy_lo = vec![u32::MAX; 2 * layer];
     let mut xy_hi = vec![u32::MAX; 2 * layer];
     let mut z_mid = vec![u32::MAX; layer];
+    let inside: Vec<u8> = values.iter().map(|&v| u8::from(v > 0.0)).collect();
+    // Each sample row (along x) is all outside (0), all inside (1) or mixed (2): a row of cubes
+    // between four rows that agree and are not mixed has no surface and is skipped whole.
+    let rows: Vec<u8> = inside
+        .chunks_exact(nx)
+        .map(|row| {
+            let first = row[0];
+            if row.iter().all(|&s| s == first) {
+                first
+            } else {
+                2
+            }
+        })
+        .collect();
+    // The face loops of every corner pattern without an ambiguous face depend on the pattern alone.
+    let mut table = [[255u8; 12]; 256];
+    let mut ambiguous = [false; 256];
+    for (mask, (next, amb)) in table.iter_mut().zip(&mut ambiguous).enumerate() {
+        let v: [f64; 8] = core::array::from_fn(|k| if mask >> k & 1 == 1 { 1.0 } else { -1.0 });
+        *amb = FACES.iter().any(|face| {
+            let s = face.map(|c| mask >> c & 1);
+            s[0] == s[2] && s[1] == s[3] && s[0] != s[1]
+        });
+        cube_loops(&v, next);
+    }
     let mut next = [255u8; 12];
     let mut ids = [u32::MAX; 12];
     for c in 0..nz - 1 {
         for b in 0..ny - 1 {
+            let r = [
+                c * ny + b,
+                c * ny + b + 1,
+                (c + 1) * ny + b,
+                (c + 1) * ny + b + 1,
+            ];
+            let states = r.map(|i| rows[i]);
+            if states.iter().all(|&s| s == states[0] && s != 2) {
+                continue;
+            }
+            let quad = r.map(|i| &inside[i * nx..(i + 1) * nx]);
+            // Corner bits of the cube's x = 0 face from column a: y0z0 → 0, y1z0 → 2, y0z1 → 4, y1z1 → 6.
+            let column =
+                |a: usize| quad[0][a] | quad[1][a] << 2 | quad[2][a] << 4 | quad[3][a] << 6;
+            let mut left = column(0);
             for a in 0..nx - 1 {
-                let base = (c * ny + b) * nx + a;
-                let mut v = [0.0; 8];
-                let mut mask = 0u8;
-                for (k, slot) in v.iter_mut().enumerate() {
-                    let [dx, dy, dz] = corner_offset(k);
-                    *slot = values[base + dz * layer + dy * nx + dx];
-                    mask |= u8::from(*slot > 0.0) << k;
-                }
+                let right = column(a + 1);
+                let mask = left | right << 1;
+                left = right;
                 if mask == 0 || mask == 255 {
                     continue;
                 }
-                cube_loops(&v, &mut next);
+                let base = (c * ny + b) * nx + a;
+                if ambiguous[mask as usize] {
+                    let v: [f64; 8] = core::array::from_fn(|k| {
+                        let [dx, dy, dz] = corner_offset(k);
+                        values[base + dz * layer + dy * nx + dx]
+                    });
+                    cube_loops(&v, &mut next);
+                } else {
+                    next = table[mask as usize];
+                }
                 // Vertex of every crossed cube edge, shared through the caches.
                 for (e, id) in ids.iter_mut().enumerate() {
                     if next[e] == 255 {
@@ -271,12 +311,12 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
                         let i0 = (lower[2] * ny + lower[1]) * nx + lower[0];
                         let i1 = i0 + [1, nx, layer][axis];
                         let (f0, f1) = (values[i0], values[i1]);
-                        let t = roots.root(axis, lower, f0, f1);
+                        let (t, normal) = roots.vertex(axis, lower, f0, f1);
                         let mut p = grid.point(lower[0], lower[1], lower[2]);
                         p[axis] += t * grid.step[axis];
                         *cache = mesh.positions.len() as u32;
                         mesh.positions.push(p);
-                        mesh.normals.push(roots.normal(p));
+                        mesh.normals.push(normal);
                     }
                     *id = *cache;
                 }
@@ -316,10 +356,10 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
                                 .sum::<DVec3>()
                                 / k as f64;
                             let lo = grid.point(a, b, c);
-                            let p = roots.centre(mean, lo, lo + grid.step);
+                            let (p, normal) = roots.centre(mean, lo, lo + grid.step);
                             let centre = mesh.positions.len() as u32;
                             mesh.positions.push(p);
-                            mesh.normals.push(roots.normal(p));
+                            mesh.normals.push(normal);
                             for j in 0..k {
                                 mesh.triangles.push([
                                     centre,
@@ -343,7 +383,6 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
 mod tests {
     use super::*;
     use crate::testutil::Rng;
-    use alloc::vec::Vec;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 

@@ -1,0 +1,198 @@
+//! The benchmark cases of bezsolid, shared by the native runner (`src/main.rs`) and the wasm build
+//! that `cargo xtask bench` runs in node. Each case is timed by the caller's clock, repeated until it
+//! has run for a while, and reported as the median of its runs.
+
+use bezsolid_core::mesh::{LinearRoots, Mesh, SampleGrid, polygonize};
+use bezsolid_core::{Axis, Solid3, Volume};
+use glam::DVec3;
+use serde::Serialize;
+
+/// One measured case.
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    /// What was measured, e.g. `grid evaluation`.
+    pub case: String,
+    /// Who did it: `bezsolid` or a peer's name.
+    pub who: String,
+    /// The resolution (samples or cells per axis).
+    pub n: usize,
+    /// The median time of one run in milliseconds.
+    pub ms: f64,
+    /// Runs timed.
+    pub runs: usize,
+    /// A case-specific figure: points per second for evaluation, triangles for meshing.
+    pub extra: f64,
+}
+
+/// A clock in milliseconds (monotonic; its zero does not matter).
+pub trait Clock {
+    /// Now, in milliseconds.
+    fn now_ms(&mut self) -> f64;
+}
+
+/// Times `f`: at least 3 runs and until `budget_ms` has passed (at most 50 runs); the median.
+pub fn time<T>(clock: &mut dyn Clock, budget_ms: f64, mut f: impl FnMut() -> T) -> (f64, usize, T) {
+    let mut times = Vec::new();
+    let start = clock.now_ms();
+    let mut last;
+    loop {
+        let t0 = clock.now_ms();
+        last = f();
+        times.push(clock.now_ms() - t0);
+        if times.len() >= 50 || (times.len() >= 3 && clock.now_ms() - start > budget_ms) {
+            break;
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], times.len(), last)
+}
+
+/// The benchmark's solid: a degree-(4, 4, 4) volume over `[0, 1]³` whose `S_ξ` is a ball (the degree-2
+/// ball, elevated) with ripples added to its control values, so no axis or term is special.
+#[must_use]
+pub fn bench_solid() -> Solid3 {
+    let c = [0.25, -0.25, 0.25];
+    let ball = Solid3::regular((2, 2, 2), DVec3::ZERO, DVec3::ONE, |i, j, k| {
+        0.16 - c[i] - c[j] - c[k]
+    })
+    .unwrap_or_else(|_| unreachable!("a valid net"));
+    let mut xi = ball.xi_volume();
+    for axis in [Axis::U, Axis::V, Axis::W] {
+        for _ in 0..2 {
+            xi = xi
+                .elevate(axis)
+                .unwrap_or_else(|_| unreachable!("degree 4 is allowed"));
+        }
+    }
+    let (n, m, l) = xi.degree();
+    let pts = xi.points().to_vec();
+    let rippled = Volume::from_fn((n, m, l), |i, j, k| {
+        let s = pts[(i * (m + 1) + j) * (l + 1) + k];
+        let ripple = 0.03 * (((i * 7 + j * 3 + k * 5) % 5) as f64 - 2.0) / 2.0;
+        DVec3::new(
+            i as f64 / n as f64,
+            j as f64 / m as f64,
+            k as f64 / l as f64,
+        )
+        .extend(s + ripple)
+    })
+    .unwrap_or_else(|_| unreachable!("a valid net"));
+    Solid3::try_from_volume(rippled).unwrap_or_else(|_| unreachable!("a regular grid"))
+}
+
+/// `n` sample coordinates spread over `[0, 1]`.
+#[must_use]
+pub fn samples(n: usize) -> Vec<f64> {
+    (0..n).map(|a| a as f64 / (n - 1) as f64).collect()
+}
+
+/// The sampled field of [`bench_solid`] at `n³` samples over the box, as the meshers take it.
+#[must_use]
+pub fn sampled(n: usize) -> (SampleGrid, Vec<f64>) {
+    let solid = bench_solid();
+    let grid = solid
+        .mesh_grid(n - 2)
+        .unwrap_or_else(|_| unreachable!("n is small"));
+    let axis = |k: usize| -> Vec<f64> {
+        (0..grid.dims[k])
+            .map(|a| grid.origin[k] + grid.step[k] * a as f64)
+            .collect()
+    };
+    let values = solid.f_grid(&axis(0), &axis(1), &axis(2));
+    (grid, values)
+}
+
+/// Our cases: grid evaluation of the scalar volume and of the clipped `f`, polygonization end to end,
+/// and the meshing step alone on a sampled array.
+pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let solid = bench_solid();
+    let xi = solid.xi_volume();
+    let mut rows = Vec::new();
+    let eval_sizes: &[usize] = if quick { &[32] } else { &[64, 128, 256] };
+    for &n in eval_sizes {
+        let t = samples(n);
+        let (ms, runs, out) = time(clock, budget, || xi.eval_grid(&t, &t, &t));
+        let points = (n * n * n) as f64;
+        rows.push(Row {
+            case: "grid evaluation S_xi, degree (4,4,4)".into(),
+            who: "bezsolid".into(),
+            n,
+            ms,
+            runs,
+            extra: points / (ms / 1000.0),
+        });
+        assert_eq!(out.len(), n * n * n);
+        let (ms, runs, _) = time(clock, budget, || solid.f_grid(&t, &t, &t));
+        rows.push(Row {
+            case: "grid evaluation f = S_xi & F_s".into(),
+            who: "bezsolid".into(),
+            n,
+            ms,
+            runs,
+            extra: points / (ms / 1000.0),
+        });
+    }
+    let mesh_sizes: &[usize] = if quick { &[20] } else { &[20, 64, 128, 256] };
+    for &n in mesh_sizes {
+        let (ms, runs, mesh) = time(clock, budget, || {
+            solid
+                .polygonize(n, 1e-9)
+                .unwrap_or_else(|_| unreachable!("valid arguments"))
+        });
+        rows.push(Row {
+            case: "polygonize".into(),
+            who: "bezsolid (uniform; vertices refined to |f| ≤ 1e-9; normals from ∇f)".into(),
+            n,
+            ms,
+            runs,
+            extra: mesh.triangle_count() as f64,
+        });
+        let (grid, values) = sampled(n + 2);
+        let (ms, runs, mesh) = time(clock, budget, || -> Mesh {
+            polygonize(&grid, &values, &mut LinearRoots)
+        });
+        rows.push(Row {
+            case: "meshing step alone (sampled array)".into(),
+            who: "bezsolid".into(),
+            n,
+            ms,
+            runs,
+            extra: mesh.triangle_count() as f64,
+        });
+    }
+    rows
+}
+
+#[cfg(target_arch = "wasm32")]
+mod wasm {
+    use super::{Clock, suite};
+    use wasm_bindgen::prelude::*;
+
+    struct Performance(js_sys::Function, JsValue);
+
+    impl super::Clock for Performance {
+        fn now_ms(&mut self) -> f64 {
+            self.0
+                .call0(&self.1)
+                .ok()
+                .and_then(|v| v.as_f64())
+                .unwrap_or(0.0)
+        }
+    }
+
+    /// Runs the suite with `performance.now()` and returns its rows as JSON.
+    #[wasm_bindgen]
+    pub fn run(quick: bool) -> String {
+        let perf =
+            js_sys::Reflect::get(&js_sys::global(), &"performance".into()).unwrap_or(JsValue::NULL);
+        let now = js_sys::Reflect::get(&perf, &"now".into())
+            .ok()
+            .and_then(|f| f.dyn_into::<js_sys::Function>().ok());
+        let Some(now) = now else {
+            return "[]".into();
+        };
+        let mut clock: Box<dyn Clock> = Box::new(Performance(now, perf));
+        serde_json::to_string(&suite(clock.as_mut(), quick)).unwrap_or_default()
+    }
+}

@@ -1,0 +1,109 @@
+//! The peers, run in the same process on the same data: fast-surface-nets meshing the very array our
+//! meshing step takes (its meshing step alone), and fidget meshing the same polynomial, written as a
+//! fidget expression, at the same resolution (its whole pipeline: it evaluates as it meshes).
+
+use bezsolid_bench::{Clock, Row, bench_solid, sampled, time};
+use fast_surface_nets::ndshape::RuntimeShape;
+use fast_surface_nets::{SurfaceNetsBuffer, surface_nets};
+use fidget::context::Tree;
+use fidget::mesh::{Octree, Settings};
+
+pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let sizes: &[usize] = if quick { &[20] } else { &[20, 64, 128, 256] };
+    let mut rows = Vec::new();
+    for &n in sizes {
+        // The same samples as our meshing step; fast-surface-nets wants inside negative, in f32.
+        let (grid, values) = sampled(n + 2);
+        let sdf: Vec<f32> = values.iter().map(|&v| -v as f32).collect();
+        let dims = grid.dims.map(|d| d as u32);
+        let shape = RuntimeShape::<u32, 3>::new(dims);
+        let mut buffer = SurfaceNetsBuffer::default();
+        let (ms, runs, ()) = time(clock, budget, || {
+            surface_nets(&sdf, &shape, [0; 3], dims.map(|d| d - 1), &mut buffer);
+        });
+        rows.push(Row {
+            case: "meshing step alone (sampled array)".into(),
+            who: "fast-surface-nets 0.2.1".into(),
+            n,
+            ms,
+            runs,
+            extra: (buffer.indices.len() / 3) as f64,
+        });
+    }
+    // fidget: depth d meshes 2^d cells per axis; only powers of two compare, and 256 takes seconds.
+    let tree = -bernstein_tree();
+    let shape: fidget::jit::JitShape = fidget::shape::Shape::from(tree);
+    let Ok(bound) = shape.try_into() else {
+        eprintln!("bezsolid-bench: fidget refused the shape");
+        return rows;
+    };
+    let to_unit_cube = nalgebra::Matrix4::new_translation(&nalgebra::Vector3::repeat(0.5f32))
+        * nalgebra::Matrix4::new_scaling(0.5f32);
+    let depths: &[u8] = if quick { &[4] } else { &[6, 7] };
+    for &depth in depths {
+        let settings = Settings {
+            depth,
+            world_to_model: to_unit_cube,
+            threads: None,
+            ..Default::default()
+        };
+        let (ms, runs, triangles) = time(clock, budget, || {
+            Octree::build(&bound, &settings)
+                .map(|o| o.walk_dual().triangles.len())
+                .unwrap_or(0)
+        });
+        rows.push(Row {
+            case: "polygonize".into(),
+            who: "fidget 0.5.1 (JIT, 1 thread; adaptive dual contouring)".into(),
+            n: 1 << depth,
+            ms,
+            runs,
+            extra: triangles as f64,
+        });
+    }
+    rows
+}
+
+/// `S_ξ` of the benchmark solid as a fidget tree: `Σ_i Bu_i (Σ_j Bv_j (Σ_k c_ijk Bw_k))` over
+/// `[0, 1]³` (the solid's box), each basis polynomial built once per axis. The clipping is left out:
+/// inside the box it does not move the zero set, and fidget only meshes the box.
+fn bernstein_tree() -> Tree {
+    let xi = bench_solid().xi_volume();
+    let (n, m, l) = xi.degree();
+    let basis = |axis: Tree, degree: usize| -> Vec<Tree> {
+        let rest = 1.0f32 - axis.clone();
+        (0..=degree)
+            .map(|i| {
+                let c = bezsolid_core::bernstein::binomial(degree, i) as f32;
+                c * (axis.clone().pow(i as i64) * rest.clone().pow((degree - i) as i64))
+            })
+            .collect()
+    };
+    let (bu, bv, bw) = (
+        basis(Tree::x(), n),
+        basis(Tree::y(), m),
+        basis(Tree::z(), l),
+    );
+    let sum = |terms: Vec<Tree>| {
+        terms
+            .into_iter()
+            .reduce(|a, b| a + b)
+            .unwrap_or_else(|| Tree::constant(0.0))
+    };
+    let pts = xi.points();
+    let mut outer = Vec::new();
+    for (i, bu_i) in bu.iter().enumerate() {
+        let mut middle = Vec::new();
+        for (j, bv_j) in bv.iter().enumerate() {
+            let inner: Vec<Tree> = bw
+                .iter()
+                .enumerate()
+                .map(|(k, bw_k)| pts[(i * (m + 1) + j) * (l + 1) + k] as f32 * bw_k.clone())
+                .collect();
+            middle.push(bv_j.clone() * sum(inner));
+        }
+        outer.push(bu_i.clone() * sum(middle));
+    }
+    sum(outer)
+}

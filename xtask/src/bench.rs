@@ -1,0 +1,250 @@
+//! `cargo xtask bench [--quick]`: the benchmark suite natively (with the peers, in the same process)
+//! and as wasm in node, then BENCHMARKS.md with both and the ratios.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::Command;
+
+use anyhow::{Context, Result, bail};
+use serde_json::Value;
+
+use crate::setup;
+use crate::util::{cargo, run};
+
+/// One row as the bench binary prints it.
+struct Row {
+    case: String,
+    who: String,
+    n: u64,
+    ms: f64,
+    runs: u64,
+    extra: f64,
+}
+
+fn rows(json: &str, origin: &str) -> Result<Vec<Row>> {
+    let value: Value = serde_json::from_str(json.trim())
+        .with_context(|| format!("the {origin} benchmarks did not print JSON"))?;
+    let Some(list) = value.as_array() else {
+        bail!("the {origin} benchmarks printed no list");
+    };
+    list.iter()
+        .map(|r| {
+            Ok(Row {
+                case: r["case"].as_str().context("case")?.to_owned(),
+                who: r["who"].as_str().context("who")?.to_owned(),
+                n: r["n"].as_u64().context("n")?,
+                ms: r["ms"].as_f64().context("ms")?,
+                runs: r["runs"].as_u64().context("runs")?,
+                extra: r["extra"].as_f64().context("extra")?,
+            })
+        })
+        .collect()
+}
+
+fn stdout_of(cmd: &mut Command) -> Result<String> {
+    eprintln!("  $ {cmd:?}");
+    let out = cmd.output().context("could not start the benchmark")?;
+    if !out.status.success() {
+        bail!(
+            "the benchmark failed ({}): {}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+pub(crate) fn all(workspace: &Path, quick: bool) -> Result<()> {
+    let quick_arg: &[&str] = if quick { &["--quick"] } else { &[] };
+    let native = stdout_of(
+        cargo()
+            .current_dir(workspace)
+            .args([
+                "run",
+                "--release",
+                "-p",
+                "bezsolid-bench",
+                "--features",
+                "peers",
+                "--bin",
+            ])
+            .args(["bezsolid-bench", "--"])
+            .args(quick_arg),
+    )?;
+    let native = rows(&native, "native")?;
+
+    setup::wasm_target()?;
+    setup::node()?;
+    let bindgen = setup::wasm_bindgen(workspace)?;
+    run(cargo().current_dir(workspace).args([
+        "build",
+        "--release",
+        "--target",
+        setup::WASM_TARGET,
+        "-p",
+        "bezsolid-bench",
+        "--lib",
+    ]))?;
+    let out_dir = workspace.join("target/bench-wasm");
+    run(Command::new(bindgen.join("wasm-bindgen"))
+        .arg(workspace.join("target/wasm32-unknown-unknown/release/bezsolid_bench.wasm"))
+        .args(["--target", "nodejs", "--out-dir"])
+        .arg(&out_dir))?;
+    let script = format!(
+        "process.stdout.write(require({:?}).run({quick}))",
+        out_dir.join("bezsolid_bench.js")
+    );
+    let wasm = rows(
+        &stdout_of(Command::new("node").args(["-e", &script]))?,
+        "wasm",
+    )?;
+
+    let text = report(&native, &wasm, quick);
+    if quick {
+        print!("{text}");
+        eprintln!("(--quick: BENCHMARKS.md left as it is)");
+    } else {
+        std::fs::write(workspace.join("BENCHMARKS.md"), &text).context("writing BENCHMARKS.md")?;
+        print!("{text}");
+        eprintln!("wrote BENCHMARKS.md");
+    }
+    Ok(())
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_owned())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(0, std::num::NonZero::get);
+    let node = Command::new("node")
+        .arg("--version")
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_owned())
+        .unwrap_or_default();
+    format!("{cpu}, {cores} cores; one thread is used. Node {node} for wasm.")
+}
+
+fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Benchmarks\n");
+    let _ = writeln!(
+        s,
+        "Written by `cargo xtask bench`{}; every figure below comes from one run of it, native and wasm \
+         (in node) on the same machine, peers in the same process as ours. Times are medians of \
+         repeated runs (`runs`). Machine: {}\n",
+        if quick { " --quick" } else { "" },
+        machine()
+    );
+    let _ = writeln!(
+        s,
+        "The solid is a degree-(4, 4, 4) volume over [0, 1]³: a ball with rippled control values \
+         (`bezsolid_bench::bench_solid`). `n` is samples per axis for evaluation and cells per axis \
+         for meshing.\n"
+    );
+    let find = |rows: &[Row], case: &str, n: u64, who: &str| {
+        rows.iter()
+            .find(|r| r.case == case && r.n == n && r.who.starts_with(who))
+            .map(|r| r.ms)
+    };
+    if !quick {
+        let _ = writeln!(
+            s,
+            "## Against the targets of issue 3 (one thread)
+"
+        );
+        let _ = writeln!(
+            s,
+            "| target | measured |
+|---|---|"
+        );
+        let eval = "grid evaluation S_xi, degree (4,4,4)";
+        if let Some(ms) = find(native, eval, 128, "bezsolid") {
+            let rate = 128f64.powi(3) / (ms / 1000.0) / 1e6;
+            let _ = writeln!(
+                s,
+                "| grid evaluation ≥ 200 M points/s native (128³) | {rate:.0} M points/s |"
+            );
+        }
+        if let (Some(n), Some(w)) = (
+            find(native, "polygonize", 128, "bezsolid"),
+            find(wasm, "polygonize", 128, "bezsolid"),
+        ) {
+            let _ = writeln!(
+                s,
+                "| 128³ polygonization ≤ 25 ms native, ≤ 60 ms wasm | {n:.1} ms native, {w:.1} ms wasm |"
+            );
+        }
+        let mesh = "meshing step alone (sampled array)";
+        if let (Some(o), Some(p)) = (
+            find(native, mesh, 128, "bezsolid"),
+            find(native, mesh, 128, "fast-surface-nets"),
+        ) {
+            let _ = writeln!(
+                s,
+                "| meshing step no slower than fast-surface-nets (128³) | {o:.2} ms against {p:.2} ms ({:.2}×) |",
+                o / p
+            );
+        }
+        let _ = writeln!(s);
+    }
+    let mut cases: Vec<&str> = Vec::new();
+    for r in native {
+        if !cases.contains(&r.case.as_str()) {
+            cases.push(&r.case);
+        }
+    }
+    for case in cases {
+        let eval = case.starts_with("grid evaluation");
+        let _ = writeln!(s, "## {case}\n");
+        let extra = if eval { "points/s" } else { "triangles" };
+        let _ = writeln!(
+            s,
+            "| who | n | native ms | wasm ms | wasm / native | {extra} | vs bezsolid native | runs |"
+        );
+        let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
+        for r in native.iter().filter(|r| r.case == case) {
+            let ours = native
+                .iter()
+                .find(|o| o.case == case && o.n == r.n && o.who.starts_with("bezsolid"));
+            let w = wasm
+                .iter()
+                .find(|o| o.case == case && o.n == r.n && o.who == r.who);
+            let (wasm_ms, ratio) = w.map_or(("–".to_owned(), "–".to_owned()), |w| {
+                (format!("{:.2}", w.ms), format!("{:.2}×", w.ms / r.ms))
+            });
+            let versus = match ours {
+                Some(o) if !r.who.starts_with("bezsolid") => {
+                    format!("{:.2}× our time", r.ms / o.ms)
+                }
+                _ => "–".to_owned(),
+            };
+            let extra = if eval {
+                format!("{:.0} M", r.extra / 1e6)
+            } else {
+                format!("{:.0}", r.extra)
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.2} | {wasm_ms} | {ratio} | {extra} | {versus} | {} |",
+                r.who, r.n, r.ms, r.runs
+            );
+        }
+        let _ = writeln!(s);
+    }
+    let _ = writeln!(
+        s,
+        "Notes: fidget meshes adaptively (its octree merges cells where the fit allows), so its triangle \
+         counts are not comparable with a uniform mesher's; compare time at equal resolution. Its times \
+         include evaluating the polynomial, so compare them with our `polygonize` rows. \
+         fast-surface-nets meshes the same f32 copy of the array our meshing step reads. Peers run \
+         natively only."
+    );
+    s
+}
