@@ -142,7 +142,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
         });
         rows.push(Row {
             case: "polygonize".into(),
-            who: "bezsolid (uniform; vertices refined to |f| ≤ 1e-9; normals from ∇f)".into(),
+            who: "bezsolid (uniform; vertices on f = 0 within 1e-9; normals from ∇f)".into(),
             n,
             ms,
             runs,
