@@ -1,6 +1,8 @@
 //! `bezsolid contour MODEL --res N -o OUT.svg [--accuracy A]`: the zero contour of a patch solid.
 
 use anyhow::{Context, Result, bail};
+
+use crate::args::Args;
 use bezsolid_core::contour::{Grid2, contour};
 use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::model::ModelSolid;
@@ -10,34 +12,11 @@ use glam::DVec2;
 const MAX_RES: usize = 4096;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let mut model = None;
-    let mut res = 256usize;
-    let mut out = None;
-    let mut accuracy: f64 = 1e-9;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--res" => {
-                let v = it.next().context("--res needs a number")?;
-                res = v
-                    .parse()
-                    .with_context(|| format!("--res {v} is not a whole number"))?;
-            }
-            "--accuracy" => {
-                let v = it.next().context("--accuracy needs a number")?;
-                accuracy = v
-                    .parse()
-                    .with_context(|| format!("--accuracy {v} is not a number"))?;
-            }
-            "-o" | "--output" => out = Some(it.next().context("-o needs a file")?),
-            s if s.starts_with('-') && s.len() > 1 => bail!("contour: unknown option {s}"),
-            s if model.is_none() => model = Some(s),
-            s => bail!("contour: unexpected argument {s}"),
-        }
-    }
-    let model =
-        model.context("contour: which model? usage: bezsolid contour MODEL --res N -o OUT.svg")?;
-    let out = out.context("contour: -o OUT.svg is required")?;
+    let args = Args::parse("contour", args, &["--res", "--accuracy", "--output"])?;
+    let model = args.model("bezsolid contour MODEL --res N -o OUT.svg")?;
+    let out = args.required("--output", "-o OUT.svg")?;
+    let res: usize = args.number("--res", 256)?;
+    let accuracy: f64 = args.number("--accuracy", 1e-9)?;
     if !(2..=MAX_RES).contains(&res) {
         bail!("--res {res} is outside 2..={MAX_RES}");
     }

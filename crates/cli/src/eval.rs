@@ -3,6 +3,8 @@
 use std::fmt::Write as _;
 
 use anyhow::{Context, Result, bail};
+
+use crate::args::Args;
 use bezsolid_core::model::ModelSolid;
 use glam::{DVec2, DVec3};
 
@@ -10,21 +12,10 @@ use glam::{DVec2, DVec3};
 const MAX_POINTS: usize = 10_000_000;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let mut model = None;
-    let mut points = None;
-    let mut out = None;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--points" => points = Some(it.next().context("--points needs a file")?),
-            "-o" | "--output" => out = Some(it.next().context("-o needs a file")?),
-            s if s.starts_with('-') && s.len() > 1 => bail!("eval: unknown option {s}"),
-            s if model.is_none() => model = Some(s),
-            s => bail!("eval: unexpected argument {s}"),
-        }
-    }
-    let model = model.context("eval: which model? usage: bezsolid eval MODEL --points FILE.csv")?;
-    let points = points.context("eval: --points FILE.csv is required")?;
+    let args = Args::parse("eval", args, &["--points", "--output"])?;
+    let model = args.model("bezsolid eval MODEL --points FILE.csv")?;
+    let points = args.required("--points", "--points FILE.csv")?;
+    let out = args.value("--output");
     let solid = crate::load_model(model)?;
     let dim = match solid {
         ModelSolid::Patch(_) => 2,

@@ -5,6 +5,7 @@
 //! as HyperFun; `link` and `bench` come with later work and answer with a clear error until then.
 //! Errors go to stderr with a non-zero exit; bad input never panics.
 
+mod args;
 mod contour;
 mod eval;
 mod hf;

@@ -2,38 +2,17 @@
 //! volume solid.
 
 use anyhow::{Context, Result, bail};
+
+use crate::args::Args;
 use bezsolid_core::mesh::{MAX_RESOLUTION, obj, ply, stl};
 use bezsolid_core::model::ModelSolid;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let mut model = None;
-    let mut res = 64usize;
-    let mut out = None;
-    let mut accuracy: f64 = 1e-9;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--res" => {
-                let v = it.next().context("--res needs a number")?;
-                res = v
-                    .parse()
-                    .with_context(|| format!("--res {v} is not a whole number"))?;
-            }
-            "--accuracy" => {
-                let v = it.next().context("--accuracy needs a number")?;
-                accuracy = v
-                    .parse()
-                    .with_context(|| format!("--accuracy {v} is not a number"))?;
-            }
-            "-o" | "--output" => out = Some(it.next().context("-o needs a file")?),
-            s if s.starts_with('-') && s.len() > 1 => bail!("mesh: unknown option {s}"),
-            s if model.is_none() => model = Some(s),
-            s => bail!("mesh: unexpected argument {s}"),
-        }
-    }
-    let model =
-        model.context("mesh: which model? usage: bezsolid mesh MODEL --res N -o OUT.stl")?;
-    let out = out.context("mesh: -o OUT.stl, OUT.obj or OUT.ply is required")?;
+    let args = Args::parse("mesh", args, &["--res", "--accuracy", "--output"])?;
+    let model = args.model("bezsolid mesh MODEL --res N -o OUT.stl")?;
+    let out = args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?;
+    let res: usize = args.number("--res", 64)?;
+    let accuracy: f64 = args.number("--accuracy", 1e-9)?;
     let ext = std::path::Path::new(out)
         .extension()
         .and_then(|e| e.to_str())

@@ -25,17 +25,10 @@ fn read_obj(text: &str) -> Mesh {
     let mut mesh = Mesh::default();
     for line in text.lines() {
         let w: Vec<&str> = line.split_whitespace().collect();
+        let vec3 = || DVec3::from_array(std::array::from_fn(|k| w[k + 1].parse().unwrap()));
         match w.first() {
-            Some(&"v") => mesh.positions.push(DVec3::new(
-                w[1].parse().unwrap(),
-                w[2].parse().unwrap(),
-                w[3].parse().unwrap(),
-            )),
-            Some(&"vn") => mesh.normals.push(DVec3::new(
-                w[1].parse().unwrap(),
-                w[2].parse().unwrap(),
-                w[3].parse().unwrap(),
-            )),
+            Some(&"v") => mesh.positions.push(vec3()),
+            Some(&"vn") => mesh.normals.push(vec3()),
             Some(&"f") => mesh.triangles.push(std::array::from_fn(|k| {
                 w[k + 1].split('/').next().unwrap().parse::<u32>().unwrap() - 1
             })),

@@ -14,6 +14,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
+use crate::math::illinois;
 use crate::{Axis, Solid3};
 
 /// A regular grid of `nx × ny` samples over the box `[min, max]` (corners included).
@@ -237,7 +238,7 @@ pub fn contour(
     lines
 }
 
-/// A zero of `f` on the segment `[a, b]` where `fa`, `fb` have opposite signs: Illinois regula falsi.
+/// A zero of `f` on the segment `[a, b]` where `fa`, `fb` have opposite signs.
 fn refine(
     f: &mut impl FnMut(DVec2) -> f64,
     a: DVec2,
@@ -246,50 +247,7 @@ fn refine(
     fb: f64,
     accuracy: f64,
 ) -> DVec2 {
-    let (mut t0, mut t1, mut f0, mut f1) = (0.0, 1.0, fa, fb);
-    let mut best = if f0.abs() <= f1.abs() {
-        (t0, f0)
-    } else {
-        (t1, f1)
-    };
-    let mut side = 0i8;
-    for _ in 0..100 {
-        if best.1.abs() <= accuracy {
-            break;
-        }
-        let denom = f1 - f0;
-        let mut t = if denom != 0.0 {
-            (t0 * f1 - t1 * f0) / denom
-        } else {
-            0.5 * (t0 + t1)
-        };
-        if !(t > t0.min(t1) && t < t0.max(t1)) {
-            t = 0.5 * (t0 + t1);
-        }
-        let ft = f(a.lerp(b, t));
-        if ft.abs() < best.1.abs() {
-            best = (t, ft);
-        }
-        if (ft > 0.0) == (f1 > 0.0) {
-            t1 = t;
-            f1 = ft;
-            if side == 1 {
-                f0 *= 0.5;
-            }
-            side = 1;
-        } else {
-            t0 = t;
-            f0 = ft;
-            if side == -1 {
-                f1 *= 0.5;
-            }
-            side = -1;
-        }
-        if (t1 - t0).abs() < 1e-15 {
-            break;
-        }
-    }
-    a.lerp(b, best.0)
+    a.lerp(b, illinois(|t| f(a.lerp(b, t)), fa, fb, accuracy))
 }
 
 /// The zero contours of a [`Solid3`] on the plane where the coordinate `axis` is `at` (the paper's
@@ -308,13 +266,7 @@ pub fn cross_section(
     accuracy: f64,
 ) -> Vec<Polyline> {
     let a = axis.index();
-    let (b, d) = if a == 0 {
-        (1, 2)
-    } else if a == 1 {
-        (0, 2)
-    } else {
-        (0, 1)
-    };
+    let (b, d) = crate::tensor::other_axes(a);
     let (min, max) = solid.domain();
     let in_box = (min[a]..=max[a]).contains(&at);
     if resolution < 2 || !accuracy.is_finite() || accuracy <= 0.0 || !in_box {

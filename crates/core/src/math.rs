@@ -30,3 +30,53 @@ pub(crate) fn sqrt(x: f64) -> f64 {
         libm::sqrt(x)
     }
 }
+
+/// A zero of `g` on `[0, 1]`, where `g(0) = f0` and `g(1) = f1` have opposite signs, by Illinois
+/// regula falsi: the best `t` found, once `|g(t)| ≤ accuracy`, the bracket has closed, or after 100
+/// steps (a `g` that is not continuous cannot loop forever).
+pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy: f64) -> f64 {
+    let (mut t0, mut t1, mut f0, mut f1) = (0.0, 1.0, f0, f1);
+    let mut best = if f0.abs() <= f1.abs() {
+        (t0, f0)
+    } else {
+        (t1, f1)
+    };
+    let mut side = 0i8;
+    for _ in 0..100 {
+        if best.1.abs() <= accuracy {
+            break;
+        }
+        let denom = f1 - f0;
+        let mut t = if denom != 0.0 {
+            (t0 * f1 - t1 * f0) / denom
+        } else {
+            0.5 * (t0 + t1)
+        };
+        if !(t > t0.min(t1) && t < t0.max(t1)) {
+            t = 0.5 * (t0 + t1);
+        }
+        let ft = g(t);
+        if ft.abs() < best.1.abs() {
+            best = (t, ft);
+        }
+        if (ft > 0.0) == (f1 > 0.0) {
+            t1 = t;
+            f1 = ft;
+            if side == 1 {
+                f0 *= 0.5;
+            }
+            side = 1;
+        } else {
+            t0 = t;
+            f0 = ft;
+            if side == -1 {
+                f1 *= 0.5;
+            }
+            side = -1;
+        }
+        if (t1 - t0).abs() < 1e-15 {
+            break;
+        }
+    }
+    best.0
+}

@@ -6,7 +6,7 @@ use core::fmt;
 use glam::{DVec2, DVec3, DVec4};
 
 use crate::rfunc::{clip2, clip2_with_gradient, clip3, clip3_with_gradient};
-use crate::tensor::{Axis, Patch, PatchError, Volume};
+use crate::tensor::{Axis, Patch, PatchError, Volume, other_axes};
 
 /// Why a solid could not be built or edited.
 #[derive(Clone, Debug, PartialEq)]
@@ -241,11 +241,13 @@ impl Solid2 {
         if index >= len {
             return Err(SolidError::Index { index, len });
         }
-        for i in 0..=n {
+        if axis == Axis::U {
             for j in 0..=m {
-                if (axis == Axis::U && i == index) || (axis == Axis::V && j == index) {
-                    self.patch.point_mut(i, j).z = xi;
-                }
+                self.patch.point_mut(index, j).z = xi;
+            }
+        } else {
+            for i in 0..=n {
+                self.patch.point_mut(i, index).z = xi;
             }
         }
         Ok(())
@@ -398,8 +400,7 @@ impl Solid3 {
     #[must_use]
     pub fn xi(&self, i: usize, j: usize, k: usize) -> Option<f64> {
         let (n, m, l) = self.degree();
-        (i <= n && j <= m && k <= l)
-            .then(|| self.volume.points()[(i * (m + 1) + j) * (l + 1) + k].w)
+        (i <= n && j <= m && k <= l).then(|| self.volume.point(i, j, k).w)
     }
 
     /// Function mapping: set ξ of control point `P_ijk`.
@@ -416,7 +417,7 @@ impl Solid3 {
                 return Err(SolidError::Index { index, len: d + 1 });
             }
         }
-        self.volume = self.with_xi(|a, b, c, old| if (a, b, c) == (i, j, k) { xi } else { old });
+        self.volume.point_mut(i, j, k).w = xi;
         Ok(())
     }
 
@@ -434,24 +435,17 @@ impl Solid3 {
         if index >= len {
             return Err(SolidError::Index { index, len });
         }
-        self.volume = self.with_xi(|i, j, k, old| {
-            if [i, j, k][axis.index()] == index {
-                xi
-            } else {
-                old
+        let dims = [n, m, l];
+        let (p, q) = other_axes(axis.index());
+        for a in 0..=dims[p] {
+            for b in 0..=dims[q] {
+                let mut at = [index; 3];
+                at[p] = a;
+                at[q] = b;
+                self.volume.point_mut(at[0], at[1], at[2]).w = xi;
             }
-        });
+        }
         Ok(())
-    }
-
-    fn with_xi(&self, mut xi: impl FnMut(usize, usize, usize, f64) -> f64) -> Volume<DVec4> {
-        let (_, m, l) = self.degree();
-        let pts = self.volume.points();
-        Volume::from_fn(self.degree(), |i, j, k| {
-            let p = pts[(i * (m + 1) + j) * (l + 1) + k];
-            p.truncate().extend(xi(i, j, k, p.w))
-        })
-        .unwrap_or_else(|_| unreachable!("the degree of a valid volume"))
     }
 
     /// `f` at every `(xs[a], ys[b], zs[c])`, index `(c·|ys| + b)·|xs| + a`, by grid evaluation.
@@ -609,5 +603,113 @@ mod tests {
         let before = s.f(p);
         s.set_xi(1, 0, 1.0).unwrap();
         assert!(s.f(p) > before);
+    }
+
+    #[test]
+    fn solid_gradients_match_finite_differences() {
+        let mut rng = Rng::new(32);
+        let h = 1e-6;
+        for _ in 0..40 {
+            let (lo2, hi2) = (DVec2::new(-1.0, 0.5), DVec2::new(2.0, 1.5));
+            let s2 = Solid2::regular((3, 2), lo2, hi2, |_, _| rng.range(-1.0, 1.0)).unwrap();
+            let (lo3, hi3) = (DVec3::new(-1.0, 0.0, 2.0), DVec3::new(0.5, 2.0, 2.5));
+            let s3 = Solid3::regular((2, 3, 2), lo3, hi3, |_, _, _| rng.range(-1.0, 1.0)).unwrap();
+            // Inside and a little outside the boxes.
+            let t = DVec3::new(
+                rng.range(-0.2, 1.2),
+                rng.range(-0.2, 1.2),
+                rng.range(-0.2, 1.2),
+            );
+            let p2 = lo2 + (hi2 - lo2) * t.truncate();
+            let (f2, g2) = s2.f_with_gradient(p2);
+            assert_eq!(f2, s2.f(p2));
+            for (axis, e) in [DVec2::X, DVec2::Y].into_iter().enumerate() {
+                let fd = (s2.f(p2 + e * h) - s2.f(p2 - e * h)) / (2.0 * h);
+                assert!(
+                    (fd - g2[axis]).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "{p2} axis {axis}: {fd} vs {g2}"
+                );
+            }
+            let p3 = lo3 + (hi3 - lo3) * t;
+            let (f3, g3) = s3.f_with_gradient(p3);
+            assert!((f3 - s3.f(p3)).abs() <= 1e-12 * (1.0 + f3.abs()));
+            for (axis, e) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
+                let fd = (s3.f(p3 + e * h) - s3.f(p3 - e * h)) / (2.0 * h);
+                assert!(
+                    (fd - g3[axis]).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "{p3} axis {axis}: {fd} vs {g3}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn row_edits_set_exactly_that_row() {
+        for axis in [Axis::U, Axis::V] {
+            let mut s =
+                Solid2::regular((3, 2), DVec2::ZERO, DVec2::ONE, |i, j| (i * 10 + j) as f64)
+                    .unwrap();
+            s.set_row_xi(axis, 1, -5.0).unwrap();
+            for i in 0..=3 {
+                for j in 0..=2 {
+                    let in_row = if axis == Axis::U { i == 1 } else { j == 1 };
+                    let want = if in_row { -5.0 } else { (i * 10 + j) as f64 };
+                    assert_eq!(s.xi(i, j), want, "{axis:?} P_{i}{j}");
+                }
+            }
+            let before = s.clone();
+            assert_eq!(
+                s.set_row_xi(axis, 4, 0.0),
+                Err(SolidError::Index {
+                    index: 4,
+                    len: if axis == Axis::U { 4 } else { 3 }
+                })
+            );
+            assert_eq!(s.set_row_xi(axis, 0, f64::NAN), Err(SolidError::NonFinite));
+            assert_eq!(s, before);
+        }
+        let mut s = Solid2::fig9();
+        assert_eq!(
+            s.set_row_xi(Axis::W, 0, 0.0),
+            Err(SolidError::Index { index: 0, len: 0 })
+        );
+    }
+
+    #[test]
+    fn point_and_slice_edits_of_volumes_set_exactly_those_points() {
+        let start = |i: usize, j: usize, k: usize| (i * 100 + j * 10 + k) as f64;
+        for (axis, a) in [(Axis::U, 0), (Axis::V, 1), (Axis::W, 2)] {
+            let mut s = Solid3::regular((2, 3, 1), DVec3::ZERO, DVec3::ONE, start).unwrap();
+            s.set_slice_xi(axis, 1, -7.0).unwrap();
+            s.set_xi(2, 3, 0, 9.0).unwrap();
+            for i in 0..=2 {
+                for j in 0..=3 {
+                    for k in 0..=1 {
+                        let want = if (i, j, k) == (2, 3, 0) {
+                            9.0
+                        } else if [i, j, k][a] == 1 {
+                            -7.0
+                        } else {
+                            start(i, j, k)
+                        };
+                        assert_eq!(s.xi(i, j, k), Some(want), "{axis:?} P_{i}{j}{k}");
+                    }
+                }
+            }
+            assert_eq!(s.xi(3, 0, 0), None);
+            let before = s.clone();
+            let len = [3, 4, 2][a];
+            assert_eq!(
+                s.set_slice_xi(axis, len, 0.0),
+                Err(SolidError::Index { index: len, len })
+            );
+            assert_eq!(
+                s.set_xi(0, 4, 0, 0.0),
+                Err(SolidError::Index { index: 4, len: 4 })
+            );
+            assert_eq!(s.set_xi(0, 0, 0, f64::INFINITY), Err(SolidError::NonFinite));
+            assert_eq!(s.set_slice_xi(axis, 0, 1e300), Err(SolidError::OutOfRange));
+            assert_eq!(s, before);
+        }
     }
 }

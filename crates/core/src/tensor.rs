@@ -61,6 +61,15 @@ pub enum Axis {
     W,
 }
 
+/// The two axes other than `axis` (0, 1 or 2), in increasing order.
+pub(crate) const fn other_axes(axis: usize) -> (usize, usize) {
+    match axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    }
+}
+
 impl Axis {
     pub(crate) fn index(self) -> usize {
         match self {
@@ -401,13 +410,27 @@ impl<P: ControlPoint> Volume<P> {
     /// If an index is above its degree.
     #[must_use]
     pub fn point(&self, i: usize, j: usize, k: usize) -> P {
+        self.points[self.index(i, j, k)]
+    }
+
+    /// Mutable access to `P_ijk`.
+    ///
+    /// # Panics
+    ///
+    /// If an index is above its degree.
+    pub fn point_mut(&mut self, i: usize, j: usize, k: usize) -> &mut P {
+        let at = self.index(i, j, k);
+        &mut self.points[at]
+    }
+
+    fn index(&self, i: usize, j: usize, k: usize) -> usize {
         let (n, m, l) = self.degree;
         assert!(
             i <= n && j <= m && k <= l,
             "P_{i}{j}{k} outside degree {:?}",
             self.degree
         );
-        self.points[(i * (m + 1) + j) * (l + 1) + k]
+        (i * (m + 1) + j) * (l + 1) + k
     }
 
     /// `S(u, v, w)` in basis form, contracting `w`, then `v`, then `u`.
@@ -1013,8 +1036,13 @@ mod tests {
                 let q = vol.eval(u, v, w);
                 assert!(q.cmpge(vlo - 1e-12).all() && q.cmple(vhi + 1e-12).all());
             }
-            // The corners are control points, so the box is tight at them.
-            assert!(patch.points().iter().any(|p| p.x == lo.x));
+            // The box is exactly the control points' extent, component by component.
+            for axis in 0..3 {
+                let coords = patch.points().iter().map(|p| p[axis]);
+                let min = coords.clone().fold(f64::INFINITY, f64::min);
+                let max = coords.fold(f64::NEG_INFINITY, f64::max);
+                assert_eq!((lo[axis], hi[axis]), (min, max));
+            }
         }
     }
 }

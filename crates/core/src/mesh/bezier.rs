@@ -11,7 +11,9 @@ use glam::DVec3;
 use super::Mesh;
 use super::polygonize::{EdgeRoots, SampleGrid, linear_root, polygonize};
 use crate::bernstein::{MAX_DEGREE, basis_and_derivative};
+use crate::math::illinois;
 use crate::rfunc::{clip3, clip3_with_gradient};
+use crate::tensor::other_axes;
 use crate::{Solid3, Volume};
 
 /// The most cells along the longest side of the box.
@@ -264,10 +266,7 @@ impl EdgeRoots for SolidRoots<'_> {
             self.params[axis][lower[axis]],
             self.params[axis][lower[axis] + 1],
         );
-        let mut uvw = [0; 3].map(|_| 0.0);
-        for (ax, slot) in uvw.iter_mut().enumerate() {
-            *slot = self.params[ax][lower[ax]];
-        }
+        let uvw: [f64; 3] = core::array::from_fn(|ax| self.params[ax][lower[ax]]);
         let dot = |c: &[f64; MAX_DEGREE + 1], b: &[f64; MAX_DEGREE + 1]| -> f64 {
             c[..=degree]
                 .iter()
@@ -318,11 +317,7 @@ impl EdgeRoots for SolidRoots<'_> {
         at[axis] = s;
         let mut grad = [0.0; 3];
         grad[axis] = dot(&coef, &db);
-        let (p, q) = match axis {
-            0 => (1, 2),
-            1 => (0, 2),
-            _ => (0, 1),
-        };
+        let (p, q) = other_axes(axis);
         grad[p] = dot(&dp, &b);
         grad[q] = dot(&dq, &b);
         let (_, g) = clip3_with_gradient(dot(&coef, &b), grad, at[0], at[1], at[2]);
@@ -344,40 +339,6 @@ impl EdgeRoots for SolidRoots<'_> {
         }
         (p, -grad.normalize_or_zero())
     }
-}
-
-/// A root of `g` on `[0, 1]` where `g(0) = f0` and `g(1) = f1` have opposite signs (`≤ 0` and `> 0`),
-/// by the Illinois variant of regula falsi, until `|g| ≤ accuracy`; at most 64 steps.
-fn illinois(g: impl Fn(f64) -> f64, f0: f64, f1: f64, accuracy: f64) -> f64 {
-    let (mut a, mut b, mut fa, mut fb) = (0.0, 1.0, f0, f1);
-    let mut side = 0i8;
-    let mut t = linear_root(fa, fb);
-    for _ in 0..64 {
-        let ft = g(t);
-        if ft.abs() <= accuracy || !ft.is_finite() {
-            break;
-        }
-        if (ft > 0.0) == (fb > 0.0) {
-            b = t;
-            fb = ft;
-            if side == 1 {
-                fa *= 0.5;
-            }
-            side = 1;
-        } else {
-            a = t;
-            fa = ft;
-            if side == -1 {
-                fb *= 0.5;
-            }
-            side = -1;
-        }
-        if b - a <= f64::EPSILON {
-            break;
-        }
-        t = a + (b - a) * linear_root(fa, fb);
-    }
-    t
 }
 
 #[cfg(test)]

@@ -71,8 +71,22 @@ pub(crate) mod tests {
             let want = mesh.corners(t).map(|p| p.as_vec3().to_array());
             assert_eq!(*tri, want);
         }
-        // The facet normals point out: for a closed outward mesh they agree with the corners' order.
-        let n = f32::from_le_bytes(bytes[84..88].try_into().unwrap());
-        assert!(n.is_finite());
+        // Each facet normal is the unit normal of its corners, pointing away from the ball's centre.
+        let centre = mesh.positions.iter().sum::<DVec3>() / mesh.positions.len() as f64;
+        for (t, tri) in tris.iter().enumerate() {
+            let at = 84 + 50 * t;
+            let n: [f32; 3] = core::array::from_fn(|k| {
+                f32::from_le_bytes(bytes[at + 4 * k..at + 4 * k + 4].try_into().unwrap())
+            });
+            let n = DVec3::new(n[0].into(), n[1].into(), n[2].into());
+            let [a, b, c] = tri.map(|p| DVec3::new(p[0].into(), p[1].into(), p[2].into()));
+            // Samples exactly on the sphere give some zero-area triangles: their normal is zero.
+            let Some(want) = (b - a).cross(c - a).try_normalize() else {
+                assert_eq!(n, DVec3::ZERO, "facet {t}");
+                continue;
+            };
+            assert!((n - want).length() < 1e-4, "facet {t}: {n} vs {want}");
+            assert!(n.dot(a - centre) > 0.0, "facet {t} faces in");
+        }
     }
 }
