@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
+use bezsolid_core::inverse::Method;
 use bezsolid_core::model::ModelSolid;
 use glam::{DVec2, DVec3};
 
@@ -70,34 +71,23 @@ fn parse_points(text: &str, dim: usize) -> Result<Vec<Vec<f64>>> {
 }
 
 /// The CSV: a header, then `x,y[,z],f,preimages` per point. On a regular grid the map is a scaling,
-/// so a point has one preimage inside the (closed) domain box and none outside.
+/// so a point has one preimage inside the (closed) domain box and none outside; a space mapping
+/// counts the parameter points in the closed unit box that map to it (several where it folds).
 fn evaluate(solid: &ModelSolid, points: &[Vec<f64>]) -> String {
     let mut csv = String::new();
     match solid {
         ModelSolid::Patch(s) => {
             csv.push_str("x,y,f,preimages\n");
-            let (lo, hi) = s.domain();
             for p in points {
-                let q = DVec2::new(p[0], p[1]);
-                let inside = q.cmpge(lo).all() && q.cmple(hi).all();
-                let _ = writeln!(csv, "{},{},{},{}", p[0], p[1], s.f(q), u8::from(inside));
+                let v = s.evaluate(DVec2::new(p[0], p[1]), Method::Fast);
+                let _ = writeln!(csv, "{},{},{},{}", p[0], p[1], v.f, v.preimages);
             }
         }
         ModelSolid::Volume(s) => {
             csv.push_str("x,y,z,f,preimages\n");
-            let (lo, hi) = s.domain();
             for p in points {
-                let q = DVec3::new(p[0], p[1], p[2]);
-                let inside = q.cmpge(lo).all() && q.cmple(hi).all();
-                let _ = writeln!(
-                    csv,
-                    "{},{},{},{},{}",
-                    p[0],
-                    p[1],
-                    p[2],
-                    s.f(q),
-                    u8::from(inside)
-                );
+                let v = s.evaluate(DVec3::new(p[0], p[1], p[2]), Method::Fast);
+                let _ = writeln!(csv, "{},{},{},{},{}", p[0], p[1], p[2], v.f, v.preimages);
             }
         }
     }

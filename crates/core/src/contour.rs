@@ -14,8 +14,9 @@ use alloc::vec::Vec;
 
 use glam::{DVec2, DVec3};
 
+use crate::inverse::Forward;
 use crate::math::illinois;
-use crate::{Axis, Solid3};
+use crate::{Axis, Solid2, Solid3};
 
 /// A regular grid of `nx × ny` samples over the box `[min, max]` (corners included).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,6 +101,54 @@ impl Polyline {
             .sum::<f64>()
             * 0.5
     }
+}
+
+/// The zero contour of a patch solid, `resolution` cells per side of its domain with one cell of
+/// margin, vertices refined to `|f| ≤ accuracy`: [`forward_contour`] where the solid is a space
+/// mapping certified injective, [`sampled_contour`] otherwise (regular grids, folds).
+#[must_use]
+pub fn solid_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
+    forward_contour(solid, resolution, accuracy)
+        .unwrap_or_else(|| sampled_contour(solid, resolution, accuracy))
+}
+
+/// The zero contour from samples of `f` itself over the solid's domain (for a space mapping, the
+/// inverse map at every sample: the reference the forward path is tested against).
+#[must_use]
+pub fn sampled_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
+    let (lo, hi) = solid.domain();
+    let resolution = resolution.max(1);
+    // One cell of margin: f is negative outside the domain, so every contour closes inside the grid.
+    let cell = (hi - lo) / resolution as f64;
+    let grid = Grid2::new(lo - cell, hi + cell, resolution + 3, resolution + 3);
+    let values = solid.f_grid(&grid.xs(), &grid.ys());
+    contour(&grid, &values, |p: DVec2| solid.f(p), accuracy)
+}
+
+/// The zero contour of a space mapping certified injective, traced in parameter space (the solid of
+/// the same `S_ξ` on the unit square, `resolution` cells per side) and mapped forward through
+/// `(S_x, S_y)`: the image of the parameter-space contour is the contour. `None` for a regular grid
+/// or a map that may fold.
+#[must_use]
+pub fn forward_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Option<Vec<Polyline>> {
+    if !solid.inverse()?.injective() {
+        return None;
+    }
+    let mut lines = sampled_contour(&solid.in_parameter_space(), resolution, accuracy);
+    let net = solid.patch();
+    for line in &mut lines {
+        for p in &mut line.points {
+            *p = DVec2::from_array(net.forward(p.to_array()).x);
+        }
+    }
+    // An orientation-reversing map puts the solid on the right: walk every line backwards.
+    let e = net.forward([0.5; 2]);
+    if e.jac[0][0] * e.jac[1][1] - e.jac[0][1] * e.jac[1][0] < 0.0 {
+        for line in &mut lines {
+            line.points.reverse();
+        }
+    }
+    Some(lines)
 }
 
 /// The zero contour of `f` sampled on `grid`; see [`contour`].

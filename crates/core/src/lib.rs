@@ -15,10 +15,13 @@
 //! - [`triangular`]: triangular Bézier patches of any degree.
 //! - [`rfunc`]: the R-function intersection `f1 & f2 = f1 + f2 − √(f1² + f2²)` and the functional
 //!   clipping `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)` of the paper's §3.3.1.
-//! - [`Solid2`]: a patch solid on a regular grid: `f(p)`, `∇f(p)`, function-mapping edits, the
-//!   paper's Fig. 9.
+//! - [`Solid2`]: a patch solid: `f(p)`, `∇f(p)`, function-mapping (ξ) and space-mapping (moved
+//!   control points) edits, the paper's Fig. 9.
 //! - [`Solid3`]: the same for a volume, `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)`, and its
 //!   polygonization ([`Solid3::polygonize`]).
+//! - [`inverse`]: the inverse of a space mapping: Bézier clipping for every preimage, the paper's
+//!   spline-guess hybrid, a seeded Newton fast path, an injectivity certificate; folds give
+//!   `f = max` over the preimages.
 //! - [`contour`]: marching squares to closed polylines with the solid on their left; cross-sections of
 //!   volumes.
 //! - [`mesh`]: indexed meshes, a manifold marching cubes, manifold checks, and the STL, OBJ, PLY and
@@ -59,6 +62,7 @@ pub mod bernstein;
 pub mod contour;
 mod curve;
 pub mod hyperfun;
+pub mod inverse;
 mod math;
 pub mod mesh;
 pub mod model;
@@ -70,7 +74,7 @@ pub mod triangular;
 
 pub use bernstein::MAX_DEGREE;
 pub use curve::BezierCurve;
-pub use solid::{Solid2, Solid3, SolidError};
+pub use solid::{INVERSE_ACCURACY, Solid2, Solid3, SolidError};
 pub use tensor::{Axis, ControlPoint, Patch, PatchError, Volume};
 
 #[cfg(test)]

@@ -1,12 +1,17 @@
 //! Bézier solids: the F-rep `f(p) ≥ 0` defined by a patch whose extra coordinate ξ is the function.
 
+use alloc::boxed::Box;
 use alloc::vec::Vec;
 use core::fmt;
 
 use glam::{DVec2, DVec3, DVec4};
 
+use crate::inverse::{Forward, InverseMap, Method, QueryStats, Value, solve_jac};
 use crate::rfunc::{clip2, clip2_with_gradient, clip3, clip3_with_gradient};
 use crate::tensor::{Axis, Patch, PatchError, Volume, other_axes};
+
+/// The parameter accuracy of the inverse map behind `f` (Bézier clipping's box size).
+pub const INVERSE_ACCURACY: f64 = 1e-12;
 
 /// Why a solid could not be built or edited.
 #[derive(Clone, Debug, PartialEq)]
@@ -15,11 +20,6 @@ pub enum SolidError {
     Patch(PatchError),
     /// A coordinate is NaN or infinite.
     NonFinite,
-    /// The control points' `(x, y)` do not form a regular axis-aligned grid. Space mapping (moved
-    /// control points) comes with the inverse map.
-    NotRegular,
-    /// The grid's box has no area.
-    DegenerateBox,
     /// A coordinate's magnitude is above [`Solid2::MAX_COORDINATE`].
     OutOfRange,
     /// A control point or row index past the end of the net.
@@ -35,13 +35,18 @@ impl fmt::Display for SolidError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Patch(e) => write!(f, "invalid control net: {e}"),
-            Self::NonFinite => f.write_str("a control point has a coordinate that is not a finite number"),
-            Self::NotRegular => {
-                f.write_str("control points do not form a regular axis-aligned grid (space mapping is not supported yet)")
+            Self::NonFinite => {
+                f.write_str("a control point has a coordinate that is not a finite number")
             }
-            Self::DegenerateBox => f.write_str("the control grid's box has zero width or height"),
-            Self::OutOfRange => write!(f, "a coordinate's magnitude is above {:e}", Solid2::MAX_COORDINATE),
-            Self::Index { index, len } => write!(f, "index {index} is past the {len} control points along that axis"),
+            Self::OutOfRange => write!(
+                f,
+                "a coordinate's magnitude is above {:e}",
+                Solid2::MAX_COORDINATE
+            ),
+            Self::Index { index, len } => write!(
+                f,
+                "index {index} is past the {len} control points along that axis"
+            ),
         }
     }
 }
@@ -79,11 +84,63 @@ fn check_values(mut values: impl Iterator<Item = f64>) -> Result<(), SolidError>
 /// On a regular grid (`P_ij^x = x0 + (i/n)(x1 − x0)`, `P_ij^y = y0 + (j/m)(y1 − y0)`) linear precision
 /// gives `S_x = x0 + u(x1 − x0)`, `S_y = y0 + v(y1 − y0)`: the inverse map is a scaling, and
 /// `f(x, y) = S_ξ(u, v) & F_s(u, v)` exactly (paper §3.2–§3.3.1).
+///
+/// Any other net is a space mapping (paper §3.3.2): `f(p)` is the largest clipped `S_ξ` over the
+/// preimages of `p` (the extended space mapping of `papers/README.md`), negative and continuous
+/// outside the image; see [`crate::inverse`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solid2 {
     patch: Patch<DVec3>,
+    /// The regular grid's box, or the bounds of the moved net (which contain its image).
     min: DVec2,
     max: DVec2,
+    /// The inverse map of a space mapping; `None` on a regular grid.
+    map: Option<Box<InverseMap<2>>>,
+}
+
+/// The box of a regular axis-aligned grid with positive size, `None` for anything else.
+fn regular_box<const D: usize>(
+    dims: [usize; D],
+    points: &[[f64; D]],
+) -> Option<([f64; D], [f64; D])> {
+    let (min, max) = (points[0], points[points.len() - 1]);
+    let size: [f64; D] = core::array::from_fn(|c| max[c] - min[c]);
+    if !size.iter().all(|&w| w > 0.0) {
+        return None;
+    }
+    // Tolerance relative to the box: the file may round coordinates to a few digits.
+    let tol = 1e-9
+        * (0..D)
+            .map(|c| size[c].max(min[c].abs()).max(max[c].abs()))
+            .fold(0.0, f64::max);
+    let regular = points.iter().enumerate().all(|(index, p)| {
+        let idx = crate::inverse::multi_index(dims, index);
+        (0..D).all(|c| {
+            let want = min[c] + size[c] * (idx[c] as f64 / (dims[c] - 1) as f64);
+            (p[c] - want).abs() <= tol
+        })
+    });
+    regular.then_some((min, max))
+}
+
+/// The componentwise bounds of a point set.
+fn point_bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
+    points
+        .iter()
+        .fold((points[0], points[0]), |(mut lo, mut hi), p| {
+            for c in 0..D {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+            (lo, hi)
+        })
+}
+
+/// The gradient in space from the gradient in parameters: `∇_p f = J^{-T} ∇_u f` (zero where `J` is
+/// singular).
+fn to_space_gradient<const D: usize>(jac: &[[f64; D]; D], g: [f64; D]) -> [f64; D] {
+    let jt: [[f64; D]; D] = core::array::from_fn(|c| core::array::from_fn(|r| jac[r][c]));
+    solve_jac(&jt, g).unwrap_or([0.0; D])
 }
 
 impl Solid2 {
@@ -111,36 +168,134 @@ impl Solid2 {
         Self::try_from_patch(patch)
     }
 
-    /// A solid from a control net, checked to be a regular axis-aligned grid with finite values.
+    /// A solid from a control net with finite values: a regular grid, or a space mapping.
     ///
     /// # Errors
     ///
-    /// [`SolidError::NonFinite`], [`SolidError::DegenerateBox`] or [`SolidError::NotRegular`].
+    /// [`SolidError::NonFinite`] or [`SolidError::OutOfRange`] for a bad coordinate.
     pub fn try_from_patch(patch: Patch<DVec3>) -> Result<Self, SolidError> {
         check_values(patch.points().iter().flat_map(|p| p.to_array()))?;
-        let (n, m) = patch.degree();
-        let min = patch.point(0, 0).truncate();
-        let max = patch.point(n, m).truncate();
-        let size = max - min;
-        if !(size.x > 0.0 && size.y > 0.0) {
-            return Err(SolidError::DegenerateBox);
+        let mut solid = Self {
+            patch,
+            min: DVec2::ZERO,
+            max: DVec2::ONE,
+            map: None,
+        };
+        solid.remap();
+        Ok(solid)
+    }
+
+    /// Recognise a regular grid or build the inverse map, after the net's `(x, y)` changed.
+    fn remap(&mut self) {
+        let spatial = self.patch.spatial();
+        if let Some((min, max)) = regular_box(self.patch.dims(), &spatial) {
+            (self.min, self.max) = (DVec2::from_array(min), DVec2::from_array(max));
+            self.map = None;
+        } else {
+            let (min, max) = point_bounds(&spatial);
+            (self.min, self.max) = (DVec2::from_array(min), DVec2::from_array(max));
+            self.map = Some(Box::new(InverseMap::new(&self.patch)));
         }
-        // Tolerance relative to the box: the file may round coordinates to a few digits.
-        let tol = 1e-9
-            * size
-                .max_element()
-                .max(min.abs().max_element())
-                .max(max.abs().max_element());
-        for i in 0..=n {
-            for j in 0..=m {
-                let want = min + size * DVec2::new(i as f64 / n as f64, j as f64 / m as f64);
-                let got = patch.point(i, j).truncate();
-                if (got - want).abs().max_element() > tol {
-                    return Err(SolidError::NotRegular);
+    }
+
+    /// The inverse map of a space mapping; `None` on a regular grid.
+    #[must_use]
+    pub fn inverse(&self) -> Option<&InverseMap<2>> {
+        self.map.as_deref()
+    }
+
+    /// The solid of the same `S_ξ` on the regular grid over the unit square: the solid in parameter
+    /// space.
+    #[must_use]
+    pub fn in_parameter_space(&self) -> Self {
+        Self::regular(self.degree(), DVec2::ZERO, DVec2::ONE, |i, j| {
+            self.patch.point(i, j).z
+        })
+        .unwrap_or_else(|_| unreachable!("the unit square with the net's valid ξ"))
+    }
+
+    /// `f(p)` with the number of preimages of `p` and the parameters `f` was taken at, by `method`
+    /// (the regular grid's scaling ignores it).
+    #[must_use]
+    pub fn evaluate(&self, p: DVec2, method: Method) -> Value<2> {
+        self.evaluate_seeded(p, method, None)
+    }
+
+    fn evaluate_seeded(&self, p: DVec2, method: Method, seed: Option<[f64; 2]>) -> Value<2> {
+        match &self.map {
+            None => {
+                let uv = (p - self.min) / (self.max - self.min);
+                let inside = uv.cmpge(DVec2::ZERO).all() && uv.cmple(DVec2::ONE).all();
+                Value {
+                    f: clip2(self.patch.eval(uv.x, uv.y).z, uv.x, uv.y),
+                    preimages: usize::from(inside),
+                    u: uv.to_array(),
                 }
             }
+            Some(map) => map.f_seeded(
+                &self.patch,
+                p.to_array(),
+                method,
+                seed,
+                INVERSE_ACCURACY,
+                &mut QueryStats::default(),
+            ),
         }
-        Ok(Self { patch, min, max })
+    }
+
+    /// Space mapping: move control point `P_ij` to `(x, y)` in the plane (ξ unchanged).
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] past the end of the net, [`SolidError::NonFinite`] or
+    /// [`SolidError::OutOfRange`] for a bad coordinate; the solid is unchanged then.
+    pub fn set_point(&mut self, i: usize, j: usize, xy: DVec2) -> Result<(), SolidError> {
+        check_values(xy.to_array().into_iter())?;
+        let (n, m) = self.degree();
+        for (index, d) in [(i, n), (j, m)] {
+            if index > d {
+                return Err(SolidError::Index { index, len: d + 1 });
+            }
+        }
+        let p = self.patch.point_mut(i, j);
+        (p.x, p.y) = (xy.x, xy.y);
+        self.remap();
+        Ok(())
+    }
+
+    /// Space mapping on a whole row: every `P_ij` with `i = index` (`axis` [`Axis::U`]) or
+    /// `j = index` ([`Axis::V`]) moved by `delta` in the plane.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] for a row past the end or [`Axis::W`], [`SolidError::NonFinite`] or
+    /// [`SolidError::OutOfRange`] for a coordinate it would produce; the solid is unchanged then.
+    pub fn move_row(&mut self, axis: Axis, index: usize, delta: DVec2) -> Result<(), SolidError> {
+        let (n, m) = self.degree();
+        let len = match axis {
+            Axis::U => n + 1,
+            Axis::V => m + 1,
+            Axis::W => 0,
+        };
+        if index >= len {
+            return Err(SolidError::Index { index, len });
+        }
+        let row: Vec<(usize, usize)> = if axis == Axis::U {
+            (0..=m).map(|j| (index, j)).collect()
+        } else {
+            (0..=n).map(|i| (i, index)).collect()
+        };
+        let moved: Vec<DVec2> = row
+            .iter()
+            .map(|&(i, j)| self.patch.point(i, j).truncate() + delta)
+            .collect();
+        check_values(moved.iter().flat_map(|p| p.to_array()))?;
+        for (&(i, j), xy) in row.iter().zip(moved) {
+            let p = self.patch.point_mut(i, j);
+            (p.x, p.y) = (xy.x, xy.y);
+        }
+        self.remap();
+        Ok(())
     }
 
     /// The first paper's Fig. 9 after its three steps: a 3×3 grid (degree 2) over the unit square,
@@ -168,16 +323,21 @@ impl Solid2 {
         self.patch.degree()
     }
 
-    /// The box `[min, max]` of the control grid (the solid's domain).
+    /// The box `[min, max]` of the control grid (the solid's domain); for a space mapping, the
+    /// bounds of the control points, which contain the image.
     #[must_use]
     pub fn domain(&self) -> (DVec2, DVec2) {
         (self.min, self.max)
     }
 
-    /// `(u, v)` of the point `p`: the inverse map, a scaling on a regular grid.
+    /// `(u, v)` of the point `p`: a scaling on a regular grid; for a space mapping, the preimage that
+    /// gives `f` (or the continuation's parameters where there is none).
     #[must_use]
     pub fn to_param(&self, p: DVec2) -> DVec2 {
-        (p - self.min) / (self.max - self.min)
+        match self.map {
+            None => (p - self.min) / (self.max - self.min),
+            Some(_) => DVec2::from_array(self.evaluate(p, Method::Fast).u),
+        }
     }
 
     /// ξ of control point `P_ij`.
@@ -207,20 +367,25 @@ impl Solid2 {
     }
 
     /// The defining function `f(p) = S_ξ(u, v) & F_s(u, v)`: positive inside the solid, negative
-    /// outside, and negative everywhere outside the domain box.
+    /// outside, and negative everywhere outside the domain (for a space mapping: the largest over
+    /// the preimages of `p`, by [`Method::Fast`]).
     #[must_use]
     pub fn f(&self, p: DVec2) -> f64 {
-        let uv = self.to_param(p);
-        clip2(self.patch.eval(uv.x, uv.y).z, uv.x, uv.y)
+        self.evaluate(p, Method::Fast).f
     }
 
-    /// `f(p)` and its gradient `∇f(p)` (the chain rule through the clipping and the scaling).
+    /// `f(p)` and its gradient `∇f(p)` (the chain rule through the clipping and the scaling, or the
+    /// inverse Jacobian of a space mapping at the preimage that gives `f`).
     #[must_use]
     pub fn f_with_gradient(&self, p: DVec2) -> (f64, DVec2) {
         let uv = self.to_param(p);
-        let (s, su, sv) = self.patch.eval_with_partials(uv.x, uv.y);
-        let (f, g) = clip2_with_gradient(s.z, [su.z, sv.z], uv.x, uv.y);
-        (f, DVec2::from_array(g) / (self.max - self.min))
+        let e = self.patch.forward(uv.to_array());
+        let (f, g) = clip2_with_gradient(e.xi, e.dxi, uv.x, uv.y);
+        let g = match self.map {
+            None => DVec2::from_array(g) / (self.max - self.min),
+            Some(_) => DVec2::from_array(to_space_gradient(&e.jac, g)),
+        };
+        (f, g)
     }
 
     /// Function mapping on a whole row: ξ of every `P_ij` with `i = index` (`axis` [`Axis::U`]) or
@@ -253,9 +418,27 @@ impl Solid2 {
         Ok(())
     }
 
-    /// `f` at every `(xs[a], ys[b])`, row-major by `b` (index `b·xs.len() + a`), by grid evaluation.
+    /// `f` at every `(xs[a], ys[b])`, row-major by `b` (index `b·xs.len() + a`), by grid evaluation
+    /// (a space mapping: Newton seeded from the previous point's parameters, verified, clipping where
+    /// that fails).
     #[must_use]
     pub fn f_grid(&self, xs: &[f64], ys: &[f64]) -> Vec<f64> {
+        if self.map.is_some() {
+            let mut out = Vec::with_capacity(xs.len() * ys.len());
+            let mut row_seed = None;
+            for &y in ys {
+                let mut seed = row_seed;
+                for (a, &x) in xs.iter().enumerate() {
+                    let v = self.evaluate_seeded(DVec2::new(x, y), Method::Fast, seed);
+                    seed = Some(v.u);
+                    if a == 0 {
+                        row_seed = seed;
+                    }
+                    out.push(v.f);
+                }
+            }
+            return out;
+        }
         let size = self.max - self.min;
         let us: Vec<f64> = xs.iter().map(|x| (x - self.min.x) / size.x).collect();
         let vs: Vec<f64> = ys.iter().map(|y| (y - self.min.y) / size.y).collect();
@@ -276,12 +459,16 @@ impl Solid2 {
 /// A 3D Bézier solid: a volume with control points `P_ijk = (x, y, z, ξ)`.
 ///
 /// On a regular grid over the box `[min, max]` the inverse map is a scaling and
-/// `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)` exactly (paper §3.2–§3.3.1).
+/// `f(x, y, z) = S_ξ(u, v, w) & F_s(u, v, w)` exactly (paper §3.2–§3.3.1); any other net is a space
+/// mapping, as for [`Solid2`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solid3 {
     volume: Volume<DVec4>,
+    /// The regular grid's box, or the bounds of the moved net.
     min: DVec3,
     max: DVec3,
+    /// The inverse map of a space mapping; `None` on a regular grid.
+    map: Option<Box<InverseMap<3>>>,
 }
 
 impl Solid3 {
@@ -308,42 +495,132 @@ impl Solid3 {
         Self::try_from_volume(volume)
     }
 
-    /// A solid from a control net, checked to be a regular axis-aligned grid with finite values.
+    /// A solid from a control net with finite values: a regular grid, or a space mapping.
     ///
     /// # Errors
     ///
-    /// [`SolidError::NonFinite`], [`SolidError::OutOfRange`], [`SolidError::DegenerateBox`] or
-    /// [`SolidError::NotRegular`].
+    /// [`SolidError::NonFinite`] or [`SolidError::OutOfRange`] for a bad coordinate.
     pub fn try_from_volume(volume: Volume<DVec4>) -> Result<Self, SolidError> {
         check_values(volume.points().iter().flat_map(|p| p.to_array()))?;
-        let (n, m, l) = volume.degree();
-        let min = volume.point(0, 0, 0).truncate();
-        let max = volume.point(n, m, l).truncate();
-        let size = max - min;
-        if !(size.x > 0.0 && size.y > 0.0 && size.z > 0.0) {
-            return Err(SolidError::DegenerateBox);
+        let mut solid = Self {
+            volume,
+            min: DVec3::ZERO,
+            max: DVec3::ONE,
+            map: None,
+        };
+        solid.remap();
+        Ok(solid)
+    }
+
+    /// Recognise a regular grid or build the inverse map, after the net's `(x, y, z)` changed.
+    fn remap(&mut self) {
+        let spatial = self.volume.spatial();
+        if let Some((min, max)) = regular_box(self.volume.dims(), &spatial) {
+            (self.min, self.max) = (DVec3::from_array(min), DVec3::from_array(max));
+            self.map = None;
+        } else {
+            let (min, max) = point_bounds(&spatial);
+            (self.min, self.max) = (DVec3::from_array(min), DVec3::from_array(max));
+            self.map = Some(Box::new(InverseMap::new(&self.volume)));
         }
-        let tol = 1e-9
-            * size
-                .max_element()
-                .max(min.abs().max_element())
-                .max(max.abs().max_element());
-        for i in 0..=n {
-            for j in 0..=m {
-                for k in 0..=l {
-                    let t = DVec3::new(
-                        i as f64 / n as f64,
-                        j as f64 / m as f64,
-                        k as f64 / l as f64,
-                    );
-                    let got = volume.point(i, j, k).truncate();
-                    if (got - (min + size * t)).abs().max_element() > tol {
-                        return Err(SolidError::NotRegular);
-                    }
+    }
+
+    /// The inverse map of a space mapping; `None` on a regular grid.
+    #[must_use]
+    pub fn inverse(&self) -> Option<&InverseMap<3>> {
+        self.map.as_deref()
+    }
+
+    /// `f(p)` with the number of preimages of `p` and the parameters `f` was taken at, by `method`
+    /// (the regular grid's scaling ignores it).
+    #[must_use]
+    pub fn evaluate(&self, p: DVec3, method: Method) -> Value<3> {
+        self.evaluate_seeded(p, method, None)
+    }
+
+    fn evaluate_seeded(&self, p: DVec3, method: Method, seed: Option<[f64; 3]>) -> Value<3> {
+        match &self.map {
+            None => {
+                let t = (p - self.min) / (self.max - self.min);
+                let inside = t.cmpge(DVec3::ZERO).all() && t.cmple(DVec3::ONE).all();
+                Value {
+                    f: clip3(self.volume.eval(t.x, t.y, t.z).w, t.x, t.y, t.z),
+                    preimages: usize::from(inside),
+                    u: t.to_array(),
                 }
             }
+            Some(map) => map.f_seeded(
+                &self.volume,
+                p.to_array(),
+                method,
+                seed,
+                INVERSE_ACCURACY,
+                &mut QueryStats::default(),
+            ),
         }
-        Ok(Self { volume, min, max })
+    }
+
+    /// Space mapping: move control point `P_ijk` to `xyz` (ξ unchanged).
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] past the end of the net, [`SolidError::NonFinite`] or
+    /// [`SolidError::OutOfRange`] for a bad coordinate; the solid is unchanged then.
+    pub fn set_point(
+        &mut self,
+        i: usize,
+        j: usize,
+        k: usize,
+        xyz: DVec3,
+    ) -> Result<(), SolidError> {
+        check_values(xyz.to_array().into_iter())?;
+        let (n, m, l) = self.degree();
+        for (index, d) in [(i, n), (j, m), (k, l)] {
+            if index > d {
+                return Err(SolidError::Index { index, len: d + 1 });
+            }
+        }
+        let p = self.volume.point_mut(i, j, k);
+        *p = xyz.extend(p.w);
+        self.remap();
+        Ok(())
+    }
+
+    /// Space mapping on a whole slice: every control point whose index along `axis` is `index`
+    /// moved by `delta`.
+    ///
+    /// # Errors
+    ///
+    /// [`SolidError::Index`] for a slice past the end, [`SolidError::NonFinite`] or
+    /// [`SolidError::OutOfRange`] for a coordinate it would produce; the solid is unchanged then.
+    pub fn move_slice(&mut self, axis: Axis, index: usize, delta: DVec3) -> Result<(), SolidError> {
+        let (n, m, l) = self.degree();
+        let len = [n, m, l][axis.index()] + 1;
+        if index >= len {
+            return Err(SolidError::Index { index, len });
+        }
+        let dims = [n, m, l];
+        let (p, q) = other_axes(axis.index());
+        let mut slice = Vec::new();
+        for a in 0..=dims[p] {
+            for b in 0..=dims[q] {
+                let mut at = [index; 3];
+                at[p] = a;
+                at[q] = b;
+                slice.push(at);
+            }
+        }
+        let moved: Vec<DVec3> = slice
+            .iter()
+            .map(|&[i, j, k]| self.volume.point(i, j, k).truncate() + delta)
+            .collect();
+        check_values(moved.iter().flat_map(|p| p.to_array()))?;
+        for (&[i, j, k], xyz) in slice.iter().zip(moved) {
+            let p = self.volume.point_mut(i, j, k);
+            *p = xyz.extend(p.w);
+        }
+        self.remap();
+        Ok(())
     }
 
     /// The control net.
@@ -358,23 +635,28 @@ impl Solid3 {
         self.volume.degree()
     }
 
-    /// The box `[min, max]` of the control grid.
+    /// The box `[min, max]` of the control grid; for a space mapping, the bounds of the control
+    /// points, which contain the image.
     #[must_use]
     pub fn domain(&self) -> (DVec3, DVec3) {
         (self.min, self.max)
     }
 
-    /// `(u, v, w)` of the point `p`: a scaling on a regular grid.
+    /// `(u, v, w)` of the point `p`: a scaling on a regular grid; for a space mapping, the preimage
+    /// that gives `f` (or the continuation's parameters where there is none).
     #[must_use]
     pub fn to_param(&self, p: DVec3) -> DVec3 {
-        (p - self.min) / (self.max - self.min)
+        match self.map {
+            None => (p - self.min) / (self.max - self.min),
+            Some(_) => DVec3::from_array(self.evaluate(p, Method::Fast).u),
+        }
     }
 
-    /// The defining function `f(p) = S_ξ(u, v, w) & F_s(u, v, w)`.
+    /// The defining function `f(p) = S_ξ(u, v, w) & F_s(u, v, w)` (for a space mapping: the largest
+    /// over the preimages of `p`, by [`Method::Fast`]).
     #[must_use]
     pub fn f(&self, p: DVec3) -> f64 {
-        let t = self.to_param(p);
-        clip3(self.volume.eval(t.x, t.y, t.z).w, t.x, t.y, t.z)
+        self.evaluate(p, Method::Fast).f
     }
 
     /// The scalar volume `S_ξ`: the ξ coordinates of the net.
@@ -391,9 +673,13 @@ impl Solid3 {
     #[must_use]
     pub fn f_with_gradient(&self, p: DVec3) -> (f64, DVec3) {
         let t = self.to_param(p);
-        let (s, [su, sv, sw]) = self.volume.eval_with_gradient(t.x, t.y, t.z);
-        let (f, g) = clip3_with_gradient(s.w, [su.w, sv.w, sw.w], t.x, t.y, t.z);
-        (f, DVec3::from_array(g) / (self.max - self.min))
+        let e = self.volume.forward(t.to_array());
+        let (f, g) = clip3_with_gradient(e.xi, e.dxi, t.x, t.y, t.z);
+        let g = match self.map {
+            None => DVec3::from_array(g) / (self.max - self.min),
+            Some(_) => DVec3::from_array(to_space_gradient(&e.jac, g)),
+        };
+        (f, g)
     }
 
     /// ξ of control point `P_ijk`, `None` past the end of the net.
@@ -448,9 +734,28 @@ impl Solid3 {
         Ok(())
     }
 
-    /// `f` at every `(xs[a], ys[b], zs[c])`, index `(c·|ys| + b)·|xs| + a`, by grid evaluation.
+    /// `f` at every `(xs[a], ys[b], zs[c])`, index `(c·|ys| + b)·|xs| + a`, by grid evaluation (a
+    /// space mapping: seeded Newton, as [`Solid2::f_grid`]).
     #[must_use]
     pub fn f_grid(&self, xs: &[f64], ys: &[f64], zs: &[f64]) -> Vec<f64> {
+        if self.map.is_some() {
+            let mut out = Vec::with_capacity(xs.len() * ys.len() * zs.len());
+            let mut seed = None;
+            for &z in zs {
+                for &y in ys {
+                    let mut row = seed;
+                    for (a, &x) in xs.iter().enumerate() {
+                        let v = self.evaluate_seeded(DVec3::new(x, y, z), Method::Fast, row);
+                        row = Some(v.u);
+                        if a == 0 {
+                            seed = row;
+                        }
+                        out.push(v.f);
+                    }
+                }
+            }
+            return out;
+        }
         let scale = |ts: &[f64], lo: f64, hi: f64| {
             ts.iter().map(|t| (t - lo) / (hi - lo)).collect::<Vec<_>>()
         };
@@ -530,13 +835,12 @@ mod tests {
     }
 
     #[test]
-    fn solid_rejects_moved_points_and_nan() {
+    fn solid_moved_points_are_a_space_mapping_and_nan_is_rejected() {
         let mut patch = Solid2::fig9().patch().clone();
         patch.point_mut(1, 1).x += 0.1;
-        assert_eq!(
-            Solid2::try_from_patch(patch.clone()),
-            Err(SolidError::NotRegular)
-        );
+        let mapped = Solid2::try_from_patch(patch.clone()).unwrap();
+        assert!(mapped.inverse().is_some());
+        assert!(Solid2::fig9().inverse().is_none());
         patch.point_mut(1, 1).x = f64::NAN;
         assert_eq!(Solid2::try_from_patch(patch), Err(SolidError::NonFinite));
         let mut s = Solid2::fig9();
@@ -581,19 +885,126 @@ mod tests {
     }
 
     #[test]
-    fn solid3_rejects_irregular_grids() {
+    fn solid3_irregular_and_flat_grids_are_space_mappings() {
         let s = Solid3::regular((1, 1, 1), DVec3::ZERO, DVec3::ONE, |_, _, _| 1.0).unwrap();
         let mut points = s.volume().points().to_vec();
         points[3].z += 0.2;
-        let moved = Volume::try_new((1, 1, 1), points).unwrap();
-        assert_eq!(Solid3::try_from_volume(moved), Err(SolidError::NotRegular));
+        let moved = Solid3::try_from_volume(Volume::try_new((1, 1, 1), points).unwrap()).unwrap();
+        assert!(moved.inverse().is_some());
+        // A flat box is a degenerate net: defined values, no solid.
         let flat = Solid3::regular(
             (1, 1, 1),
             DVec3::ZERO,
             DVec3::new(1.0, 1.0, 0.0),
             |_, _, _| 1.0,
+        )
+        .unwrap();
+        assert!(flat.inverse().is_some());
+        for p in [DVec3::splat(0.5), DVec3::new(0.5, 0.5, 0.0), DVec3::ONE] {
+            assert!(flat.f(p).is_finite());
+        }
+    }
+
+    #[test]
+    fn space_mapping_edits_and_back_restore_the_regular_solid_exactly() {
+        let mut rng = Rng::new(33);
+        let original = Solid2::regular(
+            (3, 2),
+            DVec2::new(-1.0, 0.0),
+            DVec2::new(2.0, 1.0),
+            |_, _| rng.range(-1.0, 1.0),
+        )
+        .unwrap();
+        let mut s = original.clone();
+        let at = s.patch().point(1, 1).truncate();
+        s.set_point(1, 1, at + DVec2::new(0.3, -0.1)).unwrap();
+        assert!(s.inverse().is_some());
+        let p = DVec2::new(0.2, 0.4);
+        assert_ne!(s.f(p), original.f(p));
+        s.move_row(Axis::V, 2, DVec2::new(0.0, 0.5)).unwrap();
+        assert_eq!(s.patch().point(3, 2).y, 1.5);
+        assert_eq!(
+            s.set_point(4, 0, DVec2::ZERO),
+            Err(SolidError::Index { index: 4, len: 4 })
         );
-        assert_eq!(flat, Err(SolidError::DegenerateBox));
+        assert_eq!(
+            s.move_row(Axis::U, 0, DVec2::new(f64::NAN, 0.0)),
+            Err(SolidError::NonFinite)
+        );
+        s.move_row(Axis::V, 2, DVec2::new(0.0, -0.5)).unwrap();
+        s.set_point(1, 1, at).unwrap();
+        assert!(s.inverse().is_none());
+        assert_eq!(s, original);
+        let mut v = Solid3::regular((2, 2, 2), DVec3::ZERO, DVec3::ONE, |i, j, k| {
+            (i + j + k) as f64 - 2.5
+        })
+        .unwrap();
+        let before = v.clone();
+        v.move_slice(Axis::W, 2, DVec3::new(0.0, 0.0, 0.5)).unwrap();
+        assert!(v.inverse().is_some());
+        assert_eq!(v.domain().1.z, 1.5);
+        v.set_point(0, 0, 0, DVec3::splat(-0.1)).unwrap();
+        v.set_point(0, 0, 0, DVec3::ZERO).unwrap();
+        v.move_slice(Axis::W, 2, DVec3::new(0.0, 0.0, -0.5))
+            .unwrap();
+        assert_eq!(v, before);
+    }
+
+    #[test]
+    fn mapped_grids_and_gradients_match_the_reference() {
+        let mut rng = Rng::new(34);
+        for amp in [0.08, 0.4] {
+            let patch = crate::inverse::tests::warped_patch(&mut rng, (3, 3), amp);
+            let s = Solid2::try_from_patch(patch).unwrap();
+            let (lo, hi) = s.domain();
+            let xs: Vec<f64> = (0..17)
+                .map(|a| lo.x - 0.1 + (hi.x - lo.x + 0.2) * a as f64 / 16.0)
+                .collect();
+            let ys: Vec<f64> = (0..13)
+                .map(|b| lo.y - 0.1 + (hi.y - lo.y + 0.2) * b as f64 / 12.0)
+                .collect();
+            let grid = s.f_grid(&xs, &ys);
+            for (b, &y) in ys.iter().enumerate() {
+                for (a, &x) in xs.iter().enumerate() {
+                    let want = s.evaluate(DVec2::new(x, y), Method::Clipping).f;
+                    assert!(
+                        (grid[b * xs.len() + a] - want).abs() < 1e-9,
+                        "{amp} {x} {y}"
+                    );
+                }
+            }
+            // Gradients against central differences, at points well inside one preimage's image.
+            for _ in 0..20 {
+                let u = [rng.range(0.2, 0.8), rng.range(0.2, 0.8)];
+                let p = DVec2::from_array(s.patch().forward(u).x);
+                let v = s.evaluate(p, Method::Clipping);
+                if v.preimages != 1 {
+                    continue;
+                }
+                let (f, g) = s.f_with_gradient(p);
+                assert!((f - v.f).abs() < 1e-12);
+                let h = 1e-6;
+                let fd = DVec2::new(
+                    s.f(p + DVec2::X * h) - s.f(p - DVec2::X * h),
+                    s.f(p + DVec2::Y * h) - s.f(p - DVec2::Y * h),
+                ) / (2.0 * h);
+                assert!((fd - g).length() < 1e-5 * g.length().max(1.0), "{fd} {g}");
+            }
+        }
+        let volume = crate::inverse::tests::warped_volume(&mut rng, (2, 3, 2), 0.1);
+        let s = Solid3::try_from_volume(volume).unwrap();
+        let t = [-0.1, 0.3, 0.6, 1.05];
+        let grid = s.f_grid(&t, &t, &t);
+        let mut k = 0;
+        for &z in &t {
+            for &y in &t {
+                for &x in &t {
+                    let want = s.evaluate(DVec3::new(x, y, z), Method::Clipping).f;
+                    assert!((grid[k] - want).abs() < 1e-9);
+                    k += 1;
+                }
+            }
+        }
     }
 
     #[test]

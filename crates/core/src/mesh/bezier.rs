@@ -9,8 +9,9 @@ use core::fmt;
 use glam::DVec3;
 
 use super::Mesh;
-use super::polygonize::{EdgeRoots, SampleGrid, linear_root, polygonize};
+use super::polygonize::{EdgeRoots, LinearRoots, SampleGrid, linear_root, polygonize};
 use crate::bernstein::{MAX_DEGREE, basis_and_derivative};
+use crate::inverse::{Forward, solve_jac};
 use crate::math::illinois;
 use crate::rfunc::{clip3, clip3_with_gradient};
 use crate::tensor::other_axes;
@@ -81,10 +82,75 @@ impl Solid3 {
     /// # Errors
     ///
     /// [`MeshError`] for a resolution out of range or a bad accuracy.
+    ///
+    /// A space mapping that is certified injective is polygonized in parameter space (the regular
+    /// solid of the same `S_ξ` on the unit cube, at `resolution` cells per axis) and its vertices
+    /// mapped forward through `(S_x, S_y, S_z)`, normals through `J^{-T}`: the image of the boundary
+    /// is the boundary. Any other space mapping (it may fold) samples `f` itself, the largest clipped
+    /// `S_ξ` over the preimages, on the grid over its bounds, with vertices interpolated linearly.
     pub fn polygonize(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
         if !(accuracy.is_finite() && accuracy > 0.0) {
             return Err(MeshError::Accuracy);
         }
+        match self.inverse() {
+            None => self.polygonize_regular(resolution, accuracy),
+            Some(map) if map.injective() => self.polygonize_forward(resolution, accuracy),
+            Some(_) => self.polygonize_sampled(resolution),
+        }
+    }
+
+    /// The solid of the same `S_ξ` on the regular grid over the unit cube: the solid in parameter
+    /// space.
+    #[must_use]
+    pub fn in_parameter_space(&self) -> Solid3 {
+        let v = self.volume();
+        Solid3::regular(self.degree(), DVec3::ZERO, DVec3::ONE, |i, j, k| {
+            v.point(i, j, k).w
+        })
+        .unwrap_or_else(|_| unreachable!("the unit cube with the net's valid ξ"))
+    }
+
+    fn polygonize_forward(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
+        let mut mesh = self
+            .in_parameter_space()
+            .polygonize_regular(resolution, accuracy)?;
+        let net = self.volume();
+        for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
+            let e = net.forward(p.to_array());
+            *p = DVec3::from_array(e.x);
+            let jt: [[f64; 3]; 3] = core::array::from_fn(|c| core::array::from_fn(|r| e.jac[r][c]));
+            let normal = solve_jac(&jt, n.to_array()).map_or(DVec3::ZERO, DVec3::from_array);
+            *n = normal.normalize_or_zero();
+        }
+        // An orientation-reversing map (a net turned inside out) reverses every triangle.
+        let e = net.forward([0.5; 3]);
+        let [a, b, c] = e.jac.map(DVec3::from_array);
+        if a.dot(b.cross(c)) < 0.0 {
+            for t in &mut mesh.triangles {
+                t.swap(1, 2);
+            }
+        }
+        Ok(mesh)
+    }
+
+    fn polygonize_sampled(&self, resolution: usize) -> Result<Mesh, MeshError> {
+        let grid = self.mesh_grid(resolution)?;
+        let axis = |a: usize| -> Vec<f64> {
+            (0..grid.dims[a])
+                .map(|i| grid.origin[a] + grid.step[a] * i as f64)
+                .collect()
+        };
+        let values = self.f_grid(&axis(0), &axis(1), &axis(2));
+        let mut mesh = polygonize(&grid, &values, &mut LinearRoots);
+        mesh.normals = mesh
+            .positions
+            .iter()
+            .map(|&p| (-self.f_with_gradient(p).1).normalize_or_zero())
+            .collect();
+        Ok(mesh)
+    }
+
+    fn polygonize_regular(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
         let grid = self.mesh_grid(resolution)?;
         let mut roots = SolidRoots::new(self, &grid, accuracy);
         let [us, vs, ws] = &roots.params;

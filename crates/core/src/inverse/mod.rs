@@ -1,0 +1,908 @@
+//! The inverse of a space mapping: the parameters `u` with `S(u) = p` when the control points of a
+//! patch (`D = 2`) or volume (`D = 3`) have moved in space (the first paper's §3.3.2).
+//!
+//! Three ways to the same answer, all tested against the first:
+//!
+//! - [`Method::Clipping`]: Bézier clipping of `S(u) − p = 0` over the whole parameter box: every
+//!   preimage, the reference.
+//! - [`Method::Hybrid`]: the paper's procedure: a spline guess ([`tps`]), clipping in a box around it,
+//!   and whole-domain clipping when that box holds no root (or when the map may fold).
+//! - [`Method::Fast`]: Newton's method from a seed table of the forward map, verified, with the
+//!   hybrid as the fallback. Only where the map is certified injective; elsewhere it is clipping.
+//!
+//! The map is *certified injective* when `det J` is one-signed on the parameter box (its Bernstein
+//! coefficients, refined by subdivision) and the image of the box's boundary is simple (non-adjacent
+//! boundary pieces have disjoint bounds; adjacent boundary curves are jointly monotone in 2D). A local
+//! homeomorphism of a closed ball that is injective on its boundary is injective, so a certified
+//! map has at most one preimage and Newton's root is the only one. In 3D, adjacent boundary pieces
+//! are not checked against each other: there the certificate rests on `det J ≠ 0` near shared edges.
+
+// Coordinates index several fixed-size arrays at once; iterator chains would hide the algebra.
+#![allow(clippy::needless_range_loop)]
+
+pub mod clip;
+pub mod tps;
+
+use alloc::vec::Vec;
+
+use glam::{DVec3, DVec4};
+
+use crate::bernstein::binomial;
+use crate::rfunc::{clip2, clip3};
+use crate::tensor::{Patch, Volume};
+use clip::{ClipLimits, ClipStats, Tensor, clip_roots};
+use tps::{Kernel, Spline};
+
+/// Candidate roots closer than this (in parameters) are one root: the seam between split boxes, or
+/// the cluster of boxes around a tangential root.
+const MERGE: f64 = 1e-6;
+
+/// How the preimages of a point are found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Bézier clipping over the whole parameter box.
+    Clipping,
+    /// The paper's hybrid: spline guess, clipping in a box around it, whole-domain clipping after.
+    Hybrid,
+    /// Newton from a seed table where the map is certified injective, the hybrid as fallback.
+    Fast,
+}
+
+impl Method {
+    /// Every method, the reference first.
+    pub const ALL: [Self; 3] = [Self::Clipping, Self::Hybrid, Self::Fast];
+}
+
+/// What one query did (for iteration histograms).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QueryStats {
+    /// Newton steps taken.
+    pub newton_steps: u32,
+    /// Clipping work.
+    pub clip: ClipStats,
+    /// Whether the query fell back from its method's first attempt.
+    pub fallback: bool,
+}
+
+/// `S(u)` with its Jacobian and `S_ξ` with its gradient, at one parameter point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Eval<const D: usize> {
+    /// The spatial coordinates `(S_x, S_y[, S_z])`.
+    pub x: [f64; D],
+    /// `jac[c][r] = ∂S_r/∂u_c`: column `c` is the derivative along parameter `c`.
+    pub jac: [[f64; D]; D],
+    /// `S_ξ`.
+    pub xi: f64,
+    /// `∂S_ξ/∂u_c`.
+    pub dxi: [f64; D],
+}
+
+/// A control net whose spatial part maps parameters to space: a patch `(x, y, ξ)` or a volume
+/// `(x, y, z, ξ)`.
+pub trait Forward<const D: usize> {
+    /// `S` and its derivatives at `u`.
+    fn forward(&self, u: [f64; D]) -> Eval<D>;
+    /// The points per axis.
+    fn dims(&self) -> [usize; D];
+    /// The spatial coordinates of the control points, in storage order.
+    fn spatial(&self) -> Vec<[f64; D]>;
+}
+
+impl Forward<2> for Patch<DVec3> {
+    fn forward(&self, u: [f64; 2]) -> Eval<2> {
+        let (s, su, sv) = self.eval_with_partials(u[0], u[1]);
+        Eval {
+            x: [s.x, s.y],
+            jac: [[su.x, su.y], [sv.x, sv.y]],
+            xi: s.z,
+            dxi: [su.z, sv.z],
+        }
+    }
+    fn dims(&self) -> [usize; 2] {
+        let (n, m) = self.degree();
+        [n + 1, m + 1]
+    }
+    fn spatial(&self) -> Vec<[f64; 2]> {
+        self.points().iter().map(|p| [p.x, p.y]).collect()
+    }
+}
+
+impl Forward<3> for Volume<DVec4> {
+    fn forward(&self, u: [f64; 3]) -> Eval<3> {
+        let (s, [su, sv, sw]) = self.eval_with_gradient(u[0], u[1], u[2]);
+        Eval {
+            x: [s.x, s.y, s.z],
+            jac: [[su.x, su.y, su.z], [sv.x, sv.y, sv.z], [sw.x, sw.y, sw.z]],
+            xi: s.w,
+            dxi: [su.w, sv.w, sw.w],
+        }
+    }
+    fn dims(&self) -> [usize; 3] {
+        let (n, m, l) = self.degree();
+        [n + 1, m + 1, l + 1]
+    }
+    fn spatial(&self) -> Vec<[f64; 3]> {
+        self.points().iter().map(|p| [p.x, p.y, p.z]).collect()
+    }
+}
+
+/// The clipped defining function `S_ξ(u) & F_s(u)` at a parameter point.
+pub(crate) fn clipped<const D: usize>(xi: f64, u: [f64; D]) -> f64 {
+    match D {
+        2 => clip2(xi, u[0], u[1]),
+        _ => clip3(xi, u[0], u[1], u[2]),
+    }
+}
+
+/// Solve the `D × D` system `J δ = r` given by columns; `None` when singular.
+pub(crate) fn solve_jac<const D: usize>(jac: &[[f64; D]; D], r: [f64; D]) -> Option<[f64; D]> {
+    // Row-major copy with the right-hand side, Gaussian elimination with partial pivoting.
+    let mut a = [[0.0; 4]; 3];
+    for row in 0..D {
+        for col in 0..D {
+            a[row][col] = jac[col][row];
+        }
+        a[row][D] = r[row];
+    }
+    let scale = (0..D)
+        .flat_map(|c| jac[c].iter())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    for k in 0..D {
+        let p = (k..D)
+            .max_by(|&x, &y| a[x][k].abs().total_cmp(&a[y][k].abs()))
+            .unwrap_or(k);
+        if a[p][k].abs() <= scale * 1e-14 {
+            return None;
+        }
+        a.swap(k, p);
+        for row in k + 1..D {
+            let f = a[row][k] / a[k][k];
+            for col in k..=D {
+                a[row][col] -= f * a[k][col];
+            }
+        }
+    }
+    let mut x = [0.0; D];
+    for k in (0..D).rev() {
+        let mut s = a[k][D];
+        for col in k + 1..D {
+            s -= a[k][col] * x[col];
+        }
+        x[k] = s / a[k][k];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+fn max_abs_diff<const D: usize>(a: [f64; D], b: [f64; D]) -> f64 {
+    (0..D).fold(0.0f64, |m, c| m.max((a[c] - b[c]).abs()))
+}
+
+fn inside_closed<const D: usize>(u: [f64; D], tol: f64) -> bool {
+    u.iter().all(|&t| (-tol..=1.0 + tol).contains(&t))
+}
+
+fn clamp_unit<const D: usize>(u: [f64; D]) -> [f64; D] {
+    u.map(|t| t.clamp(0.0, 1.0))
+}
+
+/// How the spline guess is fitted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GuessFit {
+    /// The paper's way: the moved control points to their parameters on the regular grid.
+    ControlPoints,
+    /// Samples of the forward map `S(u_k) → u_k` on a regular parameter grid.
+    ForwardSamples,
+}
+
+/// The inverse map of one control net: its spline guess, injectivity certificate and seed table.
+///
+/// It keeps no reference to the net; every query takes the net it was built from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InverseMap<const D: usize> {
+    tensor: Tensor<D, D>,
+    guess: Spline<D>,
+    injective: bool,
+    seeds: SeedTable<D>,
+    /// The largest extent of the control net, for spatial tolerances.
+    scale: f64,
+}
+
+impl<const D: usize> InverseMap<D> {
+    /// The inverse map of `net` with the default guess ([`GuessFit::ForwardSamples`], chosen by
+    /// measurement: see the tests and BENCHMARKS.md).
+    pub fn new<F: Forward<D>>(net: &F) -> Self {
+        Self::with_guess(net, GuessFit::ForwardSamples)
+    }
+
+    /// The inverse map of `net` with the spline guess fitted as `fit` says.
+    pub fn with_guess<F: Forward<D>>(net: &F, fit: GuessFit) -> Self {
+        let dims = net.dims();
+        let tensor = Tensor {
+            dims,
+            coefs: net.spatial(),
+        };
+        let (lo, hi) = bounds(&tensor.coefs);
+        let scale = (0..D).map(|c| hi[c] - lo[c]).fold(0.0f64, f64::max);
+        // In 3D the triharmonic r³ guesses better than the biharmonic r (measured by
+        // `the_default_guess_is_the_better_one_by_measurement`).
+        let kernel = if D == 2 {
+            Kernel::ThinPlate
+        } else {
+            Kernel::Cubic
+        };
+        let (sites, values) = match fit {
+            GuessFit::ControlPoints => control_sites(&tensor),
+            GuessFit::ForwardSamples => forward_sites(net, if D == 2 { 9 } else { 5 }),
+        };
+        let guess = Spline::fit(kernel, &sites, &values);
+        let injective = certify::injective(&tensor);
+        let seeds = SeedTable::build(net, &guess, lo, hi, if D == 2 { 48 } else { 16 });
+        Self {
+            tensor,
+            guess,
+            injective,
+            seeds,
+            scale,
+        }
+    }
+
+    /// Whether the map is certified injective (at most one preimage per point).
+    #[must_use]
+    pub fn injective(&self) -> bool {
+        self.injective
+    }
+
+    /// The spline guess of `u` at `p`.
+    #[must_use]
+    pub fn guess(&self, p: [f64; D]) -> [f64; D] {
+        self.guess.eval(p)
+    }
+
+    /// Every `u` in the closed parameter box with `S(u) = p`, found by `method` to the parameter
+    /// `accuracy` (clipping) and polished by Newton's method.
+    pub fn preimages<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        method: Method,
+        accuracy: f64,
+        stats: &mut QueryStats,
+    ) -> Vec<[f64; D]> {
+        match method {
+            Method::Clipping => self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats),
+            Method::Hybrid => self.hybrid(net, p, accuracy, stats),
+            Method::Fast => self.seeded(net, p, None, accuracy, stats),
+        }
+    }
+
+    /// [`Method::Fast`] with an explicit Newton seed (a grid neighbour's parameters) tried first.
+    pub fn seeded<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        seed: Option<[f64; D]>,
+        accuracy: f64,
+        stats: &mut QueryStats,
+    ) -> Vec<[f64; D]> {
+        if !self.injective {
+            return self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats);
+        }
+        match self.fast_root(net, p, seed, stats) {
+            Some(u) => alloc::vec![u],
+            None => {
+                stats.fallback = true;
+                self.hybrid(net, p, accuracy, stats)
+            }
+        }
+    }
+
+    /// Newton from `seed`, then from the seed table: the root if it lies in the closed box.
+    fn fast_root<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        seed: Option<[f64; D]>,
+        stats: &mut QueryStats,
+    ) -> Option<[f64; D]> {
+        let table = self.seeds.lookup(p);
+        seed.into_iter().chain([table]).find_map(|start| {
+            self.newton(net, p, start, 12, stats)
+                .filter(|&u| inside_closed(u, 1e-12))
+                .map(clamp_unit)
+        })
+    }
+
+    fn hybrid<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        accuracy: f64,
+        stats: &mut QueryStats,
+    ) -> Vec<[f64; D]> {
+        let g = self.guess(p);
+        if inside_closed(g, 0.05) {
+            const HALF: f64 = 0.1;
+            let lo = g.map(|t| (t - HALF).clamp(0.0, 1.0));
+            let hi = g.map(|t| (t + HALF).clamp(0.0, 1.0));
+            let roots = self.clip(net, p, lo, hi, accuracy, stats);
+            if !roots.is_empty() && self.injective {
+                return roots;
+            }
+        }
+        stats.fallback = true;
+        self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats)
+    }
+
+    fn clip<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        lo: [f64; D],
+        hi: [f64; D],
+        accuracy: f64,
+        stats: &mut QueryStats,
+    ) -> Vec<[f64; D]> {
+        let limits = ClipLimits {
+            accuracy: accuracy.max(1e-15),
+            ..ClipLimits::default()
+        };
+        let candidates = clip_roots(&self.tensor.minus(p), lo, hi, limits, &mut stats.clip);
+        let mut roots: Vec<[f64; D]> = Vec::with_capacity(candidates.len().min(4));
+        for c in candidates {
+            // Polish: Newton from the box centre, kept when it stays close and in the box.
+            let u = match self.newton(net, p, c, 6, stats) {
+                Some(u) if max_abs_diff(u, c) <= MERGE && inside_closed(u, 1e-12) => clamp_unit(u),
+                _ => c,
+            };
+            if roots.iter().all(|r| max_abs_diff(*r, u) > MERGE) {
+                roots.push(u);
+            }
+        }
+        roots
+    }
+
+    /// Newton's method for `S(u) = p` from `u`: the root once the step is below 1e-13 or the
+    /// residual at rounding level, `None` when it diverges, stalls or the Jacobian is singular.
+    fn newton<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        mut u: [f64; D],
+        max_steps: u32,
+        stats: &mut QueryStats,
+    ) -> Option<[f64; D]> {
+        let tol = self.scale.max(f64::MIN_POSITIVE) * 1e-15;
+        for _ in 0..max_steps {
+            let e = net.forward(u);
+            let r: [f64; D] = core::array::from_fn(|c| e.x[c] - p[c]);
+            if r.iter().all(|v| v.abs() <= tol) {
+                return Some(u);
+            }
+            let delta = solve_jac(&e.jac, r)?;
+            stats.newton_steps += 1;
+            for c in 0..D {
+                u[c] -= delta[c];
+            }
+            if !u.iter().all(|t| t.abs() < 8.0) {
+                return None;
+            }
+            if delta.iter().all(|d| d.abs() <= 1e-13) {
+                let e = net.forward(u);
+                let res = max_abs_diff(e.x, p);
+                return (res <= self.scale * 1e-9).then_some(u);
+            }
+        }
+        None
+    }
+
+    /// The parameter used for `f` where `p` has no preimage: the root of the polynomial map extended
+    /// past the box near it (Newton from the guess), else the spline guess itself.
+    pub fn outside<F: Forward<D>>(&self, net: &F, p: [f64; D], stats: &mut QueryStats) -> [f64; D] {
+        let g = self.guess(p);
+        self.newton(net, p, g, 30, stats).unwrap_or(g)
+    }
+
+    /// `f(p)`: the largest clipped `S_ξ` over the preimages, or the negative continuation outside
+    /// the image; with the number of preimages and the parameters that gave `f`.
+    pub fn f<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        method: Method,
+        accuracy: f64,
+        stats: &mut QueryStats,
+    ) -> Value<D> {
+        self.f_seeded(net, p, method, None, accuracy, stats)
+    }
+
+    /// [`InverseMap::f`] with a Newton seed for [`Method::Fast`]: the `u` of a neighbouring point's
+    /// [`Value`], so that a grid costs a few Newton steps per point.
+    pub fn f_seeded<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        method: Method,
+        seed: Option<[f64; D]>,
+        accuracy: f64,
+        stats: &mut QueryStats,
+    ) -> Value<D> {
+        if method == Method::Fast && self.injective {
+            match self.fast_root(net, p, seed, stats) {
+                Some(u) => return self.value(net, p, &[u], stats),
+                None => {
+                    // The seeds missed or landed outside: only whole-domain clipping can say
+                    // whether a root lies inside.
+                    stats.fallback = true;
+                    let roots = self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats);
+                    return self.value(net, p, &roots, stats);
+                }
+            }
+        }
+        let roots = self.preimages(net, p, method, accuracy, stats);
+        self.value(net, p, &roots, stats)
+    }
+
+    /// `f(p)` from its preimages `roots` (see [`InverseMap::f`]); where there are none, from the
+    /// continuation ([`InverseMap::outside`]), the same whichever method found no root.
+    pub fn value<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        roots: &[[f64; D]],
+        stats: &mut QueryStats,
+    ) -> Value<D> {
+        let best = roots
+            .iter()
+            .map(|&u| (clipped(net.forward(u).xi, u), u))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((f, u)) = best {
+            return Value {
+                f,
+                preimages: roots.len(),
+                u,
+            };
+        }
+        let u = self.outside(net, p, stats);
+        let f = clipped(net.forward(u).xi, u);
+        // Outside the image f is negative by definition; the continuation is negative wherever
+        // its parameter leaves the box, and forced so where the guess fell back inside it.
+        let f = if f < 0.0 { f } else { -f - f64::MIN_POSITIVE };
+        Value { f, preimages: 0, u }
+    }
+}
+
+/// `f` at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Value<const D: usize> {
+    /// The defining function.
+    pub f: f64,
+    /// How many preimages the point has in the closed parameter box.
+    pub preimages: usize,
+    /// The parameters `f` was taken at: the best preimage, or the continuation's parameter.
+    pub u: [f64; D],
+}
+
+fn bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
+    points.iter().fold(
+        ([f64::INFINITY; D], [f64::NEG_INFINITY; D]),
+        |(mut lo, mut hi), p| {
+            for c in 0..D {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+            (lo, hi)
+        },
+    )
+}
+
+/// The multi-index of flat index `index` (last axis fastest).
+pub(crate) fn multi_index<const D: usize>(dims: [usize; D], mut index: usize) -> [usize; D] {
+    let mut out = [0; D];
+    for a in (0..D).rev() {
+        out[a] = index % dims[a];
+        index /= dims[a];
+    }
+    out
+}
+
+/// The paper's fit: each control point (at most about 150, evenly thinned) to its regular-grid
+/// parameters.
+fn control_sites<const D: usize>(t: &Tensor<D, D>) -> (Vec<[f64; D]>, Vec<[f64; D]>) {
+    let stride = |n: usize| {
+        let mut s = 1;
+        while (n - 1).div_ceil(s) + 1 > if D == 2 { 12 } else { 5 } {
+            s += 1;
+        }
+        s
+    };
+    let steps: [usize; D] = core::array::from_fn(|a| stride(t.dims[a]));
+    let (mut sites, mut values) = (Vec::new(), Vec::new());
+    for (index, c) in t.coefs.iter().enumerate() {
+        let idx = multi_index(t.dims, index);
+        let keep = (0..D).all(|a| idx[a] % steps[a] == 0 || idx[a] == t.dims[a] - 1);
+        if keep {
+            sites.push(*c);
+            values.push(core::array::from_fn(|a| {
+                idx[a] as f64 / (t.dims[a] - 1) as f64
+            }));
+        }
+    }
+    (sites, values)
+}
+
+/// Forward samples `S(u_k) → u_k` on a `k^D` parameter grid.
+fn forward_sites<const D: usize, F: Forward<D>>(
+    net: &F,
+    k: usize,
+) -> (Vec<[f64; D]>, Vec<[f64; D]>) {
+    let total = k.pow(D as u32);
+    let (mut sites, mut values) = (Vec::with_capacity(total), Vec::with_capacity(total));
+    for index in 0..total {
+        let idx = multi_index([k; D], index);
+        let u: [f64; D] = core::array::from_fn(|a| idx[a] as f64 / (k - 1) as f64);
+        sites.push(net.forward(u).x);
+        values.push(u);
+    }
+    (sites, values)
+}
+
+/// A regular grid of cells over the control net's bounds, each holding the parameters of the
+/// forward sample whose image fell nearest its centre (or the spline guess where none fell).
+#[derive(Clone, Debug, PartialEq)]
+struct SeedTable<const D: usize> {
+    lo: [f64; D],
+    inv_cell: [f64; D],
+    res: usize,
+    cells: Vec<[f64; D]>,
+}
+
+impl<const D: usize> SeedTable<D> {
+    fn build<F: Forward<D>>(
+        net: &F,
+        guess: &Spline<D>,
+        lo: [f64; D],
+        hi: [f64; D],
+        res: usize,
+    ) -> Self {
+        let inv_cell: [f64; D] = core::array::from_fn(|c| {
+            let w = hi[c] - lo[c];
+            if w > 0.0 { res as f64 / w } else { 0.0 }
+        });
+        let total = res.pow(D as u32);
+        let mut cells = alloc::vec![[f64::NAN; D]; total];
+        let mut best = alloc::vec![f64::INFINITY; total];
+        let mut table = Self {
+            lo,
+            inv_cell,
+            res,
+            cells: Vec::new(),
+        };
+        let k = 2 * res;
+        for index in 0..k.pow(D as u32) {
+            let idx = multi_index([k; D], index);
+            let u: [f64; D] = core::array::from_fn(|a| (idx[a] as f64 + 0.5) / k as f64);
+            let x = net.forward(u).x;
+            let cell = table.cell(x);
+            let centre = table.centre(cell);
+            let d = max_abs_diff(x, centre);
+            let flat = table.flat(cell);
+            if d < best[flat] {
+                best[flat] = d;
+                cells[flat] = u;
+            }
+        }
+        for (flat, c) in cells.iter_mut().enumerate() {
+            if c[0].is_nan() {
+                *c = clamp_unit(guess.eval(table.centre(multi_index([res; D], flat))));
+            }
+        }
+        table.cells = cells;
+        table
+    }
+
+    fn cell(&self, x: [f64; D]) -> [usize; D] {
+        core::array::from_fn(|c| {
+            let t = (x[c] - self.lo[c]) * self.inv_cell[c];
+            if t > 0.0 {
+                (t as usize).min(self.res - 1)
+            } else {
+                0
+            }
+        })
+    }
+
+    fn centre(&self, cell: [usize; D]) -> [f64; D] {
+        core::array::from_fn(|c| {
+            if self.inv_cell[c] > 0.0 {
+                self.lo[c] + (cell[c] as f64 + 0.5) / self.inv_cell[c]
+            } else {
+                self.lo[c]
+            }
+        })
+    }
+
+    fn flat(&self, cell: [usize; D]) -> usize {
+        cell.iter().fold(0, |acc, &i| acc * self.res + i)
+    }
+
+    fn lookup(&self, x: [f64; D]) -> [f64; D] {
+        self.cells[self.flat(self.cell(x))]
+    }
+}
+
+mod certify {
+    //! The injectivity certificate (see the module documentation above).
+
+    use alloc::vec::Vec;
+
+    use super::{Tensor, binomial, multi_index};
+
+    /// Scalar tensor-product Bernstein polynomial.
+    struct Poly<const D: usize> {
+        dims: [usize; D],
+        c: Vec<f64>,
+    }
+
+    /// The most multiply-adds spent on the Bernstein form of `det J`.
+    const MAX_WORK: usize = 40_000_000;
+
+    fn derivative<const D: usize>(t: &Tensor<D, D>, axis: usize, comp: usize) -> Poly<D> {
+        let mut dims = t.dims;
+        dims[axis] -= 1;
+        let n = (t.dims[axis] - 1) as f64;
+        let stride: usize = t.dims[axis + 1..].iter().product();
+        let total: usize = dims.iter().product();
+        let c = (0..total)
+            .map(|index| {
+                let idx = multi_index(dims, index);
+                let flat = idx.iter().zip(t.dims).fold(0, |acc, (&i, d)| acc * d + i);
+                n * (t.coefs[flat + stride][comp] - t.coefs[flat][comp])
+            })
+            .collect();
+        Poly { dims, c }
+    }
+
+    fn mul<const D: usize>(a: &Poly<D>, b: &Poly<D>) -> Poly<D> {
+        let dims: [usize; D] = core::array::from_fn(|x| a.dims[x] + b.dims[x] - 1);
+        let total: usize = dims.iter().product();
+        let mut c = alloc::vec![0.0; total];
+        let scaled = |p: &Poly<D>| -> Vec<(f64, [usize; D])> {
+            p.c.iter()
+                .enumerate()
+                .map(|(index, v)| {
+                    let idx = multi_index(p.dims, index);
+                    let w = (0..D).fold(1.0, |w, x| w * binomial(p.dims[x] - 1, idx[x]));
+                    (v * w, idx)
+                })
+                .collect()
+        };
+        let (sa, sb) = (scaled(a), scaled(b));
+        for (va, ia) in &sa {
+            for (vb, ib) in &sb {
+                let flat = (0..D).fold(0, |acc, x| acc * dims[x] + ia[x] + ib[x]);
+                c[flat] += va * vb;
+            }
+        }
+        for (index, v) in c.iter_mut().enumerate() {
+            let idx = multi_index(dims, index);
+            *v /= (0..D).fold(1.0, |w, x| w * binomial(dims[x] - 1, idx[x]));
+        }
+        Poly { dims, c }
+    }
+
+    /// `det J` in Bernstein form, `None` when that costs more than [`MAX_WORK`].
+    fn det_j<const D: usize>(t: &Tensor<D, D>) -> Option<Poly<D>> {
+        let d = |axis: usize, comp: usize| derivative(t, axis, comp);
+        let size = |p: &Poly<D>| p.c.len();
+        let first = size(&d(0, 0));
+        // Two products of two factors in 2D; six of three in 3D, the second factor 8 times larger.
+        let work = first * first * if D == 2 { 2 } else { 54 };
+        if work > MAX_WORK {
+            return None;
+        }
+        let terms: &[([usize; 3], f64)] = if D == 2 {
+            &[([0, 1, 0], 1.0), ([1, 0, 0], -1.0)]
+        } else {
+            &[
+                ([0, 1, 2], 1.0),
+                ([1, 2, 0], 1.0),
+                ([2, 0, 1], 1.0),
+                ([0, 2, 1], -1.0),
+                ([2, 1, 0], -1.0),
+                ([1, 0, 2], -1.0),
+            ]
+        };
+        let mut sum: Option<Poly<D>> = None;
+        for (perm, sign) in terms {
+            // Component r differentiated along axis perm[r].
+            let mut prod = d(perm[0], 0);
+            for (r, &axis) in perm.iter().enumerate().take(D).skip(1) {
+                prod = mul(&prod, &d(axis, r));
+            }
+            match &mut sum {
+                None => {
+                    prod.c.iter_mut().for_each(|v| *v *= sign);
+                    sum = Some(prod);
+                }
+                Some(s) => {
+                    s.c.iter_mut()
+                        .zip(&prod.c)
+                        .for_each(|(a, b)| *a += sign * b);
+                }
+            }
+        }
+        sum
+    }
+
+    /// Whether `det J` keeps one strict sign on the box, by its Bernstein coefficients refined by
+    /// subdivision (at most 256 boxes).
+    fn one_signed<const D: usize>(det: Poly<D>) -> bool {
+        let corner = det.c[0];
+        if corner == 0.0 {
+            return false;
+        }
+        let sign = corner.signum();
+        let mut line = Vec::new();
+        let mut stack = alloc::vec![Tensor::<D, 1> {
+            dims: det.dims,
+            coefs: det.c.iter().map(|&v| [v * sign]).collect(),
+        }];
+        let mut boxes = 0;
+        while let Some(t) = stack.pop() {
+            boxes += 1;
+            if boxes > 256 {
+                return false;
+            }
+            let min = t.coefs.iter().fold(f64::INFINITY, |m, c| m.min(c[0]));
+            if min > 0.0 {
+                continue;
+            }
+            // A vertex coefficient is a value of det J: a sign change is certain.
+            let max_index = t.coefs.len() - 1;
+            if t.coefs[0][0] <= 0.0 || t.coefs[max_index][0] <= 0.0 {
+                return false;
+            }
+            let axis = (0..D).max_by_key(|&a| t.dims[a]).unwrap_or(0);
+            let (mut l, mut r) = (t.clone(), t);
+            l.restrict(axis, 0.0, 0.5, &mut line);
+            r.restrict(axis, 0.5, 1.0, &mut line);
+            stack.push(l);
+            stack.push(r);
+        }
+        true
+    }
+
+    /// A piece of the parameter box's boundary: its parameter box (one coordinate fixed) and the
+    /// spatial bounds of its image.
+    struct Piece<const D: usize> {
+        lo: [f64; D],
+        hi: [f64; D],
+        xlo: [f64; D],
+        xhi: [f64; D],
+        /// The hodograph vectors of a curve piece (2D only), for the monotonicity test.
+        tangents: Vec<[f64; D]>,
+    }
+
+    /// The boundary of the box cut into `2^level` pieces per free axis of each face.
+    fn pieces<const D: usize>(t: &Tensor<D, D>, level: u32) -> Vec<Piece<D>> {
+        let mut out = Vec::new();
+        let cuts = 1usize << level;
+        for axis in 0..D {
+            for side in [0usize, 1] {
+                // The face u_axis = side as a net over the other D − 1 axes, cut into pieces.
+                let free: Vec<usize> = (0..D).filter(|&a| a != axis).collect();
+                let face_index = |idx: &[usize]| {
+                    let mut full = [0usize; D];
+                    for (k, &a) in free.iter().enumerate() {
+                        full[a] = idx[k];
+                    }
+                    full[axis] = side * (t.dims[axis] - 1);
+                    (0..D).fold(0, |acc, x| acc * t.dims[x] + full[x])
+                };
+                for piece in 0..cuts.pow((D - 1) as u32) {
+                    let mut pidx = [0usize; 2];
+                    let mut rest = piece;
+                    for k in (0..D - 1).rev() {
+                        pidx[k] = rest % cuts;
+                        rest /= cuts;
+                    }
+                    let mut lo = [0.0; D];
+                    let mut hi = [1.0; D];
+                    lo[axis] = side as f64;
+                    hi[axis] = side as f64;
+                    for (k, &a) in free.iter().enumerate() {
+                        lo[a] = pidx[k] as f64 / cuts as f64;
+                        hi[a] = (pidx[k] + 1) as f64 / cuts as f64;
+                    }
+                    let (xlo, xhi, tangents) = if D == 2 {
+                        let n = t.dims[free[0]];
+                        let mut c = Tensor::<1, D> {
+                            dims: [n],
+                            coefs: (0..n).map(|i| t.coefs[face_index(&[i])]).collect(),
+                        };
+                        let mut line = Vec::new();
+                        c.restrict(0, lo[free[0]], hi[free[0]], &mut line);
+                        let tangents = c
+                            .coefs
+                            .windows(2)
+                            .map(|w| core::array::from_fn(|e| w[1][e] - w[0][e]))
+                            .collect();
+                        let (a, b) = super::bounds(&c.coefs);
+                        (a, b, tangents)
+                    } else {
+                        let (n0, n1) = (t.dims[free[0]], t.dims[free[1]]);
+                        let mut c = Tensor::<2, D> {
+                            dims: [n0, n1],
+                            coefs: (0..n0 * n1)
+                                .map(|f| t.coefs[face_index(&[f / n1, f % n1])])
+                                .collect(),
+                        };
+                        let mut line = Vec::new();
+                        c.restrict(0, lo[free[0]], hi[free[0]], &mut line);
+                        c.restrict(1, lo[free[1]], hi[free[1]], &mut line);
+                        let (a, b) = super::bounds(&c.coefs);
+                        (a, b, Vec::new())
+                    };
+                    out.push(Piece {
+                        lo,
+                        hi,
+                        xlo,
+                        xhi,
+                        tangents,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether the tangents of two curve pieces all lie in one open half-plane (the pieces form
+    /// one curve monotone in that direction).
+    fn jointly_monotone<const D: usize>(a: &Piece<D>, b: &Piece<D>) -> bool {
+        let vs: Vec<[f64; D]> = a.tangents.iter().chain(&b.tangents).copied().collect();
+        let norm = |v: &[f64; D]| crate::math::sqrt(v.iter().map(|x| x * x).sum());
+        let mut d = [0.0; D];
+        for v in &vs {
+            let l = norm(v);
+            if l == 0.0 {
+                return false;
+            }
+            for c in 0..D {
+                d[c] += v[c] / l;
+            }
+        }
+        vs.iter()
+            .all(|v| (0..D).map(|c| v[c] * d[c]).sum::<f64>() > 1e-9 * norm(v))
+    }
+
+    fn boundary_simple<const D: usize>(t: &Tensor<D, D>) -> bool {
+        let levels = if D == 2 { 1..=6 } else { 1..=3 };
+        'level: for level in levels {
+            let ps = pieces(t, level);
+            for (i, a) in ps.iter().enumerate() {
+                for b in &ps[i + 1..] {
+                    let adjacent = (0..D).all(|c| a.lo[c] <= b.hi[c] && b.lo[c] <= a.hi[c]);
+                    if adjacent {
+                        if D == 2 && !jointly_monotone(a, b) {
+                            continue 'level;
+                        }
+                    } else if (0..D).all(|c| a.xlo[c] <= b.xhi[c] && b.xlo[c] <= a.xhi[c]) {
+                        continue 'level;
+                    }
+                }
+            }
+            return true;
+        }
+        false
+    }
+
+    pub(super) fn injective<const D: usize>(t: &Tensor<D, D>) -> bool {
+        det_j(t).is_some_and(one_signed) && boundary_simple(t)
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests;
