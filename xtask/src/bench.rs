@@ -19,6 +19,7 @@ struct Row {
     ms: f64,
     runs: u64,
     extra: f64,
+    note: String,
 }
 
 fn rows(json: &str, origin: &str) -> Result<Vec<Row>> {
@@ -36,6 +37,7 @@ fn rows(json: &str, origin: &str) -> Result<Vec<Row>> {
                 ms: r["ms"].as_f64().context("ms")?,
                 runs: r["runs"].as_u64().context("runs")?,
                 extra: r["extra"].as_f64().context("extra")?,
+                note: r["note"].as_str().unwrap_or_default().to_owned(),
             })
         })
         .collect()
@@ -131,6 +133,68 @@ fn machine() -> String {
     format!("{cpu}, {cores} cores; one thread is used. Node {node} for wasm.")
 }
 
+/// The targets of issue 4 (space mapping), from the rows of `bezsolid_bench::inverse`.
+fn issue4_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
+    let get = |rows: &[Row], case: &str, who: &str, n: Option<u64>| {
+        rows.iter()
+            .find(|r| r.case == case && r.who.starts_with(who) && n.is_none_or(|n| r.n == n))
+            .map(|r| (r.ms, r.extra))
+    };
+    let _ = writeln!(
+        s,
+        "## Against the targets of issue 4 (space mapping, one thread)\n\n| target | measured |\n|---|---|"
+    );
+    let patch = "inverse map: random points in a warped bicubic patch";
+    let volume = "inverse map: random points in a warped degree-(4,4,4) volume";
+    if let (Some((_, n)), Some((_, w))) = (
+        get(native, patch, "bezsolid: fast path", None),
+        get(wasm, patch, "bezsolid: fast path", None),
+    ) {
+        let _ = writeln!(
+            s,
+            "| warped bicubic patch ≥ 2 M points/s native | {:.2} M points/s native, {:.2} M wasm (fast path) |",
+            n / 1e6,
+            w / 1e6
+        );
+    }
+    for (case, what) in [(patch, "bicubic patch"), (volume, "(4,4,4) volume")] {
+        if let (Some((c, _)), Some((h, _))) = (
+            get(native, case, "bezsolid: Bézier clipping", None),
+            get(native, case, "bezsolid: the paper's hybrid", None),
+        ) {
+            let _ = writeln!(
+                s,
+                "| the paper's claim: the hybrid beats pure clipping ({what}) | hybrid {:.2}× the time of whole-domain clipping natively |",
+                h / c
+            );
+        }
+    }
+    let contour = "contour of a warped 16×16-point patch";
+    if let (Some((n, _)), Some((w, _))) = (
+        get(native, contour, "bezsolid: forward-mapped", Some(512)),
+        get(wasm, contour, "bezsolid: forward-mapped", Some(512)),
+    ) {
+        let _ = writeln!(
+            s,
+            "| warped 16×16-point patch contoured at 512² ≤ 16 ms wasm | {w:.1} ms wasm, {n:.1} ms native (forward-mapped) |"
+        );
+    }
+    let warped = "polygonize a warped volume (space mapping)";
+    for (rows, origin) in [(native, "native"), (wasm, "wasm")] {
+        if let (Some((w, _)), Some((u, _))) = (
+            get(rows, warped, "bezsolid", Some(128)),
+            get(rows, "polygonize", "bezsolid", Some(128)),
+        ) {
+            let _ = writeln!(
+                s,
+                "| warped (4,4,4) volume at 128³ ≤ 2× the unwarped time ({origin}) | {w:.1} ms against {u:.1} ms ({:.2}×) |",
+                w / u
+            );
+        }
+    }
+    let _ = writeln!(s);
+}
+
 fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Benchmarks\n");
@@ -193,6 +257,7 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
             );
         }
         let _ = writeln!(s);
+        issue4_targets(&mut s, native, wasm);
     }
     let mut cases: Vec<&str> = Vec::new();
     for r in native {
@@ -201,9 +266,15 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
         }
     }
     for case in cases {
-        let eval = case.starts_with("grid evaluation");
+        let eval = case.starts_with("grid evaluation") || case.starts_with("inverse map");
         let _ = writeln!(s, "## {case}\n");
-        let extra = if eval { "points/s" } else { "triangles" };
+        let extra = if eval {
+            "points/s"
+        } else if case.starts_with("contour") {
+            "vertices"
+        } else {
+            "triangles"
+        };
         let _ = writeln!(
             s,
             "| who | n | native ms | wasm ms | wasm / native | {extra} | vs bezsolid native | runs |"
@@ -226,7 +297,7 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
                 _ => "–".to_owned(),
             };
             let extra = if eval {
-                format!("{:.0} M", r.extra / 1e6)
+                format!("{:.3} M", r.extra / 1e6)
             } else {
                 format!("{:.0}", r.extra)
             };
@@ -237,6 +308,21 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
             );
         }
         let _ = writeln!(s);
+        for r in native
+            .iter()
+            .filter(|r| r.case == case && !r.note.is_empty())
+        {
+            let _ = writeln!(s, "- {} (native): {}", r.who, r.note);
+            if let Some(w) = wasm
+                .iter()
+                .find(|w| w.case == case && w.who == r.who && w.note != r.note)
+            {
+                let _ = writeln!(s, "- {} (wasm): {}", w.who, w.note);
+            }
+        }
+        if native.iter().any(|r| r.case == case && !r.note.is_empty()) {
+            let _ = writeln!(s);
+        }
     }
     let _ = writeln!(
         s,

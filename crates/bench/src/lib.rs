@@ -2,6 +2,8 @@
 //! that `cargo xtask bench` runs in node. Each case is timed by the caller's clock, repeated until it
 //! has run for a while, and reported as the median of its runs.
 
+pub mod inverse;
+
 use bezsolid_core::mesh::{LinearRoots, Mesh, SampleGrid, polygonize};
 use bezsolid_core::{Axis, Solid3, Volume};
 use glam::DVec3;
@@ -22,6 +24,8 @@ pub struct Row {
     pub runs: usize,
     /// A case-specific figure: points per second for evaluation, triangles for meshing.
     pub extra: f64,
+    /// Anything else worth a line (iteration histograms).
+    pub note: String,
 }
 
 /// A clock in milliseconds (monotonic; its zero does not matter).
@@ -121,6 +125,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: points / (ms / 1000.0),
+            note: String::new(),
         });
         assert_eq!(out.len(), n * n * n);
         let (ms, runs, _) = time(clock, budget, || solid.f_grid(&t, &t, &t));
@@ -131,8 +136,10 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: points / (ms / 1000.0),
+            note: String::new(),
         });
     }
+    rows.extend(inverse::suite(clock, quick));
     let mesh_sizes: &[usize] = if quick { &[20] } else { &[20, 64, 128, 256] };
     for &n in mesh_sizes {
         let (ms, runs, mesh) = time(clock, budget, || {
@@ -147,6 +154,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: mesh.triangle_count() as f64,
+            note: String::new(),
         });
         let (grid, values) = sampled(n + 2);
         let (ms, runs, mesh) = time(clock, budget, || -> Mesh {
@@ -159,6 +167,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: mesh.triangle_count() as f64,
+            note: String::new(),
         });
     }
     rows

@@ -29,6 +29,7 @@ pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: (buffer.indices.len() / 3) as f64,
+            note: String::new(),
         });
     }
     // fidget: depth d meshes 2^d cells per axis; only powers of two compare, and 256 takes seconds.
@@ -60,6 +61,7 @@ pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: triangles as f64,
+            note: String::new(),
         });
     }
     rows

@@ -162,3 +162,85 @@ fn hf_writes_a_hyperfun_model() {
         assert_eq!(text.contains("hfBezierVolume"), preset == "fish");
     }
 }
+
+/// A space mapping: the degree-2 ball with its top slice lifted and one corner pulled. `mesh` writes a
+/// closed surface whose vertices are on `f = 0` as the inverse map (Bézier clipping) sees it, and
+/// `contour` draws a moved patch.
+#[test]
+fn mapped_models_mesh_and_contour() {
+    let c = [0.25, -0.25, 0.25];
+    let mut points = Vec::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                let (x, y) = (i as f64 / 2.0, j as f64 / 2.0);
+                let mut z = k as f64 / 2.0;
+                if k == 2 {
+                    z += 0.3;
+                }
+                let x = if (i, j, k) == (0, 0, 0) { -0.2 } else { x };
+                let xi = 0.16 - c[i] - c[j] - c[k];
+                points.push(format!("[{x}, {y}, {z}, {xi}]"));
+            }
+        }
+    }
+    let model = format!(
+        r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "volume", "degree": [2, 2, 2], "points": [{}]}}}}"#,
+        points.join(", ")
+    );
+    let model_path = out_path("mapped.bsolid.json");
+    std::fs::write(&model_path, &model).unwrap();
+    let obj = out_path("mapped.obj");
+    let out = bezsolid(&[
+        "mesh",
+        model_path.to_str().unwrap(),
+        "--res",
+        "24",
+        "-o",
+        obj.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mesh = read_obj(&std::fs::read_to_string(&obj).unwrap());
+    mesh.check_closed_manifold().unwrap();
+    assert_eq!(mesh.euler_characteristic(), 2);
+    let file: bezsolid_core::model::ModelFile = serde_json::from_str(&model).unwrap();
+    let bezsolid_core::model::ModelSolid::Volume(solid) = file.to_solid().unwrap() else {
+        panic!("a volume");
+    };
+    assert!(solid.inverse().is_some());
+    let (_, hi) = solid.domain();
+    assert!((hi.z - 1.3).abs() < 1e-12);
+    let mut top = f64::NEG_INFINITY;
+    for p in &mesh.positions {
+        let v = solid.evaluate(*p, bezsolid_core::inverse::Method::Clipping);
+        // OBJ keeps 17 significant digits; the vertex was on f = 0 to 1e-9 before it was written.
+        assert!(v.f.abs() < 1e-8, "f = {} at {p}", v.f);
+        top = top.max(p.z);
+    }
+    // The ball was stretched upwards with the lifted slice.
+    assert!(top > 0.95, "{top}");
+
+    let patch = r#"{"format":"bezsolid","version":1,"solid":{"kind":"patch","degree":[2,2],"points":[[0,0,-1],[0,0.5,0.25],[0,1,-1],[0.5,0,0.25],[0.8,0.6,1],[0.5,1,0.25],[1,0,-1],[1,0.5,0.25],[1.2,1.1,-1]]}}"#;
+    let patch_path = out_path("mapped-patch.bsolid.json");
+    std::fs::write(&patch_path, patch).unwrap();
+    let svg = out_path("mapped.svg");
+    let out = bezsolid(&[
+        "contour",
+        patch_path.to_str().unwrap(),
+        "--res",
+        "64",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert_eq!(text.matches("<path").count(), 1, "one loop: {text}");
+}

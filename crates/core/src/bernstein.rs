@@ -57,6 +57,7 @@ pub fn basis(n: usize, t: f64, out: &mut [f64]) {
 ///
 /// If `n > MAX_DEGREE`.
 #[must_use]
+#[inline]
 pub fn basis_array(n: usize, t: f64) -> [f64; MAX_DEGREE + 1] {
     let mut out = [0.0; MAX_DEGREE + 1];
     basis(n, t, &mut out);
@@ -70,18 +71,44 @@ pub fn basis_array(n: usize, t: f64) -> [f64; MAX_DEGREE + 1] {
 ///
 /// If `n > MAX_DEGREE`.
 #[must_use]
+#[inline]
 pub fn basis_and_derivative(n: usize, t: f64) -> ([f64; MAX_DEGREE + 1], [f64; MAX_DEGREE + 1]) {
-    let value = basis_array(n, t);
+    let mut value = [0.0; MAX_DEGREE + 1];
     let mut slope = [0.0; MAX_DEGREE + 1];
-    if n > 0 {
-        let lower = basis_array(n - 1, t);
-        let scale = n as f64;
-        slope[0] = -scale * lower[0];
-        for i in 1..=n {
-            slope[i] = scale * (lower[i - 1] - lower[i]);
-        }
-    }
+    basis_and_derivative_into(n, t, &mut value, &mut slope);
     (value, slope)
+}
+
+/// [`basis_and_derivative`] into the caller's arrays (no 272-byte return to copy in hot loops);
+/// entries past `n` are left as they were.
+///
+/// # Panics
+///
+/// If `n > MAX_DEGREE`.
+#[inline]
+pub fn basis_and_derivative_into(
+    n: usize,
+    t: f64,
+    value: &mut [f64; MAX_DEGREE + 1],
+    slope: &mut [f64; MAX_DEGREE + 1],
+) {
+    if n == 0 {
+        value[0] = 1.0;
+        slope[0] = 0.0;
+        return;
+    }
+    // One triangle, of degree n − 1, in place; its last step, taken from the top down so that
+    // every entry still holds the lower degree when read, gives the values, and the differences
+    // the derivative.
+    basis(n - 1, t, value);
+    let (s, scale) = (1.0 - t, n as f64);
+    for i in (1..=n).rev() {
+        let (hi, lo) = (if i < n { value[i] } else { 0.0 }, value[i - 1]);
+        slope[i] = scale * (lo - hi);
+        value[i] = s * hi + t * lo;
+    }
+    slope[0] = -scale * value[0];
+    value[0] *= s;
 }
 
 fn powi(x: f64, e: usize) -> f64 {

@@ -522,4 +522,85 @@ mod tests {
         assert!(cross_section(&ring, Axis::W, 0.0, 1, accuracy).is_empty());
         assert!(cross_section(&ring, Axis::W, 0.0, 64, f64::NAN).is_empty());
     }
+
+    /// Distance from `p` to the nearest segment of any line.
+    fn distance_to(lines: &[Polyline], p: DVec2) -> f64 {
+        let mut best = f64::INFINITY;
+        for line in lines {
+            let n = line.points.len();
+            let segments = if line.closed { n } else { n - 1 };
+            for k in 0..segments {
+                let (a, b) = (line.points[k], line.points[(k + 1) % n]);
+                let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                let t = if t.is_finite() { t } else { 0.0 };
+                best = best.min((a + (b - a) * t).distance(p));
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn forward_contour_is_the_inverse_contour() {
+        let mut rng = Rng::new(91);
+        let mut checked = 0;
+        for _ in 0..6 {
+            let patch = crate::inverse::tests::warped_patch(&mut rng, (3, 3), 0.1);
+            let solid = Solid2::try_from_patch(patch).unwrap();
+            let Some(forward) = forward_contour(&solid, 96, 1e-12) else {
+                continue;
+            };
+            checked += 1;
+            let sampled = sampled_contour(&solid, 96, 1e-12);
+            // Features below a cell are the grid's to resolve or miss: compare the rest.
+            let cell = (solid.domain().1 - solid.domain().0).max_element() / 96.0;
+            let big = |ls: Vec<Polyline>| -> Vec<Polyline> {
+                ls.into_iter()
+                    .filter(|l| !l.closed || l.signed_area().abs() > cell * cell)
+                    .collect()
+            };
+            let (forward, sampled) = (big(forward), big(sampled));
+            let info = |ls: &[Polyline]| -> Vec<(usize, bool, f64)> {
+                ls.iter()
+                    .map(|l| (l.points.len(), l.closed, l.signed_area()))
+                    .collect()
+            };
+            assert_eq!(
+                forward.len(),
+                sampled.len(),
+                "{:?} vs {:?}",
+                info(&forward),
+                info(&sampled)
+            );
+            // Vertices exactly on f = 0 as the inverse map sees it.
+            for p in forward.iter().flat_map(|l| &l.points) {
+                let v = solid.evaluate(*p, crate::inverse::Method::Clipping);
+                assert!(v.f.abs() < 1e-9, "f = {} at {p}", v.f);
+            }
+            // Hausdorff distance between the two polylines: both have their vertices on the curve,
+            // on different grids; between vertices each is a chord, and where the clipping makes a
+            // corner (where the zero set of S_ξ meets the domain's edge, at any angle) each cuts it
+            // within a cell or two.
+            let hausdorff = forward
+                .iter()
+                .flat_map(|l| &l.points)
+                .map(|&p| distance_to(&sampled, p))
+                .chain(
+                    sampled
+                        .iter()
+                        .flat_map(|l| &l.points)
+                        .map(|&p| distance_to(&forward, p)),
+                )
+                .fold(0.0, f64::max);
+            assert!(
+                hausdorff < 2.0 * cell,
+                "Hausdorff {hausdorff} vs cell {cell}"
+            );
+            // The solid on the left: the same signed area.
+            let area = |ls: &[Polyline]| ls.iter().map(Polyline::signed_area).sum::<f64>();
+            assert!(
+                (area(&forward) - area(&sampled)).abs() < 0.01 * area(&sampled).abs().max(1e-3)
+            );
+        }
+        assert!(checked >= 4, "{checked}");
+    }
 }

@@ -8,7 +8,7 @@ use core::ops::{Add, Mul, Sub};
 
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative, basis_array};
+use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative_into, basis_array};
 
 /// What a control point must do: be added, scaled by `f64`, and copied. Implemented for `f64` and the
 /// glam `f64` vectors, so one patch type serves scalar fields, `(x, y, ξ)` points and `(x, y, z, ξ)`.
@@ -279,8 +279,9 @@ impl<P: ControlPoint> Patch<P> {
     #[must_use]
     pub fn eval_with_partials(&self, u: f64, v: f64) -> (P, P, P) {
         let (n, m) = self.degree;
-        let (bu, du) = basis_and_derivative(n, u);
-        let (bv, dv) = basis_and_derivative(m, v);
+        let [mut bu, mut du, mut bv, mut dv] = [[0.0; MAX_DEGREE + 1]; 4];
+        basis_and_derivative_into(n, u, &mut bu, &mut du);
+        basis_and_derivative_into(m, v, &mut bv, &mut dv);
         let (mut s, mut su, mut sv) = (P::ZERO, P::ZERO, P::ZERO);
         for (i, row) in self.points.chunks_exact(m + 1).enumerate() {
             let (mut r, mut rv) = (P::ZERO, P::ZERO);
@@ -504,9 +505,10 @@ impl<P: ControlPoint> Volume<P> {
     #[must_use]
     pub fn eval_with_gradient(&self, u: f64, v: f64, w: f64) -> (P, [P; 3]) {
         let (n, m, l) = self.degree;
-        let (bu, du) = basis_and_derivative(n, u);
-        let (bv, dv) = basis_and_derivative(m, v);
-        let (bw, dw) = basis_and_derivative(l, w);
+        let [mut bu, mut du, mut bv, mut dv, mut bw, mut dw] = [[0.0; MAX_DEGREE + 1]; 6];
+        basis_and_derivative_into(n, u, &mut bu, &mut du);
+        basis_and_derivative_into(m, v, &mut bv, &mut dv);
+        basis_and_derivative_into(l, w, &mut bw, &mut dw);
         let (mut s, mut su, mut sv, mut sw) = (P::ZERO, P::ZERO, P::ZERO, P::ZERO);
         for (i, slab) in self.points.chunks_exact((m + 1) * (l + 1)).enumerate() {
             let (mut t, mut tv, mut tw) = (P::ZERO, P::ZERO, P::ZERO);

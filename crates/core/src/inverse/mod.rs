@@ -291,7 +291,7 @@ impl<const D: usize> InverseMap<D> {
             return self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats);
         }
         match self.fast_root(net, p, seed, stats) {
-            Some(u) => alloc::vec![u],
+            Some((u, _)) => alloc::vec![u],
             None => {
                 stats.fallback = true;
                 self.hybrid(net, p, accuracy, stats)
@@ -299,19 +299,34 @@ impl<const D: usize> InverseMap<D> {
         }
     }
 
-    /// Newton from `seed`, then from the seed table: the root if it lies in the closed box.
+    /// Newton from `seed`, then from the seed table: the root if it lies in the closed box, with
+    /// the evaluation there (which verifies it and gives `S_ξ` for free).
     fn fast_root<F: Forward<D>>(
         &self,
         net: &F,
         p: [f64; D],
         seed: Option<[f64; D]>,
         stats: &mut QueryStats,
-    ) -> Option<[f64; D]> {
+    ) -> Option<([f64; D], Eval<D>)> {
         let table = self.seeds.lookup(p);
         seed.into_iter().chain([table]).find_map(|start| {
-            self.newton(net, p, start, 12, stats)
-                .filter(|&u| inside_closed(u, 1e-12))
-                .map(clamp_unit)
+            let mut u = self.newton_steps(net, p, start, 12, stats)?;
+            for _ in 0..3 {
+                if !inside_closed(u, 1e-12) {
+                    return None;
+                }
+                u = clamp_unit(u);
+                let e = net.forward(u);
+                let r: [f64; D] = core::array::from_fn(|c| e.x[c] - p[c]);
+                if r.iter().all(|v| v.abs() <= self.scale * 1e-13) {
+                    return Some((u, e));
+                }
+                // Not yet at rounding level: one more step from this evaluation.
+                let delta = solve_jac(&e.jac, r)?;
+                stats.newton_steps += 1;
+                u = core::array::from_fn(|c| u[c] - delta[c]);
+            }
+            None
         })
     }
 
@@ -324,7 +339,7 @@ impl<const D: usize> InverseMap<D> {
     ) -> Vec<[f64; D]> {
         let g = self.guess(p);
         if inside_closed(g, 0.05) {
-            const HALF: f64 = 0.1;
+            const HALF: f64 = 0.02;
             let lo = g.map(|t| (t - HALF).clamp(0.0, 1.0));
             let hi = g.map(|t| (t + HALF).clamp(0.0, 1.0));
             let roots = self.clip(net, p, lo, hi, accuracy, stats);
@@ -398,6 +413,35 @@ impl<const D: usize> InverseMap<D> {
         None
     }
 
+    /// Newton's method without the closing evaluation: stops once a step is below 1e-7, where
+    /// quadratic convergence puts the new iterate near rounding level; the caller verifies the
+    /// residual with the evaluation it needs anyway (and steps on where that fails).
+    fn newton_steps<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        mut u: [f64; D],
+        max_steps: u32,
+        stats: &mut QueryStats,
+    ) -> Option<[f64; D]> {
+        for _ in 0..max_steps {
+            let e = net.forward(u);
+            let r: [f64; D] = core::array::from_fn(|c| e.x[c] - p[c]);
+            let delta = solve_jac(&e.jac, r)?;
+            stats.newton_steps += 1;
+            for c in 0..D {
+                u[c] -= delta[c];
+            }
+            if !u.iter().all(|t| t.abs() < 8.0) {
+                return None;
+            }
+            if delta.iter().all(|d| d.abs() <= 1e-7) {
+                return Some(u);
+            }
+        }
+        None
+    }
+
     /// The parameter used for `f` where `p` has no preimage: the root of the polynomial map extended
     /// past the box near it (Newton from the guess), else the spline guess itself.
     pub fn outside<F: Forward<D>>(&self, net: &F, p: [f64; D], stats: &mut QueryStats) -> [f64; D] {
@@ -431,7 +475,13 @@ impl<const D: usize> InverseMap<D> {
     ) -> Value<D> {
         if method == Method::Fast && self.injective {
             match self.fast_root(net, p, seed, stats) {
-                Some(u) => return self.value(net, p, &[u], stats),
+                Some((u, e)) => {
+                    return Value {
+                        f: clipped(e.xi, u),
+                        preimages: 1,
+                        u,
+                    };
+                }
                 None => {
                     // The seeds missed or landed outside: only whole-domain clipping can say
                     // whether a root lies inside.
@@ -549,14 +599,41 @@ fn forward_sites<const D: usize, F: Forward<D>>(
     (sites, values)
 }
 
-/// A regular grid of cells over the control net's bounds, each holding the parameters of the
-/// forward sample whose image fell nearest its centre (or the spline guess where none fell).
+/// A regular grid of cells over the control net's bounds, each holding the forward sample whose
+/// image fell nearest its centre (or the spline guess where none fell) with the inverse Jacobian
+/// there: the seed for `p` is the linearised inverse `u_s + J⁻¹(p − S(u_s))`.
 #[derive(Clone, Debug, PartialEq)]
 struct SeedTable<const D: usize> {
     lo: [f64; D],
     inv_cell: [f64; D],
     res: usize,
-    cells: Vec<[f64; D]>,
+    cells: Vec<Seed<D>>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Seed<const D: usize> {
+    u: [f64; D],
+    x: [f64; D],
+    /// Column `c` of `J⁻¹`; zero where `J` is singular (the seed is then `u` itself).
+    jinv: [[f64; D]; D],
+}
+
+impl<const D: usize> Seed<D> {
+    fn at<F: Forward<D>>(net: &F, u: [f64; D]) -> Self {
+        let e = net.forward(u);
+        let mut jinv = [[0.0; D]; D];
+        for c in 0..D {
+            let mut unit = [0.0; D];
+            unit[c] = 1.0;
+            if let Some(col) = solve_jac(&e.jac, unit) {
+                jinv[c] = col;
+            } else {
+                jinv = [[0.0; D]; D];
+                break;
+            }
+        }
+        Self { u, x: e.x, jinv }
+    }
 }
 
 impl<const D: usize> SeedTable<D> {
@@ -599,7 +676,7 @@ impl<const D: usize> SeedTable<D> {
                 *c = clamp_unit(guess.eval(table.centre(multi_index([res; D], flat))));
             }
         }
-        table.cells = cells;
+        table.cells = cells.into_iter().map(|u| Seed::at(net, u)).collect();
         table
     }
 
@@ -629,7 +706,20 @@ impl<const D: usize> SeedTable<D> {
     }
 
     fn lookup(&self, x: [f64; D]) -> [f64; D] {
-        self.cells[self.flat(self.cell(x))]
+        let s = &self.cells[self.flat(self.cell(x))];
+        let mut u = s.u;
+        for c in 0..D {
+            let d = x[c] - s.x[c];
+            for r in 0..D {
+                u[r] += s.jinv[c][r] * d;
+            }
+        }
+        // A far-off linearisation is no better than the sample itself.
+        if u.iter().all(|t| (-0.5..=1.5).contains(t)) {
+            u
+        } else {
+            s.u
+        }
     }
 }
 

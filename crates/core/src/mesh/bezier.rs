@@ -7,6 +7,8 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use glam::DVec3;
+#[cfg(test)]
+use glam::DVec4;
 
 use super::Mesh;
 use super::polygonize::{EdgeRoots, LinearRoots, SampleGrid, linear_root, polygonize};
@@ -510,5 +512,72 @@ mod tests {
         let grid = solid.mesh_grid(40).unwrap();
         assert_eq!(grid.dims, [42, 12, 7]);
         assert!((grid.step.x - 0.1).abs() < 1e-12 && grid.step.max_element() <= 0.1 + 1e-12);
+    }
+
+    /// A ball in a warped net: the forward path's vertices lie on `f = 0` as the inverse map sees it,
+    /// its normals are the inverse map's `−∇f`, and the sampled path (the oracle for folds) encloses
+    /// the same volume.
+    #[test]
+    fn warped_volume_forward_mesh_lies_on_the_inverse_zero_set() {
+        let mut rng = crate::testutil::Rng::new(81);
+        let base = ball(0.4, DVec3::ZERO, DVec3::ONE);
+        let volume = Volume::from_fn((2, 2, 2), |i, j, k| {
+            let p = base.volume().point(i, j, k);
+            let d = DVec3::new(
+                rng.range(-0.08, 0.08),
+                rng.range(-0.08, 0.08),
+                rng.range(-0.08, 0.08),
+            );
+            (p.truncate() + d).extend(p.w)
+        })
+        .unwrap();
+        let solid = Solid3::try_from_volume(volume).unwrap();
+        assert!(solid.inverse().unwrap().injective());
+        let mesh = solid.polygonize(24, 1e-12).unwrap();
+        mesh.check_closed_manifold().unwrap();
+        assert_eq!(mesh.euler_characteristic(), 2);
+        assert!(mesh.volume() > 0.0, "outward");
+        for (&p, &n) in mesh.positions.iter().zip(&mesh.normals) {
+            let v = solid.evaluate(p, crate::inverse::Method::Clipping);
+            assert_eq!(v.preimages, 1);
+            assert!(v.f.abs() < 1e-10, "f = {} at {p}", v.f);
+            let (_, g) = solid.f_with_gradient(p);
+            assert!((n + g.normalize()).length() < 1e-8, "{n} vs {g}");
+        }
+        let sampled = solid.polygonize_sampled(24).unwrap();
+        sampled.check_closed_manifold().unwrap();
+        let (a, b) = (mesh.volume(), sampled.volume());
+        assert!((a - b).abs() < 0.03 * a, "{a} vs {b}");
+    }
+
+    /// A net turned inside out (x reversed) keeps the mesh outward.
+    #[test]
+    fn an_inside_out_net_still_meshes_outward() {
+        let base = ball(0.4, DVec3::ZERO, DVec3::ONE);
+        let volume = Volume::from_fn((2, 2, 2), |i, j, k| {
+            let p = base.volume().point(i, j, k);
+            DVec4::new(1.0 - p.x, p.y, p.z, p.w)
+        })
+        .unwrap();
+        let solid = Solid3::try_from_volume(volume).unwrap();
+        assert!(solid.inverse().unwrap().injective());
+        let mesh = solid.polygonize(16, 1e-12).unwrap();
+        mesh.check_closed_manifold().unwrap();
+        let want = base.polygonize(16, 1e-12).unwrap().volume();
+        assert!(
+            (mesh.volume() - want).abs() < 1e-9,
+            "{} vs {want}",
+            mesh.volume()
+        );
+    }
+
+    /// A folded net has no certificate: the sampled path gives a closed mesh of the union.
+    #[test]
+    fn a_folded_net_meshes_by_sampling() {
+        let mut rng = crate::testutil::Rng::new(82);
+        let volume = crate::inverse::tests::warped_volume(&mut rng, (2, 2, 2), 0.45);
+        let solid = Solid3::try_from_volume(volume).unwrap();
+        let mesh = solid.polygonize(12, 1e-9).unwrap();
+        mesh.check_closed_manifold().unwrap();
     }
 }

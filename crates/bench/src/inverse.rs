@@ -1,0 +1,238 @@
+//! The space-mapping cases of issue 4: random points through the inverse map by each method, a
+//! warped 16 × 16-point patch contoured, and a warped volume polygonized.
+
+use bezsolid_core::contour::{forward_contour, sampled_contour};
+use bezsolid_core::inverse::{InverseMap, Method, QueryStats};
+use bezsolid_core::{INVERSE_ACCURACY, Patch, Solid2, Solid3, Volume};
+use glam::{DVec3, DVec4};
+
+use crate::{Clock, Row, bench_solid, time};
+
+/// A smooth warp of the unit square (or cube) that keeps the map injective: every point moves by at
+/// most `a` along each axis, with derivatives well below 1.
+fn warp(p: DVec3, a: f64) -> DVec3 {
+    use std::f64::consts::PI;
+    DVec3::new(
+        p.x + a * (PI * p.x).sin() * (2.0 * PI * p.y).sin(),
+        p.y + a * (PI * p.y).sin() * (2.0 * PI * (p.x + p.z)).cos(),
+        p.z + a * (PI * p.z).sin() * (2.0 * PI * p.x).sin(),
+    )
+}
+
+/// A patch with `points` control points per axis over the warped unit square; ξ a blob.
+#[must_use]
+pub fn warped_patch(points: usize) -> Solid2 {
+    let d = points - 1;
+    let patch = Patch::from_fn((d, d), |i, j| {
+        let (x, y) = (i as f64 / d as f64, j as f64 / d as f64);
+        let w = warp(DVec3::new(x, y, 0.0), 0.06);
+        let xi = 0.12 - (x - 0.5).powi(2) - (y - 0.45).powi(2) + 0.05 * (7.0 * x).sin();
+        DVec3::new(w.x, w.y, xi)
+    })
+    .unwrap_or_else(|_| unreachable!("a valid degree"));
+    Solid2::try_from_patch(patch).unwrap_or_else(|_| unreachable!("finite values"))
+}
+
+/// The benchmark volume ([`bench_solid`]) with its control points warped in space.
+#[must_use]
+pub fn warped_volume() -> Solid3 {
+    let base = bench_solid();
+    let v = base.volume();
+    let (n, m, l) = v.degree();
+    let volume = Volume::from_fn((n, m, l), |i, j, k| {
+        let p = v.point(i, j, k);
+        let w = warp(p.truncate(), 0.05);
+        DVec4::new(w.x, w.y, w.z, p.w)
+    })
+    .unwrap_or_else(|_| unreachable!("a valid degree"));
+    Solid3::try_from_volume(volume).unwrap_or_else(|_| unreachable!("finite values"))
+}
+
+/// xorshift64*: the same points natively and in wasm.
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Work per query: clipping passes, Newton steps, fallbacks.
+#[derive(Default)]
+struct Histogram {
+    passes: [u64; 6],
+    total_passes: u64,
+    newton: u64,
+    fallbacks: u64,
+    queries: u64,
+    preimages: u64,
+}
+
+impl Histogram {
+    fn add(&mut self, s: &QueryStats, preimages: usize) {
+        let bucket = match s.clip.passes {
+            0 => 0,
+            1..=2 => 1,
+            3..=4 => 2,
+            5..=8 => 3,
+            9..=32 => 4,
+            _ => 5,
+        };
+        self.passes[bucket] += 1;
+        self.total_passes += u64::from(s.clip.passes);
+        self.newton += u64::from(s.newton_steps);
+        self.fallbacks += u64::from(s.fallback);
+        self.queries += 1;
+        self.preimages += preimages as u64;
+    }
+
+    fn note(&self) -> String {
+        let q = self.queries.max(1) as f64;
+        let pct = |c: u64| 100.0 * c as f64 / q;
+        format!(
+            "clipping passes per query: mean {:.2}; 0: {:.1}%, 1–2: {:.1}%, 3–4: {:.1}%, 5–8: {:.1}%, \
+             9–32: {:.1}%, >32: {:.1}%; Newton steps per query {:.2}; fallbacks {:.2}%; preimages per \
+             query {:.3}",
+            self.total_passes as f64 / q,
+            pct(self.passes[0]),
+            pct(self.passes[1]),
+            pct(self.passes[2]),
+            pct(self.passes[3]),
+            pct(self.passes[4]),
+            pct(self.passes[5]),
+            self.newton as f64 / q,
+            pct(self.fallbacks),
+            self.preimages as f64 / q,
+        )
+    }
+}
+
+/// Each method over the same random points of the image (`p = S(u)`, `u` uniform): one timed pass.
+fn points_case<const D: usize, F: bezsolid_core::inverse::Forward<D>>(
+    clock: &mut dyn Clock,
+    case: &str,
+    net: &F,
+    map: &InverseMap<D>,
+    count: usize,
+) -> Vec<Row> {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let points: Vec<[f64; D]> = (0..count)
+        .map(|_| net.forward(core::array::from_fn(|_| rng.unit())).x)
+        .collect();
+    let names = [
+        (
+            Method::Clipping,
+            "bezsolid: Bézier clipping over the whole domain",
+        ),
+        (
+            Method::Hybrid,
+            "bezsolid: the paper's hybrid (spline guess, clipping in a box, then whole domain)",
+        ),
+        (
+            Method::Fast,
+            "bezsolid: fast path (seed table + Newton, verified; hybrid fallback)",
+        ),
+    ];
+    let mut rows = Vec::new();
+    for (method, who) in names {
+        let mut hist = Histogram::default();
+        let t0 = clock.now_ms();
+        let mut checksum = 0.0;
+        for p in &points {
+            let mut stats = QueryStats::default();
+            let v = map.f(net, *p, method, INVERSE_ACCURACY, &mut stats);
+            checksum += v.f;
+            hist.add(&stats, v.preimages);
+        }
+        let ms = clock.now_ms() - t0;
+        assert!(checksum.is_finite());
+        rows.push(Row {
+            case: case.into(),
+            who: who.into(),
+            n: count,
+            ms,
+            runs: 1,
+            extra: count as f64 / (ms / 1000.0),
+            note: hist.note(),
+        });
+    }
+    rows
+}
+
+/// The cases of issue 4.
+pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let mut rows = Vec::new();
+    let patch = warped_patch(4);
+    let map = patch
+        .inverse()
+        .unwrap_or_else(|| unreachable!("a warped net"));
+    let count = if quick { 5_000 } else { 1_000_000 };
+    rows.extend(points_case(
+        clock,
+        "inverse map: random points in a warped bicubic patch",
+        patch.patch(),
+        map,
+        count,
+    ));
+    let volume = warped_volume();
+    let map = volume
+        .inverse()
+        .unwrap_or_else(|| unreachable!("a warped net"));
+    let count = if quick { 1_000 } else { 1_000_000 };
+    rows.extend(points_case(
+        clock,
+        "inverse map: random points in a warped degree-(4,4,4) volume",
+        volume.volume(),
+        map,
+        count,
+    ));
+
+    let big = warped_patch(16);
+    let res = if quick { 128 } else { 512 };
+    let (ms, runs, lines) = time(clock, budget, || {
+        forward_contour(&big, res, 1e-9).unwrap_or_else(|| unreachable!("certified injective"))
+    });
+    let contour = "contour of a warped 16×16-point patch";
+    rows.push(Row {
+        case: contour.into(),
+        who: "bezsolid: forward-mapped (parameter-space contour, vertices mapped)".into(),
+        n: res,
+        ms,
+        runs,
+        extra: lines.iter().map(|l| l.points.len()).sum::<usize>() as f64,
+        note: String::new(),
+    });
+    let (ms, runs, lines) = time(clock, budget, || sampled_contour(&big, res, 1e-9));
+    rows.push(Row {
+        case: contour.into(),
+        who: "bezsolid: inverse path (seeded Newton at every sample)".into(),
+        n: res,
+        ms,
+        runs,
+        extra: lines.iter().map(|l| l.points.len()).sum::<usize>() as f64,
+        note: String::new(),
+    });
+
+    let sizes: &[usize] = if quick { &[20] } else { &[64, 128] };
+    for &n in sizes {
+        let (ms, runs, mesh) = time(clock, budget, || {
+            volume
+                .polygonize(n, 1e-9)
+                .unwrap_or_else(|_| unreachable!("valid arguments"))
+        });
+        rows.push(Row {
+            case: "polygonize a warped volume (space mapping)".into(),
+            who: "bezsolid: forward-mapped (parameter-space mesh, vertices mapped)".into(),
+            n,
+            ms,
+            runs,
+            extra: mesh.triangle_count() as f64,
+            note: String::new(),
+        });
+    }
+    rows
+}
