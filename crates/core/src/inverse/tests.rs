@@ -334,3 +334,34 @@ fn the_default_guess_is_the_better_one_by_measurement() {
     std::println!("3D guess error: φ = r {linear:.2e}, φ = r³ {cubic:.2e}");
     assert!(cubic < linear);
 }
+
+/// The fold of `x(u) = 3u − 2.5u²` (degree (2, 1), `y = v`): at `x = 0.9` the two preimages meet in a
+/// double root at `u = 0.6`; at `u = 0.5` a simple root sits on the seam of the first split. Each is
+/// one root, found without hitting the caps.
+#[test]
+fn tangential_and_seam_roots_are_single() {
+    let xs = [0.0, 1.5, 0.5];
+    let net = Patch::from_fn((2, 1), |i, j| DVec3::new(xs[i], j as f64, 0.5)).unwrap();
+    let map = InverseMap::new(&net);
+    assert!(!map.injective());
+    for p in [[0.9, 0.5], [0.9, 0.0], [0.9, 1.0]] {
+        let mut stats = QueryStats::default();
+        let roots = map.preimages(&net, p, Method::Clipping, 1e-12, &mut stats);
+        assert!(!stats.clip.capped, "{p:?}: {stats:?}");
+        // One root, found to about the square root of the accuracy (a double root).
+        assert_eq!(roots.len(), 1, "{p:?}: {roots:?}");
+        assert!((roots[0][0] - 0.6).abs() < 1e-5 && (roots[0][1] - p[1]).abs() < 1e-9);
+    }
+    // x(0.5) = x(0.7) = 0.875: two simple roots, the first on the seam u = 0.5, each once.
+    let mut stats = QueryStats::default();
+    let roots = map.preimages(&net, [0.875, 0.5], Method::Clipping, 1e-12, &mut stats);
+    assert!(!stats.clip.capped);
+    assert_eq!(roots.len(), 2, "{roots:?}");
+    for u in [0.5, 0.7] {
+        assert!(
+            roots
+                .iter()
+                .any(|r| (r[0] - u).abs() < 1e-12 && (r[1] - 0.5).abs() < 1e-12)
+        );
+    }
+}
