@@ -272,6 +272,8 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
             "points/s"
         } else if case.starts_with("contour") {
             "vertices"
+        } else if case.starts_with("build the inverse map") {
+            "certified injective (1 = yes)"
         } else {
             "triangles"
         };
@@ -296,8 +298,10 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
                 }
                 _ => "–".to_owned(),
             };
-            let extra = if eval {
+            let extra = if eval && r.extra < 1e7 {
                 format!("{:.3} M", r.extra / 1e6)
+            } else if eval {
+                format!("{:.0} M", r.extra / 1e6)
             } else {
                 format!("{:.0}", r.extra)
             };

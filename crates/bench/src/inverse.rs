@@ -191,7 +191,34 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
         count,
     ));
 
+    // What a space-mapping edit costs before anything is drawn: the spline fit, the injectivity
+    // certificate and the seed table.
+    let build = "build the inverse map after an edit (spline, certificate, seed table)";
+    let small = warped_patch(4);
     let big = warped_patch(16);
+    for (n, net) in [(4, small.patch()), (16, big.patch())] {
+        let (ms, runs, map) = time(clock, budget, || InverseMap::new(net));
+        rows.push(Row {
+            case: build.into(),
+            who: format!("bezsolid: patch, {n}×{n} points"),
+            n,
+            ms,
+            runs,
+            extra: f64::from(u8::from(map.injective())),
+            note: String::new(),
+        });
+    }
+    let (ms, runs, map) = time(clock, budget, || InverseMap::new(volume.volume()));
+    rows.push(Row {
+        case: build.into(),
+        who: "bezsolid: volume, 5×5×5 points".into(),
+        n: 5,
+        ms,
+        runs,
+        extra: f64::from(u8::from(map.injective())),
+        note: String::new(),
+    });
+
     let res = if quick { 128 } else { 512 };
     let (ms, runs, lines) = time(clock, budget, || {
         forward_contour(&big, res, 1e-9).unwrap_or_else(|| unreachable!("certified injective"))

@@ -173,8 +173,9 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows
 }
 
+/// The wasm entry point `cargo xtask bench` calls from node.
 #[cfg(target_arch = "wasm32")]
-mod wasm {
+pub mod wasm {
     use super::{Clock, suite};
     use wasm_bindgen::prelude::*;
 

@@ -206,7 +206,7 @@ pub struct InverseMap<const D: usize> {
     guess: Spline<D>,
     injective: bool,
     seeds: SeedTable<D>,
-    /// The largest extent of the control net, for spatial tolerances.
+    /// The largest extent or coordinate magnitude of the control net, for spatial tolerances.
     scale: f64,
 }
 
@@ -225,7 +225,10 @@ impl<const D: usize> InverseMap<D> {
             coefs: net.spatial(),
         };
         let (lo, hi) = bounds(&tensor.coefs);
-        let scale = (0..D).map(|c| hi[c] - lo[c]).fold(0.0f64, f64::max);
+        // Rounding in S(u) grows with the coordinates' magnitude, not only with the net's extent.
+        let scale = (0..D)
+            .map(|c| (hi[c] - lo[c]).max(lo[c].abs()).max(hi[c].abs()))
+            .fold(0.0f64, f64::max);
         // In 3D the triharmonic r³ guesses better than the biharmonic r (measured by
         // `the_default_guess_is_the_better_one_by_measurement`).
         let kernel = if D == 2 {
@@ -657,7 +660,8 @@ impl<const D: usize> SeedTable<D> {
             res,
             cells: Vec::new(),
         };
-        let k = 2 * res;
+        // About one sample per cell: the affine seeds of cells that get none come from the spline.
+        let k = res;
         for index in 0..k.pow(D as u32) {
             let idx = multi_index([k; D], index);
             let u: [f64; D] = core::array::from_fn(|a| (idx[a] as f64 + 0.5) / k as f64);

@@ -365,3 +365,29 @@ fn tangential_and_seam_roots_are_single() {
         );
     }
 }
+
+/// Far from the origin rounding in `S(u)` is larger than the net's extent suggests: the fast path
+/// still converges and verifies instead of falling back.
+#[test]
+fn far_from_the_origin_the_fast_path_still_converges() {
+    let mut rng = Rng::new(101);
+    let near = warped_patch(&mut rng, (3, 3), 0.05);
+    let far = Patch::from_fn((3, 3), |i, j| {
+        let p = near.point(i, j);
+        DVec3::new(p.x + 1e5, p.y - 3e5, p.z)
+    })
+    .unwrap();
+    let map = InverseMap::new(&far);
+    assert!(map.injective());
+    let mut fallbacks = 0;
+    for _ in 0..100 {
+        let u: [f64; 2] = random_u(&mut rng);
+        let p = far.forward(u).x;
+        let mut stats = QueryStats::default();
+        let v = map.f(&far, p, Method::Fast, 1e-12, &mut stats);
+        fallbacks += usize::from(stats.fallback);
+        assert_eq!(v.preimages, 1);
+        assert!(dist(v.u, u) < 1e-9);
+    }
+    assert_eq!(fallbacks, 0);
+}
