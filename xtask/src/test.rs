@@ -76,13 +76,15 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
             }),
         ),
         (
-            "core is no_std (wasm32, no default features)",
+            "core is no_std (wasm32, no default features, with the link codec)",
             Box::new(move || {
                 run(cargo_in().args([
                     "build",
                     "-p",
                     "bezsolid-core",
                     "--no-default-features",
+                    "--features",
+                    "link",
                     "--target",
                     setup::WASM_TARGET,
                 ]))

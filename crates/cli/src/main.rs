@@ -2,13 +2,15 @@
 //!
 //! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a patch
 //! model as SVG, `mesh` the closed boundary mesh of a volume model as STL, OBJ or PLY, and `hf` either
-//! as HyperFun; `link` and `bench` come with later work and answer with a clear error until then.
+//! as HyperFun, and `link` prints the share link of a model; `bench` is `cargo xtask bench` for now.
+//! Wherever a command takes a MODEL, a share link (the whole URL or its fragment) works too.
 //! Errors go to stderr with a non-zero exit; bad input never panics.
 
 mod args;
 mod contour;
 mod eval;
 mod hf;
+mod link;
 mod mesh;
 
 use std::path::Path;
@@ -31,11 +33,12 @@ commands (DESIGN §5):
                                    longest side, default 64; vertices refined to |f| <= A,
                                    default 1e-9)
   hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum)
-  link MODEL                       print the share link                (not in this build yet)
-  bench                            benchmarks                          (not in this build yet)
+  link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
+                                   the page of `cargo xtask serve`) + #v1.<model>
+  bench                            benchmarks                          (run `cargo xtask bench`)
 
-MODEL is a model file (.bsolid.json) or a preset: preset:fig9, preset:blob, preset:ring,
-preset:fish.
+MODEL is a model file (.bsolid.json), a share link (the whole URL or its #v1. fragment; quote it
+in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish.
 
 options:
   -h, --help       this text
@@ -64,8 +67,11 @@ fn main() -> ExitCode {
         Some("contour") => report(contour::run(&args[1..])),
         Some("mesh") => report(mesh::run(&args[1..])),
         Some("hf") => report(hf::run(&args[1..])),
-        Some(cmd @ ("link" | "bench")) => {
-            eprintln!("bezsolid: `{cmd}` is not available in this build yet");
+        Some("link") => report(link::run(&args[1..])),
+        Some("bench") => {
+            eprintln!(
+                "bezsolid: `bench` is not in this build; run `cargo xtask bench` in the repository"
+            );
             ExitCode::FAILURE
         }
         Some(other) => {
@@ -85,16 +91,27 @@ fn report(result: Result<()>) -> ExitCode {
     }
 }
 
-/// Reads and validates a model file, or names a preset (`preset:NAME`).
+/// Reads and validates a model file, a share link, or a preset (`preset:NAME`).
 pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
     if let Some(name) = arg.strip_prefix("preset:") {
-        let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
-        return Preset::from_name(name)
-            .map(Preset::solid)
-            .with_context(|| format!("no preset `{name}`; the presets are {}", names.join(", ")));
+        return preset(name).map(Preset::solid);
     }
-    if arg.contains("#v1.") {
-        bail!("share links are not supported by this build yet; pass a model file");
+    if is_link(arg) {
+        return bezsolid_core::link::decode(arg).context("cannot open the share link");
+    }
+    load_file(arg)?.to_solid().with_context(|| arg.to_string())
+}
+
+/// The model file named by `arg` (a path, a share link or a preset), not yet validated.
+pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
+    if let Some(name) = arg.strip_prefix("preset:") {
+        return Ok(match preset(name)?.solid() {
+            ModelSolid::Patch(s) => ModelFile::from_solid2(&s),
+            ModelSolid::Volume(s) => ModelFile::from_solid3(&s),
+        });
+    }
+    if is_link(arg) {
+        return bezsolid_core::link::decode_file(arg).context("cannot open the share link");
     }
     let path = Path::new(arg);
     let size = std::fs::metadata(path)
@@ -104,7 +121,24 @@ pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
         bail!("{arg} is {size} bytes; a model file is at most {MAX_MODEL_BYTES}");
     }
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {arg}"))?;
-    let file: ModelFile =
-        serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))?;
-    file.to_solid().with_context(|| arg.to_string())
+    serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))
+}
+
+fn preset(name: &str) -> Result<Preset> {
+    let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
+    Preset::from_name(name)
+        .with_context(|| format!("no preset `{name}`; the presets are {}", names.join(", ")))
+}
+
+/// Whether `arg` is a share link rather than a path: it has a fragment, is a web address, or is a
+/// bare `v<N>.` fragment that names no file.
+fn is_link(arg: &str) -> bool {
+    arg.contains('#')
+        || arg.starts_with("http://")
+        || arg.starts_with("https://")
+        || (arg.starts_with('v')
+            && arg[1..]
+                .split_once('.')
+                .is_some_and(|(n, _)| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+            && !Path::new(arg).exists())
 }

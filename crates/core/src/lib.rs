@@ -29,6 +29,8 @@
 //! - [`hyperfun`]: HyperFun export.
 //! - [`presets`]: Fig. 9, a blob, a ring and a fish.
 //! - [`model`]: the model file of DESIGN §5 (serde derives behind the `serde` feature).
+//! - `link` (feature `link`): share links, `#v1.` + base64url(deflate(postcard(model))), decoded
+//!   with caps and typed errors.
 //!
 //! ```
 //! use bezsolid_core::{Solid2, contour::{contour_grid, Grid2}};
@@ -48,6 +50,7 @@
 //! ## Features
 //!
 //! - `serde`: `Serialize`/`Deserialize` for the [`model`] types, in the model file's JSON shape.
+//! - `link`: the share-link codec (`link`), with `postcard`, `miniz_oxide` and `base64`.
 //! - `std` (default): `std::error::Error` is implemented through `core::error::Error` either way; `std`
 //!   makes glam use the platform's math instead of `libm`. Without it the crate is `no_std` + `alloc`
 //!   (CI builds it so for `wasm32-unknown-unknown`).
@@ -63,6 +66,8 @@ pub mod contour;
 mod curve;
 pub mod hyperfun;
 pub mod inverse;
+#[cfg(feature = "link")]
+pub mod link;
 mod math;
 pub mod mesh;
 pub mod model;

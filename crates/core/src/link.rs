@@ -1,0 +1,503 @@
+//! Share links (DESIGN §5): a model in a URL fragment, `#v1.` + base64url(deflate(postcard(model))).
+//!
+//! The fragment never reaches a server, and a `v1` link opens forever: the wire layout below is a
+//! contract, like the model file. Links are untrusted input, so [`decode`] caps the text
+//! ([`MAX_LINK_CHARS`]) and the inflated data ([`MAX_INFLATED_BYTES`]), rejects trailing bytes, and
+//! validates the model as a model file is validated; every failure is a [`LinkError`].
+//!
+//! The postcard layout of `v1` (all integers as postcard varints, `f64` as 8 little-endian bytes):
+//!
+//! - variant `0`, a patch: `degree: [u8; 2]`, then three sequences of `(n + 1)(m + 1)` numbers: all
+//!   `x`, all `y`, all `ξ`, each in the model file's point order;
+//! - variant `1`, a volume: `degree: [u8; 3]`, then four sequences: `x`, `y`, `z`, `ξ`.
+//!
+//! One sequence per coordinate (rather than per point) puts like numbers together, which deflate
+//! turns into shorter links: the paper's Fig. 9 model gives a link of about 100 characters.
+//!
+//! ```
+//! use bezsolid_core::{Solid2, link, model::{ModelFile, ModelSolid}};
+//!
+//! let solid = Solid2::fig9();
+//! let fragment = link::encode(&ModelFile::from_solid2(&solid)).unwrap();
+//! assert!(fragment.starts_with("#v1."));
+//! let url = format!("https://example.invalid/{fragment}");
+//! assert_eq!(link::decode(&url), Ok(ModelSolid::Patch(solid)));
+//! assert!(link::decode("#v1.AAAA").is_err());
+//! ```
+
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+
+use base64::Engine as _;
+use base64::engine::general_purpose::URL_SAFE_NO_PAD;
+use serde::{Deserialize, Serialize};
+
+use crate::model::{ModelError, ModelFile, ModelSolid, SolidSpec};
+
+/// The version tag this build writes, with its separator.
+pub const PREFIX: &str = "v1.";
+/// The longest fragment read or written, in characters (without the `#`).
+pub const MAX_LINK_CHARS: usize = 8 * 1024;
+/// The most bytes a link may inflate to.
+pub const MAX_INFLATED_BYTES: usize = 64 * 1024;
+/// The deflate level used for links (miniz's best).
+const LEVEL: u8 = 10;
+
+/// The postcard layout of a `v1` link. Variant order and field order are the contract.
+#[derive(Serialize, Deserialize)]
+enum Wire {
+    Patch {
+        degree: [u8; 2],
+        x: Vec<f64>,
+        y: Vec<f64>,
+        xi: Vec<f64>,
+    },
+    Volume {
+        degree: [u8; 3],
+        x: Vec<f64>,
+        y: Vec<f64>,
+        z: Vec<f64>,
+        xi: Vec<f64>,
+    },
+}
+
+/// Why a link could not be made or opened.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LinkError {
+    /// There is no fragment, or it is empty.
+    Empty,
+    /// The fragment is longer than [`MAX_LINK_CHARS`] (or, when encoding, the model would be).
+    TooLong {
+        /// Its length in characters.
+        len: usize,
+    },
+    /// The fragment does not start with a version tag such as `v1.`.
+    NotALink,
+    /// A version this build does not read (the tag, e.g. `v2`).
+    Version(String),
+    /// The data is not base64url.
+    Base64,
+    /// The data does not inflate: the link is damaged or cut off.
+    Inflate,
+    /// The data inflates past [`MAX_INFLATED_BYTES`].
+    TooLarge,
+    /// The inflated data is not a model in the `v1` layout.
+    Decode,
+    /// The data goes on after the model.
+    Trailing(usize),
+    /// The model is invalid (as a model file would be).
+    Model(ModelError),
+}
+
+impl fmt::Display for LinkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Empty => write!(f, "the link holds no model (nothing after '#')"),
+            Self::TooLong { len } => write!(
+                f,
+                "the link's model is {len} characters long; a link holds at most {MAX_LINK_CHARS} (save a model file instead)"
+            ),
+            Self::NotALink => write!(
+                f,
+                "not a bezsolid link: the part after '#' must start with {PREFIX:?}"
+            ),
+            Self::Version(v) => write!(
+                f,
+                "the link is of version {v:?}, which this build cannot open (it reads {:?})",
+                PREFIX.trim_end_matches('.')
+            ),
+            Self::Base64 => write!(
+                f,
+                "the link is damaged: it has characters that a link cannot contain"
+            ),
+            Self::Inflate => write!(f, "the link is damaged or cut off: its data is incomplete"),
+            Self::TooLarge => write!(
+                f,
+                "the link's data unpacks to more than {MAX_INFLATED_BYTES} bytes; it is refused"
+            ),
+            Self::Decode => write!(f, "the link is damaged: its data is not a bezsolid model"),
+            Self::Trailing(n) => write!(f, "the link is damaged: {n} stray bytes follow the model"),
+            Self::Model(e) => write!(f, "the link's model is invalid: {e}"),
+        }
+    }
+}
+
+impl core::error::Error for LinkError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Self::Model(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<ModelError> for LinkError {
+    fn from(e: ModelError) -> Self {
+        Self::Model(e)
+    }
+}
+
+fn columns<const N: usize>(points: &[[f64; N]]) -> [Vec<f64>; N] {
+    core::array::from_fn(|c| points.iter().map(|p| p[c]).collect())
+}
+
+fn rows<const N: usize>(cols: [Vec<f64>; N]) -> Result<Vec<[f64; N]>, LinkError> {
+    let len = cols[0].len();
+    if cols.iter().any(|c| c.len() != len) {
+        return Err(LinkError::Decode);
+    }
+    Ok((0..len)
+        .map(|k| core::array::from_fn(|c| cols[c][k]))
+        .collect())
+}
+
+/// A degree as a byte; a degree past 255 becomes 0, which the reader refuses (degrees are 1 to 16).
+fn byte(d: usize) -> u8 {
+    u8::try_from(d).unwrap_or(0)
+}
+
+/// The fragment `#v1.…` that carries `model`.
+///
+/// # Errors
+///
+/// [`LinkError::TooLong`] when the model does not fit in [`MAX_LINK_CHARS`] (a large net of
+/// arbitrary numbers: share the model file instead).
+pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
+    let wire = match &model.solid {
+        SolidSpec::Patch { degree, points } => {
+            let [x, y, xi] = columns(points);
+            Wire::Patch {
+                degree: degree.map(byte),
+                x,
+                y,
+                xi,
+            }
+        }
+        SolidSpec::Volume { degree, points } => {
+            let [x, y, z, xi] = columns(points);
+            Wire::Volume {
+                degree: degree.map(byte),
+                x,
+                y,
+                z,
+                xi,
+            }
+        }
+    };
+    // Serialising into a Vec cannot fail for this type.
+    let bytes = postcard::to_allocvec(&wire).map_err(|_| LinkError::Decode)?;
+    let packed = miniz_oxide::deflate::compress_to_vec(&bytes, LEVEL);
+    let mut out = String::with_capacity(1 + PREFIX.len() + packed.len() * 4 / 3 + 4);
+    out.push('#');
+    out.push_str(PREFIX);
+    URL_SAFE_NO_PAD.encode_string(&packed, &mut out);
+    let len = out.len() - 1;
+    if len > MAX_LINK_CHARS {
+        return Err(LinkError::TooLong { len });
+    }
+    Ok(out)
+}
+
+/// The model file carried by a link: the whole URL, the fragment with its `#`, or the fragment
+/// alone. The model is not yet validated (see [`decode`]).
+///
+/// # Errors
+///
+/// Any [`LinkError`] but [`LinkError::Model`].
+pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
+    let fragment = match link.split_once('#') {
+        Some((_, f)) => f,
+        // A web address without a fragment carries no model.
+        None if link.contains("://") => "",
+        None => link,
+    }
+    .trim();
+    if fragment.is_empty() {
+        return Err(LinkError::Empty);
+    }
+    if fragment.len() > MAX_LINK_CHARS {
+        return Err(LinkError::TooLong {
+            len: fragment.len(),
+        });
+    }
+    let Some(data) = fragment.strip_prefix(PREFIX) else {
+        // `v<digits>.` is a link of another version; anything else is not a link.
+        return Err(match fragment.split_once('.') {
+            Some((tag, _))
+                if tag.len() > 1
+                    && tag.len() <= 12
+                    && tag.starts_with('v')
+                    && tag[1..].bytes().all(|b| b.is_ascii_digit()) =>
+            {
+                LinkError::Version(tag.into())
+            }
+            _ => LinkError::NotALink,
+        });
+    };
+    // A stray character is damage; a length or last symbol that no encoder makes is a cut.
+    let packed = URL_SAFE_NO_PAD.decode(data).map_err(|e| match e {
+        base64::DecodeError::InvalidByte(..) => LinkError::Base64,
+        _ => LinkError::Inflate,
+    })?;
+    let bytes = miniz_oxide::inflate::decompress_to_vec_with_limit(&packed, MAX_INFLATED_BYTES)
+        .map_err(|e| match e.status {
+            miniz_oxide::inflate::TINFLStatus::HasMoreOutput => LinkError::TooLarge,
+            _ => LinkError::Inflate,
+        })?;
+    let (wire, rest) = postcard::take_from_bytes::<Wire>(&bytes).map_err(|_| LinkError::Decode)?;
+    if !rest.is_empty() {
+        return Err(LinkError::Trailing(rest.len()));
+    }
+    let solid = match wire {
+        Wire::Patch { degree, x, y, xi } => SolidSpec::Patch {
+            degree: degree.map(usize::from),
+            points: rows([x, y, xi])?,
+        },
+        Wire::Volume {
+            degree,
+            x,
+            y,
+            z,
+            xi,
+        } => SolidSpec::Volume {
+            degree: degree.map(usize::from),
+            points: rows([x, y, z, xi])?,
+        },
+    };
+    Ok(ModelFile {
+        format: crate::model::FORMAT.into(),
+        version: crate::model::VERSION,
+        solid,
+    })
+}
+
+/// The solid carried by a link (see [`decode_file`]), validated as a model file is.
+///
+/// # Errors
+///
+/// Any [`LinkError`].
+pub fn decode(link: &str) -> Result<ModelSolid, LinkError> {
+    Ok(decode_file(link)?.to_solid()?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::presets::Preset;
+    use crate::{Solid2, Solid3};
+    use alloc::format;
+    use alloc::string::ToString;
+    use alloc::vec;
+    use glam::{DVec2, DVec3};
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn file(solid: &ModelSolid) -> ModelFile {
+        match solid {
+            ModelSolid::Patch(s) => ModelFile::from_solid2(s),
+            ModelSolid::Volume(s) => ModelFile::from_solid3(s),
+        }
+    }
+
+    /// A patch with arbitrary (non-round) numbers everywhere, space-mapped.
+    fn awkward_patch() -> Solid2 {
+        let mut s = Solid2::fig9();
+        s.set_point(1, 1, DVec2::new(0.612_345_678_901_234_5, 0.387_654_321))
+            .unwrap();
+        s.set_xi(0, 2, -0.123_456_789_012_345_67).unwrap();
+        s.set_xi(2, 0, f64::MIN_POSITIVE).unwrap();
+        s.set_xi(2, 1, -0.0).unwrap();
+        s
+    }
+
+    #[test]
+    fn links_round_trip_every_preset_and_mapped_nets_exactly() {
+        let mut solids: Vec<ModelSolid> = Preset::ALL.iter().map(|p| p.solid()).collect();
+        solids.push(ModelSolid::Patch(awkward_patch()));
+        let mut s3 = Solid3::regular(
+            (2, 1, 3),
+            DVec3::ZERO,
+            DVec3::new(1.0, 2.0, 3.0),
+            |i, j, k| (i * 7 + j * 3 + k) as f64 / 9.0 - 0.4,
+        )
+        .unwrap();
+        s3.set_point(1, 0, 2, DVec3::new(0.45, 0.1, 2.2)).unwrap();
+        solids.push(ModelSolid::Volume(s3));
+        for solid in solids {
+            let f = file(&solid);
+            let link = encode(&f).unwrap();
+            assert!(link.starts_with("#v1."));
+            assert!(
+                link[1..]
+                    .bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b"-_.".contains(&b)),
+                "URL-safe: {link}"
+            );
+            // Bit-exact: the model file read back is the same, -0.0 and subnormals included.
+            let back = decode_file(&link).unwrap();
+            assert_eq!(back, f);
+            let bits = |m: &ModelFile| format!("{:?}", m.solid).replace("-0.0", "NEG0");
+            assert_eq!(bits(&back), bits(&f));
+            assert_eq!(decode(&link).unwrap(), solid);
+            // The whole URL and the bare fragment work too.
+            assert_eq!(
+                decode(&format!("http://127.0.0.1:8080/?backend=webgl2{link}")).unwrap(),
+                solid
+            );
+            assert_eq!(decode(&link[1..]).unwrap(), solid);
+        }
+    }
+
+    #[test]
+    fn typical_links_are_short() {
+        // The issue: a typical model's link stays under 2,000 characters.
+        for preset in Preset::ALL {
+            let link = encode(&file(&preset.solid())).unwrap();
+            assert!(link.len() < 2000, "{}: {} chars", preset.name(), link.len());
+        }
+        let fig9 = encode(&file(&Preset::ALL[0].solid())).unwrap();
+        assert!(fig9.len() < 120, "{fig9}");
+        // A 4×4 patch with every ξ and one point dragged to arbitrary numbers.
+        let mut s = Solid2::regular((3, 3), DVec2::ZERO, DVec2::ONE, |i, j| {
+            (i as f64 * 0.377 + j as f64 * 0.911).sin()
+        })
+        .unwrap();
+        s.set_point(2, 1, DVec2::new(0.7123, 0.3345)).unwrap();
+        let link = encode(&ModelFile::from_solid2(&s)).unwrap();
+        assert!(link.len() < 600, "{} chars", link.len());
+    }
+
+    #[test]
+    fn hostile_links_give_their_error() {
+        let good = encode(&file(&Preset::ALL[0].solid())).unwrap();
+        let data = &good[4..];
+        let cases: Vec<(String, LinkError)> = vec![
+            (String::new(), LinkError::Empty),
+            ("https://x.invalid/#".into(), LinkError::Empty),
+            ("https://x.invalid/?v1.AAAA".into(), LinkError::Empty),
+            ("#hello".into(), LinkError::NotALink),
+            ("#v.abc".into(), LinkError::NotALink),
+            ("#v2.AAAA".into(), LinkError::Version("v2".into())),
+            (
+                format!("#v1.{}", "A".repeat(MAX_LINK_CHARS)),
+                LinkError::TooLong {
+                    len: MAX_LINK_CHARS + 3,
+                },
+            ),
+            ("#v1.ab+c/".into(), LinkError::Base64),
+            ("#v1.A".into(), LinkError::Inflate),
+            (
+                format!("#v1.{}", &data[..data.len() / 2]),
+                LinkError::Inflate,
+            ),
+            ("#v1.".into(), LinkError::Inflate),
+        ];
+        for (link, expected) in cases {
+            assert_eq!(decode(&link), Err(expected.clone()), "{link}");
+            assert!(!expected.to_string().is_empty());
+        }
+    }
+
+    fn pack(wire: &Wire, extra: &[u8]) -> String {
+        let mut bytes = postcard::to_allocvec(wire).unwrap();
+        bytes.extend_from_slice(extra);
+        let mut out = String::from("#v1.");
+        URL_SAFE_NO_PAD.encode_string(miniz_oxide::deflate::compress_to_vec(&bytes, 6), &mut out);
+        out
+    }
+
+    #[test]
+    fn well_formed_links_with_bad_models_are_refused() {
+        let ok = Wire::Patch {
+            degree: [1, 1],
+            x: vec![0.0, 0.0, 1.0, 1.0],
+            y: vec![0.0, 1.0, 0.0, 1.0],
+            xi: vec![1.0; 4],
+        };
+        assert!(decode(&pack(&ok, &[])).is_ok());
+        assert_eq!(decode(&pack(&ok, &[0, 0])), Err(LinkError::Trailing(2)));
+        let bad = |wire: Wire| decode(&pack(&wire, &[]));
+        assert!(matches!(
+            bad(Wire::Patch {
+                degree: [1, 1],
+                x: vec![0.0, 0.0, 1.0, 1.0],
+                y: vec![0.0, 1.0, 0.0, 1.0],
+                xi: vec![f64::NAN; 4],
+            }),
+            Err(LinkError::Model(_))
+        ));
+        assert!(matches!(
+            bad(Wire::Patch {
+                degree: [17, 1],
+                x: vec![0.0; 36],
+                y: vec![0.0; 36],
+                xi: vec![0.0; 36],
+            }),
+            Err(LinkError::Model(_))
+        ));
+        assert_eq!(
+            bad(Wire::Patch {
+                degree: [1, 1],
+                x: vec![0.0; 4],
+                y: vec![0.0; 3],
+                xi: vec![0.0; 4],
+            }),
+            Err(LinkError::Decode)
+        );
+        // A bomb: a megabyte of zeros deflates to about a kilobyte.
+        let mut out = String::from("#v1.");
+        URL_SAFE_NO_PAD.encode_string(
+            miniz_oxide::deflate::compress_to_vec(&vec![0u8; 1 << 20], 10),
+            &mut out,
+        );
+        assert!(out.len() < MAX_LINK_CHARS);
+        assert_eq!(decode(&out), Err(LinkError::TooLarge));
+        // Random bytes that happen to inflate are still refused cleanly.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for len in 0..200 {
+            let bytes: Vec<u8> = (0..len)
+                .map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    state as u8
+                })
+                .collect();
+            let mut link = String::from("#v1.");
+            URL_SAFE_NO_PAD
+                .encode_string(miniz_oxide::deflate::compress_to_vec(&bytes, 1), &mut link);
+            assert!(decode(&link).is_err());
+            let mut raw = String::from("#v1.");
+            URL_SAFE_NO_PAD.encode_string(&bytes, &mut raw);
+            let _ = decode(&raw);
+        }
+    }
+
+    #[test]
+    fn models_too_large_for_a_link_say_so() {
+        // 17×17 points of arbitrary numbers: about 7 kB of doubles that deflate cannot shrink.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let points = (0..17 * 17)
+            .map(|_| [next(), next(), next() - 0.5])
+            .collect();
+        let model = ModelFile {
+            format: crate::model::FORMAT.into(),
+            version: crate::model::VERSION,
+            solid: SolidSpec::Patch {
+                degree: [16, 16],
+                points,
+            },
+        };
+        match encode(&model) {
+            Err(LinkError::TooLong { len }) => assert!(len > MAX_LINK_CHARS),
+            other => panic!("expected TooLong, got {other:?}"),
+        }
+    }
+}
