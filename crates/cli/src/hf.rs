@@ -13,7 +13,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     let text = match crate::load_model(model)? {
         ModelSolid::Patch(s) => solid2_hf(&s),
         ModelSolid::Volume(s) => solid3_hf(&s),
-    };
+    }?;
     std::fs::write(out, text).with_context(|| format!("cannot write {out}"))?;
     eprintln!("bezsolid: HyperFun model written to {out}");
     Ok(())

@@ -68,12 +68,34 @@ fn a_printed_link_opens_as_the_same_model_everywhere() {
             "{m}"
         );
     }
-    // And the contour and HyperFun exports.
+    // And the contour export.
     let dir = std::env::temp_dir().join(format!("bezsolid-link-{}", std::process::id()));
-    let (a, b) = (dir.join("a.hf"), dir.join("b.hf"));
-    stdout(&bezsolid(&["hf", model, "-o", a.to_str().unwrap()]));
-    stdout(&bezsolid(&["hf", link, "-o", b.to_str().unwrap()]));
-    assert_eq!(std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+    let (a, b) = (dir.join("a.svg"), dir.join("b.svg"));
+    stdout(&bezsolid(&[
+        "contour",
+        model,
+        "--res",
+        "64",
+        "-o",
+        a.to_str().unwrap(),
+    ]));
+    stdout(&bezsolid(&[
+        "contour",
+        link,
+        "--res",
+        "64",
+        "-o",
+        b.to_str().unwrap(),
+    ]));
+    let svg = std::fs::read(a).unwrap();
+    assert!(String::from_utf8_lossy(&svg).contains("<path"));
+    assert_eq!(svg, std::fs::read(b).unwrap());
+    // HyperFun cannot express a space mapping: refused with the reason, from the link as well.
+    let hf = dir.join("moved.hf");
+    let out = bezsolid(&["hf", link, "-o", hf.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("regular grid"));
+    assert!(!hf.exists());
 }
 
 #[test]

@@ -1,4 +1,5 @@
-//! HyperFun (`.hf`) export of regular-grid solids.
+//! HyperFun (`.hf`) export of regular-grid solids. A space-mapped solid (moved control points) is
+//! refused with [`SpaceMapped`]: its inverse map has no closed form that HyperFun could evaluate.
 //!
 //! The model is written as the explicit Bernstein sum in plain HyperFun arithmetic (`+ − * /` and the
 //! R-function intersection `&`, which HyperFun defines as `f1 + f2 − sqrt(f1² + f2²)`, the paper's), so
@@ -68,10 +69,32 @@ fn header(out: &mut String, what: &str) {
     );
 }
 
+/// Why a solid has no HyperFun export: its control points are not a regular grid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpaceMapped;
+
+impl core::fmt::Display for SpaceMapped {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "HyperFun export needs a regular grid of control points: this model is space-mapped \
+             (moved points), and its inverse map has no closed form in HyperFun"
+        )
+    }
+}
+
+impl core::error::Error for SpaceMapped {}
+
 /// The HyperFun model of a 2D solid: a function of `x[1], x[2]` (HyperFun models are 3D, so `x[3]` is
 /// unused and the solid is a prism along z).
-#[must_use]
-pub fn solid2_hf(solid: &Solid2) -> String {
+///
+/// # Errors
+///
+/// [`SpaceMapped`] for a space-mapped solid.
+pub fn solid2_hf(solid: &Solid2) -> Result<String, SpaceMapped> {
+    if solid.inverse().is_some() {
+        return Err(SpaceMapped);
+    }
     let (n, m) = solid.degree();
     let (min, max): (DVec2, DVec2) = solid.domain();
     let mut out = String::new();
@@ -95,13 +118,19 @@ pub fn solid2_hf(solid: &Solid2) -> String {
     }
     let _ = writeln!(out, "  s = {};", rows.join("\n    + "));
     let _ = writeln!(out, "  my_model = s & ((u*us) & (v*vs));\n}}");
-    out
+    Ok(out)
 }
 
 /// The HyperFun model of a 3D solid: the explicit Bernstein sum, with the equivalent
 /// `hfBezierVolume` call in a comment.
-#[must_use]
-pub fn solid3_hf(solid: &Solid3) -> String {
+///
+/// # Errors
+///
+/// [`SpaceMapped`] for a space-mapped solid.
+pub fn solid3_hf(solid: &Solid3) -> Result<String, SpaceMapped> {
+    if solid.inverse().is_some() {
+        return Err(SpaceMapped);
+    }
     let (n, m, l) = solid.degree();
     let (min, max): (DVec3, DVec3) = solid.domain();
     let xi = solid.xi_volume();
@@ -166,7 +195,7 @@ pub fn solid3_hf(solid: &Solid3) -> String {
     }
     let _ = writeln!(out, "  s = {};", slabs.join("\n    + "));
     let _ = writeln!(out, "  my_model = s & (((u*us) & (v*vs)) & (w*ws));\n}}");
-    out
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -338,7 +367,7 @@ mod tests {
             let ModelSolid::Volume(solid) = preset.solid() else {
                 panic!()
             };
-            let text = solid3_hf(&solid);
+            let text = solid3_hf(&solid).unwrap();
             assert!(text.contains("hfBezierVolume"));
             let (min, max) = solid.domain();
             for _ in 0..50 {
@@ -368,7 +397,7 @@ mod tests {
             |_, _| rng.range(-1.0, 1.0),
         )
         .unwrap();
-        let text = solid2_hf(&solid);
+        let text = solid2_hf(&solid).unwrap();
         for _ in 0..50 {
             let p = DVec2::new(rng.range(-1.2, 0.7), rng.range(1.8, 3.2));
             let got = run_hf(&text, [p.x, p.y, rng.range(-5.0, 5.0)]);
@@ -378,5 +407,18 @@ mod tests {
                 "{p}: {got} vs {want}"
             );
         }
+    }
+
+    #[test]
+    fn space_mapped_solids_are_refused() {
+        let mut s2 = Solid2::fig9();
+        s2.set_point(1, 1, glam::DVec2::new(0.6, 0.45)).unwrap();
+        assert_eq!(solid2_hf(&s2), Err(SpaceMapped));
+        let ModelSolid::Volume(mut s3) = Preset::Blob.solid() else {
+            unreachable!()
+        };
+        s3.set_point(1, 1, 1, DVec3::new(0.1, 0.0, 0.2)).unwrap();
+        assert_eq!(solid3_hf(&s3), Err(SpaceMapped));
+        assert!(alloc::string::ToString::to_string(&SpaceMapped).contains("regular grid"));
     }
 }

@@ -2,9 +2,9 @@
 //! wheel and keys; and the [`Frame`] it draws, as data (a field image and coloured triangles), so that
 //! everything but the GPU upload is tested natively.
 
-use bezsolid_core::Solid2;
 use bezsolid_core::contour::{Grid2, Polyline, contour};
-use glam::DVec2;
+use bezsolid_core::{Axis, Patch, Solid2, SolidError};
+use glam::{DVec2, DVec3};
 
 /// Radius of a drawn control point, in CSS pixels.
 pub const POINT_RADIUS: f64 = 7.0;
@@ -22,6 +22,12 @@ const MARGIN: f64 = 0.14;
 const FIELD_SAMPLES: usize = 320;
 /// Accuracy to which contour vertices are refined onto f = 0, relative to the largest |f| sampled.
 pub const CONTOUR_ACCURACY: f64 = 1e-9;
+/// The most undo steps kept (a 16×16 net is 6 KB, so this is at most a few MB).
+pub const HISTORY_LIMIT: usize = 500;
+/// The most control points per side of a patch in the editor (degree 15).
+pub const MAX_POINTS_PER_SIDE: usize = 16;
+/// Samples along each boundary curve of the domain's outline.
+const OUTLINE_SAMPLES: usize = 64;
 
 /// An RGBA colour, components in `[0, 1]`, not premultiplied.
 pub type Rgba = [f32; 4];
@@ -93,19 +99,60 @@ pub struct Frame {
     pub range: (f64, f64),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Drag {
-    index: usize,
-    start_y: f64,
-    start_xi: f64,
+/// What dragging a control point changes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Function mapping: up and down change ξ.
+    Function,
+    /// Space mapping: the point follows the pointer in the plane.
+    Space,
 }
 
-/// The state of the 2D contour view of one patch solid.
+impl Mode {
+    /// The other mode (what the modifier key gives during a drag).
+    #[must_use]
+    pub fn other(self) -> Self {
+        match self {
+            Self::Function => Self::Space,
+            Self::Space => Self::Function,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Drag {
+    index: usize,
+    mode: Mode,
+    /// Where the pointer went down, in CSS pixels.
+    start: DVec2,
+    /// The point when the drag began.
+    start_point: DVec3,
+    /// The net before the drag: one undo step when the drag changed it.
+    before: Patch<DVec3>,
+}
+
+/// What kind of edit an undo step records: consecutive wheel turns or number entries on one point
+/// are one step; everything else is a step of its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Step {
+    Wheel(usize),
+    Input(usize),
+    Other,
+}
+
+/// The patch editor: the solid, the selected control point, the drag mode, undo and redo, and the
+/// 2D contour view's transform, drags, wheel and keys.
 #[derive(Clone, Debug)]
 pub struct ContourView {
     solid: Solid2,
     selected: Option<usize>,
     drag: Option<Drag>,
+    mode: Mode,
+    undo: Vec<Patch<DVec3>>,
+    redo: Vec<Patch<DVec3>>,
+    last_step: Option<Step>,
+    /// The view box held still while a space-mapping drag moves the domain.
+    frozen: Option<(DVec2, DVec2)>,
     /// Viewport size in CSS pixels.
     size: DVec2,
     /// Device pixels per CSS pixel.
@@ -120,9 +167,173 @@ impl ContourView {
             solid,
             selected: None,
             drag: None,
+            mode: Mode::Function,
+            undo: Vec::new(),
+            redo: Vec::new(),
+            last_step: None,
+            frozen: None,
             size: DVec2::new(640.0, 480.0),
             dpr: 1.0,
         }
+    }
+
+    /// The drag mode.
+    #[must_use]
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Sets the drag mode (a drag under way keeps its own).
+    pub fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+    }
+
+    /// Replaces the solid (a preset, an opened file or link): one undo step. The selection is kept
+    /// where the new net has that point.
+    pub fn set_solid(&mut self, solid: Solid2) {
+        let before = self.solid.patch().clone();
+        self.drag = None;
+        self.frozen = None;
+        self.solid = solid;
+        if self.solid.patch() != &before {
+            self.record(before, Step::Other);
+        }
+        self.keep_selection_in_range();
+    }
+
+    fn keep_selection_in_range(&mut self) {
+        if self.selected.is_some_and(|k| k >= self.count()) {
+            self.selected = None;
+        }
+    }
+
+    /// Applies an edit as an undo step of kind `step`; a failed edit changes nothing.
+    fn apply(
+        &mut self,
+        step: Step,
+        edit: impl FnOnce(&mut Solid2) -> Result<(), SolidError>,
+    ) -> Result<(), String> {
+        let before = self.solid.patch().clone();
+        edit(&mut self.solid).map_err(|e| e.to_string())?;
+        if self.solid.patch() != &before {
+            self.record(before, step);
+        }
+        Ok(())
+    }
+
+    fn record(&mut self, before: Patch<DVec3>, step: Step) {
+        let coalesce = step != Step::Other && self.last_step == Some(step);
+        if !coalesce {
+            self.undo.push(before);
+            if self.undo.len() > HISTORY_LIMIT {
+                self.undo.remove(0);
+            }
+        }
+        self.redo.clear();
+        self.last_step = Some(step);
+    }
+
+    /// Whether there is a step to undo.
+    #[must_use]
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty() && self.drag.is_none()
+    }
+
+    /// Whether there is an undone step to redo.
+    #[must_use]
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty() && self.drag.is_none()
+    }
+
+    /// Undoes the last step; returns whether there was one (never during a drag).
+    pub fn undo(&mut self) -> bool {
+        if !self.can_undo() {
+            return false;
+        }
+        let Some(patch) = self.undo.pop() else {
+            return false;
+        };
+        let current = self.solid.patch().clone();
+        if self.restore(patch) {
+            self.redo.push(current);
+        }
+        true
+    }
+
+    /// Redoes the last undone step; returns whether there was one.
+    pub fn redo(&mut self) -> bool {
+        if !self.can_redo() {
+            return false;
+        }
+        let Some(patch) = self.redo.pop() else {
+            return false;
+        };
+        let current = self.solid.patch().clone();
+        if self.restore(patch) {
+            self.undo.push(current);
+        }
+        true
+    }
+
+    /// Puts back a net from the history (each was a valid solid when it was recorded).
+    fn restore(&mut self, patch: Patch<DVec3>) -> bool {
+        match Solid2::try_from_patch(patch) {
+            Ok(solid) => {
+                self.solid = solid;
+                self.last_step = None;
+                self.frozen = None;
+                self.keep_selection_in_range();
+                true
+            }
+            Err(_) => false,
+        }
+    }
+
+    /// Raises the degree along `axis` (one more point per side there), keeping the shape.
+    ///
+    /// # Errors
+    ///
+    /// Past [`MAX_POINTS_PER_SIDE`] points, or for [`Axis::W`].
+    pub fn elevate(&mut self, axis: Axis) -> Result<(), String> {
+        let (n, m) = self.solid.degree();
+        let side = match axis {
+            Axis::U => n,
+            Axis::V => m,
+            Axis::W => return Err("a patch has no third axis".into()),
+        };
+        if side + 1 >= MAX_POINTS_PER_SIDE {
+            return Err(format!(
+                "the grid has {} points on that side already; the editor takes at most {MAX_POINTS_PER_SIDE}",
+                side + 1
+            ));
+        }
+        self.apply(Step::Other, |s| {
+            *s = Solid2::try_from_patch(s.patch().elevate(axis)?)?;
+            Ok(())
+        })
+    }
+
+    /// A new flat grid of `nu × nv` points (2 to [`MAX_POINTS_PER_SIDE`]) over the current domain, at
+    /// ξ = 0.25 everywhere (the paper's starting point for Fig. 9): the whole box is inside.
+    ///
+    /// # Errors
+    ///
+    /// For a size out of range.
+    pub fn reset_grid(&mut self, nu: usize, nv: usize) -> Result<(), String> {
+        for k in [nu, nv] {
+            if !(2..=MAX_POINTS_PER_SIDE).contains(&k) {
+                return Err(format!(
+                    "a grid has 2 to {MAX_POINTS_PER_SIDE} points per side, not {k}"
+                ));
+            }
+        }
+        let (min, max) = self.solid.domain();
+        self.apply(Step::Other, |s| {
+            *s = Solid2::regular((nu - 1, nv - 1), min, max, |_, _| 0.25)?;
+            Ok(())
+        })?;
+        self.keep_selection_in_range();
+        Ok(())
     }
 
     /// The solid shown.
@@ -152,6 +363,9 @@ impl ContourView {
     /// The world box shown: the domain with a margin, widened to the viewport's aspect ratio.
     #[must_use]
     pub fn view_box(&self) -> (DVec2, DVec2) {
+        if let Some(frozen) = self.frozen {
+            return frozen;
+        }
         let (min, max) = self.solid.domain();
         let centre = (min + max) * 0.5;
         let extent = (max - min).max_element();
@@ -222,8 +436,26 @@ impl ContourView {
     ///
     /// When nothing is selected or `xi` is not finite; nothing changes then.
     pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), String> {
-        let (i, j) = self.selected().ok_or("no control point is selected")?;
-        self.solid.set_xi(i, j, xi).map_err(|e| e.to_string())
+        let k = self.selected.ok_or("no control point is selected")?;
+        let (i, j) = self.ij(k);
+        self.apply(Step::Input(k), |s| s.set_xi(i, j, xi))
+    }
+
+    /// The selected control point `(x, y, ξ)`.
+    #[must_use]
+    pub fn selected_point(&self) -> Option<DVec3> {
+        self.selected.map(|k| self.solid.patch().points()[k])
+    }
+
+    /// Moves the selected point to `(x, y)` in the plane (space mapping, typed in).
+    ///
+    /// # Errors
+    ///
+    /// When nothing is selected or a coordinate is not finite; nothing changes then.
+    pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), String> {
+        let k = self.selected.ok_or("no control point is selected")?;
+        let (i, j) = self.ij(k);
+        self.apply(Step::Input(k), |s| s.set_point(i, j, DVec2::new(x, y)))
     }
 
     /// The control point whose disc is under the CSS pixel `q`, nearest first.
@@ -240,17 +472,27 @@ impl ContourView {
             .map(|(k, _)| k)
     }
 
-    /// Pointer pressed at CSS pixel `q`: selects the point under it and starts dragging it. Returns
-    /// whether a point was grabbed (a press on empty space keeps the selection).
-    pub fn pointer_down(&mut self, q: DVec2) -> bool {
+    /// Pointer pressed at CSS pixel `q`: selects the point under it and starts dragging it, in the
+    /// current mode, or the other one when `other_mode` (the modifier key) is held. Returns whether
+    /// a point was grabbed (a press on empty space keeps the selection).
+    pub fn pointer_down(&mut self, q: DVec2, other_mode: bool) -> bool {
         match self.pick(q) {
             Some(k) => {
                 self.selected = Some(k);
-                let (i, j) = self.ij(k);
+                let mode = if other_mode {
+                    self.mode.other()
+                } else {
+                    self.mode
+                };
+                // The view holds still during the drag: the point stays under the pointer even as
+                // the domain it frames grows or shrinks.
+                self.frozen = Some(self.view_box());
                 self.drag = Some(Drag {
                     index: k,
-                    start_y: q.y,
-                    start_xi: self.solid.xi(i, j),
+                    mode,
+                    start: q,
+                    start_point: self.solid.patch().points()[k],
+                    before: self.solid.patch().clone(),
                 });
                 true
             }
@@ -258,18 +500,33 @@ impl ContourView {
         }
     }
 
-    /// Pointer moved to CSS pixel `q`: while dragging, up raises ξ and down lowers it. Returns
-    /// whether the solid changed.
+    /// Pointer moved to CSS pixel `q`: while dragging in function mode, up raises ξ and down lowers
+    /// it; in space mode the point follows the pointer. Returns whether the solid changed.
     pub fn pointer_move(&mut self, q: DVec2) -> bool {
-        let Some(drag) = self.drag else { return false };
+        let Some(drag) = &self.drag else { return false };
         let (i, j) = self.ij(drag.index);
-        let xi = drag.start_xi + (drag.start_y - q.y) * XI_PER_PIXEL;
-        self.solid.set_xi(i, j, xi).is_ok()
+        let before = self.solid.patch().points()[drag.index];
+        let result = match drag.mode {
+            Mode::Function => {
+                let xi = drag.start_point.z + (drag.start.y - q.y) * XI_PER_PIXEL;
+                self.solid.set_xi(i, j, xi)
+            }
+            Mode::Space => {
+                let xy = drag.start_point.truncate() + self.to_world(q) - self.to_world(drag.start);
+                self.solid.set_point(i, j, xy)
+            }
+        };
+        result.is_ok() && self.solid.patch().points()[drag.index] != before
     }
 
-    /// Pointer released or cancelled: ends the drag.
+    /// Pointer released or cancelled: ends the drag, which is one undo step if it changed the net.
     pub fn pointer_up(&mut self) {
-        self.drag = None;
+        if let Some(drag) = self.drag.take()
+            && self.solid.patch() != &drag.before
+        {
+            self.record(drag.before, Step::Other);
+        }
+        self.frozen = None;
     }
 
     /// Whether a drag is under way.
@@ -281,9 +538,13 @@ impl ContourView {
     /// Wheel over the view: changes ξ of the selected point (`deltaY < 0`, wheel up, raises it).
     /// Returns whether the solid changed.
     pub fn wheel(&mut self, delta_y: f64) -> bool {
-        match self.selected_xi() {
-            Some(xi) if delta_y.is_finite() && delta_y != 0.0 => {
-                self.set_selected_xi(xi - delta_y * XI_PER_WHEEL).is_ok()
+        match (self.selected, self.selected_xi()) {
+            (Some(k), Some(xi)) if delta_y.is_finite() && delta_y != 0.0 && self.drag.is_none() => {
+                let (i, j) = self.ij(k);
+                self.apply(Step::Wheel(k), |s| {
+                    s.set_xi(i, j, xi - delta_y * XI_PER_WHEEL)
+                })
+                .is_ok()
             }
             _ => false,
         }
@@ -334,8 +595,17 @@ impl ContourView {
             "PageUp" | "+" | "=" => self.nudge(step),
             "PageDown" | "-" | "_" => self.nudge(-step),
             "Escape" => {
-                self.drag = None;
-                self.selected = None;
+                // Esc during a drag puts the point back; otherwise it clears the selection.
+                if let Some(drag) = self.drag.take() {
+                    self.restore(drag.before);
+                    self.frozen = None;
+                } else {
+                    self.selected = None;
+                }
+                true
+            }
+            "m" | "M" => {
+                self.mode = self.mode.other();
                 true
             }
             _ => false,
@@ -343,9 +613,13 @@ impl ContourView {
     }
 
     fn nudge(&mut self, delta: f64) -> bool {
-        match self.selected_xi() {
-            Some(xi) => self.set_selected_xi(xi + delta).is_ok(),
-            None => false,
+        match (self.selected, self.selected_xi()) {
+            (Some(k), Some(xi)) if self.drag.is_none() => {
+                let (i, j) = self.ij(k);
+                self.apply(Step::Other, |s| s.set_xi(i, j, xi + delta))
+                    .is_ok()
+            }
+            _ => false,
         }
     }
 
@@ -441,23 +715,14 @@ impl ContourView {
             size: self.size,
             dpr: self.dpr,
         };
-        let (dmin, dmax) = self.solid.domain();
-        let corners = [
-            dmin,
-            DVec2::new(dmax.x, dmin.y),
-            dmax,
-            DVec2::new(dmin.x, dmax.y),
-        ];
-        for k in 0..4 {
-            pen.segment(
-                self.to_screen(corners[k]),
-                self.to_screen(corners[(k + 1) % 4]),
-                1.0,
-                BOX_COLOR,
-            );
+        let patch = self.solid.patch();
+        // The domain's outline: the patch's four boundary curves (the box of a regular grid).
+        for line in outline(patch) {
+            for w in line.windows(2) {
+                pen.segment(self.to_screen(w[0]), self.to_screen(w[1]), 1.25, BOX_COLOR);
+            }
         }
         let (n, m) = self.solid.degree();
-        let patch = self.solid.patch();
         let at = |i: usize, j: usize| self.to_screen(patch.point(i, j).truncate());
         for i in 0..=n {
             for j in 0..=m {
@@ -493,6 +758,27 @@ impl ContourView {
         }
         pen.out
     }
+}
+
+/// The four boundary curves of a patch in the plane, `S(u, 0)`, `S(1, v)`, `S(u, 1)`, `S(0, v)`, as
+/// polylines in world coordinates.
+#[must_use]
+pub fn outline(patch: &Patch<DVec3>) -> [Vec<DVec2>; 4] {
+    let t = |k: usize| k as f64 / OUTLINE_SAMPLES as f64;
+    let curve = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<DVec2> {
+        (0..=OUTLINE_SAMPLES)
+            .map(|k| {
+                let (u, v) = f(t(k));
+                patch.eval(u, v).truncate()
+            })
+            .collect()
+    };
+    [
+        curve(&|s| (s, 0.0)),
+        curve(&|s| (1.0, s)),
+        curve(&|s| (1.0 - s, 1.0)),
+        curve(&|s| (0.0, 1.0 - s)),
+    ]
 }
 
 /// Turns CSS-pixel strokes and discs into NDC triangles.
@@ -574,7 +860,7 @@ mod tests {
         let mut v = view();
         let centre = v.to_screen(DVec2::splat(0.5));
         let press = centre + DVec2::new(3.0, -2.0);
-        assert!(v.pointer_down(press));
+        assert!(v.pointer_down(press, false));
         assert_eq!(v.selected(), Some((1, 1)));
         let before = v.selected_xi().unwrap();
         let f_before = v.solid().f(DVec2::new(0.5, 0.25));
@@ -587,7 +873,7 @@ mod tests {
         v.pointer_up();
         assert!(!v.pointer_move(centre));
         // A click on empty space keeps the selection.
-        assert!(!v.pointer_down(DVec2::new(1.0, 1.0)));
+        assert!(!v.pointer_down(DVec2::new(1.0, 1.0), false));
         assert_eq!(v.selected(), Some((1, 1)));
     }
 
@@ -684,6 +970,151 @@ mod tests {
                 .iter()
                 .all(|s| s.position.iter().all(|c| c.abs() <= 1.5))
         );
+    }
+
+    #[test]
+    fn a_drag_is_one_undo_step_and_redo_reapplies_it() {
+        let mut v = view();
+        let original = v.solid().clone();
+        assert!(!v.can_undo() && !v.undo());
+        let centre = v.to_screen(DVec2::splat(0.5));
+        assert!(v.pointer_down(centre, false));
+        for dy in 1..=30 {
+            v.pointer_move(centre - DVec2::new(0.0, f64::from(dy) * 2.0));
+        }
+        assert!(!v.can_undo(), "no undo in the middle of a drag");
+        v.pointer_up();
+        let dragged = v.solid().clone();
+        assert_ne!(dragged, original);
+        assert!(v.undo());
+        assert_eq!(v.solid(), &original, "one step undoes the whole drag");
+        assert!(!v.undo());
+        assert!(v.redo());
+        assert_eq!(v.solid(), &dragged);
+        assert!(!v.redo());
+        // A click that does not move the point is no step.
+        assert!(v.pointer_down(centre, false));
+        v.pointer_up();
+        assert!(v.undo());
+        assert_eq!(v.solid(), &original);
+        // A new edit clears the redo stack.
+        v.select(Some((0, 0)));
+        assert!(v.key("PageUp", false));
+        assert!(!v.can_redo());
+    }
+
+    #[test]
+    fn space_drag_moves_the_point_under_the_pointer_and_the_outline_follows() {
+        let mut v = view();
+        v.set_mode(Mode::Space);
+        let corner = v.to_screen(DVec2::new(1.0, 1.0));
+        let outline_before = outline(v.solid().patch());
+        assert!(v.pointer_down(corner, false));
+        let target = corner + DVec2::new(40.0, -25.0);
+        assert!(v.pointer_move(target));
+        // The view holds still during the drag, so the point is under the pointer.
+        let p = v.selected_point().unwrap();
+        assert!((v.to_screen(p.truncate()) - target).length() < 1e-9);
+        assert!(
+            v.solid().inverse().is_some(),
+            "a moved corner is a space mapping"
+        );
+        v.pointer_up();
+        let outline_after = outline(v.solid().patch());
+        assert_ne!(outline_before[1], outline_after[1]);
+        assert_eq!(
+            outline_after[1].last(),
+            Some(&p.truncate()),
+            "S(1, 1) is the moved corner"
+        );
+        assert_eq!(v.selected_xi(), Some(-1.0), "ξ unchanged by a space drag");
+        // The modifier key gives the other mode: ξ up, the point stays.
+        let at = v.to_screen(p.truncate());
+        assert!(v.pointer_down(at, true));
+        assert!(v.pointer_move(at - DVec2::new(0.0, 30.0)));
+        v.pointer_up();
+        assert_eq!(v.selected_point().unwrap().truncate(), p.truncate());
+        assert!((v.selected_xi().unwrap() - (-1.0 + 30.0 * XI_PER_PIXEL)).abs() < 1e-12);
+        assert!(v.undo() && v.undo());
+        assert_eq!(v.solid(), &Solid2::fig9());
+        assert!(
+            v.solid().inverse().is_none(),
+            "back to the exact regular grid"
+        );
+        // Esc during a drag puts the point back.
+        assert!(v.pointer_down(corner, false));
+        assert!(v.pointer_move(corner + DVec2::new(10.0, 10.0)));
+        assert!(v.key("Escape", false));
+        assert!(!v.dragging());
+        assert_eq!(v.solid(), &Solid2::fig9());
+        assert!(!v.can_undo() && v.can_redo(), "a cancelled drag is no step");
+    }
+
+    #[test]
+    fn wheel_turns_and_typed_values_on_one_point_are_one_step() {
+        let mut v = view();
+        v.select(Some((1, 1)));
+        for _ in 0..5 {
+            assert!(v.wheel(-100.0));
+        }
+        assert!((v.selected_xi().unwrap() - 1.5).abs() < 1e-12);
+        for x in [0.5, 0.55, 0.6] {
+            v.set_selected_xy(x, 0.5).unwrap();
+        }
+        assert!(v.set_selected_xy(f64::NAN, 0.5).is_err());
+        assert_eq!(v.selected_point().unwrap().x, 0.6);
+        assert!(v.undo());
+        assert_eq!(v.selected_point().unwrap().x, 0.5, "typing is one step");
+        assert!(v.undo());
+        assert_eq!(v.solid(), &Solid2::fig9(), "the wheel turns are one step");
+    }
+
+    #[test]
+    fn elevation_keeps_the_shape_and_reset_gives_a_flat_grid() {
+        let mut v = view();
+        let probes = [
+            DVec2::new(0.3, 0.4),
+            DVec2::new(0.5, 0.5),
+            DVec2::new(0.9, 0.1),
+        ];
+        let before: Vec<f64> = probes.iter().map(|&p| v.solid().f(p)).collect();
+        v.elevate(Axis::U).unwrap();
+        v.elevate(Axis::V).unwrap();
+        assert_eq!(v.solid().degree(), (3, 3));
+        for (&p, f) in probes.iter().zip(&before) {
+            assert!((v.solid().f(p) - f).abs() < 1e-12);
+        }
+        assert!(v.elevate(Axis::W).is_err());
+        v.select(Some((3, 3)));
+        v.reset_grid(2, 5).unwrap();
+        assert_eq!(v.solid().degree(), (1, 4));
+        assert_eq!(v.selected(), None, "P33 is not in a 2×5 grid");
+        assert!(v.solid().patch().points().iter().all(|p| p.z == 0.25));
+        assert!(v.reset_grid(1, 4).is_err() && v.reset_grid(2, 17).is_err());
+        for _ in 0..(MAX_POINTS_PER_SIDE - 2) {
+            v.elevate(Axis::U).unwrap();
+        }
+        assert!(v.elevate(Axis::U).unwrap_err().contains("at most"));
+        assert_eq!(v.solid().degree().0, MAX_POINTS_PER_SIDE - 1);
+        while v.undo() {}
+        assert_eq!(v.solid(), &Solid2::fig9());
+    }
+
+    #[test]
+    fn opening_a_model_is_an_undo_step() {
+        let mut v = view();
+        v.select(Some((2, 2)));
+        let other = Solid2::regular((1, 1), DVec2::ZERO, DVec2::new(2.0, 1.0), |i, j| {
+            (i + j) as f64 - 0.5
+        })
+        .unwrap();
+        v.set_solid(other.clone());
+        assert_eq!(v.solid(), &other);
+        assert_eq!(v.selected(), None);
+        assert!(v.undo());
+        assert_eq!(v.solid(), &Solid2::fig9());
+        assert!(v.key("m", false));
+        assert_eq!(v.mode(), Mode::Space);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! place that branches on the target.
 
 pub mod app;
+pub mod document;
 
 #[cfg(target_arch = "wasm32")]
 mod render;
