@@ -46,38 +46,119 @@ async function main() {
   badge.title = `Graphics backend: ${modeler.backend()} (${modeler.adapter() || 'adapter'})`;
   if (fellBack) say('WebGPU could not start here; drawing with WebGL2.', 'warn');
 
+  // Restore the autosaved model (quietly: a stale or foreign value is dropped), then open a link in
+  // the address over it. The fragment is removed once opened: the model lives on in the autosave, so
+  // a reload brings back the edits rather than the link's original.
+  const saved = storage.get();
+  if (saved) {
+    try {
+      modeler.load_model(saved);
+    } catch (err) {
+      console.warn(`bezsolid: the autosaved model could not be restored (${err?.message ?? err})`);
+    }
+    modeler.forget_history();
+  }
+  const openFromAddress = () => {
+    if (!location.hash || location.hash === '#') return false;
+    let opened = false;
+    try {
+      modeler.open_link(location.href);
+      say('Opened the model from the link.');
+      opened = true;
+    } catch (err) {
+      say(`This link could not be opened, so the current model was kept: ${err.message ?? err}`, 'error');
+    }
+    history.replaceState(null, '', location.pathname + location.search);
+    return opened;
+  };
+  openFromAddress();
+
   let pending = false;
+  let lastRender = 0;
+  let lastFrame = 0;
   const redraw = () => {
     if (pending) return;
     pending = true;
-    requestAnimationFrame(() => {
+    requestAnimationFrame((t) => {
       pending = false;
+      const t0 = performance.now();
       modeler.render();
+      lastRender = performance.now() - t0;
+      lastFrame = t;
       updatePanel();
+      updateDebug();
     });
   };
 
+  // Autosave a moment after the last change, and at once when the page is hidden or closed.
+  let saveTimer = 0;
+  const saveNow = () => {
+    clearTimeout(saveTimer);
+    saveTimer = 0;
+    if (!storage.set(modeler.model_json())) {
+      say('The model could not be saved in this browser (storage is full or blocked); use Export → Model file.', 'warn');
+    }
+  };
+  const changed = () => {
+    redraw();
+    clearTimeout(saveTimer);
+    saveTimer = setTimeout(saveNow, 300);
+  };
+  addEventListener('pagehide', () => { if (saveTimer) saveNow(); });
+  document.addEventListener('visibilitychange', () => { if (document.hidden && saveTimer) saveNow(); });
+
+  const inputs = { x: $('px'), y: $('py'), xi: xiInput };
   const updatePanel = () => {
     const sel = modeler.selected();
-    const xi = modeler.selected_xi();
-    if (sel) {
+    const point = modeler.selected_point();
+    if (sel && point) {
       $('point-label').textContent = `P${sel[0]}${sel[1]} (i = ${sel[0]}, j = ${sel[1]})`;
-      xiInput.disabled = false;
-      if (document.activeElement !== xiInput) {
-        xiInput.value = String(Math.round(xi * 1e6) / 1e6);
-        xiInput.removeAttribute('aria-invalid');
-      }
+      [inputs.x, inputs.y, inputs.xi].forEach((input, k) => {
+        input.disabled = false;
+        if (document.activeElement !== input) {
+          input.value = String(Math.round(point[k] * 1e6) / 1e6);
+          input.removeAttribute('aria-invalid');
+        }
+      });
     } else {
       $('point-label').textContent = 'None selected: click a point or press Tab in the view.';
-      xiInput.disabled = true;
-      xiInput.value = '';
+      for (const input of Object.values(inputs)) {
+        input.disabled = true;
+        input.value = '';
+      }
     }
     $('range-min').textContent = fmt(modeler.range_min());
     $('range-max').textContent = fmt(modeler.range_max());
     const n = modeler.contour_count();
-    $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`;
+    $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
+      + (modeler.folded() ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
+    const [du, dv] = modeler.degree();
+    const mapped = modeler.space_mapped();
+    $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
+    $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
+    $('undo').disabled = !modeler.can_undo();
+    $('redo').disabled = !modeler.can_redo();
+    const mode = modeler.mode();
+    for (const r of document.querySelectorAll('input[name="mode"]')) r.checked = r.value === mode;
+    canvas.classList.toggle('space', mode === 'space');
     document.body.dataset.selected = sel ? `${sel[0]},${sel[1]}` : '';
+    document.body.dataset.mode = mode;
   };
+
+  const debug = $('debug');
+  let lastEdit = 0;
+  const updateDebug = () => {
+    if (debug.hidden) return;
+    debug.textContent = `frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
+      + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
+    document.body.dataset.renderMs = lastRender.toFixed(2);
+  };
+  const toggleDebug = () => {
+    debug.hidden = !debug.hidden;
+    $('debug-toggle').setAttribute('aria-pressed', String(!debug.hidden));
+    redraw();
+  };
+  $('debug-toggle').addEventListener('click', toggleDebug);
 
   const resize = () => {
     const rect = canvas.getBoundingClientRect();
@@ -106,7 +187,7 @@ async function main() {
     if (e.button !== 0) return;
     canvas.focus();
     const [x, y] = local(e);
-    if (modeler.pointer_down(x, y)) {
+    if (modeler.pointer_down(x, y, e.shiftKey)) {
       canvas.setPointerCapture(e.pointerId);
       canvas.classList.add('dragging');
       e.preventDefault();
@@ -116,7 +197,10 @@ async function main() {
   canvas.addEventListener('pointermove', (e) => {
     const [x, y] = local(e);
     if (modeler.dragging()) {
-      if (modeler.pointer_move(x, y)) redraw();
+      if (modeler.pointer_move(x, y)) {
+        lastEdit = performance.now();
+        redraw();
+      }
       return;
     }
     canvas.classList.toggle('over-point', modeler.hit(x, y));
@@ -128,7 +212,7 @@ async function main() {
     modeler.pointer_up();
     canvas.classList.remove('dragging');
     if (canvas.hasPointerCapture(e.pointerId)) canvas.releasePointerCapture(e.pointerId);
-    redraw();
+    changed();
   };
   canvas.addEventListener('pointerup', endDrag);
   canvas.addEventListener('pointercancel', endDrag);
@@ -138,46 +222,221 @@ async function main() {
     const dy = e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY;
     if (modeler.wheel(dy)) {
       e.preventDefault();
-      redraw();
+      lastEdit = performance.now();
+      changed();
     }
   }, { passive: false });
   canvas.addEventListener('keydown', (e) => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key === 'd' || e.key === 'D') {
+      toggleDebug();
+      e.preventDefault();
+      return;
+    }
+    const wasDragging = modeler.dragging();
     if (modeler.key(e.key, e.shiftKey)) {
       e.preventDefault();
-      redraw();
+      if (wasDragging && !modeler.dragging()) canvas.classList.remove('dragging');
+      changed();
     }
   });
 
-  const applyInput = () => {
-    const value = xiInput.valueAsNumber;
+  // Undo and redo: the buttons, and the shortcuts anywhere but in a text field (which keeps its own).
+  const act = (f) => {
+    if (f()) changed();
+  };
+  $('undo').addEventListener('click', () => act(() => modeler.undo()));
+  $('redo').addEventListener('click', () => act(() => modeler.redo()));
+  document.addEventListener('keydown', (e) => {
+    if (!(e.ctrlKey || e.metaKey) || e.altKey) return;
+    const tag = e.target?.tagName;
+    if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
+    const key = e.key.toLowerCase();
+    if (key === 'z' && !e.shiftKey) {
+      e.preventDefault();
+      act(() => modeler.undo());
+    } else if ((key === 'z' && e.shiftKey) || key === 'y') {
+      e.preventDefault();
+      act(() => modeler.redo());
+    }
+  });
+
+  for (const radio of document.querySelectorAll('input[name="mode"]')) {
+    radio.addEventListener('change', () => {
+      if (radio.checked) {
+        modeler.set_mode(radio.value);
+        redraw();
+      }
+    });
+  }
+
+  // Numeric entry for the selected point: ξ, and x and y (space mapping).
+  const applyInput = (which) => {
+    const input = inputs[which];
+    const value = input.valueAsNumber;
     if (!Number.isFinite(value)) {
-      xiInput.setAttribute('aria-invalid', 'true');
+      input.setAttribute('aria-invalid', 'true');
       return;
     }
     try {
-      modeler.set_selected_xi(value);
-      xiInput.removeAttribute('aria-invalid');
-      redraw();
+      if (which === 'xi') {
+        modeler.set_selected_xi(value);
+      } else {
+        const p = modeler.selected_point();
+        if (!p) return;
+        modeler.set_selected_xy(which === 'x' ? value : p[0], which === 'y' ? value : p[1]);
+      }
+      input.removeAttribute('aria-invalid');
+      changed();
     } catch (err) {
-      xiInput.setAttribute('aria-invalid', 'true');
+      input.setAttribute('aria-invalid', 'true');
       say(err.message ?? String(err), 'error');
     }
   };
-  xiInput.addEventListener('input', applyInput);
-  xiInput.addEventListener('change', () => {
-    applyInput();
-    updatePanel();
+  for (const which of Object.keys(inputs)) {
+    inputs[which].addEventListener('input', () => applyInput(which));
+    inputs[which].addEventListener('change', () => {
+      applyInput(which);
+      updatePanel();
+    });
+  }
+
+  // The model: presets, a new grid, elevation.
+  const attempt = (what, f) => {
+    try {
+      f();
+      changed();
+      return true;
+    } catch (err) {
+      say(`${what}: ${err.message ?? err}`, 'error');
+      return false;
+    }
+  };
+  $('preset').addEventListener('change', (e) => {
+    const name = e.target.value;
+    e.target.value = '';
+    if (name) attempt('Preset', () => modeler.load_preset(name)) && say(`Opened the preset; Undo brings back the previous model.`);
+  });
+  $('reset-grid').addEventListener('click', () => {
+    attempt('New grid', () => modeler.reset_grid($('grid-u').valueAsNumber, $('grid-v').valueAsNumber));
+  });
+  $('elevate-u').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(0)));
+  $('elevate-v').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(1)));
+
+  // Share: the link goes into the box (always) and the clipboard (where allowed).
+  $('copy-link').addEventListener('click', async () => {
+    let fragment;
+    try {
+      fragment = modeler.link();
+    } catch (err) {
+      say(`${err.message ?? err}`, 'error');
+      return;
+    }
+    const url = location.origin + location.pathname + location.search + fragment;
+    const box = $('share-url');
+    box.value = url;
+    document.body.dataset.link = url;
+    try {
+      await navigator.clipboard.writeText(url);
+      say(`Link copied (${url.length} characters).`);
+    } catch {
+      box.focus();
+      box.select();
+      say('The browser did not allow copying: the link is selected in the box, copy it from there.', 'warn');
+    }
+  });
+  addEventListener('hashchange', () => {
+    if (openFromAddress()) changed();
   });
 
-  window.bezsolid = { modeler, canvas };
+  // Files: open (picker or drop), save and export.
+  const openFile = async (file) => {
+    if (!file) return;
+    if (file.size > 16 * 1024 * 1024) {
+      say(`${file.name} is too large for a model file (${file.size} bytes).`, 'error');
+      return;
+    }
+    try {
+      const text = await file.text();
+      modeler.load_model(text);
+      say(`Opened ${file.name}; Undo brings back the previous model.`);
+      changed();
+    } catch (err) {
+      say(`${file.name} could not be opened, so the current model was kept: ${err.message ?? err}`, 'error');
+    }
+  };
+  $('open-file').addEventListener('change', (e) => {
+    openFile(e.target.files?.[0]);
+    e.target.value = '';
+  });
+  const drop = $('drop');
+  addEventListener('dragover', (e) => {
+    if (![...(e.dataTransfer?.types ?? [])].includes('Files')) return;
+    e.preventDefault();
+    drop.hidden = false;
+  });
+  addEventListener('dragleave', (e) => { if (!e.relatedTarget) drop.hidden = true; });
+  addEventListener('drop', (e) => {
+    if (!e.dataTransfer?.files?.length) return;
+    e.preventDefault();
+    drop.hidden = true;
+    openFile(e.dataTransfer.files[0]);
+  });
+
+  const download = (name, blob) => {
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = name;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
+    say(`Saved ${name}.`);
+  };
+  const exporters = {
+    model: () => download('bezsolid.bsolid.json', new Blob([modeler.model_json()], { type: 'application/json' })),
+    svg: () => download('bezsolid-contours.svg', new Blob([modeler.svg()], { type: 'image/svg+xml' })),
+    hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
+    // The canvas is read in the same task as the frame is drawn, before the browser clears it.
+    png: () => {
+      modeler.render();
+      canvas.toBlob((blob) => {
+        if (blob) download('bezsolid-view.png', blob);
+        else say('The view could not be captured as PNG.', 'error');
+      }, 'image/png');
+    },
+  };
+  $('export').addEventListener('change', (e) => {
+    const kind = e.target.value;
+    e.target.value = '';
+    if (!exporters[kind]) return;
+    try {
+      exporters[kind]();
+    } catch (err) {
+      say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');
+    }
+  });
+
+  window.bezsolid = { modeler, canvas, redraw, saveNow };
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();
     updatePanel();
+    saveNow();
     document.body.dataset.ready = 'true';
   });
 }
+
+// localStorage can be missing or refuse (private modes, quota): the page works on without it.
+const storage = {
+  key: 'bezsolid.model.v1',
+  get() {
+    try { return localStorage.getItem(this.key); } catch { return null; }
+  },
+  set(value) {
+    try { localStorage.setItem(this.key, value); return true; } catch { return false; }
+  },
+};
 
 window.addEventListener('unhandledrejection', (e) => say(`Error: ${e.reason?.message ?? e.reason}`, 'error'));
 main().catch((err) => {

@@ -134,6 +134,16 @@ pub fn forward_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Opti
     if !solid.inverse()?.injective() {
         return None;
     }
+    Some(sheet_contour(solid, resolution, accuracy))
+}
+
+/// The parameter-space zero contour mapped forward through `(S_x, S_y)`, whatever the map: for a
+/// map certified injective (and for a regular grid) it is the contour ([`forward_contour`]); where
+/// the net folds it also holds the zero lines of sheets that lie under others (where `f`, the max
+/// over preimages, is decided by another sheet). Cheap (no inverse map), so a live preview of a
+/// folded net can draw it.
+#[must_use]
+pub fn sheet_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
     let mut lines = sampled_contour(&solid.in_parameter_space(), resolution, accuracy);
     let net = solid.patch();
     for line in &mut lines {
@@ -148,7 +158,7 @@ pub fn forward_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Opti
             line.points.reverse();
         }
     }
-    Some(lines)
+    lines
 }
 
 /// The zero contour of `f` sampled on `grid`; see [`contour`].

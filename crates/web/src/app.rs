@@ -2,7 +2,8 @@
 //! wheel and keys; and the [`Frame`] it draws, as data (a field image and coloured triangles), so that
 //! everything but the GPU upload is tested natively.
 
-use bezsolid_core::contour::{Grid2, Polyline, contour};
+use bezsolid_core::contour::{Grid2, Polyline, contour, sheet_contour, solid_contour};
+use bezsolid_core::rfunc::clip2;
 use bezsolid_core::{Axis, Patch, Solid2, SolidError};
 use glam::{DVec2, DVec3};
 
@@ -26,6 +27,10 @@ pub const CONTOUR_ACCURACY: f64 = 1e-9;
 pub const HISTORY_LIMIT: usize = 500;
 /// The most control points per side of a patch in the editor (degree 15).
 pub const MAX_POINTS_PER_SIDE: usize = 16;
+/// Cells per side of the parameter-space mesh that draws a space mapping's field (mapped forward).
+const MAPPED_MESH_CELLS: usize = 96;
+/// Cells per side of the parameter square in which a space mapping's contour is traced.
+const MAPPED_CONTOUR_CELLS: usize = 192;
 /// Samples along each boundary curve of the domain's outline.
 const OUTLINE_SAMPLES: usize = 64;
 
@@ -97,6 +102,9 @@ pub struct Frame {
     /// The lowest and highest `f` sampled inside the domain box (full blue and full red; the
     /// legend's ends).
     pub range: (f64, f64),
+    /// The net may fold: the contour shows the zero lines of every sheet (see
+    /// [`ContourView::frame`]).
+    pub folded: bool,
 }
 
 /// What dragging a control point changes.
@@ -151,8 +159,11 @@ pub struct ContourView {
     undo: Vec<Patch<DVec3>>,
     redo: Vec<Patch<DVec3>>,
     last_step: Option<Step>,
-    /// The view box held still while a space-mapping drag moves the domain.
-    frozen: Option<(DVec2, DVec2)>,
+    /// The view held still (centre, world units per CSS pixel) once a point has been dragged: the
+    /// picture does not jump when a space-mapping drag grows or shrinks the domain, and undo and
+    /// redo give back exactly the pictures they were. `None` fits the domain; opening another model,
+    /// a new grid and the F key go back to that.
+    fixed: Option<(DVec2, f64)>,
     /// Viewport size in CSS pixels.
     size: DVec2,
     /// Device pixels per CSS pixel.
@@ -171,7 +182,7 @@ impl ContourView {
             undo: Vec::new(),
             redo: Vec::new(),
             last_step: None,
-            frozen: None,
+            fixed: None,
             size: DVec2::new(640.0, 480.0),
             dpr: 1.0,
         }
@@ -193,7 +204,7 @@ impl ContourView {
     pub fn set_solid(&mut self, solid: Solid2) {
         let before = self.solid.patch().clone();
         self.drag = None;
-        self.frozen = None;
+        self.fixed = None;
         self.solid = solid;
         if self.solid.patch() != &before {
             self.record(before, Step::Other);
@@ -231,6 +242,13 @@ impl ContourView {
         }
         self.redo.clear();
         self.last_step = Some(step);
+    }
+
+    /// Forgets every undo and redo step (after restoring an autosaved model at start-up).
+    pub fn forget_history(&mut self) {
+        self.undo.clear();
+        self.redo.clear();
+        self.last_step = None;
     }
 
     /// Whether there is a step to undo.
@@ -281,7 +299,6 @@ impl ContourView {
             Ok(solid) => {
                 self.solid = solid;
                 self.last_step = None;
-                self.frozen = None;
                 self.keep_selection_in_range();
                 true
             }
@@ -332,6 +349,7 @@ impl ContourView {
             *s = Solid2::regular((nu - 1, nv - 1), min, max, |_, _| 0.25)?;
             Ok(())
         })?;
+        self.fixed = None;
         self.keep_selection_in_range();
         Ok(())
     }
@@ -363,8 +381,9 @@ impl ContourView {
     /// The world box shown: the domain with a margin, widened to the viewport's aspect ratio.
     #[must_use]
     pub fn view_box(&self) -> (DVec2, DVec2) {
-        if let Some(frozen) = self.frozen {
-            return frozen;
+        if let Some((centre, scale)) = self.fixed {
+            let half = self.size * scale * 0.5;
+            return (centre - half, centre + half);
         }
         let (min, max) = self.solid.domain();
         let centre = (min + max) * 0.5;
@@ -484,9 +503,9 @@ impl ContourView {
                 } else {
                     self.mode
                 };
-                // The view holds still during the drag: the point stays under the pointer even as
-                // the domain it frames grows or shrinks.
-                self.frozen = Some(self.view_box());
+                // The view holds still from now on: the point stays under the pointer even as the
+                // domain it frames grows or shrinks.
+                self.fix_view();
                 self.drag = Some(Drag {
                     index: k,
                     mode,
@@ -526,7 +545,18 @@ impl ContourView {
         {
             self.record(drag.before, Step::Other);
         }
-        self.frozen = None;
+    }
+
+    fn fix_view(&mut self) {
+        if self.fixed.is_none() {
+            let (min, max) = self.view_box();
+            self.fixed = Some(((min + max) * 0.5, (max.x - min.x) / self.size.x));
+        }
+    }
+
+    /// Fits the view to the domain again (the F key).
+    pub fn fit_view(&mut self) {
+        self.fixed = None;
     }
 
     /// Whether a drag is under way.
@@ -598,7 +628,6 @@ impl ContourView {
                 // Esc during a drag puts the point back; otherwise it clears the selection.
                 if let Some(drag) = self.drag.take() {
                     self.restore(drag.before);
-                    self.frozen = None;
                 } else {
                     self.selected = None;
                 }
@@ -606,6 +635,10 @@ impl ContourView {
             }
             "m" | "M" => {
                 self.mode = self.mode.other();
+                true
+            }
+            "f" | "F" => {
+                self.fit_view();
                 true
             }
             _ => false,
@@ -623,28 +656,37 @@ impl ContourView {
         }
     }
 
-    /// Builds the frame: samples the field over the view, colours it, traces the zero contour and
-    /// lays out the control grid, the points and the selection ring.
-    #[must_use]
-    pub fn frame(&self) -> Frame {
-        let (vmin, vmax) = self.view_box();
+    /// Field samples `(w, h)` of the view with `long` along its longer side.
+    fn field_size(&self, long: usize) -> (usize, usize) {
         let aspect = self.size.x / self.size.y;
-        let (w, h) = if aspect >= 1.0 {
-            (
-                FIELD_SAMPLES,
-                ((FIELD_SAMPLES as f64 / aspect).round() as usize).max(2),
-            )
+        if aspect >= 1.0 {
+            (long, ((long as f64 / aspect).round() as usize).max(2))
         } else {
-            (
-                ((FIELD_SAMPLES as f64 * aspect).round() as usize).max(2),
-                FIELD_SAMPLES,
-            )
-        };
-        // Samples at texel centres, so the filtered texture and the contour agree.
+            (((long as f64 * aspect).round() as usize).max(2), long)
+        }
+    }
+
+    /// `f` sampled at the texel centres of a `w × h` image of the view (so the filtered texture and
+    /// the contour agree), with the grid.
+    fn sample_view(&self, w: usize, h: usize) -> (Grid2, Vec<f64>) {
+        let (vmin, vmax) = self.view_box();
         let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
         let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+        let values = self.solid.f_grid(&grid.xs(), &grid.ys());
+        (grid, values)
+    }
+
+    /// Builds the frame: samples the field over the view, colours it, traces the zero contour and
+    /// lays out the control grid, the points and the selection ring. A space mapping is drawn in
+    /// parameter space and mapped forward ([`Self::frame`] picks the path).
+    #[must_use]
+    pub fn frame(&self) -> Frame {
+        if self.solid.inverse().is_some() {
+            return self.frame_mapped();
+        }
+        let (w, h) = self.field_size(FIELD_SAMPLES);
+        let (grid, values) = self.sample_view(w, h);
         let (xs, ys) = (grid.xs(), grid.ys());
-        let values = self.solid.f_grid(&xs, &ys);
 
         // Each sign is scaled to its own extreme, so the whole blue-white-red range is in use and zero
         // stays white whatever the magnitudes.
@@ -660,25 +702,7 @@ impl ContourView {
                 }
             }
         }
-        let normalise = |v: f64| {
-            if v >= 0.0 {
-                v / range.1.max(1e-300)
-            } else {
-                v / -range.0.min(-1e-300)
-            }
-        };
-        let mut rgba = Vec::with_capacity(w * h * 4);
-        for row in (0..h).rev() {
-            for &v in &values[row * w..(row + 1) * w] {
-                rgba.extend(diverging(normalise(v)).map(|c| (c * 255.0).round() as u8));
-            }
-        }
-        let field = FieldImage {
-            width: w as u32,
-            height: h as u32,
-            rgba,
-        };
-
+        let field = field_image(w, h, &values, range);
         let magnitude = values.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
         let contours = contour(
             &grid,
@@ -692,6 +716,80 @@ impl ContourView {
             shapes,
             contours,
             range,
+            folded: false,
+        }
+    }
+
+    /// The frame of a space mapping. The inverse map at every pixel would cost a Newton solve per
+    /// pixel; instead a parameter-space mesh of the patch is mapped forward (`S(u, v)`, exact at its
+    /// vertices) and coloured by the clipped `S_ξ`, drawn in increasing `f` so that where the net
+    /// folds the larger value (the max over preimages) is on top. Outside the image `f` is negative
+    /// everywhere; it is drawn flat full blue: proving that a point has no preimage takes Bézier
+    /// clipping over the whole domain (40 ms for a coarse 96-pixel image of a 16×16 net, natively).
+    /// The contour is traced in parameter space and mapped forward.
+    ///
+    /// Where the net may fold (no injectivity certificate) the exact contour would need the inverse
+    /// map at every sample, seconds per frame at degree 15: the live view draws the zero lines of
+    /// every sheet ([`sheet_contour`]) and [`Frame::folded`] says so. Exports use the exact `f`.
+    fn frame_mapped(&self) -> Frame {
+        let injective = self.solid.inverse().is_some_and(|m| m.injective());
+        let (w, h) = (2, 2);
+        let cells = MAPPED_MESH_CELLS;
+        let ts: Vec<f64> = (0..=cells).map(|k| k as f64 / cells as f64).collect();
+        let net = self.solid.patch().eval_grid(&ts, &ts);
+        let side = cells + 1;
+        let fs: Vec<f64> = net
+            .iter()
+            .enumerate()
+            .map(|(k, p)| clip2(p.z, ts[k % side], ts[k / side]))
+            .collect();
+        let range = fs
+            .iter()
+            .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
+        let values = vec![range.0.min(-1e-300); w * h];
+        let field = field_image(w, h, &values, range);
+
+        let mut pen = Pen {
+            out: Vec::with_capacity(cells * cells * 6),
+            size: self.size,
+            dpr: self.dpr,
+        };
+        let mut triangles: Vec<(f64, [usize; 3])> = Vec::with_capacity(cells * cells * 2);
+        for b in 0..cells {
+            for a in 0..cells {
+                let k = b * side + a;
+                for tri in [[k, k + 1, k + side + 1], [k, k + side + 1, k + side]] {
+                    let top = tri.iter().map(|&i| fs[i]).fold(f64::NEG_INFINITY, f64::max);
+                    triangles.push((top, tri));
+                }
+            }
+        }
+        triangles.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let colour = |v: f64| diverging(normalise(v, range));
+        for (_, tri) in &triangles {
+            for &i in tri {
+                let q = self.to_screen(net[i].truncate());
+                pen.out.push(ShapeVertex {
+                    position: pen.ndc(q),
+                    color: colour(fs[i]),
+                });
+            }
+        }
+        let magnitude = fs.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+        let accuracy = CONTOUR_ACCURACY * magnitude;
+        let contours = if injective {
+            solid_contour(&self.solid, MAPPED_CONTOUR_CELLS, accuracy)
+        } else {
+            sheet_contour(&self.solid, MAPPED_CONTOUR_CELLS, accuracy)
+        };
+        let mut shapes = pen.out;
+        shapes.extend(self.shapes(&contours));
+        Frame {
+            field,
+            shapes,
+            contours,
+            range,
+            folded: !injective,
         }
     }
 
@@ -757,6 +855,30 @@ impl ContourView {
             pen.disc(q, POINT_RADIUS, diverging(p.z / scale));
         }
         pen.out
+    }
+}
+
+/// `v` on the colour scale's `[−1, 1]`: each sign scaled to its own extreme of `range`.
+fn normalise(v: f64, range: (f64, f64)) -> f64 {
+    if v >= 0.0 {
+        v / range.1.max(1e-300)
+    } else {
+        v / -range.0.min(-1e-300)
+    }
+}
+
+/// The `w × h` samples `values` (row-major from the bottom) as an image (row 0 at the top).
+fn field_image(w: usize, h: usize, values: &[f64], range: (f64, f64)) -> FieldImage {
+    let mut rgba = Vec::with_capacity(w * h * 4);
+    for row in (0..h).rev() {
+        for &v in &values[row * w..(row + 1) * w] {
+            rgba.extend(diverging(normalise(v, range)).map(|c| (c * 255.0).round() as u8));
+        }
+    }
+    FieldImage {
+        width: w as u32,
+        height: h as u32,
+        rgba,
     }
 }
 
@@ -1020,6 +1142,10 @@ mod tests {
             "a moved corner is a space mapping"
         );
         v.pointer_up();
+        assert!(
+            (v.to_screen(p.truncate()) - target).length() < 1e-9,
+            "the view stays put after the drop"
+        );
         let outline_after = outline(v.solid().patch());
         assert_ne!(outline_before[1], outline_after[1]);
         assert_eq!(
@@ -1048,6 +1174,14 @@ mod tests {
         assert!(!v.dragging());
         assert_eq!(v.solid(), &Solid2::fig9());
         assert!(!v.can_undo() && v.can_redo(), "a cancelled drag is no step");
+        // F fits the view to the domain again.
+        v.select(Some((2, 2)));
+        v.set_selected_xy(3.0, 3.0).unwrap();
+        let before = v.view_box();
+        assert!(v.key("f", false));
+        let (min, max) = v.view_box();
+        assert_ne!((min, max), before);
+        assert!(max.x > 3.0 && max.y > 3.0 && min.x < 0.0);
     }
 
     #[test]
@@ -1115,6 +1249,37 @@ mod tests {
         assert_eq!(v.solid(), &Solid2::fig9());
         assert!(v.key("m", false));
         assert_eq!(v.mode(), Mode::Space);
+    }
+
+    #[test]
+    fn a_space_mapped_frame_draws_the_moved_solid() {
+        let mut v = view();
+        v.select(Some((1, 1)));
+        v.set_selected_xy(0.65, 0.6).unwrap();
+        assert!(v.solid().inverse().is_some_and(|m| m.injective()));
+        let frame = v.frame();
+        assert_eq!(frame.contours.len(), 1);
+        assert!(frame.contours[0].closed);
+        // Contour vertices are on f = 0 of the moved solid.
+        for p in &frame.contours[0].points {
+            assert!(v.solid().f(*p).abs() < 1e-6, "f = {}", v.solid().f(*p));
+        }
+        // The mesh: red where the solid is, drawn before the overlay.
+        let inside = v.to_screen(DVec2::new(0.6, 0.55));
+        let ndc = [
+            (inside.x / 800.0 * 2.0 - 1.0) as f32,
+            (1.0 - inside.y / 600.0 * 2.0) as f32,
+        ];
+        let near = frame
+            .shapes
+            .iter()
+            .filter(|s| {
+                (s.position[0] - ndc[0]).abs() < 0.01 && (s.position[1] - ndc[1]).abs() < 0.01
+            })
+            .collect::<Vec<_>>();
+        assert!(!near.is_empty());
+        assert!(near.iter().all(|s| s.color[0] > s.color[2]), "red inside");
+        assert!(frame.range.0 < 0.0 && frame.range.1 > 0.0);
     }
 
     #[test]

@@ -35,6 +35,17 @@ fn patch_only(model: ModelSolid) -> Result<Solid2, String> {
     }
 }
 
+/// The patch preset called `name`.
+///
+/// # Errors
+///
+/// For an unknown name or a volume preset.
+pub fn open_preset(name: &str) -> Result<Solid2, String> {
+    let preset = bezsolid_core::presets::Preset::from_name(name)
+        .ok_or_else(|| format!("no preset {name:?}"))?;
+    patch_only(preset.solid())
+}
+
 /// Reads a model file's text.
 ///
 /// # Errors

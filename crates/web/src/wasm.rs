@@ -5,9 +5,10 @@ use glam::DVec2;
 use wasm_bindgen::prelude::*;
 use web_sys::HtmlCanvasElement;
 
-use crate::app::ContourView;
+use crate::app::{ContourView, Mode};
+use crate::document;
 use crate::render::Renderer;
-use bezsolid_core::Solid2;
+use bezsolid_core::{Axis, Solid2};
 
 /// The modeler on one canvas: the contour view's state and the GPU that draws it.
 #[wasm_bindgen]
@@ -21,6 +22,7 @@ pub struct Modeler {
     adapter: String,
     range: (f64, f64),
     loops: usize,
+    folded: bool,
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -108,6 +110,7 @@ pub async fn start(canvas: HtmlCanvasElement, backend: &str) -> Result<Modeler, 
         adapter: info.name,
         range: (0.0, 0.0),
         loops: 0,
+        folded: false,
     })
 }
 
@@ -150,6 +153,7 @@ impl Modeler {
         let frame = self.view.frame();
         self.range = frame.range;
         self.loops = frame.contours.len();
+        self.folded = frame.folded;
         let texture = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t)
             | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
@@ -179,15 +183,22 @@ impl Modeler {
         self.range.1
     }
 
+    /// Whether the last frame's net may fold (its contour then shows every sheet's zero lines).
+    #[must_use]
+    pub fn folded(&self) -> bool {
+        self.folded
+    }
+
     /// How many pieces the zero contour had in the last frame.
     #[must_use]
     pub fn contour_count(&self) -> usize {
         self.loops
     }
 
-    /// Pointer pressed at CSS pixel `(x, y)` of the canvas; returns whether a point was grabbed.
-    pub fn pointer_down(&mut self, x: f64, y: f64) -> bool {
-        self.view.pointer_down(DVec2::new(x, y))
+    /// Pointer pressed at CSS pixel `(x, y)` of the canvas, with the modifier that gives the other
+    /// drag mode held or not; returns whether a point was grabbed.
+    pub fn pointer_down(&mut self, x: f64, y: f64, other_mode: bool) -> bool {
+        self.view.pointer_down(DVec2::new(x, y), other_mode)
     }
 
     /// Pointer moved; returns whether the solid changed.
@@ -256,5 +267,172 @@ impl Modeler {
     pub fn degree(&self) -> Vec<u32> {
         let (n, m) = self.view.solid().degree();
         vec![n as u32, m as u32]
+    }
+
+    /// `"function"` (drags change ξ) or `"space"` (drags move points in the plane).
+    #[must_use]
+    pub fn mode(&self) -> String {
+        match self.view.mode() {
+            Mode::Function => "function",
+            Mode::Space => "space",
+        }
+        .to_owned()
+    }
+
+    /// Sets the drag mode: `"function"` or `"space"`.
+    ///
+    /// # Errors
+    ///
+    /// For another name.
+    pub fn set_mode(&mut self, mode: &str) -> Result<(), JsError> {
+        self.view.set_mode(match mode {
+            "function" => Mode::Function,
+            "space" => Mode::Space,
+            other => return Err(JsError::new(&format!("unknown mode {other:?}"))),
+        });
+        Ok(())
+    }
+
+    /// Undoes the last step; returns whether there was one.
+    pub fn undo(&mut self) -> bool {
+        self.view.undo()
+    }
+
+    /// Redoes the last undone step; returns whether there was one.
+    pub fn redo(&mut self) -> bool {
+        self.view.redo()
+    }
+
+    /// Forgets the undo history (after restoring the autosaved model at start-up).
+    pub fn forget_history(&mut self) {
+        self.view.forget_history();
+    }
+
+    /// Whether there is a step to undo.
+    #[must_use]
+    pub fn can_undo(&self) -> bool {
+        self.view.can_undo()
+    }
+
+    /// Whether there is a step to redo.
+    #[must_use]
+    pub fn can_redo(&self) -> bool {
+        self.view.can_redo()
+    }
+
+    /// `[x, y, ξ]` of the selected point, or `undefined`.
+    #[must_use]
+    pub fn selected_point(&self) -> Option<Vec<f64>> {
+        self.view.selected_point().map(|p| p.to_array().to_vec())
+    }
+
+    /// Moves the selected point to `(x, y)`.
+    ///
+    /// # Errors
+    ///
+    /// When nothing is selected or a coordinate is not a finite number in range.
+    pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), JsError> {
+        self.view
+            .set_selected_xy(x, y)
+            .map_err(|e| JsError::new(&e))
+    }
+
+    /// Raises the degree along `u` (`axis` 0) or `v` (1), keeping the shape.
+    ///
+    /// # Errors
+    ///
+    /// Past the largest grid, or for another axis.
+    pub fn elevate(&mut self, axis: u32) -> Result<(), JsError> {
+        let axis = match axis {
+            0 => Axis::U,
+            1 => Axis::V,
+            _ => return Err(JsError::new("a patch has axes 0 (u) and 1 (v)")),
+        };
+        self.view.elevate(axis).map_err(|e| JsError::new(&e))
+    }
+
+    /// A new flat grid of `nu × nv` control points.
+    ///
+    /// # Errors
+    ///
+    /// For a size outside 2 to 16.
+    pub fn reset_grid(&mut self, nu: u32, nv: u32) -> Result<(), JsError> {
+        self.view
+            .reset_grid(nu as usize, nv as usize)
+            .map_err(|e| JsError::new(&e))
+    }
+
+    /// Opens a preset by name (`"fig9"`, or `"flat"` for a flat 4×4 grid).
+    ///
+    /// # Errors
+    ///
+    /// For an unknown or non-patch preset.
+    pub fn load_preset(&mut self, name: &str) -> Result<(), JsError> {
+        let solid = match name {
+            "flat" => Solid2::regular((3, 3), glam::DVec2::ZERO, glam::DVec2::ONE, |_, _| 0.25)
+                .map_err(|e| error("preset", e))?,
+            _ => document::open_preset(name).map_err(|e| JsError::new(&e))?,
+        };
+        self.view.set_solid(solid);
+        Ok(())
+    }
+
+    /// The model file (JSON).
+    #[must_use]
+    pub fn model_json(&self) -> String {
+        document::model_json(self.view.solid())
+    }
+
+    /// Opens a model file's text (an undo step); on error the model is unchanged.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the file.
+    pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
+        let solid = document::read_model(text).map_err(|e| JsError::new(&e))?;
+        self.view.set_solid(solid);
+        Ok(())
+    }
+
+    /// The share link's fragment, `#v1.…`.
+    ///
+    /// # Errors
+    ///
+    /// When the model is too large for a link.
+    pub fn link(&self) -> Result<String, JsError> {
+        document::share_fragment(self.view.solid()).map_err(|e| JsError::new(&e))
+    }
+
+    /// Opens a share link (a whole URL or its fragment; an undo step); on error the model is
+    /// unchanged.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the link.
+    pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
+        let solid = document::open_link(link).map_err(|e| JsError::new(&e))?;
+        self.view.set_solid(solid);
+        Ok(())
+    }
+
+    /// The zero contours as SVG.
+    #[must_use]
+    pub fn svg(&self) -> String {
+        document::svg(self.view.solid())
+    }
+
+    /// The HyperFun model.
+    ///
+    /// # Errors
+    ///
+    /// For a space-mapped model, which HyperFun cannot express.
+    pub fn hyperfun(&self) -> Result<String, JsError> {
+        document::hyperfun(self.view.solid()).map_err(|e| JsError::new(&e))
+    }
+
+    /// Whether the control points are moved off a regular grid (a space mapping).
+    #[must_use]
+    pub fn space_mapped(&self) -> bool {
+        self.view.solid().inverse().is_some()
     }
 }
