@@ -1,6 +1,6 @@
 // The page: brings up the modeler (Rust, wasm) on the canvas and forwards input to it. All state and
 // logic are in Rust; this file only wires DOM events, sizes the canvas and fills the side panel.
-import init, { start } from './pkg/bezsolid_web.js';
+import init, { start, start_3d } from './pkg/bezsolid_web.js';
 
 const $ = (id) => document.getElementById(id);
 const statusLine = $('status');
@@ -73,18 +73,42 @@ async function main() {
   };
   openFromAddress();
 
-  let pending = false;
+  // The 3D view has its own device (a WebGL2 device draws on one canvas only); it is optional: the
+  // 2D editor works on without it.
+  const canvas3 = $('view3d');
+  let viewer = null;
+  try {
+    viewer = await start_3d(canvas3, modeler.backend() === 'WebGPU' ? 'webgpu' : 'webgl2');
+    $('loading-3d').hidden = true;
+  } catch (err) {
+    $('loading-3d').textContent = `The 3D view could not start: ${err?.message ?? err}`;
+    console.warn(`bezsolid: no 3D view (${err?.message ?? err})`);
+  }
+
+  let pending = 0;
   let lastRender = 0;
-  let lastFrame = 0;
-  const redraw = () => {
-    if (pending) return;
-    pending = true;
-    requestAnimationFrame((t) => {
-      pending = false;
-      const t0 = performance.now();
-      modeler.render();
-      lastRender = performance.now() - t0;
-      lastFrame = t;
+  let lastRender3 = 0;
+  const VIEW2 = 1;
+  const VIEW3 = 2;
+  const redraw = (which = VIEW2 | VIEW3) => {
+    if (pending) {
+      pending |= which;
+      return;
+    }
+    pending = which;
+    requestAnimationFrame(() => {
+      const todo = pending;
+      pending = 0;
+      if (todo & VIEW2) {
+        const t0 = performance.now();
+        modeler.render();
+        lastRender = performance.now() - t0;
+      }
+      if (todo & VIEW3 && viewer) {
+        const t0 = performance.now();
+        modeler.render_3d(viewer);
+        lastRender3 = performance.now() - t0;
+      }
       updatePanel();
       updateDebug();
     });
@@ -149,9 +173,11 @@ async function main() {
   let lastEdit = 0;
   const updateDebug = () => {
     if (debug.hidden) return;
-    debug.textContent = `frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
+    debug.textContent = `2D frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
+      + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
       + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
+    document.body.dataset.render3Ms = lastRender3.toFixed(2);
   };
   const toggleDebug = () => {
     debug.hidden = !debug.hidden;
@@ -177,6 +203,76 @@ async function main() {
   };
   watchRatio();
   resize();
+  const resize3 = () => {
+    if (!viewer) return;
+    const rect = canvas3.getBoundingClientRect();
+    const [w, h] = modeler.resize_3d(viewer, rect.width, rect.height, window.devicePixelRatio || 1);
+    if (canvas3.width !== w) canvas3.width = w;
+    if (canvas3.height !== h) canvas3.height = h;
+    redraw(VIEW3);
+  };
+  new ResizeObserver(resize3).observe(canvas3);
+  resize3();
+
+  // The 3D view: orbit, pan, zoom, and drags of the spheres (one undo step each, as in 2D).
+  const local3 = (e) => {
+    const rect = canvas3.getBoundingClientRect();
+    return [e.clientX - rect.left, e.clientY - rect.top];
+  };
+  canvas3.addEventListener('contextmenu', (e) => e.preventDefault());
+  canvas3.addEventListener('pointerdown', (e) => {
+    if (!viewer || (e.button !== 0 && e.button !== 2)) return;
+    canvas3.focus();
+    const [x, y] = local3(e);
+    const grabbed = modeler.pointer_down_3d(x, y, e.button === 2, e.shiftKey);
+    canvas3.setPointerCapture(e.pointerId);
+    canvas3.classList.add('dragging');
+    e.preventDefault();
+    redraw(grabbed ? VIEW2 | VIEW3 : VIEW3);
+  });
+  canvas3.addEventListener('pointermove', (e) => {
+    if (!viewer) return;
+    const [x, y] = local3(e);
+    if (modeler.busy_3d()) {
+      const editing = modeler.dragging();
+      if (modeler.pointer_move_3d(x, y)) {
+        if (editing) lastEdit = performance.now();
+        redraw(editing ? VIEW2 | VIEW3 : VIEW3);
+      }
+      return;
+    }
+    canvas3.classList.toggle('over-point', modeler.hit_3d(x, y));
+  });
+  const endDrag3 = (e) => {
+    if (!viewer || !modeler.busy_3d()) return;
+    const editing = modeler.dragging();
+    modeler.pointer_up_3d();
+    canvas3.classList.remove('dragging');
+    if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+    if (editing) changed();
+    else redraw(VIEW3);
+  };
+  canvas3.addEventListener('pointerup', endDrag3);
+  canvas3.addEventListener('pointercancel', endDrag3);
+  canvas3.addEventListener('lostpointercapture', endDrag3);
+  canvas3.addEventListener('wheel', (e) => {
+    if (!viewer) return;
+    e.preventDefault();
+    modeler.wheel_3d(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
+    redraw(VIEW3);
+  }, { passive: false });
+  const fit3 = () => {
+    modeler.fit_3d();
+    redraw(VIEW3);
+  };
+  $('fit-3d').addEventListener('click', fit3);
+  canvas3.addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key === 'f' || e.key === 'F') {
+      fit3();
+      e.preventDefault();
+    }
+  });
 
   const local = (e) => {
     const rect = canvas.getBoundingClientRect();
@@ -417,10 +513,11 @@ async function main() {
     }
   });
 
-  window.bezsolid = { modeler, canvas, redraw, saveNow };
+  window.bezsolid = { modeler, canvas, canvas3, viewer, redraw, saveNow };
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();
+    if (viewer) modeler.render_3d(viewer);
     updatePanel();
     saveNow();
     document.body.dataset.ready = 'true';

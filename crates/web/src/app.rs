@@ -497,26 +497,57 @@ impl ContourView {
     pub fn pointer_down(&mut self, q: DVec2, other_mode: bool) -> bool {
         match self.pick(q) {
             Some(k) => {
-                self.selected = Some(k);
                 let mode = if other_mode {
                     self.mode.other()
                 } else {
                     self.mode
                 };
-                // The view holds still from now on: the point stays under the pointer even as the
-                // domain it frames grows or shrinks.
-                self.fix_view();
-                self.drag = Some(Drag {
-                    index: k,
-                    mode,
-                    start: q,
-                    start_point: self.solid.patch().points()[k],
-                    before: self.solid.patch().clone(),
-                });
+                self.begin_drag(k, mode);
+                if let Some(drag) = &mut self.drag {
+                    drag.start = q;
+                }
                 true
             }
             None => false,
         }
+    }
+
+    /// Starts dragging control point `index` (flat, as in [`Patch::points`]) in `mode`: it is
+    /// selected, and the drag ends with [`Self::pointer_up`] as one undo step. For views other than
+    /// this one, which move the point with [`Self::drag_to`].
+    pub fn begin_drag(&mut self, index: usize, mode: Mode) {
+        if index >= self.count() {
+            return;
+        }
+        self.selected = Some(index);
+        // The view holds still from now on: the point stays under the pointer even as the domain
+        // it frames grows or shrinks.
+        self.fix_view();
+        self.drag = Some(Drag {
+            index,
+            mode,
+            start: DVec2::ZERO,
+            start_point: self.solid.patch().points()[index],
+            before: self.solid.patch().clone(),
+        });
+    }
+
+    /// The control point being dragged.
+    #[must_use]
+    pub fn dragged(&self) -> Option<usize> {
+        self.drag.as_ref().map(|d| d.index)
+    }
+
+    /// During a drag: moves the point to `xy` in the plane and/or to `xi`. Returns whether the solid
+    /// changed (a value it cannot take leaves it as it was).
+    pub fn drag_to(&mut self, xy: Option<DVec2>, xi: Option<f64>) -> bool {
+        let Some(drag) = &self.drag else { return false };
+        let k = drag.index;
+        let (i, j) = self.ij(k);
+        let before = self.solid.patch().points()[k];
+        let ok = xi.is_none_or(|xi| self.solid.set_xi(i, j, xi).is_ok())
+            && xy.is_none_or(|xy| self.solid.set_point(i, j, xy).is_ok());
+        ok && self.solid.patch().points()[k] != before
     }
 
     /// Pointer moved to CSS pixel `q`: while dragging in function mode, up raises ξ and down lowers

@@ -6,8 +6,11 @@
 
 pub mod app;
 pub mod document;
+pub mod view3d;
 
 #[cfg(target_arch = "wasm32")]
 mod render;
+#[cfg(target_arch = "wasm32")]
+mod render3d;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

@@ -8,12 +8,15 @@ use web_sys::HtmlCanvasElement;
 use crate::app::{ContourView, Mode};
 use crate::document;
 use crate::render::Renderer;
+use crate::render3d::Renderer3;
+use crate::view3d::View3;
 use bezsolid_core::{Axis, Solid2};
 
 /// The modeler on one canvas: the contour view's state and the GPU that draws it.
 #[wasm_bindgen]
 pub struct Modeler {
     view: ContourView,
+    view3: View3,
     renderer: Renderer,
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
@@ -29,6 +32,133 @@ fn error(context: &str, e: impl core::fmt::Display) -> JsError {
     JsError::new(&format!("{context}: {e}"))
 }
 
+/// A device and a configured-to-be surface on one canvas.
+struct Gpu {
+    surface: wgpu::Surface<'static>,
+    adapter: wgpu::Adapter,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    config: wgpu::SurfaceConfiguration,
+    max_size: u32,
+    backend: &'static str,
+    info: wgpu::AdapterInfo,
+}
+
+impl Gpu {
+    /// An adapter and device for `canvas` on `backend` (`"auto"`, `"webgpu"` or `"webgl2"`). Each
+    /// canvas gets its own: a WebGL2 device draws only on the canvas it was made for.
+    async fn bring_up(canvas: &HtmlCanvasElement, backend: &str) -> Result<Self, JsError> {
+        let backends = match backend {
+            "webgpu" => wgpu::Backends::BROWSER_WEBGPU,
+            "webgl2" => wgpu::Backends::GL,
+            "auto" => wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL,
+            other => {
+                return Err(JsError::new(&format!(
+                    "unknown backend {other:?}: use auto, webgpu or webgl2"
+                )));
+            }
+        };
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
+        let surface = instance
+            .create_surface(wgpu::SurfaceTarget::Canvas(canvas.clone()))
+            .map_err(|e| error("cannot draw on the canvas", e))?;
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                compatible_surface: Some(&surface),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| error("no graphics adapter", e))?;
+        let info = adapter.get_info();
+        let backend = match info.backend {
+            wgpu::Backend::BrowserWebGpu => "WebGPU",
+            wgpu::Backend::Gl => "WebGL2",
+            _ => "unknown",
+        };
+        let limits = wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits());
+        let max_size = limits.max_texture_dimension_2d;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("bezsolid"),
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| error("no graphics device", e))?;
+        device.on_uncaptured_error(std::sync::Arc::new(|e| {
+            web_sys::console::error_1(&format!("bezsolid: GPU error: {e}").into());
+        }));
+        let caps = surface.get_capabilities(&adapter);
+        // A plain (not sRGB) format: the colours are computed for display as they are.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| !f.is_srgb())
+            .or(caps.formats.first().copied());
+        let (w, h) = (canvas.width().max(1), canvas.height().max(1));
+        let mut config = surface
+            .get_default_config(&adapter, w, h)
+            .ok_or_else(|| JsError::new("the canvas cannot be drawn on by this adapter"))?;
+        if let Some(format) = format {
+            config.format = format;
+        }
+        Ok(Self {
+            surface,
+            adapter,
+            device,
+            queue,
+            config,
+            max_size,
+            backend,
+            info,
+        })
+    }
+}
+
+/// Device pixels for a canvas of `width × height` CSS pixels at `dpr`, shrunk by one factor past
+/// the largest texture (the picture keeps its shape).
+fn device_pixels(width: f64, height: f64, dpr: f64, max_size: u32) -> (u32, u32) {
+    let dpr = if dpr.is_finite() && dpr > 0.0 {
+        dpr.clamp(0.25, 8.0)
+    } else {
+        1.0
+    };
+    let w = (width.max(1.0) * dpr).round();
+    let h = (height.max(1.0) * dpr).round();
+    let shrink = (f64::from(max_size) / w.max(h)).min(1.0);
+    (((w * shrink) as u32).max(1), ((h * shrink) as u32).max(1))
+}
+
+/// The 3D view's canvas and GPU; the model and camera live in [`Modeler`].
+#[wasm_bindgen]
+pub struct Viewer3 {
+    renderer: Renderer3,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    max_size: u32,
+}
+
+/// Brings up the 3D view's renderer on `canvas`, on `backend` as [`start`] takes it.
+///
+/// # Errors
+///
+/// When no adapter or device can be had on the requested backend.
+#[wasm_bindgen]
+pub async fn start_3d(canvas: HtmlCanvasElement, backend: &str) -> Result<Viewer3, JsError> {
+    let gpu = Gpu::bring_up(&canvas, backend).await?;
+    let renderer = Renderer3::new(gpu.device, gpu.queue, &gpu.adapter, gpu.config.format);
+    gpu.surface.configure(renderer.device(), &gpu.config);
+    Ok(Viewer3 {
+        renderer,
+        surface: gpu.surface,
+        config: gpu.config,
+        max_size: gpu.max_size,
+    })
+}
+
 /// Brings up the renderer on `canvas` with the default model (the paper's Fig. 9).
 ///
 /// `backend` is `"auto"` (WebGPU when the browser has an adapter, else WebGL2), `"webgpu"` or
@@ -41,73 +171,22 @@ fn error(context: &str, e: impl core::fmt::Display) -> JsError {
 #[wasm_bindgen]
 pub async fn start(canvas: HtmlCanvasElement, backend: &str) -> Result<Modeler, JsError> {
     console_error_panic_hook::set_once();
-    let backends = match backend {
-        "webgpu" => wgpu::Backends::BROWSER_WEBGPU,
-        "webgl2" => wgpu::Backends::GL,
-        "auto" => wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL,
-        other => {
-            return Err(JsError::new(&format!(
-                "unknown backend {other:?}: use auto, webgpu or webgl2"
-            )));
-        }
-    };
-    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-    desc.backends = backends;
-    let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
-    let surface = instance
-        .create_surface(wgpu::SurfaceTarget::Canvas(canvas.clone()))
-        .map_err(|e| error("cannot draw on the canvas", e))?;
-    let adapter = instance
-        .request_adapter(&wgpu::RequestAdapterOptions {
-            compatible_surface: Some(&surface),
-            ..Default::default()
-        })
-        .await
-        .map_err(|e| error("no graphics adapter", e))?;
-    let info = adapter.get_info();
-    let backend = match info.backend {
-        wgpu::Backend::BrowserWebGpu => "WebGPU",
-        wgpu::Backend::Gl => "WebGL2",
-        _ => "unknown",
-    };
-    let limits = wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits());
-    let max_size = limits.max_texture_dimension_2d;
-    let (device, queue) = adapter
-        .request_device(&wgpu::DeviceDescriptor {
-            label: Some("bezsolid"),
-            required_limits: limits,
-            ..Default::default()
-        })
-        .await
-        .map_err(|e| error("no graphics device", e))?;
-    device.on_uncaptured_error(std::sync::Arc::new(|e| {
-        web_sys::console::error_1(&format!("bezsolid: GPU error: {e}").into());
-    }));
-    let caps = surface.get_capabilities(&adapter);
-    // A plain (not sRGB) format: the colours are computed for display as they are.
-    let format = caps
-        .formats
-        .iter()
-        .copied()
-        .find(|f| !f.is_srgb())
-        .or(caps.formats.first().copied());
-    let (w, h) = (canvas.width().max(1), canvas.height().max(1));
-    let mut config = surface
-        .get_default_config(&adapter, w, h)
-        .ok_or_else(|| JsError::new("the canvas cannot be drawn on by this adapter"))?;
-    if let Some(format) = format {
-        config.format = format;
-    }
-    let renderer = Renderer::new(device, queue, &adapter, config.format);
-    surface.configure(renderer.device(), &config);
+    let gpu = Gpu::bring_up(&canvas, backend).await?;
+    let renderer = Renderer::new(gpu.device, gpu.queue, &gpu.adapter, gpu.config.format);
+    gpu.surface.configure(renderer.device(), &gpu.config);
+    let view = ContourView::new(Solid2::fig9());
+    let view3 = View3::new(&view);
+    let (surface, config, max_size, backend, info) =
+        (gpu.surface, gpu.config, gpu.max_size, gpu.backend, gpu.info);
     Ok(Modeler {
-        view: ContourView::new(Solid2::fig9()),
+        view,
+        view3,
         renderer,
         surface,
         config,
         max_size,
         backend,
-        adapter: info.name,
+        adapter: info.name.clone(),
         range: (0.0, 0.0),
         loops: 0,
         folded: false,
@@ -359,7 +438,9 @@ impl Modeler {
     pub fn reset_grid(&mut self, nu: u32, nv: u32) -> Result<(), JsError> {
         self.view
             .reset_grid(nu as usize, nv as usize)
-            .map_err(|e| JsError::new(&e))
+            .map_err(|e| JsError::new(&e))?;
+        self.view3.fit(&self.view);
+        Ok(())
     }
 
     /// Opens a preset by name (`"fig9"`, or `"flat"` for a flat 4×4 grid).
@@ -374,6 +455,7 @@ impl Modeler {
             _ => document::open_preset(name).map_err(|e| JsError::new(&e))?,
         };
         self.view.set_solid(solid);
+        self.view3.fit(&self.view);
         Ok(())
     }
 
@@ -391,6 +473,7 @@ impl Modeler {
     pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
         let solid = document::read_model(text).map_err(|e| JsError::new(&e))?;
         self.view.set_solid(solid);
+        self.view3.fit(&self.view);
         Ok(())
     }
 
@@ -412,6 +495,7 @@ impl Modeler {
     pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
         let solid = document::open_link(link).map_err(|e| JsError::new(&e))?;
         self.view.set_solid(solid);
+        self.view3.fit(&self.view);
         Ok(())
     }
 
@@ -434,5 +518,97 @@ impl Modeler {
     #[must_use]
     pub fn space_mapped(&self) -> bool {
         self.view.solid().inverse().is_some()
+    }
+
+    /// Sizes the 3D view: CSS pixels and the device pixel ratio; returns the canvas size in device
+    /// pixels.
+    pub fn resize_3d(
+        &mut self,
+        viewer: &mut Viewer3,
+        width: f64,
+        height: f64,
+        dpr: f64,
+    ) -> Vec<u32> {
+        self.view3.resize(&self.view, width, height);
+        let (w, h) = device_pixels(width, height, dpr, viewer.max_size);
+        if (w, h) != (viewer.config.width, viewer.config.height) {
+            viewer.config.width = w;
+            viewer.config.height = h;
+            viewer
+                .surface
+                .configure(viewer.renderer.device(), &viewer.config);
+        }
+        vec![w, h]
+    }
+
+    /// Draws the 3D view.
+    pub fn render_3d(&mut self, viewer: &mut Viewer3) {
+        let scene = self.view3.scene(&self.view);
+        let texture = match viewer.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                viewer
+                    .surface
+                    .configure(viewer.renderer.device(), &viewer.config);
+                return;
+            }
+            _ => return,
+        };
+        let view = texture
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        viewer
+            .renderer
+            .draw(&view, (viewer.config.width, viewer.config.height), &scene);
+        viewer.renderer.queue().present(texture);
+    }
+
+    /// Pointer pressed in the 3D view: `pan` for the right button; `shift` pans on empty space and
+    /// gives the other drag mode on a control point. Returns whether a point was grabbed.
+    pub fn pointer_down_3d(&mut self, x: f64, y: f64, pan: bool, shift: bool) -> bool {
+        self.view3
+            .pointer_down(&mut self.view, DVec2::new(x, y), pan, shift)
+    }
+
+    /// Pointer moved in the 3D view; returns whether the camera or the model changed.
+    pub fn pointer_move_3d(&mut self, x: f64, y: f64) -> bool {
+        self.view3.pointer_move(&mut self.view, DVec2::new(x, y))
+    }
+
+    /// Pointer released in the 3D view.
+    pub fn pointer_up_3d(&mut self) {
+        self.view3.pointer_up(&mut self.view);
+    }
+
+    /// Whether a 3D gesture (orbit, pan or point drag) is under way.
+    #[must_use]
+    pub fn busy_3d(&self) -> bool {
+        self.view3.busy()
+    }
+
+    /// Whether a control point's sphere is under CSS pixel `(x, y)` of the 3D view.
+    #[must_use]
+    pub fn hit_3d(&self, x: f64, y: f64) -> bool {
+        self.view3.pick(&self.view, DVec2::new(x, y)).is_some()
+    }
+
+    /// The wheel over the 3D view: zooms.
+    pub fn wheel_3d(&mut self, delta_y: f64) {
+        self.view3.wheel(delta_y);
+    }
+
+    /// The CSS pixel `[x, y]` of control point `index`'s sphere in the 3D view (`index` as in the
+    /// model file), or `undefined`.
+    #[must_use]
+    pub fn sphere_screen_3d(&self, index: usize) -> Option<Vec<f64>> {
+        self.view3
+            .screen_of(&self.view, index)
+            .map(|q| q.to_array().to_vec())
+    }
+
+    /// Frames the model in the 3D view again.
+    pub fn fit_3d(&mut self) {
+        self.view3.fit(&self.view);
     }
 }

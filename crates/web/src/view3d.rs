@@ -1,0 +1,726 @@
+//! The 3D view of a patch solid, as plain Rust: the surface `(x, y, ξ)` coloured by ξ, the plane
+//! ξ = 0 and the control points as spheres (the first paper's Fig. 6 and Fig. 9); an orbit camera
+//! with the conventions of three.js `OrbitControls` (left drag orbits, right or Shift drag pans, the
+//! wheel zooms); picking by ray against the spheres; and drags of a sphere along its vertical line
+//! (function mapping, ξ) or in its horizontal plane (space mapping, x and y), which go through the
+//! patch editor ([`ContourView`]) so that the two views share one model and one undo history.
+//!
+//! World space is z-up: `(x, y, h·ξ)`, where the height scale `h` is set when the view fits the
+//! model (half the domain's larger side per unit of ξ) and held still while editing.
+
+use glam::{DVec2, DVec3};
+
+use crate::app::{ContourView, Mode, Rgba, diverging};
+
+/// Cells per side of the surface mesh.
+const SURFACE_CELLS: usize = 48;
+/// A sphere's radius as a fraction of the domain's larger side.
+const SPHERE_RADIUS: f64 = 0.022;
+/// Orbit: radians per CSS pixel of drag, as `OrbitControls` (a full turn per view height).
+const ORBIT_PER_PIXEL: f64 = core::f64::consts::TAU;
+/// Zoom: the distance is multiplied by `exp(deltaY · ZOOM_PER_WHEEL)` (a notch of 100 is ×1.105).
+const ZOOM_PER_WHEEL: f64 = 0.001;
+/// The camera's vertical field of view.
+const FOV_Y: f64 = 0.75;
+/// Pitch stays inside ±(π/2 − this), as `OrbitControls` keeps the pole out of reach.
+const POLE_MARGIN: f64 = 0.01;
+
+const PLANE_COLOR: Rgba = [0.55, 0.58, 0.64, 0.28];
+const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
+const GUIDE_COLOR: Rgba = [0.25, 0.27, 0.32, 1.0];
+const NET_COLOR: Rgba = [0.35, 0.37, 0.42, 1.0];
+
+/// One vertex of the 3D geometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshVertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// Unit normal (the shading is two-sided).
+    pub normal: [f32; 3],
+    /// Straight RGBA.
+    pub color: Rgba,
+}
+
+impl MeshVertex {
+    /// Bytes of one vertex: 10 little-endian `f32`.
+    pub const SIZE: usize = 40;
+
+    /// Appends the vertex's bytes (`float32x3`, `float32x3`, `float32x4`).
+    pub fn write(&self, out: &mut Vec<u8>) {
+        for x in self.position.iter().chain(&self.normal).chain(&self.color) {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+}
+
+/// Everything one 3D redraw needs.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Opaque triangles (surface, spheres, guides), drawn first.
+    pub opaque: Vec<MeshVertex>,
+    /// Translucent triangles (the plane ξ = 0), drawn last.
+    pub translucent: Vec<MeshVertex>,
+    /// Clip from world, column-major (`wgpu`'s depth range 0 to 1).
+    pub view_proj: [[f32; 4]; 4],
+    /// The camera's position, for the headlight.
+    pub eye: [f32; 3],
+}
+
+/// An orbit camera around a target, z up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// The point looked at and orbited.
+    pub target: DVec3,
+    /// Distance from the target to the eye.
+    pub distance: f64,
+    /// Angle around z, from +x.
+    pub yaw: f64,
+    /// Angle above the xy plane.
+    pub pitch: f64,
+}
+
+impl Camera {
+    /// A camera that frames the box `[min, max]` from the front right, above, in a viewport of
+    /// `aspect` (width / height).
+    #[must_use]
+    pub fn fit(min: DVec3, max: DVec3, aspect: f64) -> Self {
+        let radius = ((max - min).length() * 0.5).max(1e-9);
+        // The narrower of the two fields of view must hold the box's bounding sphere.
+        let half_x = ((FOV_Y * 0.5).tan() * aspect.clamp(0.05, 20.0)).atan();
+        let half = half_x.min(FOV_Y * 0.5);
+        Self {
+            target: (min + max) * 0.5,
+            distance: radius / half.sin() * 1.02,
+            yaw: -1.1,
+            pitch: 0.55,
+        }
+    }
+
+    /// The eye's position.
+    #[must_use]
+    pub fn eye(&self) -> DVec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        self.target + DVec3::new(cp * cy, cp * sy, sp) * self.distance
+    }
+
+    /// The camera's right, up and backward (eye − target) unit vectors.
+    fn basis(&self) -> (DVec3, DVec3, DVec3) {
+        let back = (self.eye() - self.target).normalize();
+        let right = DVec3::Z.cross(back).normalize();
+        let up = back.cross(right);
+        (right, up, back)
+    }
+
+    /// Near and far planes that hold a scene of size `extent` around the target.
+    fn clip_planes(&self, extent: f64) -> (f64, f64) {
+        let near = (self.distance - extent * 2.0).max(self.distance * 1e-3);
+        (near, self.distance + extent * 2.0)
+    }
+
+    /// Clip from world for a viewport of `aspect` (width / height), column-major.
+    #[must_use]
+    pub fn view_proj(&self, aspect: f64, extent: f64) -> [[f64; 4]; 4] {
+        let (r, u, b) = self.basis();
+        let e = self.eye();
+        // View: rows are the camera axes; translation −axis·eye.
+        let view = [
+            [r.x, u.x, b.x, 0.0],
+            [r.y, u.y, b.y, 0.0],
+            [r.z, u.z, b.z, 0.0],
+            [-r.dot(e), -u.dot(e), -b.dot(e), 1.0],
+        ];
+        let (near, far) = self.clip_planes(extent);
+        let f = 1.0 / (FOV_Y * 0.5).tan();
+        let a = aspect.max(1e-6);
+        // Right-handed perspective to depth 0 (near) .. 1 (far).
+        let proj = [
+            [f / a, 0.0, 0.0, 0.0],
+            [0.0, f, 0.0, 0.0],
+            [0.0, 0.0, far / (near - far), -1.0],
+            [0.0, 0.0, near * far / (near - far), 0.0],
+        ];
+        let mut out = [[0.0; 4]; 4];
+        for (c, col) in out.iter_mut().enumerate() {
+            for (r, x) in col.iter_mut().enumerate() {
+                *x = (0..4).map(|k| proj[k][r] * view[c][k]).sum();
+            }
+        }
+        out
+    }
+
+    /// The ray through CSS pixel `q` of a viewport of `size`: origin (the eye) and unit direction.
+    #[must_use]
+    pub fn ray(&self, q: DVec2, size: DVec2) -> (DVec3, DVec3) {
+        let (r, u, b) = self.basis();
+        let t = (FOV_Y * 0.5).tan();
+        let ndc = DVec2::new(q.x / size.x * 2.0 - 1.0, 1.0 - q.y / size.y * 2.0);
+        let dir = r * ndc.x * t * (size.x / size.y) + u * ndc.y * t - b;
+        (self.eye(), dir.normalize())
+    }
+
+    /// Orbits by a pointer move of `delta` CSS pixels in a viewport `height` pixels tall: right
+    /// turns the scene right, up tilts it towards the viewer.
+    pub fn orbit(&mut self, delta: DVec2, height: f64) {
+        let k = ORBIT_PER_PIXEL / height.max(1.0);
+        self.yaw -= delta.x * k;
+        let limit = core::f64::consts::FRAC_PI_2 - POLE_MARGIN;
+        self.pitch = (self.pitch + delta.y * k).clamp(-limit, limit);
+    }
+
+    /// Pans so that the point under the pointer follows it.
+    pub fn pan(&mut self, delta: DVec2, height: f64) {
+        let (r, u, _) = self.basis();
+        let per_pixel = 2.0 * self.distance * (FOV_Y * 0.5).tan() / height.max(1.0);
+        self.target += (-r * delta.x + u * delta.y) * per_pixel;
+    }
+
+    /// Zooms by a wheel `delta_y` (positive: away).
+    pub fn zoom(&mut self, delta_y: f64) {
+        if delta_y.is_finite() {
+            self.distance = (self.distance * (delta_y * ZOOM_PER_WHEEL).clamp(-1.0, 1.0).exp())
+                .clamp(1e-6, 1e9);
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Gesture {
+    Orbit(DVec2),
+    Pan(DVec2),
+    /// A control point: the mode, and the offset from the grab point to the point's centre.
+    Point(Mode, DVec3),
+}
+
+/// The 3D view's state: camera, height scale, viewport and the gesture under way.
+#[derive(Clone, Debug)]
+pub struct View3 {
+    camera: Camera,
+    /// World z per unit of ξ.
+    height: f64,
+    size: DVec2,
+    gesture: Option<Gesture>,
+    /// The user has moved the camera since it was last fitted.
+    moved: bool,
+}
+
+impl View3 {
+    /// A view that frames `editor`'s model.
+    #[must_use]
+    pub fn new(editor: &ContourView) -> Self {
+        let mut v = Self {
+            camera: Camera::fit(DVec3::ZERO, DVec3::ONE, 1.0),
+            height: 1.0,
+            size: DVec2::new(640.0, 480.0),
+            gesture: None,
+            moved: false,
+        };
+        v.fit(editor);
+        v
+    }
+
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Sets the viewport size in CSS pixels (sizes below 1 become 1). Until the camera is moved,
+    /// a new shape of viewport frames the model again.
+    pub fn resize(&mut self, editor: &ContourView, width: f64, height: f64) {
+        let ok = |x: f64| if x.is_finite() && x >= 1.0 { x } else { 1.0 };
+        self.size = DVec2::new(ok(width), ok(height));
+        if !self.moved {
+            self.fit(editor);
+        }
+    }
+
+    /// Frames the model again (the height scale too): after opening another model, or on request.
+    pub fn fit(&mut self, editor: &ContourView) {
+        let (min, max) = editor.solid().domain();
+        let extent = (max - min).max_element().max(1e-9);
+        self.height = 0.5 * extent;
+        let (lo, hi) = xi_range(editor);
+        self.camera = Camera::fit(
+            DVec3::new(min.x, min.y, (lo * self.height).min(0.0)),
+            DVec3::new(max.x, max.y, (hi * self.height).max(0.0)),
+            self.size.x / self.size.y,
+        );
+        self.moved = false;
+    }
+
+    /// World position of control point `p = (x, y, ξ)`.
+    fn world(&self, p: DVec3) -> DVec3 {
+        DVec3::new(p.x, p.y, p.z * self.height)
+    }
+
+    fn radius(editor: &ContourView) -> f64 {
+        let (min, max) = editor.solid().domain();
+        (max - min).max_element() * SPHERE_RADIUS
+    }
+
+    /// The CSS pixel where control point `index`'s sphere centre is drawn (`None` behind the eye).
+    #[must_use]
+    pub fn screen_of(&self, editor: &ContourView, index: usize) -> Option<DVec2> {
+        let p = self.world(*editor.solid().patch().points().get(index)?);
+        let m = self.camera.view_proj(self.size.x / self.size.y, 1.0);
+        let clip: [f64; 4] =
+            core::array::from_fn(|r| (0..3).map(|c| m[c][r] * p[c]).sum::<f64>() + m[3][r]);
+        (clip[3] > 0.0).then(|| {
+            let ndc = DVec2::new(clip[0] / clip[3], clip[1] / clip[3]);
+            DVec2::new((ndc.x + 1.0) * 0.5, (1.0 - ndc.y) * 0.5) * self.size
+        })
+    }
+
+    /// The control point whose sphere the ray through CSS pixel `q` meets first.
+    #[must_use]
+    pub fn pick(&self, editor: &ContourView, q: DVec2) -> Option<usize> {
+        let (o, d) = self.camera.ray(q, self.size);
+        // Picking is a little more generous than the drawn sphere.
+        let r = Self::radius(editor) * 1.6;
+        editor
+            .solid()
+            .patch()
+            .points()
+            .iter()
+            .enumerate()
+            .filter_map(|(k, &p)| {
+                let c = self.world(p) - o;
+                let t = c.dot(d);
+                let miss = c.length_squared() - t * t;
+                (t > 0.0 && miss <= r * r).then(|| (k, t - (r * r - miss).sqrt()))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(k, _)| k)
+    }
+
+    /// Pointer pressed at CSS pixel `q`: `pan` (right button or Shift on empty space) pans; on a
+    /// sphere the point is grabbed (in the editor's mode, the other with `other_mode`); elsewhere the
+    /// camera orbits. Returns whether a control point was grabbed.
+    pub fn pointer_down(
+        &mut self,
+        editor: &mut ContourView,
+        q: DVec2,
+        pan: bool,
+        other_mode: bool,
+    ) -> bool {
+        if !pan && let Some(k) = self.pick(editor, q) {
+            let mode = if other_mode {
+                editor.mode().other()
+            } else {
+                editor.mode()
+            };
+            let centre = self.world(editor.solid().patch().points()[k]);
+            let grab = self.grab_point(centre, mode, q).unwrap_or(centre);
+            editor.begin_drag(k, mode);
+            self.gesture = Some(Gesture::Point(mode, centre - grab));
+            return true;
+        }
+        self.gesture = Some(if pan || other_mode {
+            Gesture::Pan(q)
+        } else {
+            Gesture::Orbit(q)
+        });
+        false
+    }
+
+    /// Where the pointer ray meets the constraint of a drag through `centre`: the vertical line
+    /// (function mode) or the horizontal plane (space mode).
+    fn grab_point(&self, centre: DVec3, mode: Mode, q: DVec2) -> Option<DVec3> {
+        let (o, d) = self.camera.ray(q, self.size);
+        match mode {
+            Mode::Space => {
+                if d.z.abs() < 1e-9 {
+                    return None;
+                }
+                let t = (centre.z - o.z) / d.z;
+                (t > 0.0).then(|| o + d * t)
+            }
+            Mode::Function => {
+                // The point of the line centre + s·z closest to the ray.
+                let w = o - centre;
+                let b = d.z;
+                let denom = 1.0 - b * b;
+                if denom < 1e-9 {
+                    return None;
+                }
+                let s = (w.z - b * d.dot(w)) / denom;
+                Some(centre + DVec3::Z * s)
+            }
+        }
+    }
+
+    /// Pointer moved to CSS pixel `q`. Returns whether anything changed (camera or model).
+    pub fn pointer_move(&mut self, editor: &mut ContourView, q: DVec2) -> bool {
+        match self.gesture {
+            None => false,
+            Some(Gesture::Orbit(last)) => {
+                self.moved = true;
+                self.camera.orbit(q - last, self.size.y);
+                self.gesture = Some(Gesture::Orbit(q));
+                true
+            }
+            Some(Gesture::Pan(last)) => {
+                self.moved = true;
+                self.camera.pan(q - last, self.size.y);
+                self.gesture = Some(Gesture::Pan(q));
+                true
+            }
+            Some(Gesture::Point(mode, offset)) => {
+                let Some(k) = editor.dragged() else {
+                    self.gesture = None;
+                    return false;
+                };
+                let centre = self.world(editor.solid().patch().points()[k]);
+                let Some(hit) = self.grab_point(centre, mode, q) else {
+                    return false;
+                };
+                let to = hit + offset;
+                match mode {
+                    Mode::Function => editor.drag_to(None, Some(to.z / self.height)),
+                    Mode::Space => editor.drag_to(Some(to.truncate()), None),
+                }
+            }
+        }
+    }
+
+    /// Pointer released: ends the gesture (a point drag is one undo step).
+    pub fn pointer_up(&mut self, editor: &mut ContourView) {
+        if matches!(self.gesture, Some(Gesture::Point(..))) {
+            editor.pointer_up();
+        }
+        self.gesture = None;
+    }
+
+    /// Whether a gesture is under way.
+    #[must_use]
+    pub fn busy(&self) -> bool {
+        self.gesture.is_some()
+    }
+
+    /// The wheel: zooms.
+    pub fn wheel(&mut self, delta_y: f64) {
+        self.moved = true;
+        self.camera.zoom(delta_y);
+    }
+
+    /// Builds the scene of `editor`'s model.
+    #[must_use]
+    pub fn scene(&self, editor: &ContourView) -> Scene {
+        let solid = editor.solid();
+        let patch = solid.patch();
+        let (lo, hi) = xi_range(editor);
+        let scale = lo.abs().max(hi.abs()).max(1e-12);
+        let mut opaque = Vec::new();
+
+        // The surface (x, y, h·ξ) over a parameter grid, normals from the grid's differences.
+        let n = SURFACE_CELLS;
+        let ts: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+        let pts: Vec<DVec3> = patch
+            .eval_grid(&ts, &ts)
+            .into_iter()
+            .map(|p| self.world(p))
+            .collect();
+        let side = n + 1;
+        let at = |a: usize, b: usize| pts[b * side + a];
+        let normal = |a: usize, b: usize| {
+            let du = at((a + 1).min(n), b) - at(a.saturating_sub(1), b);
+            let dv = at(a, (b + 1).min(n)) - at(a, b.saturating_sub(1));
+            du.cross(dv).normalize_or(DVec3::Z)
+        };
+        let vertex = |a: usize, b: usize| {
+            let p = at(a, b);
+            MeshVertex {
+                position: p.as_vec3().to_array(),
+                normal: normal(a, b).as_vec3().to_array(),
+                color: diverging(p.z / self.height / scale),
+            }
+        };
+        for b in 0..n {
+            for a in 0..n {
+                for (x, y) in [
+                    (a, b),
+                    (a + 1, b),
+                    (a + 1, b + 1),
+                    (a, b),
+                    (a + 1, b + 1),
+                    (a, b + 1),
+                ] {
+                    opaque.push(vertex(x, y));
+                }
+            }
+        }
+
+        // The control points as spheres coloured by ξ; the selected one orange on a guide line
+        // down to the plane (the vertical it moves along in function mode).
+        let r = Self::radius(editor);
+        let selected = editor.selected_point();
+        for p in patch.points() {
+            let c = self.world(*p);
+            let is_selected = selected == Some(*p);
+            let color = if is_selected {
+                SELECT_COLOR
+            } else {
+                diverging(p.z / scale)
+            };
+            sphere(&mut opaque, c, if is_selected { r * 1.3 } else { r }, color);
+            if is_selected {
+                prism(
+                    &mut opaque,
+                    DVec3::new(c.x, c.y, 0.0),
+                    c,
+                    r * 0.18,
+                    GUIDE_COLOR,
+                );
+            }
+        }
+
+        // The control net as thin rods.
+        let (du, dv) = solid.degree();
+        for i in 0..=du {
+            for j in 0..=dv {
+                let c = self.world(patch.point(i, j));
+                if i < du {
+                    prism(
+                        &mut opaque,
+                        c,
+                        self.world(patch.point(i + 1, j)),
+                        r * 0.12,
+                        NET_COLOR,
+                    );
+                }
+                if j < dv {
+                    prism(
+                        &mut opaque,
+                        c,
+                        self.world(patch.point(i, j + 1)),
+                        r * 0.12,
+                        NET_COLOR,
+                    );
+                }
+            }
+        }
+
+        // The plane ξ = 0 over the domain with a margin.
+        let (min, max) = solid.domain();
+        let pad = (max - min).max_element() * 0.12;
+        let (a, b) = (min - DVec2::splat(pad), max + DVec2::splat(pad));
+        let corner = |x: f64, y: f64| MeshVertex {
+            position: [x as f32, y as f32, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            color: PLANE_COLOR,
+        };
+        let translucent = vec![
+            corner(a.x, a.y),
+            corner(b.x, a.y),
+            corner(b.x, b.y),
+            corner(a.x, a.y),
+            corner(b.x, b.y),
+            corner(a.x, b.y),
+        ];
+
+        let extent = (max - min).max_element().max((hi - lo) * self.height) + pad;
+        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
+        Scene {
+            opaque,
+            translucent,
+            view_proj: m.map(|c| c.map(|x| x as f32)),
+            eye: self.camera.eye().as_vec3().to_array(),
+        }
+    }
+}
+
+/// The lowest and highest ξ of the control points.
+fn xi_range(editor: &ContourView) -> (f64, f64) {
+    editor
+        .solid()
+        .patch()
+        .points()
+        .iter()
+        .fold((0.0f64, 0.0f64), |(lo, hi), p| (lo.min(p.z), hi.max(p.z)))
+}
+
+/// A UV sphere of 8 × 12 quads.
+fn sphere(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
+    const RINGS: usize = 8;
+    const SEGMENTS: usize = 12;
+    let at = |i: usize, j: usize| {
+        let theta = core::f64::consts::PI * i as f64 / RINGS as f64;
+        let phi = core::f64::consts::TAU * j as f64 / SEGMENTS as f64;
+        let n = DVec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        );
+        MeshVertex {
+            position: (c + n * r).as_vec3().to_array(),
+            normal: n.as_vec3().to_array(),
+            color,
+        }
+    };
+    for i in 0..RINGS {
+        for j in 0..SEGMENTS {
+            out.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            out.extend([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+}
+
+/// A thin square prism from `a` to `b`.
+fn prism(out: &mut Vec<MeshVertex>, a: DVec3, b: DVec3, r: f64, color: Rgba) {
+    let axis = b - a;
+    if axis.length() < 1e-12 {
+        return;
+    }
+    let u = axis.any_orthonormal_vector() * r;
+    let v = axis.normalize().cross(u);
+    let corners = [u + v, -u + v, -u - v, u - v];
+    for k in 0..4 {
+        let (p, q) = (corners[k], corners[(k + 1) % 4]);
+        let n = (p + q).normalize().as_vec3().to_array();
+        let vx = |x: DVec3| MeshVertex {
+            position: x.as_vec3().to_array(),
+            normal: n,
+            color,
+        };
+        out.extend([
+            vx(a + p),
+            vx(b + p),
+            vx(b + q),
+            vx(a + p),
+            vx(b + q),
+            vx(a + q),
+        ]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bezsolid_core::Solid2;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn setup() -> (ContourView, View3) {
+        let editor = ContourView::new(Solid2::fig9());
+        let mut view = View3::new(&editor);
+        view.resize(&editor, 800.0, 600.0);
+        (editor, view)
+    }
+
+    /// Where world point `p` lands, in CSS pixels.
+    fn project(view: &View3, p: DVec3) -> DVec2 {
+        let m = view.camera.view_proj(800.0 / 600.0, 2.0);
+        let clip: [f64; 4] =
+            core::array::from_fn(|r| (0..3).map(|c| m[c][r] * p[c]).sum::<f64>() + m[3][r]);
+        let ndc = DVec2::new(clip[0] / clip[3], clip[1] / clip[3]);
+        DVec2::new((ndc.x + 1.0) * 400.0, (1.0 - ndc.y) * 300.0)
+    }
+
+    #[test]
+    fn rays_go_through_the_pixels_points_project_to() {
+        let (_, view) = setup();
+        for p in [
+            DVec3::ZERO,
+            DVec3::new(1.0, 0.3, 0.4),
+            DVec3::new(0.5, 1.0, -0.5),
+        ] {
+            let q = project(&view, p);
+            let (o, d) = view.camera.ray(q, view.size);
+            let miss = (p - o).cross(d).length();
+            assert!(miss < 1e-9, "{p}: {miss}");
+        }
+        // Depth in 0..1 with the target in between.
+        let m = view.camera.view_proj(800.0 / 600.0, 2.0);
+        let t = view.camera.target;
+        let z: f64 = (0..3).map(|c| m[c][2] * t[c]).sum::<f64>() + m[3][2];
+        let w: f64 = (0..3).map(|c| m[c][3] * t[c]).sum::<f64>() + m[3][3];
+        assert!((0.0..1.0).contains(&(z / w)));
+    }
+
+    #[test]
+    fn a_sphere_is_picked_and_dragged_along_its_vertical_in_function_mode() {
+        let (mut editor, mut view) = setup();
+        let centre = DVec3::new(0.5, 0.5, 1.0 * view.height);
+        let q = project(&view, centre);
+        assert!((view.screen_of(&editor, 4).unwrap() - q).length() < 1e-9);
+        assert_eq!(view.pick(&editor, q), Some(4));
+        assert!(view.pointer_down(&mut editor, q, false, false));
+        assert_eq!(editor.selected(), Some((1, 1)));
+        // Up on the screen raises ξ; the point stays where it is in x, y.
+        let target = project(&view, centre + DVec3::Z * 0.25 * view.height);
+        assert!(view.pointer_move(&mut editor, target));
+        view.pointer_up(&mut editor);
+        let p = editor.selected_point().unwrap();
+        assert!((p.z - 1.25).abs() < 1e-6, "ξ = {}", p.z);
+        assert_eq!((p.x, p.y), (0.5, 0.5));
+        assert!(editor.undo(), "one undo step");
+        assert_eq!(editor.solid(), &Solid2::fig9());
+    }
+
+    #[test]
+    fn space_mode_moves_the_sphere_in_its_plane() {
+        let (mut editor, mut view) = setup();
+        editor.set_mode(Mode::Space);
+        let corner = DVec3::new(1.0, 1.0, -view.height);
+        let q = project(&view, corner);
+        assert!(view.pointer_down(&mut editor, q, false, false));
+        let to = project(&view, corner + DVec3::new(0.2, 0.1, 0.0));
+        assert!(view.pointer_move(&mut editor, to));
+        view.pointer_up(&mut editor);
+        let p = editor.selected_point().unwrap();
+        assert!((p - DVec3::new(1.2, 1.1, -1.0)).length() < 1e-6, "{p}");
+        assert!(editor.solid().inverse().is_some());
+    }
+
+    #[test]
+    fn empty_space_orbits_pans_and_zooms_the_camera() {
+        let (mut editor, mut view) = setup();
+        let before = *view.camera();
+        assert!(!view.pointer_down(&mut editor, DVec2::new(5.0, 5.0), false, false));
+        assert!(view.pointer_move(&mut editor, DVec2::new(105.0, 5.0)));
+        view.pointer_up(&mut editor);
+        assert!((view.camera().yaw - (before.yaw - ORBIT_PER_PIXEL * 100.0 / 600.0)).abs() < 1e-12);
+        assert_eq!(view.camera().distance, before.distance);
+        assert!(!view.pointer_down(&mut editor, DVec2::new(5.0, 5.0), true, false));
+        view.pointer_move(&mut editor, DVec2::new(5.0, 50.0));
+        view.pointer_up(&mut editor);
+        assert_ne!(view.camera().target, before.target);
+        view.wheel(100.0);
+        assert!(view.camera().distance > before.distance);
+        // The pitch never reaches the pole.
+        view.pointer_down(&mut editor, DVec2::new(5.0, 5.0), false, false);
+        view.pointer_move(&mut editor, DVec2::new(5.0, 5000.0));
+        assert!(view.camera().pitch < core::f64::consts::FRAC_PI_2);
+        view.pointer_up(&mut editor);
+        assert_eq!(editor.solid(), &Solid2::fig9(), "the camera never edits");
+        assert!(!editor.can_undo());
+        view.fit(&editor);
+        assert_eq!(view.camera().distance, before.distance);
+    }
+
+    #[test]
+    fn the_scene_has_the_surface_spheres_and_plane() {
+        let (editor, view) = setup();
+        let scene = view.scene(&editor);
+        assert!(scene.opaque.len() > SURFACE_CELLS * SURFACE_CELLS * 6);
+        assert_eq!(scene.opaque.len() % 3, 0);
+        assert_eq!(scene.translucent.len(), 6);
+        assert!(
+            scene
+                .opaque
+                .iter()
+                .all(|v| v.position.iter().all(|x| x.is_finite()))
+        );
+        // The surface's highest vertex is the centre, at h·ξ with ξ = S_ξ(1/2, 1/2).
+        let top = scene.opaque[..SURFACE_CELLS * SURFACE_CELLS * 6]
+            .iter()
+            .map(|v| v.position[2])
+            .fold(f32::MIN, f32::max);
+        let expected = editor.solid().patch().eval(0.5, 0.5).z * view.height;
+        assert!(
+            (f64::from(top) - expected).abs() < 1e-3,
+            "{top} vs {expected}"
+        );
+    }
+}
