@@ -158,8 +158,28 @@ async function main() {
       + (modeler.folded() ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
     const [du, dv] = modeler.degree();
     const mapped = modeler.space_mapped();
-    $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
-    $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
+    const vd = modeler.volume_degree();
+    const volume = !!vd;
+    if (volume) {
+      const [axis, index] = modeler.slice();
+      const name = ['u', 'v', 'w'][axis];
+      $('model-name').textContent = `Volume solid, ${vd[0] + 1} × ${vd[1] + 1} × ${vd[2] + 1} points${mapped ? ', space-mapped' : ''}`;
+      $('model-info').textContent = `Degree ${vd.join(' × ')}; ${mapped ? 'points moved: the inverse map finds (u, v, w)' : 'a regular grid'}. The 2D view edits one slice.`;
+      for (const r of document.querySelectorAll('input[name="slice-axis"]')) r.checked = Number(r.value) === axis;
+      const slider = $('slice-index');
+      slider.max = String(vd[axis]);
+      if (document.activeElement !== slider) slider.value = String(index);
+      $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
+      const t = modeler.surface_triangles();
+      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles`;
+    } else {
+      $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
+      $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
+    }
+    $('volume-controls').hidden = !volume;
+    for (const id of ['reset-grid', 'elevate-u', 'elevate-v']) $(id).disabled = volume;
+    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !volume;
+    document.body.dataset.kind = volume ? 'volume' : 'patch';
     $('undo').disabled = !modeler.can_undo();
     $('redo').disabled = !modeler.can_redo();
     const mode = modeler.mode();
@@ -234,18 +254,27 @@ async function main() {
     if (!viewer) return;
     const [x, y] = local3(e);
     if (modeler.busy_3d()) {
-      const editing = modeler.dragging();
       if (modeler.pointer_move_3d(x, y)) {
-        if (editing) lastEdit = performance.now();
+        const editing = modeler.editing_3d();
+        if (editing) {
+          lastEdit = performance.now();
+          // A volume's surface is meshed coarsely while the point moves, finely when it rests.
+          modeler.set_coarse(true);
+          clearTimeout(restTimer);
+          restTimer = setTimeout(() => { modeler.set_coarse(false); redraw(VIEW3); }, 250);
+        }
         redraw(editing ? VIEW2 | VIEW3 : VIEW3);
       }
       return;
     }
     canvas3.classList.toggle('over-point', modeler.hit_3d(x, y));
   });
+  let restTimer = 0;
   const endDrag3 = (e) => {
     if (!viewer || !modeler.busy_3d()) return;
-    const editing = modeler.dragging();
+    const editing = modeler.editing_3d();
+    clearTimeout(restTimer);
+    modeler.set_coarse(false);
     modeler.pointer_up_3d();
     canvas3.classList.remove('dragging');
     if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
@@ -419,6 +448,27 @@ async function main() {
   $('elevate-u').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(0)));
   $('elevate-v').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(1)));
 
+  // A volume: the slice in the 2D view, and the surface's resolution.
+  for (const radio of document.querySelectorAll('input[name="slice-axis"]')) {
+    radio.addEventListener('change', () => {
+      if (!radio.checked) return;
+      const axis = Number(radio.value);
+      const vd = modeler.volume_degree();
+      if (!vd) return;
+      attempt('Slice', () => modeler.set_slice(axis, Math.floor(vd[axis] / 2)));
+    });
+  }
+  $('slice-index').addEventListener('input', (e) => {
+    const s = modeler.slice();
+    if (s) attempt('Slice', () => modeler.set_slice(s[0], e.target.valueAsNumber));
+  });
+  $('resolution').addEventListener('change', (e) => {
+    const v = e.target.valueAsNumber;
+    if (!Number.isFinite(v)) return;
+    e.target.value = String(modeler.set_resolution(v));
+    redraw(VIEW3);
+  });
+
   // Share: the link goes into the box (always) and the clipboard (where allowed).
   $('copy-link').addEventListener('click', async () => {
     let fragment;
@@ -494,6 +544,9 @@ async function main() {
     svg: () => download('bezsolid-contours.svg', new Blob([modeler.svg()], { type: 'image/svg+xml' })),
     hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
     // The canvas is read in the same task as the frame is drawn, before the browser clears it.
+    stl: () => download('bezsolid.stl', new Blob([modeler.mesh_file('stl')], { type: 'model/stl' })),
+    obj: () => download('bezsolid.obj', new Blob([modeler.mesh_file('obj')], { type: 'model/obj' })),
+    ply: () => download('bezsolid.ply', new Blob([modeler.mesh_file('ply')], { type: 'application/octet-stream' })),
     png: () => {
       modeler.render();
       canvas.toBlob((blob) => {

@@ -4,8 +4,8 @@
 
 use bezsolid_core::contour::{Grid2, Polyline, contour, sheet_contour, solid_contour};
 use bezsolid_core::rfunc::clip2;
-use bezsolid_core::{Axis, Patch, Solid2, SolidError};
-use glam::{DVec2, DVec3};
+use bezsolid_core::{Axis, Patch, Solid2, Solid3, SolidError, Volume};
+use glam::{DVec2, DVec3, DVec4};
 
 /// Radius of a drawn control point, in CSS pixels.
 pub const POINT_RADIUS: f64 = 7.0;
@@ -135,8 +135,69 @@ struct Drag {
     start: DVec2,
     /// The point when the drag began.
     start_point: DVec3,
-    /// The net before the drag: one undo step when the drag changed it.
-    before: Patch<DVec3>,
+    /// The model before the drag: one undo step when the drag changed it.
+    before: Net,
+}
+
+/// A model's control net, as the undo history keeps it.
+#[derive(Clone, Debug, PartialEq)]
+enum Net {
+    Patch(Patch<DVec3>),
+    Volume(Volume<DVec4>),
+}
+
+/// A volume model: the solid, and the slice of its control net that the patch editor shows (the
+/// paper's cross-section chooser, Fig. 11).
+#[derive(Clone, Debug)]
+struct VolumeDoc {
+    solid: Solid3,
+    axis: Axis,
+    index: usize,
+}
+
+fn axis_number(axis: Axis) -> usize {
+    match axis {
+        Axis::U => 0,
+        Axis::V => 1,
+        Axis::W => 2,
+    }
+}
+
+/// The volume index `(i, j, k)` of slice point `(p, q)` of the slice `index` across `axis`.
+fn slice_point(axis: Axis, index: usize, p: usize, q: usize) -> (usize, usize, usize) {
+    match axis {
+        Axis::U => (index, p, q),
+        Axis::V => (p, index, q),
+        Axis::W => (p, q, index),
+    }
+}
+
+/// The two coordinates in the plane of a slice across `axis` (x y, x z or y z), as indices.
+fn plane_coordinates(axis: Axis) -> (usize, usize) {
+    match axis {
+        Axis::U => (1, 2),
+        Axis::V => (0, 2),
+        Axis::W => (0, 1),
+    }
+}
+
+/// The control points of a volume with `index` along `axis` as a patch: points `(a, b, ξ)` with
+/// `a, b` the slice's two in-plane coordinates (x y across w, x z across v, y z across u).
+#[must_use]
+pub fn slice_patch(volume: &Volume<DVec4>, axis: Axis, index: usize) -> Option<Patch<DVec3>> {
+    let d = volume.degree();
+    let dims = [d.0, d.1, d.2];
+    let a = axis_number(axis);
+    if index > dims[a] {
+        return None;
+    }
+    let (lo, hi) = plane_coordinates(axis);
+    Patch::from_fn((dims[lo], dims[hi]), |p, q| {
+        let (i, j, k) = slice_point(axis, index, p, q);
+        let v = volume.point(i, j, k);
+        DVec3::new(v[lo], v[hi], v.w)
+    })
+    .ok()
 }
 
 /// What kind of edit an undo step records: consecutive wheel turns or number entries on one point
@@ -156,8 +217,14 @@ pub struct ContourView {
     selected: Option<usize>,
     drag: Option<Drag>,
     mode: Mode,
-    undo: Vec<Patch<DVec3>>,
-    redo: Vec<Patch<DVec3>>,
+    /// The volume when the model is one; `solid` is then its selected slice.
+    volume: Option<VolumeDoc>,
+    /// A control point of the volume dragged in 3D, and the model before the drag.
+    volume_drag: Option<(usize, Net)>,
+    /// Counts changes of the model (for caches of what is drawn from it).
+    revision: u64,
+    undo: Vec<Net>,
+    redo: Vec<Net>,
     last_step: Option<Step>,
     /// The view held still (centre, world units per CSS pixel) once a point has been dragged: the
     /// picture does not jump when a space-mapping drag grows or shrinks the domain, and undo and
@@ -179,6 +246,9 @@ impl ContourView {
             selected: None,
             drag: None,
             mode: Mode::Function,
+            volume: None,
+            volume_drag: None,
+            revision: 0,
             undo: Vec::new(),
             redo: Vec::new(),
             last_step: None,
@@ -199,17 +269,128 @@ impl ContourView {
         self.mode = mode;
     }
 
-    /// Replaces the solid (a preset, an opened file or link): one undo step. The selection is kept
-    /// where the new net has that point.
+    /// Replaces the model by a patch solid (a preset, an opened file or link): one undo step. The
+    /// selection is kept where the new net has that point.
     pub fn set_solid(&mut self, solid: Solid2) {
-        let before = self.solid.patch().clone();
+        let before = self.net();
         self.drag = None;
+        self.volume_drag = None;
         self.fixed = None;
         self.solid = solid;
-        if self.solid.patch() != &before {
-            self.record(before, Step::Other);
-        }
+        self.volume = None;
+        self.changed_from(before, Step::Other);
         self.keep_selection_in_range();
+    }
+
+    /// Replaces the model by a volume solid: one undo step. The patch editor shows its middle
+    /// slice across w.
+    pub fn set_volume(&mut self, solid: Solid3) {
+        let before = self.net();
+        self.drag = None;
+        self.volume_drag = None;
+        self.fixed = None;
+        let index = solid.degree().2 / 2;
+        self.volume = Some(VolumeDoc {
+            solid,
+            axis: Axis::W,
+            index,
+        });
+        self.refresh_slice();
+        self.changed_from(before, Step::Other);
+        self.keep_selection_in_range();
+    }
+
+    /// The volume, when the model is one.
+    #[must_use]
+    pub fn volume(&self) -> Option<&Solid3> {
+        self.volume.as_ref().map(|d| &d.solid)
+    }
+
+    /// The slice the patch editor shows, when the model is a volume: the axis it crosses and its
+    /// index along it.
+    #[must_use]
+    pub fn slice(&self) -> Option<(Axis, usize)> {
+        self.volume.as_ref().map(|d| (d.axis, d.index))
+    }
+
+    /// Opens another slice of the volume in the patch editor (not an undo step: the model is the
+    /// same).
+    ///
+    /// # Errors
+    ///
+    /// When the model is a patch or `index` is past the net along `axis`.
+    pub fn set_slice(&mut self, axis: Axis, index: usize) -> Result<(), String> {
+        let doc = self
+            .volume
+            .as_mut()
+            .ok_or("the model is a patch; it has no slices")?;
+        let d = doc.solid.degree();
+        let len = [d.0, d.1, d.2][axis_number(axis)] + 1;
+        if index >= len {
+            return Err(format!("the net has {len} slices across that axis"));
+        }
+        if self.drag.is_some() || self.volume_drag.is_some() {
+            return Err("finish the drag first".into());
+        }
+        (doc.axis, doc.index) = (axis, index);
+        self.fixed = None;
+        self.refresh_slice();
+        self.keep_selection_in_range();
+        Ok(())
+    }
+
+    /// A number that changes whenever the model does.
+    #[must_use]
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// The model's net, as the history keeps it.
+    fn net(&self) -> Net {
+        match &self.volume {
+            Some(doc) => Net::Volume(doc.solid.volume().clone()),
+            None => Net::Patch(self.solid.patch().clone()),
+        }
+    }
+
+    /// Records `before` as an undo step if the model is no longer that.
+    fn changed_from(&mut self, before: Net, step: Step) {
+        if self.net() != before {
+            self.revision += 1;
+            self.record(before, step);
+        }
+    }
+
+    /// The patch editor's solid from the volume's selected slice.
+    fn refresh_slice(&mut self) {
+        let Some(doc) = &self.volume else { return };
+        if let Some(solid) = slice_patch(doc.solid.volume(), doc.axis, doc.index)
+            .and_then(|p| Solid2::try_from_patch(p).ok())
+        {
+            self.solid = solid;
+        }
+    }
+
+    /// Writes the edited slice back into the volume.
+    fn write_back(&mut self) -> Result<(), String> {
+        let Some(doc) = &mut self.volume else {
+            return Ok(());
+        };
+        let mut net = doc.solid.volume().clone();
+        let (lo, hi) = plane_coordinates(doc.axis);
+        let (n, m) = self.solid.degree();
+        for p in 0..=n {
+            for q in 0..=m {
+                let (i, j, k) = slice_point(doc.axis, doc.index, p, q);
+                let s = self.solid.patch().point(p, q);
+                let v = net.point_mut(i, j, k);
+                v[lo] = s.x;
+                v[hi] = s.y;
+                v.w = s.z;
+            }
+        }
+        doc.solid = Solid3::try_from_volume(net).map_err(|e| e.to_string())?;
+        Ok(())
     }
 
     fn keep_selection_in_range(&mut self) {
@@ -218,21 +399,27 @@ impl ContourView {
         }
     }
 
-    /// Applies an edit as an undo step of kind `step`; a failed edit changes nothing.
+    /// Applies an edit of the patch editor's solid as an undo step of kind `step` (written back into
+    /// the volume when the model is one); a failed edit changes nothing.
     fn apply(
         &mut self,
         step: Step,
         edit: impl FnOnce(&mut Solid2) -> Result<(), SolidError>,
     ) -> Result<(), String> {
-        let before = self.solid.patch().clone();
+        let before = self.net();
+        let old = self.solid.clone();
         edit(&mut self.solid).map_err(|e| e.to_string())?;
-        if self.solid.patch() != &before {
-            self.record(before, step);
+        if self.solid.patch() != old.patch() {
+            if let Err(e) = self.write_back() {
+                self.solid = old;
+                return Err(e);
+            }
+            self.changed_from(before, step);
         }
         Ok(())
     }
 
-    fn record(&mut self, before: Patch<DVec3>, step: Step) {
+    fn record(&mut self, before: Net, step: Step) {
         let coalesce = step != Step::Other && self.last_step == Some(step);
         if !coalesce {
             self.undo.push(before);
@@ -251,16 +438,20 @@ impl ContourView {
         self.last_step = None;
     }
 
+    fn busy(&self) -> bool {
+        self.drag.is_some() || self.volume_drag.is_some()
+    }
+
     /// Whether there is a step to undo.
     #[must_use]
     pub fn can_undo(&self) -> bool {
-        !self.undo.is_empty() && self.drag.is_none()
+        !self.undo.is_empty() && !self.busy()
     }
 
     /// Whether there is an undone step to redo.
     #[must_use]
     pub fn can_redo(&self) -> bool {
-        !self.redo.is_empty() && self.drag.is_none()
+        !self.redo.is_empty() && !self.busy()
     }
 
     /// Undoes the last step; returns whether there was one (never during a drag).
@@ -268,11 +459,11 @@ impl ContourView {
         if !self.can_undo() {
             return false;
         }
-        let Some(patch) = self.undo.pop() else {
+        let Some(net) = self.undo.pop() else {
             return false;
         };
-        let current = self.solid.patch().clone();
-        if self.restore(patch) {
+        let current = self.net();
+        if self.restore(net) {
             self.redo.push(current);
         }
         true
@@ -283,27 +474,104 @@ impl ContourView {
         if !self.can_redo() {
             return false;
         }
-        let Some(patch) = self.redo.pop() else {
+        let Some(net) = self.redo.pop() else {
             return false;
         };
-        let current = self.solid.patch().clone();
-        if self.restore(patch) {
+        let current = self.net();
+        if self.restore(net) {
             self.undo.push(current);
         }
         true
     }
 
-    /// Puts back a net from the history (each was a valid solid when it was recorded).
-    fn restore(&mut self, patch: Patch<DVec3>) -> bool {
-        match Solid2::try_from_patch(patch) {
-            Ok(solid) => {
-                self.solid = solid;
-                self.last_step = None;
-                self.keep_selection_in_range();
-                true
-            }
-            Err(_) => false,
+    /// Puts back a net from the history (each was a valid solid when it was recorded). A volume
+    /// keeps the slice shown where the net still has it.
+    fn restore(&mut self, net: Net) -> bool {
+        match net {
+            Net::Patch(patch) => match Solid2::try_from_patch(patch) {
+                Ok(solid) => {
+                    self.solid = solid;
+                    self.volume = None;
+                }
+                Err(_) => return false,
+            },
+            Net::Volume(volume) => match Solid3::try_from_volume(volume) {
+                Ok(solid) => {
+                    let (axis, index) = self.slice().unwrap_or((Axis::W, 0));
+                    let d = solid.degree();
+                    let top = [d.0, d.1, d.2][axis_number(axis)];
+                    self.volume = Some(VolumeDoc {
+                        solid,
+                        axis,
+                        index: index.min(top),
+                    });
+                    self.refresh_slice();
+                }
+                Err(_) => return false,
+            },
         }
+        self.revision += 1;
+        self.last_step = None;
+        self.keep_selection_in_range();
+        true
+    }
+
+    /// Starts dragging control point `index` of the volume (flat, as in [`Volume::points`]) from
+    /// another view: the patch editor opens the point's slice across the current axis and selects
+    /// it there. The drag ends with [`Self::pointer_up`] as one undo step.
+    pub fn begin_volume_drag(&mut self, index: usize) {
+        let Some(doc) = &self.volume else { return };
+        let d = doc.solid.degree();
+        if index >= doc.solid.volume().points().len() {
+            return;
+        }
+        let (i, j, k) = (
+            index / ((d.1 + 1) * (d.2 + 1)),
+            index / (d.2 + 1) % (d.1 + 1),
+            index % (d.2 + 1),
+        );
+        let axis = doc.axis;
+        let along = [i, j, k][axis_number(axis)];
+        let (p, q) = match axis {
+            Axis::U => (j, k),
+            Axis::V => (i, k),
+            Axis::W => (i, j),
+        };
+        let before = self.net();
+        if self.slice() != Some((axis, along)) {
+            let _ = self.set_slice(axis, along);
+        }
+        self.selected = Some(p * (self.solid.degree().1 + 1) + q);
+        self.volume_drag = Some((index, before));
+    }
+
+    /// The control point of the volume dragged from another view.
+    #[must_use]
+    pub fn volume_dragged(&self) -> Option<usize> {
+        self.volume_drag.as_ref().map(|(k, _)| *k)
+    }
+
+    /// During a volume drag: moves the point to `xyz` and/or sets its ξ. Returns whether the model
+    /// changed.
+    pub fn drag_volume_to(&mut self, xyz: Option<DVec3>, xi: Option<f64>) -> bool {
+        let (Some((index, _)), Some(doc)) = (&self.volume_drag, &mut self.volume) else {
+            return false;
+        };
+        let d = doc.solid.degree();
+        let (i, j, k) = (
+            *index / ((d.1 + 1) * (d.2 + 1)),
+            *index / (d.2 + 1) % (d.1 + 1),
+            *index % (d.2 + 1),
+        );
+        let before = doc.solid.volume().points()[*index];
+        let ok = xi.is_none_or(|xi| doc.solid.set_xi(i, j, k, xi).is_ok())
+            && xyz.is_none_or(|p| doc.solid.set_point(i, j, k, p).is_ok());
+        let changed = ok && doc.solid.volume().points()[*index] != before;
+        if changed {
+            self.revision += 1;
+            self.refresh_slice();
+        }
+        changed
     }
 
     /// Raises the degree along `axis` (one more point per side there), keeping the shape.
@@ -312,6 +580,9 @@ impl ContourView {
     ///
     /// Past [`MAX_POINTS_PER_SIDE`] points, or for [`Axis::W`].
     pub fn elevate(&mut self, axis: Axis) -> Result<(), String> {
+        if self.volume.is_some() {
+            return Err("elevation works on patch models; this is a volume".into());
+        }
         let (n, m) = self.solid.degree();
         let side = match axis {
             Axis::U => n,
@@ -337,6 +608,11 @@ impl ContourView {
     ///
     /// For a size out of range.
     pub fn reset_grid(&mut self, nu: usize, nv: usize) -> Result<(), String> {
+        if self.volume.is_some() {
+            return Err(
+                "a new grid is a patch model: open the Fig. 9 preset first, or use Undo".into(),
+            );
+        }
         for k in [nu, nv] {
             if !(2..=MAX_POINTS_PER_SIDE).contains(&k) {
                 return Err(format!(
@@ -528,7 +804,7 @@ impl ContourView {
             mode,
             start: DVec2::ZERO,
             start_point: self.solid.patch().points()[index],
-            before: self.solid.patch().clone(),
+            before: self.net(),
         });
     }
 
@@ -547,7 +823,20 @@ impl ContourView {
         let before = self.solid.patch().points()[k];
         let ok = xi.is_none_or(|xi| self.solid.set_xi(i, j, xi).is_ok())
             && xy.is_none_or(|xy| self.solid.set_point(i, j, xy).is_ok());
-        ok && self.solid.patch().points()[k] != before
+        self.after_drag_move(ok && self.solid.patch().points()[k] != before)
+    }
+
+    /// After a drag moved the slice's point: the volume follows; returns `changed`.
+    fn after_drag_move(&mut self, changed: bool) -> bool {
+        if changed {
+            self.revision += 1;
+            if self.write_back().is_err() {
+                // The volume refused the net (it cannot, for values the patch took): put the slice
+                // back as the volume has it.
+                self.refresh_slice();
+            }
+        }
+        changed
     }
 
     /// Pointer moved to CSS pixel `q`: while dragging in function mode, up raises ξ and down lowers
@@ -566,15 +855,24 @@ impl ContourView {
                 self.solid.set_point(i, j, xy)
             }
         };
-        result.is_ok() && self.solid.patch().points()[drag.index] != before
+        let changed = result.is_ok() && self.solid.patch().points()[drag.index] != before;
+        self.after_drag_move(changed)
     }
 
     /// Pointer released or cancelled: ends the drag, which is one undo step if it changed the net.
     pub fn pointer_up(&mut self) {
-        if let Some(drag) = self.drag.take()
-            && self.solid.patch() != &drag.before
-        {
-            self.record(drag.before, Step::Other);
+        if let Some(drag) = self.drag.take() {
+            self.changed_from_drag(drag.before);
+        }
+        if let Some((_, before)) = self.volume_drag.take() {
+            self.changed_from_drag(before);
+        }
+    }
+
+    fn changed_from_drag(&mut self, before: Net) {
+        // The revision moved with every step of the drag; only the history is left to do.
+        if self.net() != before {
+            self.record(before, Step::Other);
         }
     }
 
@@ -659,6 +957,8 @@ impl ContourView {
                 // Esc during a drag puts the point back; otherwise it clears the selection.
                 if let Some(drag) = self.drag.take() {
                     self.restore(drag.before);
+                } else if let Some((_, before)) = self.volume_drag.take() {
+                    self.restore(before);
                 } else {
                     self.selected = None;
                 }
@@ -1311,6 +1611,49 @@ mod tests {
         assert!(!near.is_empty());
         assert!(near.iter().all(|s| s.color[0] > s.color[2]), "red inside");
         assert!(frame.range.0 < 0.0 && frame.range.1 > 0.0);
+    }
+
+    #[test]
+    fn a_volume_is_edited_through_its_slices_with_one_history() {
+        use bezsolid_core::model::ModelSolid;
+        use bezsolid_core::presets::Preset;
+        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
+            unreachable!()
+        };
+        let mut v = view();
+        v.set_volume(blob.clone());
+        assert_eq!(v.slice(), Some((Axis::W, 1)));
+        assert_eq!(v.solid().degree(), (2, 2));
+        // The middle w slice of the blob: its centre is the volume's centre point, ξ = 1.
+        v.select(Some((1, 1)));
+        assert_eq!(v.selected_xi(), Some(1.0));
+        v.set_selected_xi(0.4).unwrap();
+        assert_eq!(v.volume().unwrap().xi(1, 1, 1), Some(0.4));
+        // A space edit in the slice moves the volume's point in x and y (z kept).
+        v.set_selected_xy(0.1, -0.2).unwrap();
+        let p = v.volume().unwrap().volume().point(1, 1, 1);
+        assert_eq!((p.x, p.y, p.z, p.w), (0.1, -0.2, 0.0, 0.4));
+        assert!(v.volume().unwrap().inverse().is_some());
+        // Another slice: across u, index 0 (points (y, z, ξ)).
+        v.set_slice(Axis::U, 0).unwrap();
+        assert_eq!(v.solid().patch().point(0, 0), DVec3::new(-1.0, -1.0, -1.0));
+        assert!(v.set_slice(Axis::U, 3).is_err());
+        // A 3D drag of a volume point: one step; the slice follows.
+        let before = v.volume().unwrap().clone();
+        v.begin_volume_drag(0);
+        assert!(v.drag_volume_to(None, Some(0.5)));
+        assert_eq!(v.solid().patch().point(0, 0).z, 0.5);
+        v.pointer_up();
+        assert!(v.undo());
+        assert_eq!(v.volume().unwrap(), &before);
+        assert!(v.undo(), "typed ξ, x and y of one point are one step");
+        assert_eq!(v.volume().unwrap(), &blob);
+        assert!(v.undo(), "back to the patch");
+        assert!(v.volume().is_none());
+        assert_eq!(v.solid(), &Solid2::fig9());
+        assert!(v.redo());
+        assert_eq!(v.volume().unwrap(), &blob);
+        assert!(v.elevate(Axis::U).is_err() && v.reset_grid(3, 3).is_err());
     }
 
     #[test]

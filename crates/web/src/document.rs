@@ -1,13 +1,22 @@
-//! The model as a document: the model file and the share link in and out, and the exports of a patch
-//! solid (SVG of its contours, HyperFun). Plain Rust over the core, tested natively; the page only
-//! moves the strings and bytes.
+//! The model as a document: the model file and the share link in and out, and the exports (SVG of
+//! the patch's or the selected slice's contours, HyperFun, and for volumes STL, OBJ and PLY meshes).
+//! Plain Rust over the core, tested natively; the page only moves the strings and bytes.
 
 use bezsolid_core::Solid2;
 use bezsolid_core::contour::solid_contour;
-use bezsolid_core::hyperfun::solid2_hf;
+use bezsolid_core::hyperfun::{solid2_hf, solid3_hf};
 use bezsolid_core::link;
+use bezsolid_core::mesh::Mesh;
+use bezsolid_core::mesh::obj::write_obj;
+use bezsolid_core::mesh::ply::write_ply;
+use bezsolid_core::mesh::stl::write_stl;
 use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::model::{ModelFile, ModelSolid};
+
+use crate::app::ContourView;
+
+/// Accuracy of exported mesh vertices on f = 0.
+pub const MESH_ACCURACY: f64 = 1e-9;
 
 /// The largest model file read (a degree-16 volume with long decimals is well under 1 MiB).
 pub const MAX_MODEL_BYTES: usize = 16 << 20;
@@ -16,34 +25,39 @@ pub const SVG_RESOLUTION: usize = 256;
 /// How closely exported contour vertices lie on f = 0.
 pub const SVG_ACCURACY: f64 = 1e-9;
 
-/// The model file of a patch solid, as pretty JSON.
+/// The model file of the editor's model.
 #[must_use]
-pub fn model_json(solid: &Solid2) -> String {
-    let file = ModelFile::from_solid2(solid);
-    // Serialising plain numbers and strings into a String cannot fail.
-    serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
-}
-
-fn patch_only(model: ModelSolid) -> Result<Solid2, String> {
-    match model {
-        ModelSolid::Patch(s) => Ok(s),
-        ModelSolid::Volume(_) => Err(
-            "this is a volume (3D) model; the page edits patch (2D) models so far: use `bezsolid mesh` \
-             or `bezsolid hf` on it"
-                .into(),
-        ),
+pub fn model_file(editor: &ContourView) -> ModelFile {
+    match editor.volume() {
+        Some(v) => ModelFile::from_solid3(v),
+        None => ModelFile::from_solid2(editor.solid()),
     }
 }
 
-/// The patch preset called `name`.
+/// The model file of the editor's model, as pretty JSON.
+#[must_use]
+pub fn model_json(editor: &ContourView) -> String {
+    // Serialising plain numbers and strings into a String cannot fail.
+    serde_json::to_string_pretty(&model_file(editor)).unwrap_or_default() + "\n"
+}
+
+/// Opens `model` in the editor (one undo step).
+pub fn open(editor: &mut ContourView, model: ModelSolid) {
+    match model {
+        ModelSolid::Patch(s) => editor.set_solid(s),
+        ModelSolid::Volume(v) => editor.set_volume(v),
+    }
+}
+
+/// The preset called `name`.
 ///
 /// # Errors
 ///
-/// For an unknown name or a volume preset.
-pub fn open_preset(name: &str) -> Result<Solid2, String> {
-    let preset = bezsolid_core::presets::Preset::from_name(name)
-        .ok_or_else(|| format!("no preset {name:?}"))?;
-    patch_only(preset.solid())
+/// For an unknown name.
+pub fn preset(name: &str) -> Result<ModelSolid, String> {
+    bezsolid_core::presets::Preset::from_name(name)
+        .map(bezsolid_core::presets::Preset::solid)
+        .ok_or_else(|| format!("no preset {name:?}"))
 }
 
 /// Reads a model file's text.
@@ -51,7 +65,7 @@ pub fn open_preset(name: &str) -> Result<Solid2, String> {
 /// # Errors
 ///
 /// A message that says what is wrong: too large, not JSON, not a model, or an invalid net.
-pub fn read_model(text: &str) -> Result<Solid2, String> {
+pub fn read_model(text: &str) -> Result<ModelSolid, String> {
     if text.len() > MAX_MODEL_BYTES {
         return Err(format!(
             "the file is {} bytes; a model file is at most {MAX_MODEL_BYTES}",
@@ -60,16 +74,16 @@ pub fn read_model(text: &str) -> Result<Solid2, String> {
     }
     let file: ModelFile =
         serde_json::from_str(text).map_err(|e| format!("not a bezsolid model file: {e}"))?;
-    patch_only(file.to_solid().map_err(|e| e.to_string())?)
+    file.to_solid().map_err(|e| e.to_string())
 }
 
-/// The share link fragment `#v1.…` of a patch solid.
+/// The share link fragment `#v1.…` of the editor's model.
 ///
 /// # Errors
 ///
 /// When the model is too large for a link.
-pub fn share_fragment(solid: &Solid2) -> Result<String, String> {
-    link::encode(&ModelFile::from_solid2(solid)).map_err(|e| e.to_string())
+pub fn share_fragment(editor: &ContourView) -> Result<String, String> {
+    link::encode(&model_file(editor)).map_err(|e| e.to_string())
 }
 
 /// The solid of a share link (a whole URL or its fragment).
@@ -77,8 +91,8 @@ pub fn share_fragment(solid: &Solid2) -> Result<String, String> {
 /// # Errors
 ///
 /// A message that says what is wrong with the link.
-pub fn open_link(text: &str) -> Result<Solid2, String> {
-    patch_only(link::decode(text).map_err(|e| e.to_string())?)
+pub fn open_link(text: &str) -> Result<ModelSolid, String> {
+    link::decode(text).map_err(|e| e.to_string())
 }
 
 /// The zero contours as SVG, in the domain's box with a one-cell margin.
@@ -93,35 +107,94 @@ pub fn svg(solid: &Solid2) -> String {
     )
 }
 
-/// The HyperFun model.
+/// The HyperFun model of the editor's model.
 ///
 /// # Errors
 ///
 /// For a space-mapped model, which HyperFun cannot express.
-pub fn hyperfun(solid: &Solid2) -> Result<String, String> {
-    solid2_hf(solid).map_err(|e| e.to_string())
+pub fn hyperfun(editor: &ContourView) -> Result<String, String> {
+    match editor.volume() {
+        Some(v) => solid3_hf(v),
+        None => solid2_hf(editor.solid()),
+    }
+    .map_err(|e| e.to_string())
+}
+
+/// The closed boundary mesh of a volume model at `resolution` cells along the longest side.
+///
+/// # Errors
+///
+/// For a patch model, or a resolution out of range.
+pub fn mesh(editor: &ContourView, resolution: usize) -> Result<Mesh, String> {
+    let volume = editor
+        .volume()
+        .ok_or("mesh exports are of volume (3D) models; this is a patch: export SVG instead")?;
+    volume
+        .polygonize(resolution, MESH_ACCURACY)
+        .map_err(|e| e.to_string())
+}
+
+/// A mesh file: `"stl"` (binary), `"obj"` or `"ply"`.
+///
+/// # Errors
+///
+/// For another format.
+pub fn mesh_file(mesh: &Mesh, format: &str) -> Result<Vec<u8>, String> {
+    match format {
+        "stl" => Ok(write_stl(mesh)),
+        "obj" => Ok(write_obj(mesh).into_bytes()),
+        "ply" => Ok(write_ply(mesh)),
+        other => Err(format!("unknown mesh format {other:?}: stl, obj or ply")),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec2;
+    use glam::{DVec2, DVec3};
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    fn moved() -> Solid2 {
+    fn moved() -> ContourView {
         let mut s = Solid2::fig9();
         s.set_point(1, 2, DVec2::new(0.61, 1.2)).unwrap();
         s.set_xi(0, 1, 0.123_456_789_012_345_6).unwrap();
-        s
+        ContourView::new(s)
+    }
+
+    fn same_model(a: &ContourView, b: &ContourView) -> bool {
+        model_file(a) == model_file(b)
     }
 
     #[test]
     fn model_file_and_link_round_trip_exactly() {
-        let s = moved();
-        assert_eq!(read_model(&model_json(&s)), Ok(s.clone()));
-        let link = share_fragment(&s).unwrap();
-        assert_eq!(open_link(&format!("http://h/{link}")), Ok(s));
+        let e = moved();
+        let mut other = ContourView::new(Solid2::fig9());
+        open(&mut other, read_model(&model_json(&e)).unwrap());
+        assert!(same_model(&e, &other));
+        let link = share_fragment(&e).unwrap();
+        let mut third = ContourView::new(Solid2::fig9());
+        open(&mut third, open_link(&format!("http://h/{link}")).unwrap());
+        assert!(same_model(&e, &third));
+    }
+
+    #[test]
+    fn volumes_open_save_link_and_mesh() {
+        let mut e = ContourView::new(Solid2::fig9());
+        open(&mut e, preset("fish").unwrap());
+        assert!(e.volume().is_some());
+        let mut back = ContourView::new(Solid2::fig9());
+        open(&mut back, read_model(&model_json(&e)).unwrap());
+        assert!(same_model(&e, &back));
+        open(&mut back, open_link(&share_fragment(&e).unwrap()).unwrap());
+        assert!(same_model(&e, &back));
+        let m = mesh(&e, 24).unwrap();
+        assert!(m.check_closed_manifold().is_ok());
+        let stl = mesh_file(&m, "stl").unwrap();
+        assert_eq!(stl.len(), 84 + 50 * m.triangles.len());
+        assert!(mesh_file(&m, "xyz").is_err());
+        assert!(hyperfun(&e).unwrap().contains("my_model("));
+        assert!(mesh(&ContourView::new(Solid2::fig9()), 24).is_err());
     }
 
     #[test]
@@ -134,33 +207,26 @@ mod tests {
         assert!(read_model(r#"{"format":"bezsolid","version":9,"solid":{"kind":"patch","degree":[1,1],"points":[]}}"#)
             .unwrap_err()
             .contains("version 9"));
-        let volume = bezsolid_core::presets::Preset::from_name("blob")
-            .unwrap()
-            .solid();
-        let ModelSolid::Volume(v) = volume else {
-            unreachable!()
-        };
-        let text = serde_json::to_string(&ModelFile::from_solid3(&v)).unwrap();
-        assert!(read_model(&text).unwrap_err().contains("volume"));
         assert!(open_link("#v1.AAAA").unwrap_err().contains("damaged"));
         assert!(
             read_model(&" ".repeat(MAX_MODEL_BYTES + 1))
                 .unwrap_err()
                 .contains("at most")
         );
+        assert!(preset("whale").is_err());
     }
 
     #[test]
     fn exports_hold_the_model() {
-        let s = moved();
-        let svg = svg(&s);
+        let e = moved();
+        let svg = svg(e.solid());
+        assert!(svg.contains("<path"));
+        assert!(hyperfun(&e).unwrap_err().contains("regular grid"));
         assert!(
-            svg.starts_with("<?xml") || svg.starts_with("<svg"),
-            "{}",
-            &svg[..40]
+            hyperfun(&ContourView::new(Solid2::fig9()))
+                .unwrap()
+                .contains("my_model(")
         );
-        assert!(svg.contains("<path") || svg.contains("<polyline") || svg.contains("<polygon"));
-        assert!(hyperfun(&s).unwrap_err().contains("regular grid"));
-        assert!(hyperfun(&Solid2::fig9()).unwrap().contains("my_model("));
+        let _ = DVec3::ZERO;
     }
 }

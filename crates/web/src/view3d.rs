@@ -8,9 +8,11 @@
 //! World space is z-up: `(x, y, h·ξ)`, where the height scale `h` is set when the view fits the
 //! model (half the domain's larger side per unit of ξ) and held still while editing.
 
-use glam::{DVec2, DVec3};
+use bezsolid_core::contour::solid_contour;
+use bezsolid_core::{Axis, Solid2, Solid3};
+use glam::{DVec2, DVec3, DVec4};
 
-use crate::app::{ContourView, Mode, Rgba, diverging};
+use crate::app::{ContourView, Mode, Rgba, XI_PER_PIXEL, diverging, slice_patch};
 
 /// Cells per side of the surface mesh.
 const SURFACE_CELLS: usize = 48;
@@ -29,6 +31,17 @@ const PLANE_COLOR: Rgba = [0.55, 0.58, 0.64, 0.28];
 const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
 const GUIDE_COLOR: Rgba = [0.25, 0.27, 0.32, 1.0];
 const NET_COLOR: Rgba = [0.35, 0.37, 0.42, 1.0];
+const SURFACE_COLOR: Rgba = [0.86, 0.62, 0.42, 1.0];
+const CONTOUR_COLOR: Rgba = [0.1, 0.1, 0.12, 1.0];
+const SLICE_COLOR: Rgba = [1.0, 0.62, 0.0, 0.16];
+/// The polygonization's resolution at rest, by default (cells along the longest side).
+pub const DEFAULT_RESOLUTION: usize = 64;
+/// The most cells along the longest side the page meshes at.
+pub const MAX_RESOLUTION: usize = 160;
+/// Cells along the longest side while a point is being dragged.
+const COARSE_RESOLUTION: usize = 24;
+/// Cells per side of each slice's contour in the stack.
+const STACK_CELLS: usize = 48;
 
 /// One vertex of the 3D geometry.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -190,6 +203,22 @@ enum Gesture {
     Pan(DVec2),
     /// A control point: the mode, and the offset from the grab point to the point's centre.
     Point(Mode, DVec3),
+    /// A control point of a volume: the mode, where the pointer went down, the point then, and the
+    /// offset from the grab point (on the plane through it facing the camera) to its centre.
+    VolumePoint(Mode, DVec2, DVec4, DVec3),
+}
+
+/// The polygonized surface and the contour stack of a volume, for one revision of the model.
+#[derive(Clone, Debug)]
+struct VolumeCache {
+    revision: u64,
+    resolution: usize,
+    stack_axis: Axis,
+    surface: Vec<MeshVertex>,
+    stack: Vec<MeshVertex>,
+    /// The net may fold: the surface shows every sheet (see `Solid3::polygonize_sheets`).
+    folded: bool,
+    triangles: usize,
 }
 
 /// The 3D view's state: camera, height scale, viewport and the gesture under way.
@@ -202,6 +231,11 @@ pub struct View3 {
     gesture: Option<Gesture>,
     /// The user has moved the camera since it was last fitted.
     moved: bool,
+    /// A volume's surface: cells along the longest side at rest, and whether to mesh coarsely now
+    /// (while a point moves).
+    resolution: usize,
+    coarse: bool,
+    cache: Option<VolumeCache>,
 }
 
 impl View3 {
@@ -214,6 +248,9 @@ impl View3 {
             size: DVec2::new(640.0, 480.0),
             gesture: None,
             moved: false,
+            resolution: DEFAULT_RESOLUTION,
+            coarse: false,
+            cache: None,
         };
         v.fit(editor);
         v
@@ -237,6 +274,12 @@ impl View3 {
 
     /// Frames the model again (the height scale too): after opening another model, or on request.
     pub fn fit(&mut self, editor: &ContourView) {
+        if let Some(volume) = editor.volume() {
+            let (min, max) = volume.domain();
+            self.camera = Camera::fit(min, max, self.size.x / self.size.y);
+            self.moved = false;
+            return;
+        }
         let (min, max) = editor.solid().domain();
         let extent = (max - min).max_element().max(1e-9);
         self.height = 0.5 * extent;
@@ -255,14 +298,37 @@ impl View3 {
     }
 
     fn radius(editor: &ContourView) -> f64 {
-        let (min, max) = editor.solid().domain();
-        (max - min).max_element() * SPHERE_RADIUS
+        let extent = match editor.volume() {
+            Some(v) => {
+                let (min, max) = v.domain();
+                (max - min).max_element()
+            }
+            None => {
+                let (min, max) = editor.solid().domain();
+                (max - min).max_element()
+            }
+        };
+        extent * SPHERE_RADIUS
+    }
+
+    /// The world positions of the control points' spheres (the volume's or the patch's).
+    fn centres(&self, editor: &ContourView) -> Vec<DVec3> {
+        match editor.volume() {
+            Some(v) => v.volume().points().iter().map(|p| p.truncate()).collect(),
+            None => editor
+                .solid()
+                .patch()
+                .points()
+                .iter()
+                .map(|&p| self.world(p))
+                .collect(),
+        }
     }
 
     /// The CSS pixel where control point `index`'s sphere centre is drawn (`None` behind the eye).
     #[must_use]
     pub fn screen_of(&self, editor: &ContourView, index: usize) -> Option<DVec2> {
-        let p = self.world(*editor.solid().patch().points().get(index)?);
+        let p = *self.centres(editor).get(index)?;
         let m = self.camera.view_proj(self.size.x / self.size.y, 1.0);
         let clip: [f64; 4] =
             core::array::from_fn(|r| (0..3).map(|c| m[c][r] * p[c]).sum::<f64>() + m[3][r]);
@@ -278,14 +344,11 @@ impl View3 {
         let (o, d) = self.camera.ray(q, self.size);
         // Picking is a little more generous than the drawn sphere.
         let r = Self::radius(editor) * 1.6;
-        editor
-            .solid()
-            .patch()
-            .points()
-            .iter()
+        self.centres(editor)
+            .into_iter()
             .enumerate()
-            .filter_map(|(k, &p)| {
-                let c = self.world(p) - o;
+            .filter_map(|(k, p)| {
+                let c = p - o;
                 let t = c.dot(d);
                 let miss = c.length_squared() - t * t;
                 (t > 0.0 && miss <= r * r).then(|| (k, t - (r * r - miss).sqrt()))
@@ -310,6 +373,15 @@ impl View3 {
             } else {
                 editor.mode()
             };
+            if let Some(volume) = editor.volume() {
+                let p = volume.volume().points()[k];
+                let (o, d) = self.camera.ray(q, self.size);
+                let back = (self.camera.eye() - self.camera.target).normalize();
+                let grab = plane_hit(o, d, p.truncate(), back).unwrap_or(p.truncate());
+                editor.begin_volume_drag(k);
+                self.gesture = Some(Gesture::VolumePoint(mode, q, p, p.truncate() - grab));
+                return true;
+            }
             let centre = self.world(editor.solid().patch().points()[k]);
             let grab = self.grab_point(centre, mode, q).unwrap_or(centre);
             editor.begin_drag(k, mode);
@@ -366,6 +438,19 @@ impl View3 {
                 self.gesture = Some(Gesture::Pan(q));
                 true
             }
+            Some(Gesture::VolumePoint(mode, start, p, offset)) => match mode {
+                Mode::Function => {
+                    editor.drag_volume_to(None, Some(p.w + (start.y - q.y) * XI_PER_PIXEL))
+                }
+                Mode::Space => {
+                    let (o, d) = self.camera.ray(q, self.size);
+                    let back = (self.camera.eye() - self.camera.target).normalize();
+                    match plane_hit(o, d, p.truncate(), back) {
+                        Some(hit) => editor.drag_volume_to(Some(hit + offset), None),
+                        None => false,
+                    }
+                }
+            },
             Some(Gesture::Point(mode, offset)) => {
                 let Some(k) = editor.dragged() else {
                     self.gesture = None;
@@ -386,7 +471,10 @@ impl View3 {
 
     /// Pointer released: ends the gesture (a point drag is one undo step).
     pub fn pointer_up(&mut self, editor: &mut ContourView) {
-        if matches!(self.gesture, Some(Gesture::Point(..))) {
+        if matches!(
+            self.gesture,
+            Some(Gesture::Point(..) | Gesture::VolumePoint(..))
+        ) {
             editor.pointer_up();
         }
         self.gesture = None;
@@ -404,9 +492,36 @@ impl View3 {
         self.camera.zoom(delta_y);
     }
 
+    /// Sets the volume surface's resolution at rest (cells along the longest side, 8 to
+    /// [`MAX_RESOLUTION`]); returns the value taken.
+    pub fn set_resolution(&mut self, resolution: usize) -> usize {
+        self.resolution = resolution.clamp(8, MAX_RESOLUTION);
+        self.resolution
+    }
+
+    /// The volume surface's resolution at rest.
+    #[must_use]
+    pub fn resolution(&self) -> usize {
+        self.resolution
+    }
+
+    /// Meshes coarsely (while a point moves) or at the resolution set (at rest).
+    pub fn set_coarse(&mut self, coarse: bool) {
+        self.coarse = coarse;
+    }
+
+    /// The triangle count of the volume's surface last drawn, and whether the net may fold there.
+    #[must_use]
+    pub fn surface_info(&self) -> Option<(usize, bool)> {
+        self.cache.as_ref().map(|c| (c.triangles, c.folded))
+    }
+
     /// Builds the scene of `editor`'s model.
     #[must_use]
-    pub fn scene(&self, editor: &ContourView) -> Scene {
+    pub fn scene(&mut self, editor: &ContourView) -> Scene {
+        if let Some(volume) = editor.volume() {
+            return self.volume_scene(editor, volume);
+        }
         let solid = editor.solid();
         let patch = solid.patch();
         let (lo, hi) = xi_range(editor);
@@ -528,6 +643,230 @@ impl View3 {
             eye: self.camera.eye().as_vec3().to_array(),
         }
     }
+}
+
+impl View3 {
+    /// The scene of a volume: its polygonized surface (remeshed only when the model or the
+    /// resolution changed), the stack of the zero contours of its slices across the chosen axis,
+    /// the control points as spheres coloured by ξ, and the selected slice's plane.
+    fn volume_scene(&mut self, editor: &ContourView, volume: &Solid3) -> Scene {
+        let resolution = if self.coarse {
+            COARSE_RESOLUTION.min(self.resolution)
+        } else {
+            self.resolution
+        };
+        let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
+        let fresh = self.cache.as_ref().is_some_and(|c| {
+            c.revision == editor.revision() && c.resolution == resolution && c.stack_axis == axis
+        });
+        if !fresh {
+            self.cache = Some(volume_cache(volume, editor.revision(), resolution, axis));
+        }
+        let cache = self.cache.as_ref();
+        let mut opaque: Vec<MeshVertex> = cache.map(|c| c.surface.clone()).unwrap_or_default();
+        if let Some(c) = cache {
+            opaque.extend_from_slice(&c.stack);
+        }
+        let r = Self::radius(editor);
+        let net = volume.volume();
+        let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
+        let selected = editor.selected().map(|(p, q)| {
+            let d = volume.degree();
+            let (i, j, k) = match axis {
+                Axis::U => (index, p, q),
+                Axis::V => (p, index, q),
+                Axis::W => (p, q, index),
+            };
+            (i * (d.1 + 1) + j) * (d.2 + 1) + k
+        });
+        let d = volume.degree();
+        for (k, p) in net.points().iter().enumerate() {
+            let (i, j, l) = (
+                k / ((d.1 + 1) * (d.2 + 1)),
+                k / (d.2 + 1) % (d.1 + 1),
+                k % (d.2 + 1),
+            );
+            let in_slice = [i, j, l][match axis {
+                Axis::U => 0,
+                Axis::V => 1,
+                Axis::W => 2,
+            }] == index;
+            let color = if selected == Some(k) {
+                SELECT_COLOR
+            } else {
+                diverging(p.w / scale)
+            };
+            let radius = if selected == Some(k) {
+                r * 1.3
+            } else if in_slice {
+                r
+            } else {
+                r * 0.7
+            };
+            sphere(&mut opaque, p.truncate(), radius, color);
+        }
+        // The selected slice's net as rods, and its plane's box as a translucent quad.
+        let mut translucent = Vec::new();
+        if let Some(patch) = slice_patch(net, axis, index) {
+            let (n, m) = patch.degree();
+            let at = |p: usize, q: usize| {
+                let (i, j, k) = match axis {
+                    Axis::U => (index, p, q),
+                    Axis::V => (p, index, q),
+                    Axis::W => (p, q, index),
+                };
+                net.point(i, j, k).truncate()
+            };
+            for p in 0..=n {
+                for q in 0..=m {
+                    if p < n {
+                        prism(&mut opaque, at(p, q), at(p + 1, q), r * 0.12, NET_COLOR);
+                    }
+                    if q < m {
+                        prism(&mut opaque, at(p, q), at(p, q + 1), r * 0.12, NET_COLOR);
+                    }
+                }
+            }
+            let corners = [at(0, 0), at(n, 0), at(n, m), at(0, m)];
+            let normal = (corners[1] - corners[0])
+                .cross(corners[3] - corners[0])
+                .normalize_or(DVec3::Z)
+                .as_vec3()
+                .to_array();
+            let vx = |p: DVec3| MeshVertex {
+                position: p.as_vec3().to_array(),
+                normal,
+                color: SLICE_COLOR,
+            };
+            translucent.extend(
+                [
+                    corners[0], corners[1], corners[2], corners[0], corners[2], corners[3],
+                ]
+                .map(vx),
+            );
+        }
+        let (min, max) = volume.domain();
+        let extent = (max - min).max_element() * 1.5;
+        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
+        Scene {
+            opaque,
+            translucent,
+            view_proj: m.map(|c| c.map(|x| x as f32)),
+            eye: self.camera.eye().as_vec3().to_array(),
+        }
+    }
+}
+
+/// Meshes a volume at `resolution` (the exact surface where the map is regular or certified
+/// injective; every sheet where it may fold) and traces the zero contour of each slice across
+/// `axis`, placed at the slice's mean position along it.
+fn volume_cache(volume: &Solid3, revision: u64, resolution: usize, axis: Axis) -> VolumeCache {
+    let folded = volume.inverse().is_some_and(|m| !m.injective());
+    let mesh = if folded {
+        volume.polygonize_sheets(resolution, 1e-7)
+    } else {
+        volume.polygonize(resolution, 1e-7)
+    };
+    let mut surface = Vec::new();
+    let mut triangles = 0;
+    if let Ok(mesh) = mesh {
+        triangles = mesh.triangles.len();
+        surface.reserve(triangles * 3);
+        for t in &mesh.triangles {
+            for &i in t {
+                surface.push(MeshVertex {
+                    position: mesh.positions[i as usize].as_vec3().to_array(),
+                    normal: mesh.normals[i as usize].as_vec3().to_array(),
+                    color: SURFACE_COLOR,
+                });
+            }
+        }
+    }
+    let net = volume.volume();
+    let d = volume.degree();
+    let a = match axis {
+        Axis::U => 0,
+        Axis::V => 1,
+        Axis::W => 2,
+    };
+    let (lo, hi) = match axis {
+        Axis::U => (1, 2),
+        Axis::V => (0, 2),
+        Axis::W => (0, 1),
+    };
+    let (min, max) = volume.domain();
+    let r = (max - min).max_element() * SPHERE_RADIUS * 0.14;
+    let mut stack = Vec::new();
+    for index in 0..=[d.0, d.1, d.2][a] {
+        let Some(patch) = slice_patch(net, axis, index) else {
+            continue;
+        };
+        let along = patch_mean_along(net, axis, index);
+        let Ok(solid) = Solid2::try_from_patch(patch) else {
+            continue;
+        };
+        for line in solid_contour(&solid, STACK_CELLS, 1e-7) {
+            let to3 = |p: DVec2| {
+                let mut v = DVec3::ZERO;
+                v[lo] = p.x;
+                v[hi] = p.y;
+                v[a] = along;
+                v
+            };
+            let count = if line.closed {
+                line.points.len()
+            } else {
+                line.points.len().saturating_sub(1)
+            };
+            for k in 0..count {
+                let (p, q) = (line.points[k], line.points[(k + 1) % line.points.len()]);
+                prism(&mut stack, to3(p), to3(q), r, CONTOUR_COLOR);
+            }
+        }
+    }
+    VolumeCache {
+        revision,
+        resolution,
+        stack_axis: axis,
+        surface,
+        stack,
+        folded,
+        triangles,
+    }
+}
+
+/// The mean coordinate along `axis` of the control points of slice `index` across it.
+fn patch_mean_along(net: &bezsolid_core::Volume<DVec4>, axis: Axis, index: usize) -> f64 {
+    let d = net.degree();
+    let a = match axis {
+        Axis::U => 0,
+        Axis::V => 1,
+        Axis::W => 2,
+    };
+    let mut sum = 0.0;
+    let mut count = 0.0f64;
+    for (k, p) in net.points().iter().enumerate() {
+        let ijk = [
+            k / ((d.1 + 1) * (d.2 + 1)),
+            k / (d.2 + 1) % (d.1 + 1),
+            k % (d.2 + 1),
+        ];
+        if ijk[a] == index {
+            sum += p[a];
+            count += 1.0;
+        }
+    }
+    sum / count.max(1.0)
+}
+
+/// Where the ray `o + t·d` meets the plane through `p` with normal `n` (in front of the eye).
+fn plane_hit(o: DVec3, d: DVec3, p: DVec3, n: DVec3) -> Option<DVec3> {
+    let denom = d.dot(n);
+    if denom.abs() < 1e-12 {
+        return None;
+    }
+    let t = (p - o).dot(n) / denom;
+    (t > 0.0).then(|| o + d * t)
 }
 
 /// The lowest and highest ξ of the control points.
@@ -701,7 +1040,7 @@ mod tests {
 
     #[test]
     fn the_scene_has_the_surface_spheres_and_plane() {
-        let (editor, view) = setup();
+        let (editor, mut view) = setup();
         let scene = view.scene(&editor);
         assert!(scene.opaque.len() > SURFACE_CELLS * SURFACE_CELLS * 6);
         assert_eq!(scene.opaque.len() % 3, 0);

@@ -443,18 +443,21 @@ impl Modeler {
         Ok(())
     }
 
-    /// Opens a preset by name (`"fig9"`, or `"flat"` for a flat 4×4 grid).
+    /// Opens a preset by name: `"fig9"`, `"flat"` (a flat 4×4 grid), or the volumes `"blob"`,
+    /// `"ring"`, `"fish"`.
     ///
     /// # Errors
     ///
-    /// For an unknown or non-patch preset.
+    /// For an unknown preset.
     pub fn load_preset(&mut self, name: &str) -> Result<(), JsError> {
         let solid = match name {
-            "flat" => Solid2::regular((3, 3), glam::DVec2::ZERO, glam::DVec2::ONE, |_, _| 0.25)
-                .map_err(|e| error("preset", e))?,
-            _ => document::open_preset(name).map_err(|e| JsError::new(&e))?,
+            "flat" => bezsolid_core::model::ModelSolid::Patch(
+                Solid2::regular((3, 3), glam::DVec2::ZERO, glam::DVec2::ONE, |_, _| 0.25)
+                    .map_err(|e| error("preset", e))?,
+            ),
+            _ => document::preset(name).map_err(|e| JsError::new(&e))?,
         };
-        self.view.set_solid(solid);
+        document::open(&mut self.view, solid);
         self.view3.fit(&self.view);
         Ok(())
     }
@@ -462,7 +465,7 @@ impl Modeler {
     /// The model file (JSON).
     #[must_use]
     pub fn model_json(&self) -> String {
-        document::model_json(self.view.solid())
+        document::model_json(&self.view)
     }
 
     /// Opens a model file's text (an undo step); on error the model is unchanged.
@@ -472,7 +475,7 @@ impl Modeler {
     /// What is wrong with the file.
     pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
         let solid = document::read_model(text).map_err(|e| JsError::new(&e))?;
-        self.view.set_solid(solid);
+        document::open(&mut self.view, solid);
         self.view3.fit(&self.view);
         Ok(())
     }
@@ -483,7 +486,7 @@ impl Modeler {
     ///
     /// When the model is too large for a link.
     pub fn link(&self) -> Result<String, JsError> {
-        document::share_fragment(self.view.solid()).map_err(|e| JsError::new(&e))
+        document::share_fragment(&self.view).map_err(|e| JsError::new(&e))
     }
 
     /// Opens a share link (a whole URL or its fragment; an undo step); on error the model is
@@ -494,12 +497,12 @@ impl Modeler {
     /// What is wrong with the link.
     pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
         let solid = document::open_link(link).map_err(|e| JsError::new(&e))?;
-        self.view.set_solid(solid);
+        document::open(&mut self.view, solid);
         self.view3.fit(&self.view);
         Ok(())
     }
 
-    /// The zero contours as SVG.
+    /// The zero contours of the patch (or of the volume's selected slice) as SVG.
     #[must_use]
     pub fn svg(&self) -> String {
         document::svg(self.view.solid())
@@ -511,13 +514,101 @@ impl Modeler {
     ///
     /// For a space-mapped model, which HyperFun cannot express.
     pub fn hyperfun(&self) -> Result<String, JsError> {
-        document::hyperfun(self.view.solid()).map_err(|e| JsError::new(&e))
+        document::hyperfun(&self.view).map_err(|e| JsError::new(&e))
     }
 
     /// Whether the control points are moved off a regular grid (a space mapping).
     #[must_use]
     pub fn space_mapped(&self) -> bool {
-        self.view.solid().inverse().is_some()
+        match self.view.volume() {
+            Some(v) => v.inverse().is_some(),
+            None => self.view.solid().inverse().is_some(),
+        }
+    }
+
+    /// Whether the model is a volume.
+    #[must_use]
+    pub fn is_volume(&self) -> bool {
+        self.view.volume().is_some()
+    }
+
+    /// The volume's degree `[n, m, l]`, or `undefined` for a patch.
+    #[must_use]
+    pub fn volume_degree(&self) -> Option<Vec<u32>> {
+        self.view.volume().map(|v| {
+            let (n, m, l) = v.degree();
+            vec![n as u32, m as u32, l as u32]
+        })
+    }
+
+    /// The slice shown in the patch editor: `[axis, index]` (axis 0 = u, 1 = v, 2 = w), or
+    /// `undefined` for a patch.
+    #[must_use]
+    pub fn slice(&self) -> Option<Vec<u32>> {
+        self.view.slice().map(|(axis, index)| {
+            let a = match axis {
+                Axis::U => 0,
+                Axis::V => 1,
+                Axis::W => 2,
+            };
+            vec![a, index as u32]
+        })
+    }
+
+    /// Opens slice `index` across `axis` (0 = u, 1 = v, 2 = w) of the volume in the patch editor.
+    ///
+    /// # Errors
+    ///
+    /// For a patch model, or an axis or index out of range.
+    pub fn set_slice(&mut self, axis: u32, index: u32) -> Result<(), JsError> {
+        let axis = match axis {
+            0 => Axis::U,
+            1 => Axis::V,
+            2 => Axis::W,
+            _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
+        };
+        self.view
+            .set_slice(axis, index as usize)
+            .map_err(|e| JsError::new(&e))
+    }
+
+    /// Sets the volume surface's resolution at rest (cells along the longest side); returns the
+    /// value taken (8 to 160).
+    pub fn set_resolution(&mut self, cells: u32) -> u32 {
+        self.view3.set_resolution(cells as usize) as u32
+    }
+
+    /// Meshes the volume coarsely (while a point moves) or at the resolution set.
+    pub fn set_coarse(&mut self, coarse: bool) {
+        self.view3.set_coarse(coarse);
+    }
+
+    /// Triangles of the volume surface last drawn (0 for a patch).
+    #[must_use]
+    pub fn surface_triangles(&self) -> usize {
+        self.view3.surface_info().map_or(0, |(t, _)| t)
+    }
+
+    /// A mesh file of the volume's surface at the resolution set: `"stl"`, `"obj"` or `"ply"`.
+    ///
+    /// # Errors
+    ///
+    /// For a patch model or another format.
+    pub fn mesh_file(&self, format: &str) -> Result<Vec<u8>, JsError> {
+        let mesh =
+            document::mesh(&self.view, self.view3.resolution()).map_err(|e| JsError::new(&e))?;
+        document::mesh_file(&mesh, format).map_err(|e| JsError::new(&e))
+    }
+
+    /// Triangles of the exported mesh at the resolution set (what `mesh_file` writes).
+    ///
+    /// # Errors
+    ///
+    /// For a patch model.
+    pub fn mesh_triangles(&self) -> Result<usize, JsError> {
+        document::mesh(&self.view, self.view3.resolution())
+            .map(|m| m.triangles.len())
+            .map_err(|e| JsError::new(&e))
     }
 
     /// Sizes the 3D view: CSS pixels and the device pixel ratio; returns the canvas size in device
@@ -579,6 +670,12 @@ impl Modeler {
     /// Pointer released in the 3D view.
     pub fn pointer_up_3d(&mut self) {
         self.view3.pointer_up(&mut self.view);
+    }
+
+    /// Whether a control point is being dragged (in either view).
+    #[must_use]
+    pub fn editing_3d(&self) -> bool {
+        self.view.dragging() || self.view.volume_dragged().is_some()
     }
 
     /// Whether a 3D gesture (orbit, pan or point drag) is under way.

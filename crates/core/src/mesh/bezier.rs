@@ -113,6 +113,25 @@ impl Solid3 {
     }
 
     fn polygonize_forward(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
+        self.polygonize_sheets(resolution, accuracy)
+    }
+
+    /// The parameter-space mesh (the regular solid of the same `S_ξ` on the unit cube, `resolution`
+    /// cells per axis) mapped forward through `(S_x, S_y, S_z)`, whatever the map. For a regular grid
+    /// or a map certified injective this is [`Self::polygonize`]'s mesh; where the net folds it also
+    /// holds the boundaries of sheets that lie inside others (where `f`, the max over preimages, is
+    /// decided by another sheet), and it costs no inverse map: a live preview of a folded net draws it.
+    ///
+    /// # Errors
+    ///
+    /// [`MeshError`] for a resolution out of range or a bad accuracy.
+    pub fn polygonize_sheets(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
+        if !(accuracy.is_finite() && accuracy > 0.0) {
+            return Err(MeshError::Accuracy);
+        }
+        if self.inverse().is_none() {
+            return self.polygonize_regular(resolution, accuracy);
+        }
         let mut mesh = self
             .in_parameter_space()
             .polygonize_regular(resolution, accuracy)?;
@@ -569,6 +588,42 @@ mod tests {
             "{} vs {want}",
             mesh.volume()
         );
+    }
+
+    /// The sheet mesh is the mesh where the map is regular or injective, and on a folded net it is
+    /// a closed mesh of the parameter-space solid mapped forward (every vertex an image `S(u)`).
+    #[test]
+    fn sheets_are_the_mesh_when_injective_and_the_forward_image_when_folded() {
+        let base = ball(0.4, DVec3::ZERO, DVec3::ONE);
+        assert_eq!(
+            base.polygonize_sheets(12, 1e-9).unwrap(),
+            base.polygonize(12, 1e-9).unwrap()
+        );
+        let moved = Volume::from_fn((2, 2, 2), |i, j, k| {
+            let p = base.volume().point(i, j, k);
+            DVec4::new(p.x + 0.1 * p.y * p.y, p.y, p.z, p.w)
+        })
+        .unwrap();
+        let moved = Solid3::try_from_volume(moved).unwrap();
+        assert!(moved.inverse().unwrap().injective());
+        assert_eq!(
+            moved.polygonize_sheets(12, 1e-9).unwrap(),
+            moved.polygonize(12, 1e-9).unwrap()
+        );
+        let mut rng = crate::testutil::Rng::new(82);
+        let folded = crate::inverse::tests::warped_volume(&mut rng, (2, 2, 2), 0.45);
+        let folded = Solid3::try_from_volume(folded).unwrap();
+        let mesh = folded.polygonize_sheets(12, 1e-9).unwrap();
+        mesh.check_closed_manifold().unwrap();
+        let (lo, hi) = folded.volume().bounds();
+        for p in &mesh.positions {
+            assert!(p.cmpge(lo.truncate() - DVec3::splat(1e-9)).all());
+            assert!(p.cmple(hi.truncate() + DVec3::splat(1e-9)).all());
+        }
+        assert!(matches!(
+            folded.polygonize_sheets(12, f64::NAN),
+            Err(MeshError::Accuracy)
+        ));
     }
 
     /// A folded net has no certificate: the sampled path gives a closed mesh of the union.

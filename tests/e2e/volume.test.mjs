@@ -1,0 +1,133 @@
+// The volume editor in a real browser, on the backend under test: a volume preset draws its surface
+// in 3D, the cross-section chooser changes the slice in the 2D view, a sphere dragged in 3D edits the
+// volume (one undo step), and the mesh exports parse back with the mesh's triangle count.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { decodePng } from './png.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+const model = (page) => page.evaluate(() => window.bezsolid.modeler.model_json());
+
+async function openFish(page) {
+  await page.selectOption('#preset', 'fish');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await settle(page);
+}
+
+test('a volume preset draws its surface, and the cross-section chooser changes the 2D slice', async () => {
+  const { page, errors } = await open(browser);
+  await openFish(page);
+  assert.match(await page.textContent('#model-name'), /Volume solid, 7 × 5 × 3 points/);
+  const shot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'volume-3d.png'), shot);
+  const img = decodePng(shot);
+  // The surface is drawn in its warm colour, shaded (more than a few tones of it).
+  const tones = new Set();
+  for (let y = 0; y < img.height; y += 3) {
+    for (let x = 0; x < img.width; x += 3) {
+      const [r, g, b] = img.at(x, y);
+      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
+    }
+  }
+  assert.ok(tones.size > 40, `the shaded surface is drawn (${tones.size} tones)`);
+  assert.match(await page.textContent('#surface-info'), /Surface: [\d,]+ triangles/);
+
+  const middle = await page.locator('#view').screenshot();
+  await page.fill('#slice-index', '0');
+  await page.dispatchEvent('#slice-index', 'input');
+  await settle(page);
+  assert.match(await page.textContent('#slice-info'), /w slice 0 of 0…2/);
+  const bottom = await page.locator('#view').screenshot();
+  assert.ok(!middle.equals(bottom), 'another slice, another picture');
+  await page.check('input[name="slice-axis"][value="0"]');
+  await settle(page);
+  assert.match(await page.textContent('#slice-info'), /u slice 3 of 0…6: 5 × 3 points/);
+  const across = await page.locator('#view').screenshot();
+  writeFileSync(join(ARTIFACTS, 'volume-slice-u.png'), across);
+  assert.ok(!across.equals(bottom));
+  assert.equal(await page.isDisabled('#undo'), false, 'opening the preset is the one step');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo restores it', async () => {
+  const { page, errors } = await open(browser);
+  await openFish(page);
+  await page.click('#undo');
+  await page.selectOption('#preset', 'blob');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await settle(page);
+  const before = JSON.parse(await model(page));
+  const triangles = await page.evaluate(() => window.bezsolid.modeler.surface_triangles());
+  // The centre point of the blob (ξ = 1), index (1·3 + 1)·3 + 1 = 13.
+  const box = await page.locator('#view3d').boundingBox();
+  const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.sphere_screen_3d(13)]);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x, box.y + y + 90, { steps: 6 });
+  await page.mouse.up();
+  await settle(page);
+  const after = JSON.parse(await model(page));
+  assert.ok(after.solid.points[13][3] < before.solid.points[13][3] - 0.5, `ξ fell: ${after.solid.points[13][3]}`);
+  assert.deepEqual(after.solid.points[13].slice(0, 3), before.solid.points[13].slice(0, 3));
+  const changed = await page.evaluate(() => window.bezsolid.modeler.surface_triangles());
+  assert.notEqual(changed, triangles, 'the surface was meshed again');
+  await page.keyboard.press('Control+z');
+  await settle(page);
+  assert.deepEqual(JSON.parse(await model(page)), before);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+/** Chooses an export and returns the downloaded bytes. */
+async function exported(page, kind) {
+  const [download] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', kind)]);
+  const path = join(ARTIFACTS, `export-${download.suggestedFilename()}`);
+  await download.saveAs(path);
+  return readFileSync(path);
+}
+
+test('STL, OBJ and PLY exports of a volume parse back with the mesh triangle count; links carry volumes', async () => {
+  const { page, errors } = await open(browser);
+  await openFish(page);
+  await page.fill('#resolution', '40');
+  await page.dispatchEvent('#resolution', 'change');
+  const count = await page.evaluate(() => window.bezsolid.modeler.mesh_triangles());
+  assert.ok(count > 100);
+  const stl = await exported(page, 'stl');
+  assert.equal(stl.readUInt32LE(80), count, 'STL triangle count');
+  assert.equal(stl.length, 84 + 50 * count);
+  for (let t = 0; t < count; t += 97) {
+    for (let k = 0; k < 12; k++) assert.ok(Number.isFinite(stl.readFloatLE(84 + 50 * t + 4 * k)));
+  }
+  const obj = (await exported(page, 'obj')).toString();
+  const faces = obj.split('\n').filter((l) => l.startsWith('f '));
+  const verts = obj.split('\n').filter((l) => l.startsWith('v '));
+  assert.equal(faces.length, count);
+  assert.ok(faces.every((f) => f.trim().split(/\s+/).slice(1).every((i) => {
+    const n = Number(i.split('/')[0]);
+    return n >= 1 && n <= verts.length;
+  })));
+  const ply = await exported(page, 'ply');
+  const header = ply.subarray(0, ply.indexOf('end_header') + 11).toString();
+  assert.match(header, new RegExp(`element face ${count}\\b`));
+  // The volume's link opens the same volume in a new page.
+  await page.click('#copy-link');
+  await page.waitForFunction(() => document.querySelector('#share-url').value.includes('#v1.'));
+  const link = await page.inputValue('#share-url');
+  const original = await model(page);
+  const other = await browser.newPage();
+  await other.goto(link);
+  await other.waitForSelector('body[data-ready="true"]');
+  assert.equal(await other.evaluate(() => window.bezsolid.modeler.model_json()), original);
+  assert.equal(await other.getAttribute('body', 'data-kind'), 'volume');
+  await other.close();
+  assert.deepEqual(errors, []);
+  await page.close();
+});
