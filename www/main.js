@@ -197,6 +197,7 @@ async function main() {
       + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
       + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
+    if (lastEdit) document.body.dataset.latencyMs = (performance.now() - lastEdit).toFixed(2);
     document.body.dataset.render3Ms = lastRender3.toFixed(2);
   };
   const toggleDebug = () => {
