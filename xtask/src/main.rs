@@ -4,7 +4,8 @@
 //!   Cargo.lock, npm binaryen for wasm-opt), builds the page as `wasm-pack.toml` says and serves `www/`
 //!   on loopback.
 //! - `cargo xtask test [--update-screenshot]`: fmt, clippy, native tests, docs, the `no_std` build, the
-//!   wasm tests in node, the web build and the browser suite in headless chromium on both backends.
+//!   wasm tests in node, the web build, the page's module headless in node, and the browser suite in
+//!   headless chromium on both backends.
 
 mod bench;
 mod build;

@@ -115,6 +115,15 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
             Box::new(|| build::web(workspace, &recipe).map(|_| ())),
         ),
         (
+            "the page's module headless in node (tests/node)",
+            Box::new(move || {
+                setup::node()?;
+                run(Command::new("node")
+                    .args(["--test", "--test-concurrency=1", "node/"])
+                    .current_dir(ws.join("tests")))
+            }),
+        ),
+        (
             "browser suite (WebGL2 and WebGPU)",
             Box::new(move || browser_suite(ws, options)),
         ),

@@ -120,6 +120,79 @@ pub fn hyperfun(editor: &ContourView) -> Result<String, String> {
     .map_err(|e| e.to_string())
 }
 
+/// A model from text that is either a model file (JSON) or a share link (a URL or a fragment).
+///
+/// # Errors
+///
+/// What is wrong with the file or the link.
+pub fn read_any(text: &str) -> Result<ModelSolid, String> {
+    if text.trim_start().starts_with('{') {
+        read_model(text)
+    } else {
+        open_link(text.trim())
+    }
+}
+
+/// The page's module without a page: a model file or a link in, the model file, the link or a mesh
+/// file out (for node and other headless hosts).
+pub mod headless {
+    use super::{
+        ContourView, MESH_ACCURACY, mesh_file, model_json, open, read_any, share_fragment,
+    };
+    use bezsolid_core::Solid2;
+    use bezsolid_core::model::ModelSolid;
+
+    /// The largest resolution a headless mesh is made at.
+    pub const MAX_RESOLUTION: usize = 512;
+
+    fn editor(text: &str) -> Result<ContourView, String> {
+        let mut e = ContourView::new(Solid2::fig9());
+        open(&mut e, read_any(text)?);
+        e.forget_history();
+        Ok(e)
+    }
+
+    /// The model file (JSON) of a model file or link.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input.
+    pub fn model(text: &str) -> Result<String, String> {
+        editor(text).map(|e| model_json(&e))
+    }
+
+    /// The share link fragment of a model file or link.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input, or a model too large for a link.
+    pub fn link(text: &str) -> Result<String, String> {
+        share_fragment(&editor(text)?)
+    }
+
+    /// A mesh file (`"stl"`, `"obj"`, `"ply"`) of a volume model at `resolution` cells along the
+    /// longest side.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input, a patch model, a resolution outside 2 to 512, or another
+    /// format.
+    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, String> {
+        if !(2..=MAX_RESOLUTION).contains(&resolution) {
+            return Err(format!(
+                "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
+            ));
+        }
+        let ModelSolid::Volume(v) = read_any(text)? else {
+            return Err("mesh files are of volume (3D) models; this is a patch".into());
+        };
+        let m = v
+            .polygonize(resolution, MESH_ACCURACY)
+            .map_err(|e| e.to_string())?;
+        mesh_file(&m, format)
+    }
+}
+
 /// The closed boundary mesh of a volume model at `resolution` cells along the longest side.
 ///
 /// # Errors
@@ -195,6 +268,32 @@ mod tests {
         assert!(mesh_file(&m, "xyz").is_err());
         assert!(hyperfun(&e).unwrap().contains("my_model("));
         assert!(mesh(&ContourView::new(Solid2::fig9()), 24).is_err());
+    }
+
+    #[test]
+    fn headless_reads_files_and_links_and_meshes() {
+        let e = {
+            let mut e = ContourView::new(Solid2::fig9());
+            open(&mut e, preset("blob").unwrap());
+            e
+        };
+        let json = model_json(&e);
+        let link = share_fragment(&e).unwrap();
+        assert_eq!(headless::model(&link).unwrap(), json);
+        assert_eq!(headless::model(&json).unwrap(), json);
+        assert_eq!(headless::link(&json).unwrap(), link);
+        let stl = headless::mesh(&format!("http://x/{link}"), "stl", 20).unwrap();
+        let m = mesh(&e, 20).unwrap();
+        assert_eq!(stl, mesh_file(&m, "stl").unwrap());
+        assert!(headless::mesh(&link, "stl", 1).is_err());
+        assert!(headless::mesh(&link, "stl", 100_000).is_err());
+        assert!(
+            headless::mesh(&model_json(&ContourView::new(Solid2::fig9())), "stl", 20)
+                .unwrap_err()
+                .contains("patch")
+        );
+        assert!(headless::model("#v1.garbage").is_err());
+        assert!(headless::model("{ not json").is_err());
     }
 
     #[test]

@@ -132,6 +132,38 @@ fn device_pixels(width: f64, height: f64, dpr: f64, max_size: u32) -> (u32, u32)
     (((w * shrink) as u32).max(1), ((h * shrink) as u32).max(1))
 }
 
+/// The model file (JSON) of a model file or a share link (a whole URL or its fragment); no page or
+/// GPU needed (node).
+///
+/// # Errors
+///
+/// What is wrong with the input.
+#[wasm_bindgen]
+pub fn headless_model(text: &str) -> Result<String, JsError> {
+    document::headless::model(text).map_err(|e| JsError::new(&e))
+}
+
+/// The share link fragment (`#v1.…`) of a model file or link; no page or GPU needed.
+///
+/// # Errors
+///
+/// What is wrong with the input, or a model too large for a link.
+#[wasm_bindgen]
+pub fn headless_link(text: &str) -> Result<String, JsError> {
+    document::headless::link(text).map_err(|e| JsError::new(&e))
+}
+
+/// The surface of a volume model (a model file or a link) as `"stl"`, `"obj"` or `"ply"` bytes at
+/// `resolution` cells along the longest side; no page or GPU needed.
+///
+/// # Errors
+///
+/// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
+#[wasm_bindgen]
+pub fn headless_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
+    document::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
+}
+
 /// The 3D view's canvas and GPU; the model and camera live in [`Modeler`].
 #[wasm_bindgen]
 pub struct Viewer3 {

@@ -1,0 +1,61 @@
+// The page's own wasm module (www/pkg, as `cargo xtask test` builds it) loaded in node, with no page
+// and no GPU: a model file or a share link in, the model, the link and mesh files out, parsed back.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+
+const pkg = new URL('../../www/pkg/', import.meta.url);
+const glue = await import(new URL('bezsolid_web.js', pkg));
+await glue.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_web_bg.wasm', pkg))) });
+const { headless_model, headless_link, headless_mesh } = glue;
+
+// A degree-(2, 2, 2) volume: a blob whose centre is raised (as the blob preset).
+const points = [];
+for (let i = 0; i < 3; i++) for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) {
+  const corner = i !== 1 && j !== 1 && k !== 1;
+  const centre = i === 1 && j === 1 && k === 1;
+  points.push([i - 1, j - 1, k - 1, centre ? 1 : corner ? -1 : 0.25]);
+}
+const MODEL = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'volume', degree: [2, 2, 2], points } });
+
+test('a model file and its link give the same model back', () => {
+  const model = JSON.parse(headless_model(MODEL));
+  assert.deepEqual(model.solid.points, points);
+  const link = headless_link(MODEL);
+  assert.match(link, /^#v1\.[A-Za-z0-9_-]+$/);
+  assert.deepEqual(JSON.parse(headless_model(`https://example.invalid/${link}`)), model);
+  assert.equal(headless_link(link), link);
+});
+
+test('STL, OBJ and PLY of a volume from a link parse back with one triangle count', () => {
+  const link = headless_link(MODEL);
+  const stl = Buffer.from(headless_mesh(link, 'stl', 24));
+  const count = stl.readUInt32LE(80);
+  assert.ok(count > 200, `${count} triangles`);
+  assert.equal(stl.length, 84 + 50 * count);
+  // Every facet's corners lie in the net's box.
+  for (let t = 0; t < count; t++) {
+    for (let c = 0; c < 3; c++) {
+      for (let a = 0; a < 3; a++) {
+        const x = stl.readFloatLE(84 + 50 * t + 12 + 12 * c + 4 * a);
+        assert.ok(x >= -1.0001 && x <= 1.0001, `${x}`);
+      }
+    }
+  }
+  const obj = Buffer.from(headless_mesh(MODEL, 'obj', 24)).toString();
+  assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, count);
+  const ply = Buffer.from(headless_mesh(MODEL, 'ply', 24));
+  assert.match(ply.subarray(0, 400).toString('latin1'), new RegExp(`element face ${count}\\b`));
+});
+
+test('bad input throws a clear error and never kills the module', () => {
+  assert.throws(() => headless_model('#v1.AAAA'), /damaged/);
+  assert.throws(() => headless_model('{"format": "bezsolid"'), /not a bezsolid model file/);
+  assert.throws(() => headless_mesh(MODEL, 'xyz', 24), /unknown mesh format/);
+  assert.throws(() => headless_mesh(MODEL, 'stl', 100000), /outside/);
+  const patch = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'patch', degree: [1, 1], points: [[0, 0, 1], [0, 1, 1], [1, 0, 1], [1, 1, 1]] } });
+  assert.throws(() => headless_mesh(patch, 'stl', 24), /patch/);
+  // Still alive after the errors.
+  assert.ok(headless_mesh(MODEL, 'stl', 8).length > 84);
+});
