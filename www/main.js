@@ -85,6 +85,66 @@ async function main() {
     console.warn(`bezsolid: no 3D view (${err?.message ?? err})`);
   }
 
+  // The fine surface of a volume is meshed in a Web Worker; the view draws a coarse one meanwhile,
+  // and a newer edit supersedes a job that has not started (its result is dropped if it has).
+  const mesher = (() => {
+    let worker;
+    try {
+      worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+    } catch (err) {
+      console.warn(`bezsolid: no worker (${err?.message ?? err}); meshing on the page`);
+      return null;
+    }
+    modeler.set_external_surface(true);
+    const badge = $('meshing');
+    let busy = null; // [revision, resolution] in flight
+    let queued = null;
+    let lastMs = 0;
+    const send = ([revision, resolution]) => {
+      busy = [revision, resolution];
+      badge.hidden = false;
+      badge.textContent = `Meshing the surface at ${resolution}…`;
+      document.body.dataset.meshing = 'true';
+      worker.postMessage({ id: revision, model: modeler.model_json(), resolution });
+    };
+    worker.onmessage = ({ data: { id, data, error, ms } }) => {
+      const [revision, resolution] = busy ?? [id, 0];
+      busy = null;
+      if (error) {
+        say(`The surface could not be meshed: ${error}`, 'error');
+      } else if (modeler.set_surface(revision, resolution, data)) {
+        lastMs = ms;
+        redraw(VIEW3);
+      }
+      if (queued) {
+        const next = queued;
+        queued = null;
+        send(next);
+      } else {
+        badge.hidden = true;
+        document.body.dataset.meshing = 'false';
+      }
+    };
+    worker.onerror = (e) => {
+      console.warn(`bezsolid: the worker failed (${e.message}); meshing on the page`);
+      modeler.set_external_surface(false);
+      busy = null;
+      badge.hidden = true;
+      redraw(VIEW3);
+    };
+    return {
+      check() {
+        const request = modeler.surface_request();
+        if (!request) return;
+        const same = (a) => a && a[0] === request[0] && a[1] === request[1];
+        if (same(busy) || same(queued)) return;
+        if (busy) queued = request;
+        else send(request);
+      },
+      lastMs: () => lastMs,
+    };
+  })();
+
   let pending = 0;
   let lastRender = 0;
   let lastRender3 = 0;
@@ -108,6 +168,7 @@ async function main() {
         const t0 = performance.now();
         modeler.render_3d(viewer);
         lastRender3 = performance.now() - t0;
+        mesher?.check();
       }
       updatePanel();
       updateDebug();
@@ -171,7 +232,7 @@ async function main() {
       if (document.activeElement !== slider) slider.value = String(index);
       $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
       const t = modeler.surface_triangles();
-      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles`;
+      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${modeler.surface_resolution()}`;
     } else {
       $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
       $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
@@ -195,6 +256,7 @@ async function main() {
     if (debug.hidden) return;
     debug.textContent = `2D frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
       + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
+      + `worker mesh: ${mesher ? mesher.lastMs().toFixed(1) : '–'} ms\n`
       + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
     if (lastEdit) document.body.dataset.latencyMs = (performance.now() - lastEdit).toFixed(2);

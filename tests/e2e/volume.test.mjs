@@ -24,6 +24,10 @@ test('a volume preset draws its surface, and the cross-section chooser changes t
   const { page, errors } = await open(browser);
   await openFish(page);
   assert.match(await page.textContent('#model-name'), /Volume solid, 7 × 5 × 3 points/);
+  // The fine surface comes from the worker (a coarse one is drawn meanwhile).
+  await page.waitForFunction(() => window.bezsolid.modeler.surface_resolution() === 64, null, { timeout: 30_000 });
+  await settle(page);
+  assert.match(await page.textContent('#surface-info'), /triangles at 64/);
   const shot = await page.locator('#view3d').screenshot();
   writeFileSync(join(ARTIFACTS, 'volume-3d.png'), shot);
   const img = decodePng(shot);

@@ -208,17 +208,21 @@ enum Gesture {
     VolumePoint(Mode, DVec2, DVec4, DVec3),
 }
 
-/// The polygonized surface and the contour stack of a volume, for one revision of the model.
+/// A volume's polygonized surface for one revision of the model and one resolution.
 #[derive(Clone, Debug)]
-struct VolumeCache {
+struct SurfaceCache {
     revision: u64,
     resolution: usize,
-    stack_axis: Axis,
     surface: Vec<MeshVertex>,
-    stack: Vec<MeshVertex>,
-    /// The net may fold: the surface shows every sheet (see `Solid3::polygonize_sheets`).
-    folded: bool,
     triangles: usize,
+}
+
+/// The contour stack of a volume's slices across one axis, for one revision of the model.
+#[derive(Clone, Debug)]
+struct StackCache {
+    revision: u64,
+    axis: Axis,
+    stack: Vec<MeshVertex>,
 }
 
 /// The 3D view's state: camera, height scale, viewport and the gesture under way.
@@ -235,7 +239,13 @@ pub struct View3 {
     /// (while a point moves).
     resolution: usize,
     coarse: bool,
-    cache: Option<VolumeCache>,
+    surface: Option<SurfaceCache>,
+    stack: Option<StackCache>,
+    /// The fine surface is made elsewhere (a Web Worker) and handed in with [`Self::set_surface`];
+    /// until it comes the coarse one is drawn.
+    external: bool,
+    /// The fine surface wanted from elsewhere: `(revision, resolution)`.
+    request: Option<(u64, usize)>,
 }
 
 impl View3 {
@@ -250,7 +260,10 @@ impl View3 {
             moved: false,
             resolution: DEFAULT_RESOLUTION,
             coarse: false,
-            cache: None,
+            surface: None,
+            stack: None,
+            external: false,
+            request: None,
         };
         v.fit(editor);
         v
@@ -510,10 +523,53 @@ impl View3 {
         self.coarse = coarse;
     }
 
-    /// The triangle count of the volume's surface last drawn, and whether the net may fold there.
+    /// The triangle count of the volume's surface last drawn and the resolution it was made at.
     #[must_use]
-    pub fn surface_info(&self) -> Option<(usize, bool)> {
-        self.cache.as_ref().map(|c| (c.triangles, c.folded))
+    pub fn surface_info(&self) -> Option<(usize, usize)> {
+        self.surface.as_ref().map(|c| (c.triangles, c.resolution))
+    }
+
+    /// Whether the fine surface is made elsewhere (see [`Self::set_surface`]).
+    pub fn set_external_surface(&mut self, external: bool) {
+        self.external = external;
+    }
+
+    /// The fine surface wanted from elsewhere since the last call: `(revision, resolution)`.
+    pub fn take_request(&mut self) -> Option<(u64, usize)> {
+        self.request.take()
+    }
+
+    /// Hands in a surface made elsewhere for model `revision` at `resolution`: `data` holds six
+    /// `f32` per vertex (position, normal), three vertices per triangle. A surface for an older
+    /// revision is dropped (a newer edit supersedes it); returns whether it was taken.
+    pub fn set_surface(
+        &mut self,
+        editor: &ContourView,
+        revision: u64,
+        resolution: usize,
+        data: &[f32],
+    ) -> bool {
+        if revision != editor.revision()
+            || editor.volume().is_none()
+            || !data.len().is_multiple_of(18)
+        {
+            return false;
+        }
+        let surface = data
+            .chunks_exact(6)
+            .map(|v| MeshVertex {
+                position: [v[0], v[1], v[2]],
+                normal: [v[3], v[4], v[5]],
+                color: SURFACE_COLOR,
+            })
+            .collect::<Vec<_>>();
+        self.surface = Some(SurfaceCache {
+            revision,
+            resolution,
+            triangles: surface.len() / 3,
+            surface,
+        });
+        true
     }
 
     /// Builds the scene of `editor`'s model.
@@ -656,15 +712,46 @@ impl View3 {
             self.resolution
         };
         let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
-        let fresh = self.cache.as_ref().is_some_and(|c| {
-            c.revision == editor.revision() && c.resolution == resolution && c.stack_axis == axis
-        });
-        if !fresh {
-            self.cache = Some(volume_cache(volume, editor.revision(), resolution, axis));
+        let revision = editor.revision();
+        let have = |c: &Option<SurfaceCache>, res: usize| {
+            c.as_ref()
+                .is_some_and(|c| c.revision == revision && c.resolution == res)
+        };
+        if !have(&self.surface, resolution) {
+            // A fine surface made elsewhere: ask for it, and draw a coarse one until it comes.
+            let local = if self.external && !self.coarse {
+                self.request = Some((revision, resolution));
+                COARSE_RESOLUTION.min(resolution)
+            } else {
+                resolution
+            };
+            if !have(&self.surface, local) {
+                let (surface, triangles) = surface_vertices(volume, local);
+                self.surface = Some(SurfaceCache {
+                    revision,
+                    resolution: local,
+                    surface,
+                    triangles,
+                });
+            }
         }
-        let cache = self.cache.as_ref();
-        let mut opaque: Vec<MeshVertex> = cache.map(|c| c.surface.clone()).unwrap_or_default();
-        if let Some(c) = cache {
+        if !self
+            .stack
+            .as_ref()
+            .is_some_and(|c| c.revision == revision && c.axis == axis)
+        {
+            self.stack = Some(StackCache {
+                revision,
+                axis,
+                stack: contour_stack(volume, axis),
+            });
+        }
+        let mut opaque: Vec<MeshVertex> = self
+            .surface
+            .as_ref()
+            .map(|c| c.surface.clone())
+            .unwrap_or_default();
+        if let Some(c) = &self.stack {
             opaque.extend_from_slice(&c.stack);
         }
         let r = Self::radius(editor);
@@ -757,31 +844,53 @@ impl View3 {
     }
 }
 
-/// Meshes a volume at `resolution` (the exact surface where the map is regular or certified
-/// injective; every sheet where it may fold) and traces the zero contour of each slice across
-/// `axis`, placed at the slice's mean position along it.
-fn volume_cache(volume: &Solid3, revision: u64, resolution: usize, axis: Axis) -> VolumeCache {
+/// The surface drawn for a volume at `resolution`: the exact surface where the map is regular or
+/// certified injective, every sheet where it may fold (`Solid3::polygonize_sheets`, no inverse map).
+#[must_use]
+pub fn surface_mesh(volume: &Solid3, resolution: usize) -> Option<bezsolid_core::mesh::Mesh> {
     let folded = volume.inverse().is_some_and(|m| !m.injective());
-    let mesh = if folded {
+    if folded {
         volume.polygonize_sheets(resolution, 1e-7)
     } else {
         volume.polygonize(resolution, 1e-7)
+    }
+    .ok()
+}
+
+/// [`surface_mesh`] as six `f32` per vertex (position, normal), three vertices per triangle: what
+/// a Web Worker hands to [`View3::set_surface`].
+#[must_use]
+pub fn surface_floats(volume: &Solid3, resolution: usize) -> Vec<f32> {
+    let Some(mesh) = surface_mesh(volume, resolution) else {
+        return Vec::new();
     };
-    let mut surface = Vec::new();
-    let mut triangles = 0;
-    if let Ok(mesh) = mesh {
-        triangles = mesh.triangles.len();
-        surface.reserve(triangles * 3);
-        for t in &mesh.triangles {
-            for &i in t {
-                surface.push(MeshVertex {
-                    position: mesh.positions[i as usize].as_vec3().to_array(),
-                    normal: mesh.normals[i as usize].as_vec3().to_array(),
-                    color: SURFACE_COLOR,
-                });
-            }
+    let mut out = Vec::with_capacity(mesh.triangles.len() * 18);
+    for t in &mesh.triangles {
+        for &i in t {
+            out.extend(mesh.positions[i as usize].as_vec3().to_array());
+            out.extend(mesh.normals[i as usize].as_vec3().to_array());
         }
     }
+    out
+}
+
+fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usize) {
+    let floats = surface_floats(volume, resolution);
+    let surface: Vec<MeshVertex> = floats
+        .chunks_exact(6)
+        .map(|v| MeshVertex {
+            position: [v[0], v[1], v[2]],
+            normal: [v[3], v[4], v[5]],
+            color: SURFACE_COLOR,
+        })
+        .collect();
+    let triangles = surface.len() / 3;
+    (surface, triangles)
+}
+
+/// The zero contour of each slice of the volume across `axis`, placed at the slice's mean position
+/// along it, as thin rods.
+fn contour_stack(volume: &Solid3, axis: Axis) -> Vec<MeshVertex> {
     let net = volume.volume();
     let d = volume.degree();
     let a = match axis {
@@ -824,15 +933,7 @@ fn volume_cache(volume: &Solid3, revision: u64, resolution: usize, axis: Axis) -
             }
         }
     }
-    VolumeCache {
-        revision,
-        resolution,
-        stack_axis: axis,
-        surface,
-        stack,
-        folded,
-        triangles,
-    }
+    stack
 }
 
 /// The mean coordinate along `axis` of the control points of slice `index` across it.
@@ -1042,6 +1143,7 @@ mod tests {
     fn the_scene_has_the_surface_spheres_and_plane() {
         let (editor, mut view) = setup();
         let scene = view.scene(&editor);
+        assert!(view.surface_info().is_none(), "no volume, no surface");
         assert!(scene.opaque.len() > SURFACE_CELLS * SURFACE_CELLS * 6);
         assert_eq!(scene.opaque.len() % 3, 0);
         assert_eq!(scene.translucent.len(), 6);
@@ -1061,5 +1163,39 @@ mod tests {
             (f64::from(top) - expected).abs() < 1e-3,
             "{top} vs {expected}"
         );
+    }
+
+    #[test]
+    fn a_surface_made_elsewhere_replaces_the_coarse_one_for_its_revision_only() {
+        use bezsolid_core::model::ModelSolid;
+        use bezsolid_core::presets::Preset;
+        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
+            unreachable!()
+        };
+        let (mut editor, mut view) = setup();
+        editor.set_volume(blob.clone());
+        view.set_external_surface(true);
+        let _ = view.scene(&editor);
+        let (coarse, res) = view.surface_info().unwrap();
+        assert_eq!(res, COARSE_RESOLUTION);
+        let (revision, wanted) = view.take_request().unwrap();
+        assert_eq!((revision, wanted), (editor.revision(), DEFAULT_RESOLUTION));
+        assert!(view.take_request().is_none());
+        let data = surface_floats(&blob, wanted);
+        // A surface for an older revision is dropped.
+        assert!(!view.set_surface(&editor, revision.wrapping_sub(1), wanted, &data));
+        assert!(view.set_surface(&editor, revision, wanted, &data));
+        let _ = view.scene(&editor);
+        let (fine, res) = view.surface_info().unwrap();
+        assert_eq!(res, DEFAULT_RESOLUTION);
+        assert!(fine > coarse);
+        assert_eq!(fine, surface_mesh(&blob, wanted).unwrap().triangles.len());
+        assert!(view.take_request().is_none(), "nothing more to ask for");
+        // Local meshing (no worker) makes the fine surface at once.
+        view.set_external_surface(false);
+        editor.select(Some((1, 1)));
+        editor.set_selected_xi(0.7).unwrap();
+        let _ = view.scene(&editor);
+        assert_eq!(view.surface_info().unwrap().1, DEFAULT_RESOLUTION);
     }
 }

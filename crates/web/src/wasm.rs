@@ -164,6 +164,31 @@ pub fn headless_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8
     document::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
 }
 
+/// The surface a volume model (a model file or link) is drawn with at `resolution`, as six `f32`
+/// per vertex (position, normal), three vertices per triangle: the page's Web Worker runs this off
+/// the main thread and hands the result to `Modeler::set_surface`.
+///
+/// # Errors
+///
+/// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
+#[wasm_bindgen]
+pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError> {
+    let resolution = resolution as usize;
+    if !(2..=document::headless::MAX_RESOLUTION).contains(&resolution) {
+        return Err(JsError::new(&format!(
+            "resolution {resolution} is out of range"
+        )));
+    }
+    match document::read_any(text).map_err(|e| JsError::new(&e))? {
+        bezsolid_core::model::ModelSolid::Volume(v) => {
+            Ok(crate::view3d::surface_floats(&v, resolution))
+        }
+        bezsolid_core::model::ModelSolid::Patch(_) => {
+            Err(JsError::new("a patch model has no volume surface"))
+        }
+    }
+}
+
 /// The 3D view's canvas and GPU; the model and camera live in [`Modeler`].
 #[wasm_bindgen]
 pub struct Viewer3 {
@@ -619,6 +644,32 @@ impl Modeler {
     #[must_use]
     pub fn surface_triangles(&self) -> usize {
         self.view3.surface_info().map_or(0, |(t, _)| t)
+    }
+
+    /// The resolution of the volume surface last drawn (0 for a patch).
+    #[must_use]
+    pub fn surface_resolution(&self) -> usize {
+        self.view3.surface_info().map_or(0, |(_, r)| r)
+    }
+
+    /// Has the fine volume surface made elsewhere (a Web Worker): the view then draws a coarse one
+    /// and asks for it through `surface_request`.
+    pub fn set_external_surface(&mut self, external: bool) {
+        self.view3.set_external_surface(external);
+    }
+
+    /// The fine surface wanted since the last call, `[revision, resolution]`, or `undefined`.
+    pub fn surface_request(&mut self) -> Option<Vec<f64>> {
+        self.view3
+            .take_request()
+            .map(|(r, res)| vec![r as f64, res as f64])
+    }
+
+    /// A surface made elsewhere for model `revision` at `resolution` (six `f32` per vertex:
+    /// position, normal); returns whether it was taken (not when the model has changed since).
+    pub fn set_surface(&mut self, revision: f64, resolution: u32, data: &[f32]) -> bool {
+        self.view3
+            .set_surface(&self.view, revision as u64, resolution as usize, data)
     }
 
     /// A mesh file of the volume's surface at the resolution set: `"stl"`, `"obj"` or `"ply"`.
