@@ -155,7 +155,9 @@ struct VolumeDoc {
     index: usize,
 }
 
-fn axis_number(axis: Axis) -> usize {
+/// The number of a parameter axis: 0 for u, 1 for v, 2 for w.
+#[must_use]
+pub fn axis_number(axis: Axis) -> usize {
     match axis {
         Axis::U => 0,
         Axis::V => 1,
@@ -163,8 +165,16 @@ fn axis_number(axis: Axis) -> usize {
     }
 }
 
+/// The indices `[i, j, k]` of the `k`-th control point of a volume of `degree` (model file order).
+#[must_use]
+pub fn volume_ijk(degree: (usize, usize, usize), k: usize) -> [usize; 3] {
+    let (_, m, l) = degree;
+    [k / ((m + 1) * (l + 1)), k / (l + 1) % (m + 1), k % (l + 1)]
+}
+
 /// The volume index `(i, j, k)` of slice point `(p, q)` of the slice `index` across `axis`.
-fn slice_point(axis: Axis, index: usize, p: usize, q: usize) -> (usize, usize, usize) {
+#[must_use]
+pub fn slice_point(axis: Axis, index: usize, p: usize, q: usize) -> (usize, usize, usize) {
     match axis {
         Axis::U => (index, p, q),
         Axis::V => (p, index, q),
@@ -173,7 +183,8 @@ fn slice_point(axis: Axis, index: usize, p: usize, q: usize) -> (usize, usize, u
 }
 
 /// The two coordinates in the plane of a slice across `axis` (x y, x z or y z), as indices.
-fn plane_coordinates(axis: Axis) -> (usize, usize) {
+#[must_use]
+pub fn plane_coordinates(axis: Axis) -> (usize, usize) {
     match axis {
         Axis::U => (1, 2),
         Axis::V => (0, 2),
@@ -525,11 +536,7 @@ impl ContourView {
         if index >= doc.solid.volume().points().len() {
             return;
         }
-        let (i, j, k) = (
-            index / ((d.1 + 1) * (d.2 + 1)),
-            index / (d.2 + 1) % (d.1 + 1),
-            index % (d.2 + 1),
-        );
+        let [i, j, k] = volume_ijk(d, index);
         let axis = doc.axis;
         let along = [i, j, k][axis_number(axis)];
         let (p, q) = match axis {
@@ -558,11 +565,7 @@ impl ContourView {
             return false;
         };
         let d = doc.solid.degree();
-        let (i, j, k) = (
-            *index / ((d.1 + 1) * (d.2 + 1)),
-            *index / (d.2 + 1) % (d.1 + 1),
-            *index % (d.2 + 1),
-        );
+        let [i, j, k] = volume_ijk(d, *index);
         let before = doc.solid.volume().points()[*index];
         let ok = xi.is_none_or(|xi| doc.solid.set_xi(i, j, k, xi).is_ok())
             && xyz.is_none_or(|p| doc.solid.set_point(i, j, k, p).is_ok());

@@ -12,7 +12,10 @@ use bezsolid_core::contour::solid_contour;
 use bezsolid_core::{Axis, Solid2, Solid3};
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::app::{ContourView, Mode, Rgba, XI_PER_PIXEL, diverging, slice_patch};
+use crate::app::{
+    ContourView, Mode, Rgba, XI_PER_PIXEL, axis_number, diverging, plane_coordinates, slice_patch,
+    slice_point, volume_ijk,
+};
 
 /// Cells per side of the surface mesh.
 const SURFACE_CELLS: usize = 48;
@@ -759,25 +762,12 @@ impl View3 {
         let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
         let selected = editor.selected().map(|(p, q)| {
             let d = volume.degree();
-            let (i, j, k) = match axis {
-                Axis::U => (index, p, q),
-                Axis::V => (p, index, q),
-                Axis::W => (p, q, index),
-            };
+            let (i, j, k) = slice_point(axis, index, p, q);
             (i * (d.1 + 1) + j) * (d.2 + 1) + k
         });
         let d = volume.degree();
         for (k, p) in net.points().iter().enumerate() {
-            let (i, j, l) = (
-                k / ((d.1 + 1) * (d.2 + 1)),
-                k / (d.2 + 1) % (d.1 + 1),
-                k % (d.2 + 1),
-            );
-            let in_slice = [i, j, l][match axis {
-                Axis::U => 0,
-                Axis::V => 1,
-                Axis::W => 2,
-            }] == index;
+            let in_slice = volume_ijk(d, k)[axis_number(axis)] == index;
             let color = if selected == Some(k) {
                 SELECT_COLOR
             } else {
@@ -797,11 +787,7 @@ impl View3 {
         if let Some(patch) = slice_patch(net, axis, index) {
             let (n, m) = patch.degree();
             let at = |p: usize, q: usize| {
-                let (i, j, k) = match axis {
-                    Axis::U => (index, p, q),
-                    Axis::V => (p, index, q),
-                    Axis::W => (p, q, index),
-                };
+                let (i, j, k) = slice_point(axis, index, p, q);
                 net.point(i, j, k).truncate()
             };
             for p in 0..=n {
@@ -893,16 +879,8 @@ fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usi
 fn contour_stack(volume: &Solid3, axis: Axis) -> Vec<MeshVertex> {
     let net = volume.volume();
     let d = volume.degree();
-    let a = match axis {
-        Axis::U => 0,
-        Axis::V => 1,
-        Axis::W => 2,
-    };
-    let (lo, hi) = match axis {
-        Axis::U => (1, 2),
-        Axis::V => (0, 2),
-        Axis::W => (0, 1),
-    };
+    let a = axis_number(axis);
+    let (lo, hi) = plane_coordinates(axis);
     let (min, max) = volume.domain();
     let r = (max - min).max_element() * SPHERE_RADIUS * 0.14;
     let mut stack = Vec::new();
@@ -939,20 +917,11 @@ fn contour_stack(volume: &Solid3, axis: Axis) -> Vec<MeshVertex> {
 /// The mean coordinate along `axis` of the control points of slice `index` across it.
 fn patch_mean_along(net: &bezsolid_core::Volume<DVec4>, axis: Axis, index: usize) -> f64 {
     let d = net.degree();
-    let a = match axis {
-        Axis::U => 0,
-        Axis::V => 1,
-        Axis::W => 2,
-    };
+    let a = axis_number(axis);
     let mut sum = 0.0;
     let mut count = 0.0f64;
     for (k, p) in net.points().iter().enumerate() {
-        let ijk = [
-            k / ((d.1 + 1) * (d.2 + 1)),
-            k / (d.2 + 1) % (d.1 + 1),
-            k % (d.2 + 1),
-        ];
-        if ijk[a] == index {
+        if volume_ijk(d, k)[a] == index {
             sum += p[a];
             count += 1.0;
         }
