@@ -85,61 +85,91 @@ async function main() {
     console.warn(`bezsolid: no 3D view (${err?.message ?? err})`);
   }
 
-  // The fine surface of a volume is meshed in a Web Worker; the view draws a coarse one meanwhile,
-  // and a newer edit supersedes a job that has not started (its result is dropped if it has).
-  const mesher = (() => {
-    let worker;
-    try {
+  // Long work runs in Web Workers (the same module): a volume's fine surface (the view draws a
+  // coarse one meanwhile; a newer request cancels the job under way by restarting its worker) and
+  // the exports of meshes and contours (one after another, a badge while they run).
+  const runner = () => {
+    let worker = null;
+    let current = null; // { resolve, reject }
+    let next = 0;
+    const start = () => {
       worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
-    } catch (err) {
-      console.warn(`bezsolid: no worker (${err?.message ?? err}); meshing on the page`);
-      return null;
-    }
+      worker.onmessage = ({ data }) => {
+        const job = current;
+        current = null;
+        if (data.error) job?.reject(new Error(data.error));
+        else job?.resolve(data);
+      };
+      worker.onerror = (e) => {
+        const job = current;
+        current = null;
+        job?.reject(new Error(e.message || 'the worker failed'));
+      };
+    };
+    start();
+    return {
+      run(message) {
+        return new Promise((resolve, reject) => {
+          current = { resolve, reject };
+          next += 1;
+          worker.postMessage({ ...message, id: next });
+        });
+      },
+      busy: () => current !== null,
+      cancel() {
+        if (!current) return;
+        worker.terminate();
+        const job = current;
+        current = null;
+        job.reject(Object.assign(new Error('cancelled'), { cancelled: true }));
+        start();
+      },
+    };
+  };
+  let surfaceRunner = null;
+  let exportRunner = null;
+  try {
+    surfaceRunner = runner();
+    exportRunner = runner();
     modeler.set_external_surface(true);
-    const badge = $('meshing');
+  } catch (err) {
+    console.warn(`bezsolid: no Web Worker (${err?.message ?? err}); long work runs on the page`);
+  }
+  const workBadge = $('meshing');
+  const showBadge = (text) => {
+    workBadge.textContent = text;
+    workBadge.hidden = !text;
+    document.body.dataset.meshing = text ? 'true' : 'false';
+  };
+  let exporting = '';
+  const mesher = surfaceRunner && (() => {
     let busy = null; // [revision, resolution] in flight
-    let queued = null;
     let lastMs = 0;
-    const send = ([revision, resolution]) => {
+    const send = async ([revision, resolution]) => {
       busy = [revision, resolution];
-      badge.hidden = false;
-      badge.textContent = `Meshing the surface at ${resolution}…`;
-      document.body.dataset.meshing = 'true';
-      worker.postMessage({ id: revision, model: modeler.model_json(), resolution });
-    };
-    worker.onmessage = ({ data: { id, data, error, ms } }) => {
-      const [revision, resolution] = busy ?? [id, 0];
-      busy = null;
-      if (error) {
-        say(`The surface could not be meshed: ${error}`, 'error');
-      } else if (modeler.set_surface(revision, resolution, data)) {
-        lastMs = ms;
-        redraw(VIEW3);
+      showBadge(`Meshing the surface at ${resolution}…`);
+      try {
+        const { data, ms } = await surfaceRunner.run({ kind: 'surface', model: modeler.model_json(), resolution });
+        if (modeler.set_surface(revision, resolution, data)) {
+          lastMs = ms;
+          redraw(VIEW3);
+        }
+      } catch (err) {
+        if (!err.cancelled) say(`The surface could not be meshed: ${err.message}`, 'error');
       }
-      if (queued) {
-        const next = queued;
-        queued = null;
-        send(next);
-      } else {
-        badge.hidden = true;
-        document.body.dataset.meshing = 'false';
+      if (busy && busy[0] === revision && busy[1] === resolution) {
+        busy = null;
+        showBadge(exporting);
       }
-    };
-    worker.onerror = (e) => {
-      console.warn(`bezsolid: the worker failed (${e.message}); meshing on the page`);
-      modeler.set_external_surface(false);
-      busy = null;
-      badge.hidden = true;
-      redraw(VIEW3);
     };
     return {
       check() {
         const request = modeler.surface_request();
         if (!request) return;
-        const same = (a) => a && a[0] === request[0] && a[1] === request[1];
-        if (same(busy) || same(queued)) return;
-        if (busy) queued = request;
-        else send(request);
+        if (busy && busy[0] === request[0] && busy[1] === request[1]) return;
+        // A newer model or resolution: the job under way is of no use any more.
+        surfaceRunner.cancel();
+        send(request);
       },
       lastMs: () => lastMs,
     };
@@ -169,6 +199,9 @@ async function main() {
         modeler.render_3d(viewer);
         lastRender3 = performance.now() - t0;
         mesher?.check();
+        const xi = modeler.xi_extent();
+        $('xi-min').textContent = fmt(-xi);
+        $('xi-max').textContent = fmt(xi);
       }
       updatePanel();
       updateDebug();
@@ -382,6 +415,8 @@ async function main() {
     }
     redraw();
   });
+  let probeAt = [0, 0];
+  let probePending = false;
   canvas.addEventListener('pointermove', (e) => {
     const [x, y] = local(e);
     if (modeler.dragging()) {
@@ -392,8 +427,16 @@ async function main() {
       return;
     }
     canvas.classList.toggle('over-point', modeler.hit(x, y));
-    const [px, py, f] = modeler.probe(x, y);
-    $('probe').textContent = `f(${px.toFixed(3)}, ${py.toFixed(3)}) = ${f.toFixed(4)} (${f >= 0 ? 'inside' : 'outside'})`;
+    // f under the pointer, once a frame at most (a folded net's inverse map costs milliseconds).
+    probeAt = [x, y];
+    if (!probePending) {
+      probePending = true;
+      requestAnimationFrame(() => {
+        probePending = false;
+        const [px, py, f] = modeler.probe(...probeAt);
+        $('probe').textContent = `f(${px.toFixed(3)}, ${py.toFixed(3)}) = ${f.toFixed(4)} (${f >= 0 ? 'inside' : 'outside'})`;
+      });
+    }
   });
   const endDrag = (e) => {
     if (!modeler.dragging()) return;

@@ -8,7 +8,7 @@ import { fileURLToPath } from 'node:url';
 const pkg = new URL('../../www/pkg/', import.meta.url);
 const glue = await import(new URL('bezsolid_web.js', pkg));
 await glue.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_web_bg.wasm', pkg))) });
-const { headless_model, headless_link, headless_mesh } = glue;
+const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface } = glue;
 
 // A degree-(2, 2, 2) volume: a blob whose centre is raised (as the blob preset).
 const points = [];
@@ -47,6 +47,19 @@ test('STL, OBJ and PLY of a volume from a link parse back with one triangle coun
   assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, count);
   const ply = Buffer.from(headless_mesh(MODEL, 'ply', 24));
   assert.match(ply.subarray(0, 400).toString('latin1'), new RegExp(`element face ${count}\\b`));
+});
+
+test('the surface for the worker and the contour SVG of a patch', () => {
+  const surface = headless_surface(MODEL, 24);
+  assert.ok(surface instanceof Float32Array);
+  const stl = Buffer.from(headless_mesh(MODEL, 'stl', 24));
+  assert.equal(surface.length, 18 * stl.readUInt32LE(80), 'six floats per vertex, three per triangle');
+  const patch = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'patch', degree: [2, 2], points: [
+    [0, 0, -1], [0, 0.5, 0.25], [0, 1, -1], [0.5, 0, 0.25], [0.5, 0.5, 1], [0.5, 1, 0.25], [1, 0, -1], [1, 0.5, 0.25], [1, 1, -1]] } });
+  const svg = headless_svg(patch);
+  assert.match(svg, /<svg[^>]*viewBox/);
+  assert.equal([...svg.matchAll(/<path /g)].length, 1);
+  assert.throws(() => headless_svg(MODEL), /volume/);
 });
 
 test('bad input throws a clear error and never kills the module', () => {

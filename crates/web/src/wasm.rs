@@ -189,6 +189,21 @@ pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError
     }
 }
 
+/// The zero contours of a patch model (a model file or link) as SVG; no page or GPU needed.
+///
+/// # Errors
+///
+/// What is wrong with the input, or a volume model.
+#[wasm_bindgen]
+pub fn headless_svg(text: &str) -> Result<String, JsError> {
+    match document::read_any(text).map_err(|e| JsError::new(&e))? {
+        bezsolid_core::model::ModelSolid::Patch(s) => Ok(document::svg(&s)),
+        bezsolid_core::model::ModelSolid::Volume(_) => Err(JsError::new(
+            "contour SVG is of patch models; this is a volume",
+        )),
+    }
+}
+
 /// The 3D view's canvas and GPU; the model and camera live in [`Modeler`].
 #[wasm_bindgen]
 pub struct Viewer3 {
@@ -581,6 +596,33 @@ impl Modeler {
             Some(v) => v.inverse().is_some(),
             None => self.view.solid().inverse().is_some(),
         }
+    }
+
+    /// The |ξ| that colours full blue or red in the 3D view: the largest |ξ| of the control points.
+    #[must_use]
+    pub fn xi_extent(&self) -> f64 {
+        match self.view.volume() {
+            Some(v) => v
+                .volume()
+                .points()
+                .iter()
+                .fold(1e-12f64, |m, p| m.max(p.w.abs())),
+            None => self.view.xi_scale(),
+        }
+    }
+
+    /// The resolution the volume surface is meshed at when at rest.
+    #[must_use]
+    pub fn resolution(&self) -> u32 {
+        self.view3.resolution() as u32
+    }
+
+    /// The patch in the 2D view (the patch model, or the volume's selected slice as a patch) as a
+    /// model file.
+    #[must_use]
+    pub fn patch_json(&self) -> String {
+        let file = bezsolid_core::model::ModelFile::from_solid2(self.view.solid());
+        serde_json::to_string(&file).unwrap_or_default()
     }
 
     /// Whether the model is a volume.
