@@ -271,7 +271,7 @@ async function main() {
       $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
     }
     $('volume-controls').hidden = !volume;
-    for (const id of ['reset-grid', 'elevate-u', 'elevate-v']) $(id).disabled = volume;
+    $('elevate-w').disabled = !volume;
     for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !volume;
     document.body.dataset.kind = volume ? 'volume' : 'patch';
     $('undo').disabled = !modeler.can_undo();
@@ -553,6 +553,10 @@ async function main() {
   });
   $('elevate-u').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(0)));
   $('elevate-v').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(1)));
+  $('elevate-w').addEventListener('click', () => attempt('Elevate', () => modeler.elevate(2)));
+  $('new-volume').addEventListener('click', () => {
+    attempt('New volume', () => modeler.new_volume($('grid-u').valueAsNumber, $('grid-v').valueAsNumber, $('grid-w').valueAsNumber));
+  });
 
   // A volume: the slice in the 2D view, and the surface's resolution.
   for (const radio of document.querySelectorAll('input[name="slice-axis"]')) {

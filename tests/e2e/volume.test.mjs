@@ -85,6 +85,22 @@ test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo
   await page.keyboard.press('Control+z');
   await settle(page);
   assert.deepEqual(JSON.parse(await model(page)), before);
+
+  // A new flat volume, then one more point along w (elevation keeps the solid).
+  await page.fill('#grid-u', '3');
+  await page.fill('#grid-v', '3');
+  await page.fill('#grid-w', '3');
+  await page.click('#new-volume');
+  await settle(page);
+  assert.match(await page.textContent('#model-name'), /Volume solid, 3 × 3 × 3 points/);
+  await page.click('#elevate-w');
+  await settle(page);
+  assert.match(await page.textContent('#model-name'), /Volume solid, 3 × 3 × 4 points/);
+  assert.ok(JSON.parse(await model(page)).solid.points.every((p) => Math.abs(p[3] - 0.25) < 1e-12));
+  await page.click('#undo');
+  await page.click('#undo');
+  await settle(page);
+  assert.deepEqual(JSON.parse(await model(page)), before);
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -583,8 +583,29 @@ impl ContourView {
     ///
     /// Past [`MAX_POINTS_PER_SIDE`] points, or for [`Axis::W`].
     pub fn elevate(&mut self, axis: Axis) -> Result<(), String> {
-        if self.volume.is_some() {
-            return Err("elevation works on patch models; this is a volume".into());
+        if let Some(doc) = &self.volume {
+            let d = doc.solid.degree();
+            let side = [d.0, d.1, d.2][axis_number(axis)];
+            if side + 1 >= MAX_POINTS_PER_SIDE {
+                return Err(format!(
+                    "the net has {} points along that axis already; the editor takes at most {MAX_POINTS_PER_SIDE}",
+                    side + 1
+                ));
+            }
+            let net = doc
+                .solid
+                .volume()
+                .elevate(axis)
+                .map_err(|e| e.to_string())?;
+            let solid = Solid3::try_from_volume(net).map_err(|e| e.to_string())?;
+            let before = self.net();
+            if let Some(doc) = &mut self.volume {
+                doc.solid = solid;
+            }
+            self.refresh_slice();
+            self.changed_from(before, Step::Other);
+            self.keep_selection_in_range();
+            return Ok(());
         }
         let (n, m) = self.solid.degree();
         let side = match axis {
@@ -604,24 +625,31 @@ impl ContourView {
         })
     }
 
-    /// A new flat grid of `nu × nv` points (2 to [`MAX_POINTS_PER_SIDE`]) over the current domain, at
-    /// ξ = 0.25 everywhere (the paper's starting point for Fig. 9): the whole box is inside.
+    /// A new flat patch of `nu × nv` points (2 to [`MAX_POINTS_PER_SIDE`]) over the current domain
+    /// (a volume's box in x and y), at ξ = 0.25 everywhere (the paper's starting point for Fig. 9):
+    /// the whole box is inside.
     ///
     /// # Errors
     ///
     /// For a size out of range.
     pub fn reset_grid(&mut self, nu: usize, nv: usize) -> Result<(), String> {
-        if self.volume.is_some() {
-            return Err(
-                "a new grid is a patch model: open the Fig. 9 preset first, or use Undo".into(),
-            );
-        }
         for k in [nu, nv] {
             if !(2..=MAX_POINTS_PER_SIDE).contains(&k) {
                 return Err(format!(
                     "a grid has 2 to {MAX_POINTS_PER_SIDE} points per side, not {k}"
                 ));
             }
+        }
+        if let Some(v) = self.volume() {
+            // From a volume: a new patch over its box's x, y extent.
+            let (min, max) = v.domain();
+            let patch =
+                Solid2::regular((nu - 1, nv - 1), min.truncate(), max.truncate(), |_, _| {
+                    0.25
+                })
+                .map_err(|e| e.to_string())?;
+            self.set_solid(patch);
+            return Ok(());
         }
         let (min, max) = self.solid.domain();
         self.apply(Step::Other, |s| {
@@ -630,6 +658,34 @@ impl ContourView {
         })?;
         self.fixed = None;
         self.keep_selection_in_range();
+        Ok(())
+    }
+
+    /// A new volume: a flat net of `nu × nv × nw` points (2 to [`MAX_POINTS_PER_SIDE`] each) at
+    /// ξ = 0.25 (the whole box inside) over the current volume's box, or over the patch's domain
+    /// times `[0, 1]`: one undo step.
+    ///
+    /// # Errors
+    ///
+    /// For a size out of range.
+    pub fn new_volume(&mut self, nu: usize, nv: usize, nw: usize) -> Result<(), String> {
+        for k in [nu, nv, nw] {
+            if !(2..=MAX_POINTS_PER_SIDE).contains(&k) {
+                return Err(format!(
+                    "a net has 2 to {MAX_POINTS_PER_SIDE} points along each axis, not {k}"
+                ));
+            }
+        }
+        let (min, max) = match self.volume() {
+            Some(v) => v.domain(),
+            None => {
+                let (a, b) = self.solid.domain();
+                (a.extend(0.0), b.extend(1.0))
+            }
+        };
+        let solid = Solid3::regular((nu - 1, nv - 1, nw - 1), min, max, |_, _, _| 0.25)
+            .map_err(|e| e.to_string())?;
+        self.set_volume(solid);
         Ok(())
     }
 
@@ -1656,7 +1712,27 @@ mod tests {
         assert_eq!(v.solid(), &Solid2::fig9());
         assert!(v.redo());
         assert_eq!(v.volume().unwrap(), &blob);
-        assert!(v.elevate(Axis::U).is_err() && v.reset_grid(3, 3).is_err());
+        // Elevation of a volume keeps f; one step.
+        let probe = DVec3::new(0.2, -0.3, 0.1);
+        let f = v.volume().unwrap().f(probe);
+        v.elevate(Axis::W).unwrap();
+        assert_eq!(v.volume().unwrap().degree(), (2, 2, 3));
+        assert!((v.volume().unwrap().f(probe) - f).abs() < 1e-12);
+        assert!(v.undo());
+        assert_eq!(v.volume().unwrap(), &blob);
+        // A new flat volume over the blob's box.
+        v.new_volume(2, 3, 4).unwrap();
+        assert_eq!(v.volume().unwrap().degree(), (1, 2, 3));
+        assert_eq!(v.volume().unwrap().domain(), blob.domain());
+        assert!(v.new_volume(1, 3, 3).is_err());
+        assert!(v.undo());
+        assert_eq!(v.volume().unwrap(), &blob);
+        // A new patch from a volume: over its box in x and y.
+        v.reset_grid(3, 3).unwrap();
+        assert!(v.volume().is_none());
+        assert_eq!(v.solid().domain(), (DVec2::splat(-1.0), DVec2::ONE));
+        assert!(v.undo());
+        assert_eq!(v.volume().unwrap(), &blob);
     }
 
     #[test]

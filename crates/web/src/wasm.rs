@@ -497,7 +497,8 @@ impl Modeler {
         let axis = match axis {
             0 => Axis::U,
             1 => Axis::V,
-            _ => return Err(JsError::new("a patch has axes 0 (u) and 1 (v)")),
+            2 => Axis::W,
+            _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
         };
         self.view.elevate(axis).map_err(|e| JsError::new(&e))
     }
@@ -510,6 +511,19 @@ impl Modeler {
     pub fn reset_grid(&mut self, nu: u32, nv: u32) -> Result<(), JsError> {
         self.view
             .reset_grid(nu as usize, nv as usize)
+            .map_err(|e| JsError::new(&e))?;
+        self.view3.fit(&self.view);
+        Ok(())
+    }
+
+    /// A new flat volume of `nu × nv × nw` control points (one undo step).
+    ///
+    /// # Errors
+    ///
+    /// For a size outside 2 to 16.
+    pub fn new_volume(&mut self, nu: u32, nv: u32, nw: u32) -> Result<(), JsError> {
+        self.view
+            .new_volume(nu as usize, nv as usize, nw as usize)
             .map_err(|e| JsError::new(&e))?;
         self.view3.fit(&self.view);
         Ok(())
