@@ -1,0 +1,65 @@
+// Measures drag-to-redraw latency in the page (cargo xtask serve, then: cd tests && node latency.mjs [webgl2|webgpu]).
+// Prints, per case, the median and max time from a pointer move to the frame drawn after it.
+import { chromium } from 'playwright-core';
+const backend = process.argv[2] ?? 'webgl2';
+const args = ['--no-sandbox'];
+if (backend === 'webgpu') args.push('--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-angle=swiftshader');
+const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args });
+const page = await browser.newPage({ viewport: { width: 1400, height: 800 } });
+page.on('pageerror', (e) => console.log('pageerror', String(e)));
+await page.goto(`${process.env.BEZSOLID_URL ?? 'http://127.0.0.1:8080/'}?backend=${backend}`);
+await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+await page.focus('#view'); await page.keyboard.press('d');
+const frame = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+async function measure(label, canvasSel, getPoint, dx, dy, n = 12) {
+  const box = await page.locator(canvasSel).boundingBox();
+  const [x, y] = await getPoint(box);
+  await page.mouse.move(x, y); await page.mouse.down();
+  const lat = [], ren = [], ren3 = [];
+  for (let k = 1; k <= n; k++) {
+    await page.mouse.move(x + dx * k, y + dy * k);
+    await frame();
+    lat.push(Number(await page.getAttribute('body', 'data-latency-ms')));
+    ren.push(Number(await page.getAttribute('body', 'data-render-ms')));
+    ren3.push(Number(await page.getAttribute('body', 'data-render3-ms')));
+  }
+  await page.mouse.up(); await frame(); await frame();
+  const med = (a) => [...a].sort((p, q) => p - q)[Math.floor(a.length / 2)];
+  console.log(`${label}: input→drawn median ${med(lat).toFixed(1)} ms (max ${Math.max(...lat).toFixed(1)}); 2D frame ${med(ren).toFixed(1)} ms, 3D frame ${med(ren3).toFixed(1)} ms`);
+}
+const screen2d = async (box, wx, wy) => {
+  const [x0, y0] = await page.evaluate(() => [...window.bezsolid.modeler.probe(0, 0)]);
+  const [x1, y1] = await page.evaluate(() => [...window.bezsolid.modeler.probe(100, 100)]);
+  return [box.x + (wx - x0) * 100 / (x1 - x0), box.y + (wy - y0) * 100 / (y1 - y0)];
+};
+for (const [n, label] of [[4, '4×4 patch'], [16, '16×16 patch']]) {
+  await page.fill('#grid-u', String(n)); await page.fill('#grid-v', String(n)); await page.click('#reset-grid'); await frame();
+  const t = (n - 1) / 2 / (n - 1);
+  const wi = Math.floor((n - 1) / 2) / (n - 1);
+  await page.check('input[name="mode"][value="function"]'); await frame();
+  await measure(`${label}, ξ drag in 2D`, '#view', (b) => screen2d(b, wi, wi), 0, -4);
+  await page.check('input[name="mode"][value="space"]'); await frame();
+  await measure(`${label}, space drag in 2D`, '#view', (b) => screen2d(b, wi, wi), 1.5, 1);
+  await page.check('input[name="mode"][value="function"]'); await frame();
+  const idx = Math.floor((n - 1) / 2) * n + Math.floor((n - 1) / 2);
+  await measure(`${label}, ξ drag in 3D`, '#view3d', async (b) => { const [x, y] = await page.evaluate((i) => [...window.bezsolid.modeler.sphere_screen_3d(i)], idx); return [b.x + x, b.y + y]; }, 0, -3);
+}
+// 5×5×5 volume: a ball.
+const pts = [];
+for (let i = 0; i < 5; i++) for (let j = 0; j < 5; j++) for (let k = 0; k < 5; k++) {
+  const r = Math.hypot(i - 2, j - 2, k - 2);
+  pts.push([i / 4, j / 4, k / 4, 1 - r * 0.6]);
+}
+await page.evaluate((t) => { window.bezsolid.modeler.load_model(t); window.bezsolid.redraw(); }, JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'volume', degree: [4, 4, 4], points: pts } }));
+await frame(); await frame();
+const idx = (2 * 5 + 2) * 5 + 4;
+await measure('5×5×5 volume, ξ drag in 3D (coarse 24 while moving)', '#view3d', async (b) => { const [x, y] = await page.evaluate((i) => [...window.bezsolid.modeler.sphere_screen_3d(i)], idx); return [b.x + x, b.y + y]; }, 0, 3);
+const t0 = Date.now();
+await page.waitForFunction(() => window.bezsolid.modeler.surface_resolution() === 64);
+await frame(); await frame();
+const dbg = await page.textContent('#debug');
+console.log(`5×5×5 volume, fine surface at rest (64, in the worker): ${dbg.match(/worker mesh: ([\d.]+)/)[1]} ms in the worker, ${await page.evaluate(() => window.bezsolid.modeler.surface_triangles())} triangles; 3D frame then ${await page.getAttribute('body', 'data-render3-ms')} ms`);
+await page.check('input[name="mode"][value="space"]'); await frame();
+await measure('5×5×5 volume, space drag in 3D (coarse 24 while moving)', '#view3d', async (b) => { const [x, y] = await page.evaluate((i) => [...window.bezsolid.modeler.sphere_screen_3d(i)], idx); return [b.x + x, b.y + y]; }, 2, 0);
+
+await browser.close();
