@@ -93,13 +93,14 @@ fn report(result: Result<()>) -> ExitCode {
 
 /// Reads and validates a model file, a share link, or a preset (`preset:NAME`).
 pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
-    if let Some(name) = arg.strip_prefix("preset:") {
-        return preset(name).map(Preset::solid);
-    }
-    if is_link(arg) {
-        return bezsolid_core::link::decode(arg).context("cannot open the share link");
-    }
-    load_file(arg)?.to_solid().with_context(|| arg.to_string())
+    let file = load_file(arg)?;
+    // A link is too long to quote in a message: name it by what it is.
+    let what = if is_link(arg) {
+        "the share link's model"
+    } else {
+        arg
+    };
+    file.to_solid().with_context(|| what.to_string())
 }
 
 /// The model file named by `arg` (a path, a share link or a preset), not yet validated.

@@ -2,23 +2,9 @@
 //! parsed back and compared with the paper's formulas written out independently here.
 
 #![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn scratch(name: &str, contents: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bezsolid-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, contents).unwrap();
-    path
-}
-
-fn bezsolid(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bezsolid"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+mod common;
+use common::{bezsolid, out_path, scratch};
+use std::process::Output;
 
 fn binom(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64)
@@ -315,8 +301,7 @@ fn contour_svg_lies_on_the_zero_set() {
         points.join(",")
     );
     let model = scratch("fig9.bsolid.json", &model);
-    let svg_path =
-        std::env::temp_dir().join(format!("bezsolid-cli-{}/fig9.svg", std::process::id()));
+    let svg_path = out_path("fig9.svg");
     let out = bezsolid(&[
         "contour",
         model.to_str().unwrap(),

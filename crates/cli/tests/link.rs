@@ -2,23 +2,9 @@
 //! as the same model in every command, and damaged links fail with a message.
 
 #![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn scratch(name: &str, contents: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bezsolid-link-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, contents).unwrap();
-    path
-}
-
-fn bezsolid(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bezsolid"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+mod common;
+use common::{bezsolid, out_path, scratch};
+use std::process::Output;
 
 fn stdout(out: &Output) -> String {
     assert!(
@@ -69,8 +55,7 @@ fn a_printed_link_opens_as_the_same_model_everywhere() {
         );
     }
     // And the contour export.
-    let dir = std::env::temp_dir().join(format!("bezsolid-link-{}", std::process::id()));
-    let (a, b) = (dir.join("a.svg"), dir.join("b.svg"));
+    let (a, b) = (out_path("a.svg"), out_path("b.svg"));
     stdout(&bezsolid(&[
         "contour",
         model,
@@ -91,7 +76,7 @@ fn a_printed_link_opens_as_the_same_model_everywhere() {
     assert!(String::from_utf8_lossy(&svg).contains("<path"));
     assert_eq!(svg, std::fs::read(b).unwrap());
     // HyperFun cannot express a space mapping: refused with the reason, from the link as well.
-    let hf = dir.join("moved.hf");
+    let hf = out_path("moved.hf");
     let out = bezsolid(&["hf", link, "-o", hf.to_str().unwrap()]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("regular grid"));

@@ -2,24 +2,11 @@
 //! (with parsers written independently of the writers) and checked.
 
 #![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
+use common::{bezsolid, out_path};
 
 use bezsolid_core::mesh::Mesh;
 use glam::DVec3;
-
-fn out_path(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bezsolid-mesh-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn bezsolid(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bezsolid"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 fn read_obj(text: &str) -> Mesh {
     let mut mesh = Mesh::default();

@@ -172,6 +172,13 @@ pub fn volume_ijk(degree: (usize, usize, usize), k: usize) -> [usize; 3] {
     [k / ((m + 1) * (l + 1)), k / (l + 1) % (m + 1), k % (l + 1)]
 }
 
+/// The flat index (model file order) of control point `[i, j, k]` of a volume of `degree`.
+#[must_use]
+pub fn volume_index(degree: (usize, usize, usize), [i, j, k]: [usize; 3]) -> usize {
+    let (_, m, l) = degree;
+    (i * (m + 1) + j) * (l + 1) + k
+}
+
 /// The volume index `(i, j, k)` of slice point `(p, q)` of the slice `index` across `axis`.
 #[must_use]
 pub fn slice_point(axis: Axis, index: usize, p: usize, q: usize) -> (usize, usize, usize) {
@@ -467,30 +474,35 @@ impl ContourView {
 
     /// Undoes the last step; returns whether there was one (never during a drag).
     pub fn undo(&mut self) -> bool {
-        if !self.can_undo() {
-            return false;
-        }
-        let Some(net) = self.undo.pop() else {
-            return false;
-        };
-        let current = self.net();
-        if self.restore(net) {
-            self.redo.push(current);
-        }
-        true
+        self.travel(true)
     }
 
     /// Redoes the last undone step; returns whether there was one.
     pub fn redo(&mut self) -> bool {
-        if !self.can_redo() {
+        self.travel(false)
+    }
+
+    /// Moves one step back (`undo`) or forward in the history: the net popped from one stack is
+    /// restored and the current one pushed on the other.
+    fn travel(&mut self, undo: bool) -> bool {
+        if self.busy() {
             return false;
         }
-        let Some(net) = self.redo.pop() else {
+        let popped = if undo {
+            self.undo.pop()
+        } else {
+            self.redo.pop()
+        };
+        let Some(net) = popped else {
             return false;
         };
         let current = self.net();
         if self.restore(net) {
-            self.undo.push(current);
+            if undo {
+                self.redo.push(current);
+            } else {
+                self.undo.push(current);
+            }
         }
         true
     }
@@ -536,14 +548,12 @@ impl ContourView {
         if index >= doc.solid.volume().points().len() {
             return;
         }
-        let [i, j, k] = volume_ijk(d, index);
+        let ijk = volume_ijk(d, index);
         let axis = doc.axis;
-        let along = [i, j, k][axis_number(axis)];
-        let (p, q) = match axis {
-            Axis::U => (j, k),
-            Axis::V => (i, k),
-            Axis::W => (i, j),
-        };
+        let along = ijk[axis_number(axis)];
+        // The slice's two in-plane axes are numbered as the coordinates in its plane.
+        let (lo, hi) = plane_coordinates(axis);
+        let (p, q) = (ijk[lo], ijk[hi]);
         let before = self.net();
         if self.slice() != Some((axis, along)) {
             let _ = self.set_slice(axis, along);

@@ -145,6 +145,18 @@ pub mod headless {
     /// The largest resolution a headless mesh is made at.
     pub const MAX_RESOLUTION: usize = 512;
 
+    fn volume(text: &str, resolution: usize) -> Result<bezsolid_core::Solid3, String> {
+        if !(2..=MAX_RESOLUTION).contains(&resolution) {
+            return Err(format!(
+                "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
+            ));
+        }
+        match read_any(text)? {
+            ModelSolid::Volume(v) => Ok(v),
+            ModelSolid::Patch(_) => Err("meshes are of volume (3D) models; this is a patch".into()),
+        }
+    }
+
     fn editor(text: &str) -> Result<ContourView, String> {
         let mut e = ContourView::new(Solid2::fig9());
         open(&mut e, read_any(text)?);
@@ -178,18 +190,35 @@ pub mod headless {
     /// What is wrong with the input, a patch model, a resolution outside 2 to 512, or another
     /// format.
     pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, String> {
-        if !(2..=MAX_RESOLUTION).contains(&resolution) {
-            return Err(format!(
-                "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
-            ));
-        }
-        let ModelSolid::Volume(v) = read_any(text)? else {
-            return Err("mesh files are of volume (3D) models; this is a patch".into());
-        };
-        let m = v
+        let m = volume(text, resolution)?
             .polygonize(resolution, MESH_ACCURACY)
             .map_err(|e| e.to_string())?;
         mesh_file(&m, format)
+    }
+
+    /// The surface the page draws for a volume model at `resolution`, as six `f32` per vertex
+    /// (position, normal), three vertices per triangle: what the page's worker computes.
+    ///
+    /// # Errors
+    ///
+    /// As [`mesh`].
+    pub fn surface(text: &str, resolution: usize) -> Result<Vec<f32>, String> {
+        Ok(crate::view3d::surface_floats(
+            &volume(text, resolution)?,
+            resolution,
+        ))
+    }
+
+    /// The zero contours of a patch model as SVG.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input, or a volume model.
+    pub fn svg(text: &str) -> Result<String, String> {
+        match read_any(text)? {
+            ModelSolid::Patch(s) => Ok(super::svg(&s)),
+            ModelSolid::Volume(_) => Err("contour SVG is of patch models; this is a volume".into()),
+        }
     }
 }
 
@@ -224,7 +253,7 @@ pub fn mesh_file(mesh: &Mesh, format: &str) -> Result<Vec<u8>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::{DVec2, DVec3};
+    use glam::DVec2;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -326,6 +355,5 @@ mod tests {
                 .unwrap()
                 .contains("my_model(")
         );
-        let _ = DVec3::ZERO;
     }
 }

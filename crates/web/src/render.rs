@@ -30,15 +30,7 @@ impl Renderer {
         adapter: &wgpu::Adapter,
         format: wgpu::TextureFormat,
     ) -> Self {
-        let samples = if adapter
-            .get_texture_format_features(format)
-            .flags
-            .sample_count_supported(4)
-        {
-            4
-        } else {
-            1
-        };
+        let samples = sample_count(adapter, &[format]);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("contour view"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
@@ -298,25 +290,50 @@ impl Renderer {
             return None;
         }
         if self.msaa.as_ref().is_none_or(|(_, s)| *s != size) {
-            let texture = self.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("msaa"),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: self.samples,
-                dimension: wgpu::TextureDimension::D2,
-                format: self.format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                view_formats: &[],
-            });
-            self.msaa = Some((
-                texture.create_view(&wgpu::TextureViewDescriptor::default()),
-                size,
-            ));
+            let view = attachment(&self.device, "msaa", size, self.format, self.samples);
+            self.msaa = Some((view, size));
         }
         self.msaa.as_ref().map(|(v, _)| v.clone())
     }
+}
+
+/// 4× multisampling where the adapter has it for every one of `formats` (the targets of one pass),
+/// else none.
+pub(crate) fn sample_count(adapter: &wgpu::Adapter, formats: &[wgpu::TextureFormat]) -> u32 {
+    if formats.iter().all(|&f| {
+        adapter
+            .get_texture_format_features(f)
+            .flags
+            .sample_count_supported(4)
+    }) {
+        4
+    } else {
+        1
+    }
+}
+
+/// A render attachment of `size` (sides at least 1) and its view.
+pub(crate) fn attachment(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    samples: u32,
+) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size.0.max(1),
+                height: size.1.max(1),
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+        .create_view(&wgpu::TextureViewDescriptor::default())
 }

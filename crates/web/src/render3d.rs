@@ -1,6 +1,7 @@
 //! The wgpu renderer of the 3D view: a [`Scene`]'s opaque triangles with depth, then its translucent
 //! ones blended over them, 4× multisampled where the adapter can.
 
+use crate::render::{attachment, sample_count};
 use crate::view3d::{MeshVertex, Scene};
 
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
@@ -22,6 +23,9 @@ pub(crate) struct Renderer3 {
     bind_group: wgpu::BindGroup,
     /// The vertex buffer and its capacity in bytes.
     vertices: Option<(wgpu::Buffer, u64)>,
+    /// The generation of the scene triangles in the buffer: a frame that only moves the camera
+    /// uploads nothing but the matrix.
+    uploaded: Option<u64>,
     /// The multisampled colour target (when multisampling), the depth target, and their size.
     targets: Option<(Option<wgpu::TextureView>, wgpu::TextureView, (u32, u32))>,
     bytes: Vec<u8>,
@@ -34,19 +38,7 @@ impl Renderer3 {
         adapter: &wgpu::Adapter,
         format: wgpu::TextureFormat,
     ) -> Self {
-        let samples = if adapter
-            .get_texture_format_features(format)
-            .flags
-            .sample_count_supported(4)
-            && adapter
-                .get_texture_format_features(DEPTH)
-                .flags
-                .sample_count_supported(4)
-        {
-            4
-        } else {
-            1
-        };
+        let samples = sample_count(adapter, &[format, DEPTH]);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("3d view"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shader3d.wgsl").into()),
@@ -131,6 +123,7 @@ impl Renderer3 {
             globals,
             bind_group,
             vertices: None,
+            uploaded: None,
             targets: None,
             bytes: Vec::new(),
         }
@@ -157,23 +150,8 @@ impl Renderer3 {
             globals.extend_from_slice(&x.to_le_bytes());
         }
         self.queue.write_buffer(&self.globals, 0, &globals);
-        self.bytes.clear();
-        for v in scene.opaque.iter().chain(&scene.translucent) {
-            v.write(&mut self.bytes);
-        }
-        let needed = self.bytes.len() as u64;
-        if needed > 0 && self.vertices.as_ref().is_none_or(|(_, cap)| *cap < needed) {
-            let capacity = needed.next_power_of_two().max(1 << 16);
-            let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("3d vertices"),
-                size: capacity,
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            self.vertices = Some((buffer, capacity));
-        }
-        if let (Some((buffer, _)), true) = (&self.vertices, needed > 0) {
-            self.queue.write_buffer(buffer, 0, &self.bytes);
+        if self.uploaded != Some(scene.generation) {
+            self.upload(scene);
         }
         self.ensure_targets(size);
         let Some((msaa, depth, _)) = &self.targets else {
@@ -223,30 +201,36 @@ impl Renderer3 {
         self.queue.submit([encoder.finish()]);
     }
 
+    /// Encodes and uploads the scene's triangles.
+    fn upload(&mut self, scene: &Scene) {
+        self.bytes.clear();
+        for v in scene.opaque.iter().chain(scene.translucent) {
+            v.write(&mut self.bytes);
+        }
+        let needed = self.bytes.len() as u64;
+        if needed > 0 && self.vertices.as_ref().is_none_or(|(_, cap)| *cap < needed) {
+            let capacity = needed.next_power_of_two().max(1 << 16);
+            let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("3d vertices"),
+                size: capacity,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            self.vertices = Some((buffer, capacity));
+        }
+        if let (Some((buffer, _)), true) = (&self.vertices, needed > 0) {
+            self.queue.write_buffer(buffer, 0, &self.bytes);
+        }
+        self.uploaded = Some(scene.generation);
+    }
+
     fn ensure_targets(&mut self, size: (u32, u32)) {
         if self.targets.as_ref().is_some_and(|(_, _, s)| *s == size) {
             return;
         }
-        let texture = |label, format, samples| {
-            self.device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: size.0.max(1),
-                        height: size.1.max(1),
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: samples,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    view_formats: &[],
-                })
-                .create_view(&wgpu::TextureViewDescriptor::default())
-        };
-        let msaa = (self.samples > 1).then(|| texture("3d msaa", self.format, self.samples));
-        let depth = texture("3d depth", DEPTH, self.samples);
+        let msaa = (self.samples > 1)
+            .then(|| attachment(&self.device, "3d msaa", size, self.format, self.samples));
+        let depth = attachment(&self.device, "3d depth", size, DEPTH, self.samples);
         self.targets = Some((msaa, depth, size));
     }
 }

@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3, DVec4};
 
 use crate::app::{
     ContourView, Mode, Rgba, XI_PER_PIXEL, axis_number, diverging, plane_coordinates, slice_patch,
-    slice_point, volume_ijk,
+    slice_point, volume_ijk, volume_index,
 };
 
 /// Cells per side of the surface mesh.
@@ -69,13 +69,17 @@ impl MeshVertex {
     }
 }
 
-/// Everything one 3D redraw needs.
+/// Everything one 3D redraw needs. The triangles are borrowed from the view's cache: they are
+/// rebuilt only when the model, the selection, the slice or the surface changes, not when the camera
+/// moves, and `generation` tells the renderer whether to upload them again.
 #[derive(Clone, Debug)]
-pub struct Scene {
+pub struct Scene<'a> {
     /// Opaque triangles (surface, spheres, guides), drawn first.
-    pub opaque: Vec<MeshVertex>,
+    pub opaque: &'a [MeshVertex],
     /// Translucent triangles (the plane ξ = 0), drawn last.
-    pub translucent: Vec<MeshVertex>,
+    pub translucent: &'a [MeshVertex],
+    /// Changes whenever the triangles do.
+    pub generation: u64,
     /// Clip from world, column-major (`wgpu`'s depth range 0 to 1).
     pub view_proj: [[f32; 4]; 4],
     /// The camera's position, for the headlight.
@@ -228,6 +232,26 @@ struct StackCache {
     stack: Vec<MeshVertex>,
 }
 
+/// What a scene's triangles depend on (everything but the camera).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GeometryKey {
+    revision: u64,
+    selected: Option<(usize, usize)>,
+    slice: Option<(Axis, usize)>,
+    surface: Option<(u64, usize)>,
+    height: u64,
+}
+
+/// A scene's triangles for one [`GeometryKey`], and the size of what they show.
+#[derive(Clone, Debug)]
+struct Geometry {
+    key: GeometryKey,
+    generation: u64,
+    opaque: Vec<MeshVertex>,
+    translucent: Vec<MeshVertex>,
+    extent: f64,
+}
+
 /// The 3D view's state: camera, height scale, viewport and the gesture under way.
 #[derive(Clone, Debug)]
 pub struct View3 {
@@ -249,6 +273,7 @@ pub struct View3 {
     external: bool,
     /// The fine surface wanted from elsewhere: `(revision, resolution)`.
     request: Option<(u64, usize)>,
+    geometry: Option<Geometry>,
 }
 
 impl View3 {
@@ -267,6 +292,7 @@ impl View3 {
             stack: None,
             external: false,
             request: None,
+            geometry: None,
         };
         v.fit(editor);
         v
@@ -315,14 +341,8 @@ impl View3 {
 
     fn radius(editor: &ContourView) -> f64 {
         let extent = match editor.volume() {
-            Some(v) => {
-                let (min, max) = v.domain();
-                (max - min).max_element()
-            }
-            None => {
-                let (min, max) = editor.solid().domain();
-                (max - min).max_element()
-            }
+            Some(v) => (v.domain().1 - v.domain().0).max_element(),
+            None => (editor.solid().domain().1 - editor.solid().domain().0).max_element(),
         };
         extent * SPHERE_RADIUS
     }
@@ -575,19 +595,58 @@ impl View3 {
         true
     }
 
-    /// Builds the scene of `editor`'s model.
+    /// Builds the scene of `editor`'s model: the triangles come from the cache unless what they
+    /// depend on changed; the camera is applied fresh.
     #[must_use]
-    pub fn scene(&mut self, editor: &ContourView) -> Scene {
+    pub fn scene(&mut self, editor: &ContourView) -> Scene<'_> {
         if let Some(volume) = editor.volume() {
-            return self.volume_scene(editor, volume);
+            self.update_volume_caches(editor, volume);
         }
+        let key = GeometryKey {
+            revision: editor.revision(),
+            selected: editor.selected(),
+            slice: editor.slice(),
+            surface: self.surface.as_ref().map(|c| (c.revision, c.resolution)),
+            height: self.height.to_bits(),
+        };
+        if self.geometry.as_ref().is_none_or(|g| g.key != key) {
+            let (opaque, translucent, extent) = match editor.volume() {
+                Some(volume) => self.volume_geometry(editor, volume),
+                None => self.patch_geometry(editor),
+            };
+            let generation = self.geometry.as_ref().map_or(1, |g| g.generation + 1);
+            self.geometry = Some(Geometry {
+                key,
+                generation,
+                opaque,
+                translucent,
+                extent,
+            });
+        }
+        let (opaque, translucent, generation, extent) = match &self.geometry {
+            Some(g) => (&g.opaque[..], &g.translucent[..], g.generation, g.extent),
+            None => (&[][..], &[][..], 0, 1.0),
+        };
+        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
+        Scene {
+            opaque,
+            translucent,
+            generation,
+            view_proj: m.map(|c| c.map(|x| x as f32)),
+            eye: self.camera.eye().as_vec3().to_array(),
+        }
+    }
+
+    /// A patch: the surface `(x, y, h·ξ)` coloured by ξ, the control points as spheres, the net as
+    /// rods, and the plane ξ = 0.
+    fn patch_geometry(&self, editor: &ContourView) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
         let solid = editor.solid();
         let patch = solid.patch();
         let (lo, hi) = xi_range(editor);
         let scale = lo.abs().max(hi.abs()).max(1e-12);
         let mut opaque = Vec::new();
 
-        // The surface (x, y, h·ξ) over a parameter grid, normals from the grid's differences.
+        // The surface over a parameter grid, normals from the grid's differences.
         let n = SURFACE_CELLS;
         let ts: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
         let pts: Vec<DVec3> = patch
@@ -628,17 +687,12 @@ impl View3 {
         // The control points as spheres coloured by ξ; the selected one orange on a guide line
         // down to the plane (the vertical it moves along in function mode).
         let r = Self::radius(editor);
-        let selected = editor.selected_point();
-        for p in patch.points() {
+        let (du, dv) = solid.degree();
+        let selected = editor.selected().map(|(i, j)| i * (dv + 1) + j);
+        for (k, p) in patch.points().iter().enumerate() {
             let c = self.world(*p);
-            let is_selected = selected == Some(*p);
-            let color = if is_selected {
-                SELECT_COLOR
-            } else {
-                diverging(p.z / scale)
-            };
-            sphere(&mut opaque, c, if is_selected { r * 1.3 } else { r }, color);
-            if is_selected {
+            if selected == Some(k) {
+                sphere(&mut opaque, c, r * 1.3, SELECT_COLOR);
                 prism(
                     &mut opaque,
                     DVec3::new(c.x, c.y, 0.0),
@@ -646,82 +700,50 @@ impl View3 {
                     r * 0.18,
                     GUIDE_COLOR,
                 );
+            } else {
+                sphere(&mut opaque, c, r, diverging(p.z / scale));
             }
         }
-
-        // The control net as thin rods.
-        let (du, dv) = solid.degree();
-        for i in 0..=du {
-            for j in 0..=dv {
-                let c = self.world(patch.point(i, j));
-                if i < du {
-                    prism(
-                        &mut opaque,
-                        c,
-                        self.world(patch.point(i + 1, j)),
-                        r * 0.12,
-                        NET_COLOR,
-                    );
-                }
-                if j < dv {
-                    prism(
-                        &mut opaque,
-                        c,
-                        self.world(patch.point(i, j + 1)),
-                        r * 0.12,
-                        NET_COLOR,
-                    );
-                }
-            }
-        }
+        net_rods(
+            &mut opaque,
+            (du, dv),
+            |i, j| self.world(patch.point(i, j)),
+            r,
+        );
 
         // The plane ξ = 0 over the domain with a margin.
         let (min, max) = solid.domain();
         let pad = (max - min).max_element() * 0.12;
         let (a, b) = (min - DVec2::splat(pad), max + DVec2::splat(pad));
-        let corner = |x: f64, y: f64| MeshVertex {
-            position: [x as f32, y as f32, 0.0],
-            normal: [0.0, 0.0, 1.0],
-            color: PLANE_COLOR,
-        };
-        let translucent = vec![
-            corner(a.x, a.y),
-            corner(b.x, a.y),
-            corner(b.x, b.y),
-            corner(a.x, a.y),
-            corner(b.x, b.y),
-            corner(a.x, b.y),
-        ];
-
+        let translucent = quad(
+            [
+                DVec3::new(a.x, a.y, 0.0),
+                DVec3::new(b.x, a.y, 0.0),
+                DVec3::new(b.x, b.y, 0.0),
+                DVec3::new(a.x, b.y, 0.0),
+            ],
+            PLANE_COLOR,
+        );
         let extent = (max - min).max_element().max((hi - lo) * self.height) + pad;
-        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
-        Scene {
-            opaque,
-            translucent,
-            view_proj: m.map(|c| c.map(|x| x as f32)),
-            eye: self.camera.eye().as_vec3().to_array(),
-        }
+        (opaque, translucent.to_vec(), extent)
     }
-}
 
-impl View3 {
-    /// The scene of a volume: its polygonized surface (remeshed only when the model or the
-    /// resolution changed), the stack of the zero contours of its slices across the chosen axis,
-    /// the control points as spheres coloured by ξ, and the selected slice's plane.
-    fn volume_scene(&mut self, editor: &ContourView, volume: &Solid3) -> Scene {
+    /// Brings a volume's surface (remeshed only when the model or the resolution changed; a fine
+    /// surface made elsewhere is asked for, with a coarse one drawn meanwhile) and its contour
+    /// stack up to date.
+    fn update_volume_caches(&mut self, editor: &ContourView, volume: &Solid3) {
         let resolution = if self.coarse {
             COARSE_RESOLUTION.min(self.resolution)
         } else {
             self.resolution
         };
-        let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
+        let axis = editor.slice().map_or(Axis::W, |(a, _)| a);
         let revision = editor.revision();
         let have = |c: &Option<SurfaceCache>, res: usize| {
             c.as_ref()
                 .is_some_and(|c| c.revision == revision && c.resolution == res)
         };
         if !have(&self.surface, resolution) {
-            // A fine surface made elsewhere: ask for it, and draw a coarse one until it comes.
             let local = if self.external && !self.coarse {
                 self.request = Some((revision, resolution));
                 COARSE_RESOLUTION.min(resolution)
@@ -749,40 +771,41 @@ impl View3 {
                 stack: contour_stack(volume, axis),
             });
         }
-        let mut opaque: Vec<MeshVertex> = self
-            .surface
-            .as_ref()
-            .map(|c| c.surface.clone())
-            .unwrap_or_default();
+    }
+
+    /// A volume: its surface, the stack of its slices' zero contours, the control points as
+    /// spheres coloured by ξ (the selected slice's larger), and the selected slice's net and plane.
+    fn volume_geometry(
+        &self,
+        editor: &ContourView,
+        volume: &Solid3,
+    ) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
+        let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
+        let mut opaque: Vec<MeshVertex> = Vec::new();
+        if let Some(c) = &self.surface {
+            opaque.extend_from_slice(&c.surface);
+        }
         if let Some(c) = &self.stack {
             opaque.extend_from_slice(&c.stack);
         }
         let r = Self::radius(editor);
         let net = volume.volume();
+        let d = volume.degree();
         let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
         let selected = editor.selected().map(|(p, q)| {
-            let d = volume.degree();
             let (i, j, k) = slice_point(axis, index, p, q);
-            (i * (d.1 + 1) + j) * (d.2 + 1) + k
+            volume_index(d, [i, j, k])
         });
-        let d = volume.degree();
         for (k, p) in net.points().iter().enumerate() {
-            let in_slice = volume_ijk(d, k)[axis_number(axis)] == index;
-            let color = if selected == Some(k) {
-                SELECT_COLOR
+            let (radius, color) = if selected == Some(k) {
+                (r * 1.3, SELECT_COLOR)
+            } else if volume_ijk(d, k)[axis_number(axis)] == index {
+                (r, diverging(p.w / scale))
             } else {
-                diverging(p.w / scale)
-            };
-            let radius = if selected == Some(k) {
-                r * 1.3
-            } else if in_slice {
-                r
-            } else {
-                r * 0.7
+                (r * 0.7, diverging(p.w / scale))
             };
             sphere(&mut opaque, p.truncate(), radius, color);
         }
-        // The selected slice's net as rods, and its plane's box as a translucent quad.
         let mut translucent = Vec::new();
         if let Some(patch) = slice_patch(net, axis, index) {
             let (n, m) = patch.degree();
@@ -790,44 +813,46 @@ impl View3 {
                 let (i, j, k) = slice_point(axis, index, p, q);
                 net.point(i, j, k).truncate()
             };
-            for p in 0..=n {
-                for q in 0..=m {
-                    if p < n {
-                        prism(&mut opaque, at(p, q), at(p + 1, q), r * 0.12, NET_COLOR);
-                    }
-                    if q < m {
-                        prism(&mut opaque, at(p, q), at(p, q + 1), r * 0.12, NET_COLOR);
-                    }
-                }
-            }
-            let corners = [at(0, 0), at(n, 0), at(n, m), at(0, m)];
-            let normal = (corners[1] - corners[0])
-                .cross(corners[3] - corners[0])
-                .normalize_or(DVec3::Z)
-                .as_vec3()
-                .to_array();
-            let vx = |p: DVec3| MeshVertex {
-                position: p.as_vec3().to_array(),
-                normal,
-                color: SLICE_COLOR,
-            };
-            translucent.extend(
-                [
-                    corners[0], corners[1], corners[2], corners[0], corners[2], corners[3],
-                ]
-                .map(vx),
-            );
+            net_rods(&mut opaque, (n, m), at, r);
+            translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
         }
         let (min, max) = volume.domain();
-        let extent = (max - min).max_element() * 1.5;
-        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
-        Scene {
-            opaque,
-            translucent,
-            view_proj: m.map(|c| c.map(|x| x as f32)),
-            eye: self.camera.eye().as_vec3().to_array(),
+        (opaque, translucent, (max - min).max_element() * 1.5)
+    }
+}
+
+/// The rods of a control net of `(n + 1) × (m + 1)` points at `at(i, j)`, `r` being a sphere's
+/// radius.
+fn net_rods(
+    out: &mut Vec<MeshVertex>,
+    (n, m): (usize, usize),
+    at: impl Fn(usize, usize) -> DVec3,
+    r: f64,
+) {
+    for i in 0..=n {
+        for j in 0..=m {
+            if i < n {
+                prism(out, at(i, j), at(i + 1, j), r * 0.12, NET_COLOR);
+            }
+            if j < m {
+                prism(out, at(i, j), at(i, j + 1), r * 0.12, NET_COLOR);
+            }
         }
     }
+}
+
+/// A flat quadrilateral (corners in order) as two triangles of one colour.
+fn quad(c: [DVec3; 4], color: Rgba) -> [MeshVertex; 6] {
+    let normal = (c[1] - c[0])
+        .cross(c[3] - c[0])
+        .normalize_or(DVec3::Z)
+        .as_vec3()
+        .to_array();
+    [c[0], c[1], c[2], c[0], c[2], c[3]].map(|p| MeshVertex {
+        position: p.as_vec3().to_array(),
+        normal,
+        color,
+    })
 }
 
 /// The surface drawn for a volume at `resolution`: the exact surface where the map is regular or
@@ -1110,9 +1135,9 @@ mod tests {
 
     #[test]
     fn the_scene_has_the_surface_spheres_and_plane() {
-        let (editor, mut view) = setup();
+        let (mut editor, mut view) = setup();
+        let height = view.height;
         let scene = view.scene(&editor);
-        assert!(view.surface_info().is_none(), "no volume, no surface");
         assert!(scene.opaque.len() > SURFACE_CELLS * SURFACE_CELLS * 6);
         assert_eq!(scene.opaque.len() % 3, 0);
         assert_eq!(scene.translucent.len(), 6);
@@ -1127,11 +1152,25 @@ mod tests {
             .iter()
             .map(|v| v.position[2])
             .fold(f32::MIN, f32::max);
-        let expected = editor.solid().patch().eval(0.5, 0.5).z * view.height;
+        let expected = editor.solid().patch().eval(0.5, 0.5).z * height;
         assert!(
             (f64::from(top) - expected).abs() < 1e-3,
             "{top} vs {expected}"
         );
+        let (generation, matrix) = (scene.generation, scene.view_proj);
+        assert!(view.surface_info().is_none(), "no volume, no surface");
+        // Moving the camera keeps the triangles (no new generation to upload); an edit or a new
+        // selection makes new ones.
+        view.wheel(100.0);
+        view.camera.orbit(DVec2::new(30.0, 10.0), 600.0);
+        let moved = view.scene(&editor);
+        assert_eq!(moved.generation, generation);
+        assert_ne!(moved.view_proj, matrix, "the camera moved");
+        editor.select(Some((0, 0)));
+        assert_ne!(view.scene(&editor).generation, generation);
+        let selected = view.scene(&editor).generation;
+        editor.set_selected_xi(0.5).unwrap();
+        assert_ne!(view.scene(&editor).generation, selected);
     }
 
     #[test]

@@ -173,20 +173,7 @@ pub fn headless_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8
 /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
 #[wasm_bindgen]
 pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError> {
-    let resolution = resolution as usize;
-    if !(2..=document::headless::MAX_RESOLUTION).contains(&resolution) {
-        return Err(JsError::new(&format!(
-            "resolution {resolution} is out of range"
-        )));
-    }
-    match document::read_any(text).map_err(|e| JsError::new(&e))? {
-        bezsolid_core::model::ModelSolid::Volume(v) => {
-            Ok(crate::view3d::surface_floats(&v, resolution))
-        }
-        bezsolid_core::model::ModelSolid::Patch(_) => {
-            Err(JsError::new("a patch model has no volume surface"))
-        }
-    }
+    document::headless::surface(text, resolution as usize).map_err(|e| JsError::new(&e))
 }
 
 /// The zero contours of a patch model (a model file or link) as SVG; no page or GPU needed.
@@ -196,12 +183,7 @@ pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError
 /// What is wrong with the input, or a volume model.
 #[wasm_bindgen]
 pub fn headless_svg(text: &str) -> Result<String, JsError> {
-    match document::read_any(text).map_err(|e| JsError::new(&e))? {
-        bezsolid_core::model::ModelSolid::Patch(s) => Ok(document::svg(&s)),
-        bezsolid_core::model::ModelSolid::Volume(_) => Err(JsError::new(
-            "contour SVG is of patch models; this is a volume",
-        )),
-    }
+    document::headless::svg(text).map_err(|e| JsError::new(&e))
 }
 
 /// The 3D view's canvas and GPU; the model and camera live in [`Modeler`].
