@@ -195,6 +195,57 @@ fn issue4_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     let _ = writeln!(s);
 }
 
+/// The targets of issue 6 (point-in-solid by extended simplicial chains), from the rows of
+/// `bezsolid_bench::esc`.
+fn issue6_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
+    let _ = writeln!(
+        s,
+        "## Against the targets of issue 6 (one thread)\n\n\
+         Uniform random points in each solid's box enlarged by 10%. ESC and ray parity classify the \
+         same points against the same PN surface with the same uniform grid over the patches; ESC \
+         also indexes its tetrahedra by direction from the apex (a cube map).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| solid | ESC native | ray parity native | ESC ÷ parity speed | ESC wasm | patch intersections per query, ESC / parity |\n|---|---:|---:|---:|---:|---:|"
+    );
+    let per_query = |r: &Row| {
+        r.note
+            .split(' ')
+            .next()
+            .and_then(|x| x.parse::<f64>().ok())
+            .unwrap_or(f64::NAN)
+    };
+    for esc in native.iter().filter(|r| {
+        r.case.starts_with("point-in-solid") && r.who.starts_with("bezsolid: ESC (apex")
+    }) {
+        let parity = native
+            .iter()
+            .find(|r| r.case == esc.case && r.who.starts_with("ray parity"));
+        let w = wasm
+            .iter()
+            .find(|r| r.case == esc.case && r.who == esc.who)
+            .map_or("–".to_owned(), |w| format!("{:.2} M/s", w.extra / 1e6));
+        if let Some(p) = parity {
+            let _ = writeln!(
+                s,
+                "| {} | {:.2} M/s | {:.2} M/s | {:.1}× | {w} | {:.4} / {:.3} |",
+                esc.case.trim_start_matches("point-in-solid: "),
+                esc.extra / 1e6,
+                p.extra / 1e6,
+                esc.extra / p.extra,
+                per_query(esc),
+                per_query(p)
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\nTargets: ESC ≥ 2× faster than ray parity; ≥ 1 M queries/s native on a 1 k-triangle solid \
+         (the icosphere has 1280, the torus 1024).\n"
+    );
+}
+
 fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Benchmarks\n");
@@ -258,6 +309,7 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
         }
         let _ = writeln!(s);
         issue4_targets(&mut s, native, wasm);
+        issue6_targets(&mut s, native, wasm);
     }
     let mut cases: Vec<&str> = Vec::new();
     for r in native {
@@ -266,9 +318,13 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
         }
     }
     for case in cases {
-        let eval = case.starts_with("grid evaluation") || case.starts_with("inverse map");
+        let eval = case.starts_with("grid evaluation")
+            || case.starts_with("inverse map")
+            || case.starts_with("point-in-solid");
         let _ = writeln!(s, "## {case}\n");
-        let extra = if eval {
+        let extra = if case.starts_with("point-in-solid") {
+            "queries/s"
+        } else if eval {
             "points/s"
         } else if case.starts_with("contour") {
             "vertices"

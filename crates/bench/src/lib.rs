@@ -2,6 +2,7 @@
 //! that `cargo xtask bench` runs in node. Each case is timed by the caller's clock, repeated until it
 //! has run for a while, and reported as the median of its runs.
 
+pub mod esc;
 pub mod inverse;
 
 use bezsolid_core::mesh::{LinearRoots, Mesh, SampleGrid, polygonize};
@@ -140,6 +141,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
         });
     }
     rows.extend(inverse::suite(clock, quick));
+    rows.extend(esc::suite(clock, quick));
     let mesh_sizes: &[usize] = if quick { &[20] } else { &[20, 64, 128, 256] };
     for &n in mesh_sizes {
         let (ms, runs, mesh) = time(clock, budget, || {

@@ -16,6 +16,12 @@ impl Clock for Wall {
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let mut clock = Wall(Instant::now());
+    // `--esc`: only the point-in-solid cases of issue 6 (for working on them).
+    if std::env::args().any(|a| a == "--esc") {
+        let rows = bezsolid_bench::esc::suite(&mut clock, quick);
+        println!("{}", serde_json::to_string(&rows).unwrap_or_default());
+        return;
+    }
     #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
     let mut rows: Vec<Row> = suite(&mut clock, quick);
     #[cfg(feature = "peers")]

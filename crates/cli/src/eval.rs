@@ -34,7 +34,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
 
 /// Points of `dim` coordinates, one per line, comma-separated. Blank lines and `#` comments are
 /// skipped; a first line that is not numbers is taken as a header.
-fn parse_points(text: &str, dim: usize) -> Result<Vec<Vec<f64>>> {
+pub(crate) fn parse_points(text: &str, dim: usize) -> Result<Vec<Vec<f64>>> {
     let mut out = Vec::new();
     let mut first = true;
     for (no, line) in text.lines().enumerate() {

@@ -2,12 +2,14 @@
 //!
 //! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a patch
 //! model as SVG, `mesh` the closed boundary mesh of a volume model as STL, OBJ or PLY, and `hf` either
-//! as HyperFun, and `link` prints the share link of a model; `bench` is `cargo xtask bench` for now.
+//! as HyperFun, and `link` prints the share link of a model; `esc` classifies points against
+//! solids bounded by PN triangles over triangle meshes, and their Booleans; `bench` is `cargo xtask bench` for now.
 //! Wherever a command takes a MODEL, a share link (the whole URL or its fragment) works too.
 //! Errors go to stderr with a non-zero exit; bad input never panics.
 
 mod args;
 mod contour;
+mod esc;
 mod eval;
 mod hf;
 mod link;
@@ -35,10 +37,17 @@ commands (DESIGN §5):
   hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum)
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
                                    the page of `cargo xtask serve`) + #v1.<model>
+  esc classify MESH --points FILE.csv [-o OUT]
+                                   point-in-solid for the solid bounded by the PN triangles of
+                                   a closed triangle mesh (OBJ or STL): one 0 or 1 per point
+  esc bool A OP B --points FILE.csv [-o OUT]
+                                   the same for A OP B, OP one of union, intersection,
+                                   difference
   bench                            benchmarks                          (run `cargo xtask bench`)
 
 MODEL is a model file (.bsolid.json), a share link (the whole URL or its #v1. fragment; quote it
-in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish.
+in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. MESH, A and B are mesh files or
+built-in examples: example:icosphere, example:torus, example:blob.
 
 options:
   -h, --help       this text
@@ -68,6 +77,7 @@ fn main() -> ExitCode {
         Some("mesh") => report(mesh::run(&args[1..])),
         Some("hf") => report(hf::run(&args[1..])),
         Some("link") => report(link::run(&args[1..])),
+        Some("esc") => report(esc::run(&args[1..])),
         Some("bench") => {
             eprintln!(
                 "bezsolid: `bench` is not in this build; run `cargo xtask bench` in the repository"

@@ -64,6 +64,7 @@ extern crate std;
 pub mod bernstein;
 pub mod contour;
 mod curve;
+pub mod esc;
 pub mod hyperfun;
 pub mod inverse;
 #[cfg(feature = "link")]

@@ -1,0 +1,272 @@
+//! What the modeler draws of ESC solids and their Booleans: the paper's point meshes (Figs. 12–19)
+//! and a closed surface of a Boolean result whose vertices are the exact crossings of grid edges
+//! with the PN surfaces.
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use glam::DVec3;
+
+use super::bool::Expr;
+use super::chain::{EscSolid, Stats};
+use crate::mesh::{EdgeRoots, Mesh, SampleGrid, polygonize};
+
+/// The largest grid of a point mesh or a Boolean surface, per axis.
+pub const MAX_RESOLUTION: usize = 160;
+
+/// A Boolean expression over ESC solids.
+#[derive(Clone, Debug)]
+pub struct Boolean {
+    /// The solids, numbered as the expression uses them.
+    pub solids: Vec<EscSolid>,
+    /// The expression; a solid number past the end reads as empty.
+    pub expr: Expr,
+}
+
+/// A regular grid of points classified against a Boolean (the paper's point-mesh view).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointMesh {
+    /// Points in the final result.
+    pub inside: Vec<DVec3>,
+    /// Points of the partial chain that the final term removes (drawn red in the paper's
+    /// intermediate figures); empty unless the expression is one binary operation.
+    pub marked: Vec<DVec3>,
+    /// The spacing of the grid.
+    pub step: f64,
+}
+
+impl Boolean {
+    /// `f(q)` of the expression's chain: 1 in the result, 0 outside.
+    #[must_use]
+    pub fn value(&self, q: DVec3, stats: &mut Stats) -> i32 {
+        self.expr.value(&mut |i| {
+            self.solids
+                .get(i)
+                .map_or(0, |s| i32::from(s.value(q, stats) == 1))
+        })
+    }
+
+    /// A box holding the result: unions and differences of the operands' boxes, intersections of
+    /// them; a complement is bounded by all the solids' box.
+    #[must_use]
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let all = self
+            .solids
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), s| {
+                let (a, b) = s.bounds();
+                (lo.min(a), hi.max(b))
+            });
+        let (lo, hi) = bound(&self.expr, &self.solids, all);
+        if lo.cmple(hi).all() {
+            (lo, hi)
+        } else {
+            // An empty result: a point-sized box at the scene's centre.
+            let c = (all.0 + all.1) * 0.5;
+            (c, c)
+        }
+    }
+
+    /// The grid of `res` points along the longest side of the scene (both operands' boxes), and
+    /// which of them are in the result; for one binary operation also the marked points of the
+    /// paper's intermediate picture ([`super::bool::Op::partial`]).
+    #[must_use]
+    pub fn point_mesh(&self, res: usize) -> PointMesh {
+        let res = res.clamp(2, MAX_RESOLUTION);
+        let all = self
+            .solids
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), s| {
+                let (a, b) = s.bounds();
+                (lo.min(a), hi.max(b))
+            });
+        let mut out = PointMesh::default();
+        if !all.0.is_finite() {
+            return out;
+        }
+        let (grid, _) = grid_over(all, res, 0);
+        out.step = grid.step.x;
+        let mut stats = Stats::default();
+        for c in 0..grid.dims[2] {
+            for b in 0..grid.dims[1] {
+                for a in 0..grid.dims[0] {
+                    let q = grid.point(a, b, c);
+                    if let Expr::Binary(op, x, y) = &self.expr {
+                        let sub = |e: &Expr, stats: &mut Stats| {
+                            e.value(&mut |i| {
+                                self.solids
+                                    .get(i)
+                                    .map_or(0, |s| i32::from(s.value(q, stats) == 1))
+                            })
+                        };
+                        let (f1, f2) = (sub(x, &mut stats), sub(y, &mut stats));
+                        let (partial, marked) = op.partial(f1, f2);
+                        if marked {
+                            out.marked.push(q);
+                        } else if partial || op.apply(f1, f2) == 1 {
+                            out.inside.push(q);
+                        }
+                    } else if self.value(q, &mut stats) == 1 {
+                        out.inside.push(q);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The closed surface of the result on a grid of `res` cells along the longest side of its
+    /// box: marching cubes on the membership, with each vertex where the grid edge crosses the
+    /// PN surface that changes the result (an exact segment–patch intersection) and the normal of
+    /// that PN patch there. Where a crossing cannot be told (a seam), the vertex is found by
+    /// bisection of the membership instead.
+    #[must_use]
+    pub fn surface(&self, res: usize) -> Mesh {
+        let res = res.clamp(2, MAX_RESOLUTION);
+        let (lo, hi) = self.bounds();
+        if !(lo.is_finite() && hi.is_finite()) || lo == hi {
+            return Mesh::default();
+        }
+        let (grid, _) = grid_over((lo, hi), res, 1);
+        let [nx, ny, nz] = grid.dims;
+        let mut stats = Stats::default();
+        // Each solid's membership at each sample, then the result's.
+        let mut members = vec![vec![0u8; nx * ny * nz]; self.solids.len()];
+        let mut values = vec![0.0; nx * ny * nz];
+        for c in 0..nz {
+            for b in 0..ny {
+                for a in 0..nx {
+                    let i = (c * ny + b) * nx + a;
+                    let q = grid.point(a, b, c);
+                    for (s, m) in self.solids.iter().zip(members.iter_mut()) {
+                        m[i] = u8::from(s.value(q, &mut stats) == 1);
+                    }
+                    let v = self
+                        .expr
+                        .value(&mut |s| members.get(s).map_or(0, |m| i32::from(m[i])));
+                    values[i] = if v == 1 { 1.0 } else { -1.0 };
+                }
+            }
+        }
+        let mut roots = Crossings {
+            boolean: self,
+            grid: &grid,
+            members: &members,
+            hits: Vec::new(),
+            state: vec![0; self.solids.len()],
+        };
+        polygonize(&grid, &values, &mut roots)
+    }
+}
+
+/// The box of an expression's result, within `all`.
+fn bound(expr: &Expr, solids: &[EscSolid], all: (DVec3, DVec3)) -> (DVec3, DVec3) {
+    match expr {
+        Expr::Solid(i) => solids
+            .get(*i)
+            .map_or((DVec3::INFINITY, DVec3::NEG_INFINITY), EscSolid::bounds),
+        Expr::Complement(_) => all,
+        Expr::Binary(op, a, b) => {
+            let (a0, a1) = bound(a, solids, all);
+            let (b0, b1) = bound(b, solids, all);
+            match op {
+                super::bool::Op::Union => (a0.min(b0), a1.max(b1)),
+                super::bool::Op::Intersection => (a0.max(b0), a1.min(b1)),
+                super::bool::Op::Difference => (a0, a1),
+            }
+        }
+    }
+}
+
+/// A sample grid over `(lo, hi)` with `res` cells along the longest side and `pad` extra cells on
+/// every side.
+fn grid_over((lo, hi): (DVec3, DVec3), res: usize, pad: usize) -> (SampleGrid, f64) {
+    let extent = (hi - lo).max(DVec3::splat(1e-12));
+    let step = extent.max_element() / res as f64;
+    let dims = [0, 1, 2].map(|k| (libm::ceil(extent[k] / step) as usize).max(1) + 1 + 2 * pad);
+    let origin = lo - DVec3::splat(step * pad as f64);
+    (
+        SampleGrid {
+            origin,
+            step: DVec3::splat(step),
+            dims,
+        },
+        step,
+    )
+}
+
+/// Exact edge crossings for [`polygonize`].
+struct Crossings<'a> {
+    boolean: &'a Boolean,
+    grid: &'a SampleGrid,
+    members: &'a [Vec<u8>],
+    hits: Vec<(f64, u32, DVec3, i8)>,
+    state: Vec<i32>,
+}
+
+impl Crossings<'_> {
+    fn result(&self) -> i32 {
+        self.boolean
+            .expr
+            .value(&mut |s| self.state.get(s).copied().unwrap_or(0))
+    }
+
+    /// The first crossing along the segment where the result changes: `(t, normal)`.
+    fn exact(&mut self, p0: DVec3, p1: DVec3, index: usize) -> Option<(f64, DVec3)> {
+        let len = (p1 - p0).length();
+        let mut all: Vec<(f64, usize, u32, DVec3)> = Vec::new();
+        for (s, solid) in self.boolean.solids.iter().enumerate() {
+            self.hits.clear();
+            solid.segment_hits(p0, p1, &mut self.hits).ok()?;
+            all.extend(self.hits.iter().map(|&(l, t, b, _)| (l, s, t, b)));
+        }
+        all.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (s, m) in self.members.iter().enumerate() {
+            self.state[s] = i32::from(m[index]);
+        }
+        let start = self.result();
+        for &(lambda, s, t, b) in &all {
+            self.state[s] = 1 - self.state[s];
+            let r = self.result();
+            if r != start {
+                let normal = self.boolean.solids[s].surface().normal(t as usize, b);
+                // Outward from the result: along the edge if the result is left there.
+                let along = (p1 - p0) / len;
+                let normal = if (normal.dot(along) > 0.0) == (start == 1) {
+                    normal
+                } else {
+                    -normal
+                };
+                return Some(((lambda / len).clamp(0.0, 1.0), normal));
+            }
+        }
+        None
+    }
+}
+
+impl EdgeRoots for Crossings<'_> {
+    fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, _f1: f64) -> (f64, DVec3) {
+        let p0 = self.grid.point(lower[0], lower[1], lower[2]);
+        let mut p1 = p0;
+        p1[axis] += self.grid.step[axis];
+        let [nx, ny, _] = self.grid.dims;
+        let index = (lower[2] * ny + lower[1]) * nx + lower[0];
+        if let Some(found) = self.exact(p0, p1, index) {
+            return found;
+        }
+        // Bisection of the membership.
+        let mut stats = Stats::default();
+        let inside0 = f0 > 0.0;
+        let (mut a, mut b) = (0.0, 1.0);
+        for _ in 0..40 {
+            let m = 0.5 * (a + b);
+            let inside = self.boolean.value(p0.lerp(p1, m), &mut stats) == 1;
+            if inside == inside0 {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        (0.5 * (a + b), DVec3::ZERO)
+    }
+}

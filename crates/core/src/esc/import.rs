@@ -1,0 +1,1435 @@
+//! Reading triangle meshes: OBJ, binary STL and ASCII STL, from bytes (core does no file I/O).
+//!
+//! The input is untrusted: every reader returns a typed [`ImportError`] instead of panicking, and
+//! nothing is allocated in proportion to a count the file claims before that count is checked
+//! against the caps ([`MAX_FILE_BYTES`], [`MAX_TRIANGLES`], [`MAX_VERTICES`]).
+//!
+//! [`read_mesh`] turns a file into a [`Mesh`] that bounds a solid:
+//!
+//! 1. [`detect`] the format and parse it ([`parse_obj`], [`parse_stl`]) into a [`RawMesh`];
+//! 2. weld vertices with exactly equal coordinates (STL has no indices; OBJ files often repeat
+//!    positions too) and drop vertices that no triangle uses;
+//! 3. [`validate`]: every edge has two triangles running it opposite ways, no triangle is degenerate
+//!    and the triangles around every vertex form one fan; all defects are counted ([`MeshDefects`]);
+//! 4. orient: a closed mesh with negative volume was written inside out, and is turned over;
+//! 5. vertex normals: the file's own (OBJ `vn`) where it gives one for every face corner, otherwise
+//!    [`angle_weighted_normals`].
+
+use alloc::vec;
+use alloc::vec::Vec;
+use core::fmt;
+
+use glam::DVec3;
+
+use crate::mesh::Mesh;
+
+/// The most triangles a file may have (after fan-splitting OBJ polygons): a binary STL of this size
+/// is 10 MB, and the solids of this project are meant for thousands of triangles, not millions.
+pub const MAX_TRIANGLES: usize = 200_000;
+
+/// The most vertices a mesh may have: OBJ `v` (and `vn`) statements as read, STL corners after
+/// welding.
+pub const MAX_VERTICES: usize = 200_000;
+
+/// The largest file accepted, in bytes (128 MiB).
+pub const MAX_FILE_BYTES: usize = 128 << 20;
+
+/// A triangle is degenerate when its area is at most this times the squared diagonal of the mesh's
+/// bounding box: relative, so that the test does not depend on the unit of the file.
+const DEGENERATE_AREA: f64 = 1e-12;
+
+/// The file formats [`read_mesh`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeshFormat {
+    /// Wavefront OBJ (text).
+    Obj,
+    /// Binary STL: an 80-byte header, a `u32` triangle count and 50 bytes per triangle.
+    StlBinary,
+    /// ASCII STL: `solid`, then `facet … endfacet` blocks, then `endsolid`.
+    StlAscii,
+}
+
+/// The format of a file from its bytes: binary STL when it is at least 84 bytes long and exactly
+/// `84 + 50·count` bytes, `count` being the little-endian `u32` at offset 80; ASCII STL when it
+/// starts (after white space) with `solid` and contains `facet`; OBJ otherwise.
+#[must_use]
+pub fn detect(bytes: &[u8]) -> MeshFormat {
+    if binary_stl_count(bytes).is_some_and(|count| binary_stl_len(count) == bytes.len() as u64) {
+        MeshFormat::StlBinary
+    } else if starts_with_solid(bytes) && bytes.windows(5).any(|w| w.eq_ignore_ascii_case(b"facet"))
+    {
+        MeshFormat::StlAscii
+    } else {
+        MeshFormat::Obj
+    }
+}
+
+/// A mesh as a file gives it, before welding, validation and orientation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RawMesh {
+    /// Vertex positions, all finite: OBJ `v` statements in file order, or STL corners, three per
+    /// facet.
+    pub positions: Vec<DVec3>,
+    /// Per vertex, the sum of the file's unit normals at the face corners that use it (not
+    /// normalised, so that welded vertices can add theirs): present only for an OBJ file that gives
+    /// a `vn` at every face corner.
+    pub normals: Option<Vec<DVec3>>,
+    /// Triangles as indices into `positions`, all in range; polygons are split into fans.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Why a file could not be read as a closed solid mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ImportError {
+    /// The file is larger than a cap allows.
+    TooLarge {
+        /// What was counted: `"bytes"`, `"triangles"`, `"vertices"` or `"normals"`.
+        what: &'static str,
+        /// The count when reading stopped: the whole count where the file states it (bytes, binary
+        /// STL triangles), otherwise the first count past the cap.
+        count: usize,
+        /// The cap.
+        max: usize,
+    },
+    /// The file has no triangles.
+    Empty,
+    /// A text file does not follow its format.
+    Parse {
+        /// The 1-based line number.
+        line: usize,
+        /// What is wrong there.
+        reason: &'static str,
+    },
+    /// A binary STL whose length is not the one its triangle count needs: it was cut short, or it is
+    /// not a mesh file at all.
+    Truncated {
+        /// The length the header's triangle count needs (84 for a file shorter than its header).
+        expected_bytes: u64,
+        /// The file's length.
+        got_bytes: u64,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    NotFinite {
+        /// The vertex's 1-based number in the file (for STL, corners count three per facet).
+        vertex: usize,
+    },
+    /// An OBJ face refers to a vertex or normal that does not exist (or to index 0).
+    BadIndex {
+        /// The 1-based line number.
+        line: usize,
+        /// The index as written (negative indices count back from the latest vertex).
+        index: i64,
+    },
+    /// The mesh is not a closed, consistently oriented 2-manifold.
+    Defects(MeshDefects),
+}
+
+impl fmt::Display for ImportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::TooLarge { what, max, .. } => write!(
+                f,
+                "the file is too large: it has more than {max} {what}, the most this reader takes"
+            ),
+            Self::Empty => f.write_str("the file has no triangles"),
+            Self::Parse { line, reason } => write!(f, "line {line}: {reason}"),
+            Self::Truncated {
+                expected_bytes,
+                got_bytes,
+            } => write!(
+                f,
+                "the file looks like a binary STL but is truncated or damaged: its header calls for \
+                 {expected_bytes} bytes and the file has {got_bytes}"
+            ),
+            Self::NotFinite { vertex } => {
+                write!(
+                    f,
+                    "vertex {vertex} has a coordinate that is not a finite number"
+                )
+            }
+            Self::BadIndex { line, index: 0 } => {
+                write!(f, "line {line}: index 0 is not valid (OBJ counts from 1)")
+            }
+            Self::BadIndex { line, index } => {
+                write!(
+                    f,
+                    "line {line}: index {index} refers to nothing defined before it"
+                )
+            }
+            Self::Defects(defects) => write!(f, "{defects}"),
+        }
+    }
+}
+
+impl core::error::Error for ImportError {}
+
+/// Every defect that keeps a mesh from bounding a solid, counted (see [`validate`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct MeshDefects {
+    /// Edges used by one triangle only.
+    pub open_edges: usize,
+    /// Edges used by three or more triangles.
+    pub non_manifold_edges: usize,
+    /// Edges whose two triangles run them the same direction (one of them is turned over).
+    pub inconsistent_edges: usize,
+    /// Triangles that repeat a vertex, use a vertex that does not exist, or have (almost) no area.
+    pub degenerate_triangles: usize,
+    /// Vertices whose triangles form more than one fan (two sheets touch at a point).
+    pub non_manifold_vertices: usize,
+}
+
+impl MeshDefects {
+    /// Whether there are no defects at all.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+impl fmt::Display for MeshDefects {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let items: [(usize, &str, &str); 5] = [
+            (self.open_edges, "open edge", "open edges"),
+            (
+                self.non_manifold_edges,
+                "edge shared by more than two triangles",
+                "edges shared by more than two triangles",
+            ),
+            (
+                self.inconsistent_edges,
+                "inconsistently oriented edge (a triangle is turned over)",
+                "inconsistently oriented edges (triangles are turned over)",
+            ),
+            (
+                self.degenerate_triangles,
+                "degenerate triangle",
+                "degenerate triangles",
+            ),
+            (
+                self.non_manifold_vertices,
+                "non-manifold vertex (surfaces touch at a point)",
+                "non-manifold vertices (surfaces touch at a point)",
+            ),
+        ];
+        f.write_str("the mesh is not a closed solid")?;
+        let mut first = true;
+        for (count, one, many) in items {
+            if count == 0 {
+                continue;
+            }
+            f.write_str(if first { ": " } else { ", " })?;
+            first = false;
+            write!(f, "{count} {}", if count == 1 { one } else { many })?;
+        }
+        Ok(())
+    }
+}
+
+impl core::error::Error for MeshDefects {}
+
+/// Reads an OBJ or STL (binary or ASCII) file into a closed, outward-oriented mesh with unit vertex
+/// normals and no unused vertices (the steps are in the module documentation).
+///
+/// # Errors
+///
+/// [`ImportError`]: the file is too large, malformed, empty, or not a closed solid.
+pub fn read_mesh(bytes: &[u8]) -> Result<Mesh, ImportError> {
+    if bytes.len() > MAX_FILE_BYTES {
+        return Err(ImportError::TooLarge {
+            what: "bytes",
+            count: bytes.len(),
+            max: MAX_FILE_BYTES,
+        });
+    }
+    let raw = match detect(bytes) {
+        // Control characters do not occur in text: this is a binary STL of the wrong length.
+        MeshFormat::Obj if looks_binary(bytes) => parse_stl(bytes)?,
+        MeshFormat::Obj => parse_obj(bytes)?,
+        MeshFormat::StlBinary | MeshFormat::StlAscii => parse_stl(bytes)?,
+    };
+    if raw.triangles.is_empty() {
+        return Err(ImportError::Empty);
+    }
+    let (positions, file_normals, triangles) = weld(&raw)?;
+    if positions.len() > MAX_VERTICES {
+        return Err(ImportError::TooLarge {
+            what: "vertices",
+            count: positions.len(),
+            max: MAX_VERTICES,
+        });
+    }
+    validate(&positions, &triangles).map_err(ImportError::Defects)?;
+    let mut mesh = Mesh {
+        positions,
+        normals: Vec::new(),
+        triangles,
+    };
+    if mesh.volume() < 0.0 {
+        for t in &mut mesh.triangles {
+            t.swap(1, 2);
+        }
+    }
+    let computed = angle_weighted_normals(&mesh.positions, &mesh.triangles);
+    mesh.normals = file_normals
+        .and_then(|sums| agreeing_normals(sums, &computed))
+        .unwrap_or(computed);
+    Ok(mesh)
+}
+
+/// The file's normals, normalised and turned to the outside, if they are usable: every vertex has
+/// one, and each is on the outer side of the surface (positive dot product with the angle-weighted
+/// normal). Otherwise `None`, and the computed normals are used.
+fn agreeing_normals(mut sums: Vec<DVec3>, computed: &[DVec3]) -> Option<Vec<DVec3>> {
+    for n in &mut sums {
+        // Sums of unit vectors: an absolute threshold is relative.
+        if n.length() < 1e-9 {
+            return None;
+        }
+        *n = n.normalize();
+    }
+    // A file written inside out has its normals inside out too, usually.
+    let agreement: f64 = sums.iter().zip(computed).map(|(a, b)| a.dot(*b)).sum();
+    if agreement < 0.0 {
+        for n in &mut sums {
+            *n = -*n;
+        }
+    }
+    sums.iter()
+        .zip(computed)
+        .all(|(a, b)| a.dot(*b) > 0.0)
+        .then_some(sums)
+}
+
+/// Welds vertices with exactly equal coordinates and keeps only the vertices that triangles use,
+/// numbered by first use: the positions, the summed file normals (if any) and the triangles.
+#[allow(clippy::type_complexity)]
+fn weld(raw: &RawMesh) -> Result<(Vec<DVec3>, Option<Vec<DVec3>>, Vec<[u32; 3]>), ImportError> {
+    let n = raw.positions.len();
+    // `+ 0.0` turns −0 into +0, so that the two weld.
+    let key = |i: u32| {
+        let p = raw.positions.get(i as usize).copied().unwrap_or(DVec3::NAN) + 0.0;
+        [p.x, p.y, p.z]
+    };
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    order.sort_unstable_by(|&a, &b| {
+        let (ka, kb) = (key(a), key(b));
+        ka[0]
+            .total_cmp(&kb[0])
+            .then(ka[1].total_cmp(&kb[1]))
+            .then(ka[2].total_cmp(&kb[2]))
+            .then(a.cmp(&b))
+    });
+    // The representative of each vertex: the first in file order with the same coordinates.
+    let mut rep: Vec<u32> = (0..n as u32).collect();
+    for group in order.chunk_by(|&a, &b| key(a) == key(b)) {
+        if let Some(&first) = group.first() {
+            for &i in group {
+                if let Some(r) = rep.get_mut(i as usize) {
+                    *r = first;
+                }
+            }
+        }
+    }
+    let sums = raw.normals.as_ref().map(|normals| {
+        let mut sums = vec![DVec3::ZERO; n];
+        for (i, &normal) in normals.iter().enumerate() {
+            if let Some(s) = rep.get(i).and_then(|&r| sums.get_mut(r as usize)) {
+                *s += normal;
+            }
+        }
+        sums
+    });
+    let mut new_index = vec![u32::MAX; n];
+    let mut positions = Vec::new();
+    let mut normals = sums.as_ref().map(|_| Vec::new());
+    let mut triangles = Vec::with_capacity(raw.triangles.len());
+    for tri in &raw.triangles {
+        let mut out = [0u32; 3];
+        for (o, &i) in out.iter_mut().zip(tri) {
+            let bad = ImportError::BadIndex {
+                line: 0,
+                index: i64::from(i) + 1,
+            };
+            let r = *rep.get(i as usize).ok_or(bad.clone())?;
+            let slot = new_index.get_mut(r as usize).ok_or(bad.clone())?;
+            if *slot == u32::MAX {
+                *slot = positions.len() as u32;
+                positions.push(*raw.positions.get(r as usize).ok_or(bad)?);
+                if let (Some(normals), Some(sums)) = (normals.as_mut(), sums.as_ref()) {
+                    normals.push(sums.get(r as usize).copied().unwrap_or(DVec3::ZERO));
+                }
+            }
+            *o = *slot;
+        }
+        triangles.push(out);
+    }
+    Ok((positions, normals, triangles))
+}
+
+/// Unit vertex normals weighted by angle (Thürmer and Wüthrich 1998): at each vertex, the sum over
+/// its triangles of the unit face normal times the triangle's interior angle there, normalised.
+/// Independent of how a surface is split into triangles. Vertices without a triangle (or whose sum
+/// vanishes) get zero; triangles with an index out of range are skipped.
+#[must_use]
+pub fn angle_weighted_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3> {
+    let mut normals = vec![DVec3::ZERO; positions.len()];
+    for tri in triangles {
+        let Some(p) = corners(positions, tri) else {
+            continue;
+        };
+        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for k in 0..3 {
+            let u = p[(k + 1) % 3] - p[k];
+            let v = p[(k + 2) % 3] - p[k];
+            // atan2(|u × v|, u · v) is accurate for every angle, unlike acos.
+            let angle = libm::atan2(u.cross(v).length(), u.dot(v));
+            if let Some(n) = normals.get_mut(tri[k] as usize) {
+                *n += face * angle;
+            }
+        }
+    }
+    for n in &mut normals {
+        *n = n.normalize_or_zero();
+    }
+    normals
+}
+
+/// The corners of a triangle, or `None` if an index is out of range.
+fn corners(positions: &[DVec3], tri: &[u32; 3]) -> Option<[DVec3; 3]> {
+    Some([
+        *positions.get(tri[0] as usize)?,
+        *positions.get(tri[1] as usize)?,
+        *positions.get(tri[2] as usize)?,
+    ])
+}
+
+/// Checks that triangles bound a solid, counting every defect (see [`MeshDefects`]): each
+/// undirected edge must have exactly two triangles running it in opposite directions (one is
+/// *open*, three or more *non-manifold*, two the same way *inconsistent*); no triangle may repeat a
+/// vertex, use one out of range, or have area ≤ 10⁻¹² × (bounding-box diagonal)²; and the triangles
+/// around each vertex must be connected through the edges at that vertex (one fan; otherwise the
+/// vertex is *non-manifold*). Triangles that repeat a vertex or are out of range take no part in
+/// the edge and vertex counts. No triangles at all is no defect here ([`read_mesh`] reports it).
+///
+/// # Errors
+///
+/// The counts, when any is nonzero.
+pub fn validate(positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<(), MeshDefects> {
+    let mut defects = MeshDefects::default();
+    let (lo, hi) = positions
+        .iter()
+        .filter(|p| p.is_finite())
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let diagonal2 = if lo.cmple(hi).all() {
+        (hi - lo).length_squared()
+    } else {
+        0.0
+    };
+    // |(b − a) × (c − a)| = 2·area.
+    let min_double_area = 2.0 * DEGENERATE_AREA * diagonal2;
+    let mut edges: Vec<(u32, u32, bool)> = Vec::with_capacity(triangles.len() * 3);
+    let mut around: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
+    for tri in triangles {
+        let Some(p) = corners(positions, tri) else {
+            defects.degenerate_triangles += 1;
+            continue;
+        };
+        if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+            defects.degenerate_triangles += 1;
+            continue;
+        }
+        if (p[1] - p[0]).cross(p[2] - p[0]).length() <= min_double_area {
+            defects.degenerate_triangles += 1;
+        }
+        for e in 0..3 {
+            let (a, b) = (tri[e], tri[(e + 1) % 3]);
+            edges.push((a.min(b), a.max(b), a < b));
+            // At corner tri[e], the triangle joins its neighbours tri[e + 2] and tri[e + 1].
+            around.push((tri[e], tri[(e + 2) % 3], tri[(e + 1) % 3]));
+        }
+    }
+    edges.sort_unstable();
+    for group in edges.chunk_by(|x, y| x.0 == y.0 && x.1 == y.1) {
+        match group {
+            [_] => defects.open_edges += 1,
+            [x, y] if x.2 == y.2 => defects.inconsistent_edges += 1,
+            [_, _] => {}
+            _ => defects.non_manifold_edges += 1,
+        }
+    }
+    // The link of a vertex: its neighbours, joined by each triangle at it. One fan (a disc, or a
+    // half-disc at the border) is a connected link; a link in several pieces is two sheets touching.
+    around.sort_unstable();
+    let mut neighbours: Vec<u32> = Vec::new();
+    let mut parent: Vec<usize> = Vec::new();
+    for fan in around.chunk_by(|x, y| x.0 == y.0) {
+        neighbours.clear();
+        neighbours.extend(fan.iter().flat_map(|c| [c.1, c.2]));
+        neighbours.sort_unstable();
+        neighbours.dedup();
+        parent.clear();
+        parent.extend(0..neighbours.len());
+        let mut pieces = neighbours.len();
+        for c in fan {
+            let (Ok(a), Ok(b)) = (
+                neighbours.binary_search(&c.1),
+                neighbours.binary_search(&c.2),
+            ) else {
+                continue;
+            };
+            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+            if ra != rb {
+                if let Some(p) = parent.get_mut(ra) {
+                    *p = rb;
+                }
+                pieces -= 1;
+            }
+        }
+        if pieces > 1 {
+            defects.non_manifold_vertices += 1;
+        }
+    }
+    if defects.is_empty() {
+        Ok(())
+    } else {
+        Err(defects)
+    }
+}
+
+/// The root of `i` in a union–find forest, halving paths on the way.
+fn find(parent: &mut [usize], mut i: usize) -> usize {
+    while let Some(&p) = parent.get(i) {
+        if p == i {
+            break;
+        }
+        let grand = parent.get(p).copied().unwrap_or(p);
+        if let Some(slot) = parent.get_mut(i) {
+            *slot = grand;
+        }
+        i = grand;
+    }
+    i
+}
+
+/// Parses an OBJ file: `v x y z [w …]` (extra values such as `w` or colours are ignored), `vn`, and
+/// `f` with `v`, `v/vt`, `v//vn` or `v/vt/vn` corners, negative (relative) indices, and polygons
+/// split into fans from their first corner; `#` starts a comment; every other statement (`vt`, `o`,
+/// `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, …) is ignored. A face may only refer to vertices and
+/// normals defined above it.
+///
+/// # Errors
+///
+/// [`ImportError::Parse`] or [`ImportError::BadIndex`] with the line, [`ImportError::NotFinite`],
+/// or [`ImportError::TooLarge`] past [`MAX_VERTICES`] vertices or normals or [`MAX_TRIANGLES`]
+/// triangles.
+pub fn parse_obj(text: &[u8]) -> Result<RawMesh, ImportError> {
+    let text = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut file_normals: Vec<DVec3> = Vec::new();
+    // Per position, the sum of the normals at its face corners.
+    let mut sums: Vec<DVec3> = Vec::new();
+    let mut every_corner_has_a_normal = true;
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    for (k, line) in text.split(|&b| b == b'\n').enumerate() {
+        let line_no = k + 1;
+        let line = line.split(|&b| b == b'#').next().unwrap_or_default();
+        let mut tokens = line
+            .split(u8::is_ascii_whitespace)
+            .filter(|t| !t.is_empty());
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        match keyword {
+            b"v" => {
+                let p = three_numbers(&mut tokens).ok_or(ImportError::Parse {
+                    line: line_no,
+                    reason: "a vertex needs three numbers: `v x y z`",
+                })?;
+                if positions.len() == MAX_VERTICES {
+                    return Err(too_many("vertices", MAX_VERTICES));
+                }
+                positions.push(p);
+                sums.push(DVec3::ZERO);
+                if !p.is_finite() {
+                    return Err(ImportError::NotFinite {
+                        vertex: positions.len(),
+                    });
+                }
+            }
+            b"vn" => {
+                let n = three_numbers(&mut tokens).ok_or(ImportError::Parse {
+                    line: line_no,
+                    reason: "a normal needs three numbers: `vn x y z`",
+                })?;
+                if file_normals.len() == MAX_VERTICES {
+                    return Err(too_many("normals", MAX_VERTICES));
+                }
+                // A non-finite or zero normal counts as none at the corners that use it.
+                file_normals.push(if n.is_finite() {
+                    n.normalize_or_zero()
+                } else {
+                    DVec3::ZERO
+                });
+            }
+            b"f" => {
+                // Split into a fan as the corners come: no buffer as long as the line.
+                let mut first = None;
+                let mut previous = None;
+                let mut corners = 0usize;
+                for token in tokens {
+                    let (v, vn) = face_corner(token, line_no, positions.len(), file_normals.len())?;
+                    match vn.and_then(|i| file_normals.get(i)) {
+                        Some(&n) => {
+                            if let Some(s) = sums.get_mut(v) {
+                                *s += n;
+                            }
+                        }
+                        None => every_corner_has_a_normal = false,
+                    }
+                    // `v` < positions.len() ≤ MAX_VERTICES, so it fits.
+                    let v = v as u32;
+                    corners += 1;
+                    match (first, previous) {
+                        (Some(a), Some(b)) => {
+                            if triangles.len() == MAX_TRIANGLES {
+                                return Err(too_many("triangles", MAX_TRIANGLES));
+                            }
+                            triangles.push([a, b, v]);
+                        }
+                        (None, _) => first = Some(v),
+                        (Some(_), None) => {}
+                    }
+                    if corners >= 2 {
+                        previous = Some(v);
+                    }
+                }
+                if corners < 3 {
+                    return Err(ImportError::Parse {
+                        line: line_no,
+                        reason: "a face needs at least three vertices",
+                    });
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(RawMesh {
+        positions,
+        normals: (every_corner_has_a_normal && !triangles.is_empty()).then_some(sums),
+        triangles,
+    })
+}
+
+fn too_many(what: &'static str, max: usize) -> ImportError {
+    ImportError::TooLarge {
+        what,
+        count: max + 1,
+        max,
+    }
+}
+
+/// One face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`: the 0-based vertex and normal indices.
+fn face_corner(
+    token: &[u8],
+    line: usize,
+    vertices: usize,
+    normals: usize,
+) -> Result<(usize, Option<usize>), ImportError> {
+    let malformed = ImportError::Parse {
+        line,
+        reason: "a face corner must be `v`, `v/vt`, `v//vn` or `v/vt/vn` with integer indices",
+    };
+    let mut parts = token.split(|&b| b == b'/');
+    let v = parts.next().and_then(integer).ok_or(malformed.clone())?;
+    let _texture = parts.next();
+    let vn = match parts.next() {
+        None | Some(b"") => None,
+        Some(part) => Some(integer(part).ok_or(malformed.clone())?),
+    };
+    if parts.next().is_some() {
+        return Err(malformed);
+    }
+    let resolve = |index: i64, count: usize| {
+        let count = i64::try_from(count).unwrap_or(i64::MAX);
+        let i = if index < 0 { count + index } else { index - 1 };
+        if index != 0 && (0..count).contains(&i) {
+            usize::try_from(i).map_err(|_| ImportError::BadIndex { line, index })
+        } else {
+            Err(ImportError::BadIndex { line, index })
+        }
+    };
+    Ok((
+        resolve(v, vertices)?,
+        vn.map(|vn| resolve(vn, normals)).transpose()?,
+    ))
+}
+
+fn integer(token: &[u8]) -> Option<i64> {
+    core::str::from_utf8(token).ok()?.parse().ok()
+}
+
+fn number(token: &[u8]) -> Option<f64> {
+    core::str::from_utf8(token).ok()?.parse().ok()
+}
+
+/// The next three tokens as numbers (they may be NaN or infinite: the caller reports that).
+fn three_numbers<'a>(tokens: &mut impl Iterator<Item = &'a [u8]>) -> Option<DVec3> {
+    Some(DVec3::new(
+        number(tokens.next()?)?,
+        number(tokens.next()?)?,
+        number(tokens.next()?)?,
+    ))
+}
+
+/// Parses an STL file, binary or ASCII. Binary when its length matches its triangle count, ASCII
+/// when it starts with `solid`, otherwise binary (and then truncated). Facet normals are ignored:
+/// they are flat, and [`read_mesh`] computes smooth ones. Corners are not welded.
+///
+/// # Errors
+///
+/// [`ImportError::Truncated`] for a binary file of the wrong length, [`ImportError::Parse`] with the
+/// line for malformed ASCII (including a file that ends before `endsolid`),
+/// [`ImportError::NotFinite`], or [`ImportError::TooLarge`] past [`MAX_TRIANGLES`] triangles.
+pub fn parse_stl(bytes: &[u8]) -> Result<RawMesh, ImportError> {
+    match binary_stl_count(bytes) {
+        Some(count) if binary_stl_len(count) == bytes.len() as u64 => {
+            parse_binary_stl(bytes, count)
+        }
+        _ if starts_with_solid(bytes) => parse_ascii_stl(bytes),
+        count => Err(ImportError::Truncated {
+            expected_bytes: count.map_or(84, binary_stl_len),
+            got_bytes: bytes.len() as u64,
+        }),
+    }
+}
+
+/// The triangle count of a binary STL header, if the file is long enough to have one.
+fn binary_stl_count(bytes: &[u8]) -> Option<u32> {
+    match bytes.get(80..84)? {
+        &[a, b, c, d] => Some(u32::from_le_bytes([a, b, c, d])),
+        _ => None,
+    }
+}
+
+fn binary_stl_len(count: u32) -> u64 {
+    84 + 50 * u64::from(count)
+}
+
+fn starts_with_solid(bytes: &[u8]) -> bool {
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
+    start
+        .and_then(|s| bytes.get(s..s + 5))
+        .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
+}
+
+/// Whether the bytes hold control characters that text does not (binary data, UTF-16, …), at a
+/// length where a binary STL header fits.
+fn looks_binary(bytes: &[u8]) -> bool {
+    bytes.len() >= 84
+        && bytes
+            .iter()
+            .any(|&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0c))
+}
+
+fn parse_binary_stl(bytes: &[u8], count: u32) -> Result<RawMesh, ImportError> {
+    let count = count as usize;
+    if count > MAX_TRIANGLES {
+        return Err(ImportError::TooLarge {
+            what: "triangles",
+            count,
+            max: MAX_TRIANGLES,
+        });
+    }
+    let body = bytes.get(84..).unwrap_or_default();
+    let mut positions = Vec::with_capacity(3 * count);
+    let mut triangles = Vec::with_capacity(count);
+    for facet in body.chunks_exact(50).take(count) {
+        // 12 bytes of normal, then three corners of 12 bytes, then the 2-byte attribute.
+        let corners = facet.get(12..48).unwrap_or_default();
+        for corner in corners.chunks_exact(12) {
+            let mut xyz = [0.0f64; 3];
+            for (x, b) in xyz.iter_mut().zip(corner.chunks_exact(4)) {
+                if let &[b0, b1, b2, b3] = b {
+                    *x = f64::from(f32::from_le_bytes([b0, b1, b2, b3]));
+                }
+            }
+            let p = DVec3::from_array(xyz);
+            positions.push(p);
+            if !p.is_finite() {
+                return Err(ImportError::NotFinite {
+                    vertex: positions.len(),
+                });
+            }
+        }
+        let base = triangles.len() as u32 * 3;
+        triangles.push([base, base + 1, base + 2]);
+    }
+    Ok(RawMesh {
+        positions,
+        normals: None,
+        triangles,
+    })
+}
+
+/// Where an ASCII STL parse is: the next statement expected.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stl {
+    /// Before `solid`.
+    Start,
+    /// Inside a solid: `facet` or `endsolid`.
+    Solid,
+    /// After `facet`: `outer loop`.
+    Facet,
+    /// Inside a loop with this many vertices read.
+    Loop(u8),
+    /// After `endloop`: `endfacet`.
+    EndLoop,
+    /// After `endsolid`: nothing, or another `solid`.
+    Done,
+}
+
+fn parse_ascii_stl(bytes: &[u8]) -> Result<RawMesh, ImportError> {
+    let mut positions = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut state = Stl::Start;
+    let mut last_line = 1;
+    for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line_no = k + 1;
+        let mut tokens = line
+            .split(u8::is_ascii_whitespace)
+            .filter(|t| !t.is_empty());
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        last_line = line_no;
+        let is = |word: &[u8]| keyword.eq_ignore_ascii_case(word);
+        let error = |reason| ImportError::Parse {
+            line: line_no,
+            reason,
+        };
+        state = match state {
+            Stl::Start | Stl::Done if is(b"solid") => Stl::Solid,
+            Stl::Start => return Err(error("an ASCII STL starts with `solid`")),
+            Stl::Done => return Err(error("only another `solid` may follow `endsolid`")),
+            Stl::Solid if is(b"facet") => {
+                if triangles.len() == MAX_TRIANGLES {
+                    return Err(too_many("triangles", MAX_TRIANGLES));
+                }
+                Stl::Facet
+            }
+            Stl::Solid if is(b"endsolid") => Stl::Done,
+            Stl::Solid => return Err(error("expected `facet` or `endsolid`")),
+            Stl::Facet
+                if is(b"outer")
+                    && tokens
+                        .next()
+                        .is_some_and(|t| t.eq_ignore_ascii_case(b"loop")) =>
+            {
+                Stl::Loop(0)
+            }
+            Stl::Facet => return Err(error("expected `outer loop`")),
+            Stl::Loop(n) if is(b"vertex") => {
+                if n == 3 {
+                    return Err(error("a facet has more than three vertices"));
+                }
+                let p = three_numbers(&mut tokens)
+                    .ok_or(error("a vertex needs three numbers: `vertex x y z`"))?;
+                positions.push(p);
+                if !p.is_finite() {
+                    return Err(ImportError::NotFinite {
+                        vertex: positions.len(),
+                    });
+                }
+                Stl::Loop(n + 1)
+            }
+            Stl::Loop(3) if is(b"endloop") => {
+                let base = triangles.len() as u32 * 3;
+                triangles.push([base, base + 1, base + 2]);
+                Stl::EndLoop
+            }
+            Stl::Loop(_) if is(b"endloop") => {
+                return Err(error("a facet needs three vertices"));
+            }
+            Stl::Loop(_) => return Err(error("expected `vertex` or `endloop`")),
+            Stl::EndLoop if is(b"endfacet") => Stl::Solid,
+            Stl::EndLoop => return Err(error("expected `endfacet`")),
+        };
+    }
+    let reason = match state {
+        Stl::Done => {
+            return Ok(RawMesh {
+                positions,
+                normals: None,
+                triangles,
+            });
+        }
+        Stl::Start => "the file is empty",
+        Stl::Solid => "the file ends before `endsolid`",
+        Stl::Facet | Stl::Loop(_) | Stl::EndLoop => "the file ends in the middle of a facet",
+    };
+    Err(ImportError::Parse {
+        line: last_line,
+        reason,
+    })
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use alloc::format;
+    use alloc::string::String;
+
+    use super::*;
+    use crate::testutil::Rng;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    const CUBE: &[u8] = include_bytes!("../../tests/fixtures/mesh/cube.obj");
+    const TETRA_ASCII: &[u8] = include_bytes!("../../tests/fixtures/mesh/tetra_ascii.stl");
+    const TETRA_BINARY: &[u8] = include_bytes!("../../tests/fixtures/mesh/tetra.stl");
+    const OPEN: &[u8] = include_bytes!("../../tests/fixtures/mesh/open.obj");
+    const NON_MANIFOLD: &[u8] = include_bytes!("../../tests/fixtures/mesh/nonmanifold.obj");
+    const FLIPPED: &[u8] = include_bytes!("../../tests/fixtures/mesh/flipped.obj");
+    const DEGENERATE: &[u8] = include_bytes!("../../tests/fixtures/mesh/degenerate.obj");
+    const TRUNCATED: &[u8] = include_bytes!("../../tests/fixtures/mesh/truncated.stl");
+    const TRUNCATED_ASCII: &[u8] = include_bytes!("../../tests/fixtures/mesh/truncated_ascii.stl");
+    const GARBAGE: &[u8] = include_bytes!("../../tests/fixtures/mesh/garbage.bin");
+    const BAD_INDEX: &[u8] = include_bytes!("../../tests/fixtures/mesh/bad_index.obj");
+    const NAN: &[u8] = include_bytes!("../../tests/fixtures/mesh/nan.obj");
+
+    fn assert_solid(mesh: &Mesh) {
+        mesh.check_closed_manifold().unwrap();
+        assert!(validate(&mesh.positions, &mesh.triangles).is_ok());
+        assert!(mesh.volume() > 0.0);
+        assert_eq!(mesh.normals.len(), mesh.positions.len());
+        for n in &mesh.normals {
+            assert!((n.length() - 1.0).abs() < 1e-12);
+        }
+        // Compact: every vertex is used.
+        let mut used = vec![false; mesh.positions.len()];
+        for t in &mesh.triangles {
+            for &i in t {
+                used[i as usize] = true;
+            }
+        }
+        assert!(used.iter().all(|&u| u));
+    }
+
+    fn defects(bytes: &[u8]) -> MeshDefects {
+        match read_mesh(bytes) {
+            Err(ImportError::Defects(d)) => d,
+            other => panic!("expected defects, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn import_detects_formats() {
+        assert_eq!(detect(CUBE), MeshFormat::Obj);
+        assert_eq!(detect(TETRA_ASCII), MeshFormat::StlAscii);
+        assert_eq!(detect(TETRA_BINARY), MeshFormat::StlBinary);
+        assert_eq!(detect(TRUNCATED), MeshFormat::Obj);
+        assert_eq!(detect(b""), MeshFormat::Obj);
+        assert_eq!(detect(b"  \n solid x\nendsolid x\n"), MeshFormat::Obj);
+    }
+
+    #[test]
+    fn import_reads_the_cube() {
+        let mesh = read_mesh(CUBE).unwrap();
+        assert_solid(&mesh);
+        assert_eq!(mesh.triangles.len(), 12);
+        assert_eq!(mesh.positions.len(), 8);
+        assert!((mesh.volume() - 1.0).abs() < 1e-12);
+        assert_eq!(mesh.euler_characteristic(), 2);
+    }
+
+    #[test]
+    fn import_angle_weighted_normal_of_a_cube_corner_is_the_diagonal() {
+        let mesh = read_mesh(CUBE).unwrap();
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            let expected = (*p * 2.0 - 1.0) / 3f64.sqrt();
+            assert!((*n - expected).length() < 1e-12, "{p} {n}");
+        }
+    }
+
+    #[test]
+    fn import_welds_stl_corners() {
+        for bytes in [TETRA_ASCII, TETRA_BINARY] {
+            let raw = parse_stl(bytes).unwrap();
+            assert_eq!(raw.positions.len(), 12);
+            let mesh = read_mesh(bytes).unwrap();
+            assert_solid(&mesh);
+            assert_eq!(mesh.positions.len(), 4);
+            assert_eq!(mesh.triangles.len(), 4);
+            assert!((mesh.volume() - 1.0 / 6.0).abs() < 1e-12);
+            assert_eq!(mesh.euler_characteristic(), 2);
+        }
+    }
+
+    #[test]
+    fn import_welds_negative_zero_with_zero() {
+        let text = TETRA_ASCII.to_vec();
+        let text = String::from_utf8(text)
+            .unwrap()
+            .replacen("vertex 0 0 0", "vertex -0 0 -0", 1);
+        let mesh = read_mesh(text.as_bytes()).unwrap();
+        assert_eq!(mesh.positions.len(), 4);
+    }
+
+    #[test]
+    fn import_turns_an_inside_out_cube_over() {
+        let inward = b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+            f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 3 7 8 4\nf 4 8 5 1\nf 6 7 3 2\n";
+        let raw = parse_obj(inward).unwrap();
+        let before = Mesh {
+            positions: raw.positions,
+            normals: Vec::new(),
+            triangles: raw.triangles,
+        };
+        assert!(before.volume() < 0.0);
+        let mesh = read_mesh(inward).unwrap();
+        assert_solid(&mesh);
+        assert!((mesh.volume() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn import_reads_negative_indices_and_file_normals() {
+        // A tetrahedron with relative indices and one `vn` per face (split normals).
+        let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+            vn 0 0 -1\nvn 0 -1 0\nvn -1 0 0\nvn 1 1 1\n\
+            f -4//-4 -2//-4 -3//-4\nf 1//2 2//2 4//2\nf -4//3 -1//3 -2//3\nf 2//4 3//4 4//4\n";
+        let raw = parse_obj(text).unwrap();
+        assert_eq!(
+            raw.triangles,
+            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+        );
+        assert!(raw.normals.is_some());
+        let mesh = read_mesh(text).unwrap();
+        assert_solid(&mesh);
+        // The origin's normal is the sum of its three faces', (−1, −1, −1)/√3.
+        let origin = mesh
+            .positions
+            .iter()
+            .position(|p| *p == DVec3::ZERO)
+            .unwrap();
+        let n = mesh.normals[origin];
+        assert!((n - DVec3::splat(-1.0 / 3f64.sqrt())).length() < 1e-12);
+        // The apex (0, 0, 1): faces y = 0, x = 0 and the slanted one.
+        let apex = mesh.positions.iter().position(|p| *p == DVec3::Z).unwrap();
+        let sum = DVec3::new(0.0, -1.0, 0.0) + DVec3::new(-1.0, 0.0, 0.0) + DVec3::ONE.normalize();
+        assert!((mesh.normals[apex] - sum.normalize()).length() < 1e-12);
+        // Normals are the file's, not computed: they differ from the angle-weighted ones there.
+        let computed = angle_weighted_normals(&mesh.positions, &mesh.triangles);
+        assert!((computed[apex] - mesh.normals[apex]).length() > 1e-3);
+    }
+
+    #[test]
+    fn import_falls_back_to_computed_normals() {
+        // One corner without a normal.
+        let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\n\
+            f 1//1 3//1 2\nf 1//1 2//1 4//1\nf 1//1 4//1 3//1\nf 2//1 3//1 4//1\n";
+        assert!(parse_obj(text).unwrap().normals.is_none());
+        let mesh = read_mesh(text).unwrap();
+        let computed = angle_weighted_normals(&mesh.positions, &mesh.triangles);
+        assert_eq!(mesh.normals, computed);
+        // Every corner has a normal, but they all point along z: inside at some vertex.
+        let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\n\
+            f 1//1 3//1 2//1\nf 1//1 2//1 4//1\nf 1//1 4//1 3//1\nf 2//1 3//1 4//1\n";
+        assert!(parse_obj(text).unwrap().normals.is_some());
+        let mesh = read_mesh(text).unwrap();
+        assert_eq!(mesh.normals, computed);
+    }
+
+    #[test]
+    fn import_reports_open_edges() {
+        let d = defects(OPEN);
+        assert_eq!(
+            d,
+            MeshDefects {
+                open_edges: 4,
+                ..MeshDefects::default()
+            }
+        );
+        let message = format!("{}", ImportError::Defects(d));
+        assert_eq!(message, "the mesh is not a closed solid: 4 open edges");
+    }
+
+    #[test]
+    fn import_reports_non_manifold_edges() {
+        let d = defects(NON_MANIFOLD);
+        assert_eq!(
+            d,
+            MeshDefects {
+                open_edges: 2,
+                non_manifold_edges: 1,
+                ..MeshDefects::default()
+            }
+        );
+        let message = format!("{d}");
+        assert!(message.contains("2 open edges"), "{message}");
+        assert!(
+            message.contains("1 edge shared by more than two triangles"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn import_reports_a_turned_face() {
+        let d = defects(FLIPPED);
+        assert_eq!(
+            d,
+            MeshDefects {
+                inconsistent_edges: 4,
+                ..MeshDefects::default()
+            }
+        );
+        assert!(format!("{d}").contains("4 inconsistently oriented edges"));
+    }
+
+    #[test]
+    fn import_reports_a_degenerate_triangle() {
+        let d = defects(DEGENERATE);
+        assert_eq!(
+            d,
+            MeshDefects {
+                degenerate_triangles: 1,
+                ..MeshDefects::default()
+            }
+        );
+        assert_eq!(
+            format!("{d}"),
+            "the mesh is not a closed solid: 1 degenerate triangle"
+        );
+    }
+
+    #[test]
+    fn import_counts_a_non_manifold_vertex() {
+        // Two tetrahedra that share only vertex 0.
+        let raw = parse_stl(TETRA_ASCII).unwrap();
+        let mut positions = raw.positions.clone();
+        positions.extend(raw.positions.iter().map(|p| -*p));
+        let mut triangles = raw.triangles.clone();
+        triangles.extend(
+            raw.triangles
+                .iter()
+                .map(|t| [t[0] + 12, t[2] + 12, t[1] + 12]),
+        );
+        let mut bytes = Vec::new();
+        for p in &positions {
+            bytes.extend_from_slice(format!("v {} {} {}\n", p.x, p.y, p.z).as_bytes());
+        }
+        for t in &triangles {
+            let [a, b, c] = t.map(|i| i + 1);
+            bytes.extend_from_slice(format!("f {a} {b} {c}\n").as_bytes());
+        }
+        let d = defects(&bytes);
+        assert_eq!(
+            d,
+            MeshDefects {
+                non_manifold_vertices: 1,
+                ..MeshDefects::default()
+            }
+        );
+        assert!(format!("{d}").contains("1 non-manifold vertex"));
+    }
+
+    #[test]
+    fn import_validate_counts_bad_triangles() {
+        let positions = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let d = validate(&positions, &[[0, 1, 1], [0, 1, 7]]).unwrap_err();
+        assert_eq!(d.degenerate_triangles, 2);
+        assert_eq!(d.open_edges, 0);
+        assert!(validate(&positions, &[]).is_ok());
+        assert_eq!(
+            format!("{d}"),
+            "the mesh is not a closed solid: 2 degenerate triangles"
+        );
+    }
+
+    #[test]
+    fn import_reports_truncated_binary_stl() {
+        let err = read_mesh(TRUNCATED).unwrap_err();
+        assert_eq!(
+            err,
+            ImportError::Truncated {
+                expected_bytes: 284,
+                got_bytes: 150
+            }
+        );
+        assert!(format!("{err}").contains("truncated"));
+        // Shorter than the header.
+        assert_eq!(
+            parse_stl(&TETRA_BINARY[..50]).unwrap_err(),
+            ImportError::Truncated {
+                expected_bytes: 84,
+                got_bytes: 50
+            }
+        );
+        // One byte too many.
+        let mut long = TETRA_BINARY.to_vec();
+        long.push(0);
+        assert!(matches!(
+            read_mesh(&long),
+            Err(ImportError::Truncated {
+                expected_bytes: 284,
+                got_bytes: 285
+            })
+        ));
+    }
+
+    #[test]
+    fn import_reports_truncated_ascii_stl() {
+        let err = read_mesh(TRUNCATED_ASCII).unwrap_err();
+        assert_eq!(
+            err,
+            ImportError::Parse {
+                line: 18,
+                reason: "the file ends in the middle of a facet"
+            }
+        );
+        assert_eq!(
+            format!("{err}"),
+            "line 18: the file ends in the middle of a facet"
+        );
+        let no_end = b"solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n \
+            vertex 0 1 0\n endloop\n endfacet\n";
+        assert!(matches!(
+            parse_stl(no_end),
+            Err(ImportError::Parse { line: 8, reason }) if reason.contains("endsolid")
+        ));
+        let four = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+            vertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
+        assert!(matches!(
+            parse_stl(four),
+            Err(ImportError::Parse { line: 7, .. })
+        ));
+        let bad_number = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 zero\n";
+        assert!(matches!(
+            parse_stl(bad_number),
+            Err(ImportError::Parse { line: 4, .. })
+        ));
+    }
+
+    #[test]
+    fn import_reports_garbage() {
+        let err = read_mesh(GARBAGE).unwrap_err();
+        assert!(
+            matches!(err, ImportError::Truncated { got_bytes: 256, .. }),
+            "{err:?}"
+        );
+        assert!(format!("{err}").contains("binary STL"));
+        // Text that is no mesh: no triangles.
+        assert_eq!(
+            read_mesh(b"hello, world\nthis is not a mesh\n"),
+            Err(ImportError::Empty)
+        );
+        assert_eq!(read_mesh(b""), Err(ImportError::Empty));
+        assert_eq!(
+            format!("{}", ImportError::Empty),
+            "the file has no triangles"
+        );
+    }
+
+    #[test]
+    fn import_reports_bad_indices() {
+        let err = read_mesh(BAD_INDEX).unwrap_err();
+        assert_eq!(err, ImportError::BadIndex { line: 12, index: 9 });
+        assert!(format!("{err}").starts_with("line 12: index 9"));
+        let zero = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n";
+        let err = read_mesh(zero).unwrap_err();
+        assert_eq!(err, ImportError::BadIndex { line: 4, index: 0 });
+        assert!(format!("{err}").contains("index 0"));
+        let behind = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n";
+        assert_eq!(
+            read_mesh(behind),
+            Err(ImportError::BadIndex { line: 4, index: -4 })
+        );
+        let normal = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n";
+        assert_eq!(
+            read_mesh(normal),
+            Err(ImportError::BadIndex { line: 5, index: 2 })
+        );
+        let two = b"v 0 0 0\nv 1 0 0\nf 1 2\n";
+        assert!(matches!(
+            read_mesh(two),
+            Err(ImportError::Parse { line: 3, .. })
+        ));
+        let word = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 three\n";
+        assert!(matches!(
+            read_mesh(word),
+            Err(ImportError::Parse { line: 4, .. })
+        ));
+    }
+
+    #[test]
+    fn import_reports_not_finite_coordinates() {
+        let err = read_mesh(NAN).unwrap_err();
+        assert_eq!(err, ImportError::NotFinite { vertex: 3 });
+        assert!(format!("{err}").contains("not a finite number"));
+        assert_eq!(
+            read_mesh(b"v 1e400 0 0\n"),
+            Err(ImportError::NotFinite { vertex: 1 })
+        );
+        // A NaN in a binary STL corner.
+        let mut bytes = TETRA_BINARY.to_vec();
+        bytes[84 + 12 + 12 + 4..84 + 12 + 12 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert_eq!(read_mesh(&bytes), Err(ImportError::NotFinite { vertex: 2 }));
+    }
+
+    #[test]
+    fn import_caps_sizes() {
+        // A binary STL that claims too many triangles: refused before anything is allocated.
+        let count = MAX_TRIANGLES + 1;
+        let mut bytes = vec![b' '; 84 + 50 * count];
+        bytes[80..84].copy_from_slice(&(count as u32).to_le_bytes());
+        let err = read_mesh(&bytes).unwrap_err();
+        assert_eq!(
+            err,
+            ImportError::TooLarge {
+                what: "triangles",
+                count,
+                max: MAX_TRIANGLES
+            }
+        );
+        assert!(format!("{err}").contains("more than 200000 triangles"));
+        // Too many OBJ vertices.
+        let mut text = Vec::new();
+        for _ in 0..=MAX_VERTICES {
+            text.extend_from_slice(b"v 0 0 0\n");
+        }
+        assert!(matches!(
+            parse_obj(&text),
+            Err(ImportError::TooLarge {
+                what: "vertices",
+                ..
+            })
+        ));
+        // Too many triangles from one polygon.
+        let mut polygon = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf".to_vec();
+        for k in 0..MAX_TRIANGLES + 2 {
+            polygon.extend_from_slice(if k % 2 == 0 { b" 1" } else { b" 2" });
+        }
+        polygon.extend_from_slice(b" 3\n");
+        assert!(matches!(
+            parse_obj(&polygon),
+            Err(ImportError::TooLarge {
+                what: "triangles",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    #[cfg(not(target_arch = "wasm32"))]
+    fn import_caps_the_file_size() {
+        let bytes = vec![0u8; MAX_FILE_BYTES + 1];
+        assert!(matches!(
+            read_mesh(&bytes),
+            Err(ImportError::TooLarge { what: "bytes", .. })
+        ));
+    }
+
+    #[test]
+    fn import_reads_polygons_and_ignores_other_statements() {
+        let text = b"# a square pyramid\r\no pyramid\r\nv 0 0 0 1\r\nv 1 0 0\r\nv 1 1 0\r\n\
+            v 0 1 0\r\nv 0.5 0.5 1 0.2 0.3 0.4\r\nvt 0 0\r\nl 1 2\r\np 1\r\nfoo bar\r\n\
+            f 1/1 4/1 3/1 2/1 # the base\r\nf 1 2 5\r\nf 2 3 5\r\nf 3 4 5\r\nf 4 1 5\r\n";
+        let raw = parse_obj(text).unwrap();
+        assert_eq!(raw.triangles.len(), 6);
+        assert_eq!(raw.triangles[0], [0, 3, 2]);
+        assert_eq!(raw.triangles[1], [0, 2, 1]);
+        let mesh = read_mesh(text).unwrap();
+        assert_solid(&mesh);
+        assert!((mesh.volume() - 1.0 / 3.0).abs() < 1e-12);
+    }
+
+    /// A random byte string: text of mesh keywords and numbers, or raw bytes.
+    fn random_input(rng: &mut Rng) -> Vec<u8> {
+        const WORDS: [&str; 16] = [
+            "v", "vn", "f", "solid", "facet", "normal", "outer", "loop", "vertex", "endloop",
+            "endfacet", "endsolid", "1", "-1", "0.5", "1/2/3",
+        ];
+        let len = rng.int(0, 300);
+        if rng.int(0, 1) == 0 {
+            (0..len).map(|_| rng.next_u64() as u8).collect()
+        } else {
+            let mut out = Vec::new();
+            for _ in 0..len / 3 {
+                let word = WORDS[rng.int(0, WORDS.len() - 1)];
+                out.extend_from_slice(word.as_bytes());
+                out.push(if rng.int(0, 3) == 0 { b'\n' } else { b' ' });
+            }
+            out
+        }
+    }
+
+    fn mutate(rng: &mut Rng, good: &[u8]) -> Vec<u8> {
+        let mut bytes = good.to_vec();
+        match rng.int(0, 3) {
+            0 => bytes.truncate(rng.int(0, good.len())),
+            1 => {
+                for _ in 0..rng.int(1, 4) {
+                    let at = rng.int(0, bytes.len() - 1);
+                    bytes[at] = rng.next_u64() as u8;
+                }
+            }
+            2 => {
+                const LINES: [&str; 8] = [
+                    "f 1 2 3\n",
+                    "f -1 -2 -9\n",
+                    "v 1 2\n",
+                    "vn 0 0 0\n",
+                    "f 1//1 2//1 3//1\n",
+                    "v nan inf 0\n",
+                    "f 1 1 1 1\n",
+                    "endsolid\n",
+                ];
+                let at = rng.int(0, bytes.len());
+                let line = LINES[rng.int(0, LINES.len() - 1)];
+                bytes.splice(at..at, line.bytes());
+            }
+            _ => {
+                // Swap two digits, which keeps the text parseable but moves vertices.
+                let digits: Vec<usize> = (0..bytes.len())
+                    .filter(|&i| bytes[i].is_ascii_digit())
+                    .collect();
+                if digits.len() >= 2 {
+                    let a = digits[rng.int(0, digits.len() - 1)];
+                    let b = digits[rng.int(0, digits.len() - 1)];
+                    bytes.swap(a, b);
+                }
+            }
+        }
+        bytes
+    }
+
+    #[test]
+    fn import_never_panics_on_random_input() {
+        let mut rng = Rng::new(11);
+        let goods = [CUBE, TETRA_ASCII, TETRA_BINARY, DEGENERATE, NON_MANIFOLD];
+        let (mut ok, mut err) = (0, 0);
+        for k in 0..600 {
+            let bytes = if k % 3 == 0 {
+                random_input(&mut rng)
+            } else {
+                let good = goods[rng.int(0, goods.len() - 1)];
+                mutate(&mut rng, good)
+            };
+            match read_mesh(&bytes) {
+                Ok(mesh) => {
+                    ok += 1;
+                    mesh.check_closed_manifold().unwrap();
+                    assert!(mesh.volume() >= 0.0);
+                    assert_eq!(mesh.normals.len(), mesh.positions.len());
+                }
+                Err(e) => {
+                    err += 1;
+                    assert!(!format!("{e}").is_empty());
+                }
+            }
+        }
+        // Both outcomes happen: the mutations are neither all harmless nor all fatal.
+        assert!(ok > 10 && err > 10, "{ok} ok, {err} errors");
+    }
+}

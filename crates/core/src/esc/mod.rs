@@ -1,0 +1,35 @@
+//! Free-form solids as extended simplicial chains (García, Ruiz de Miras, Feito): a closed triangle
+//! mesh is smoothed into cubic PN triangles (Vlachos et al. 2001), and the solid they bound is the
+//! chain `Σ sᵢ·Sᵢ + aᵢ·ffcᵢ` of one original simplex (tetrahedron to an apex) and one free-form cell
+//! per triangle. A point is in the solid where the chain's associated function is 1; Booleans are
+//! chain algebra at points.
+//!
+//! - [`import`]: OBJ and STL (binary and ASCII) readers with validation and caps.
+//! - [`examples`]: the built-in solids (icosphere, torus, blob).
+//! - [`pn`]: PN triangles and their normal field.
+//! - [`predicates`]: exact orientation with a symbolic perturbation.
+//! - [`ray`]: rays against patches and the walls between cells.
+//! - [`chain`]: the chain, point-in-solid, and ray parity for comparison.
+//! - [`mod@bool`]: Boolean expressions as chain algebra.
+//! - [`draw`]: point meshes and surfaces of Boolean results.
+//!
+//! ```
+//! use bezsolid_core::esc::{chain::EscSolid, examples::Example};
+//! use glam::DVec3;
+//!
+//! let ball = EscSolid::new(&Example::Icosphere.mesh()).unwrap();
+//! assert!(ball.contains(DVec3::ZERO));
+//! assert!(!ball.contains(DVec3::splat(0.9)));
+//! ```
+
+pub mod bool;
+pub mod chain;
+pub mod draw;
+pub mod examples;
+pub mod import;
+pub mod pn;
+pub mod predicates;
+pub mod ray;
+
+#[cfg(test)]
+mod tests;
