@@ -1,12 +1,14 @@
 //! `bezsolid esc classify MESH --points FILE.csv [-o OUT]` and
 //! `bezsolid esc bool A OP B --points FILE.csv [-o OUT]`: point-in-solid and Booleans of the solids
 //! bounded by PN triangles over closed triangle meshes (the second paper), one `0` or `1` per point.
+//! A free-form model file or share link stands for its whole result wherever a mesh goes.
 
 use std::fmt::Write as _;
 
 use anyhow::{Context, Result, bail};
 use bezsolid_core::esc::bool::{Expr, Op};
 use bezsolid_core::esc::chain::{EscSolid, Stats};
+use bezsolid_core::esc::draw::Boolean;
 use bezsolid_core::esc::examples::Example;
 use bezsolid_core::esc::import::{MAX_FILE_BYTES, read_mesh};
 use glam::DVec3;
@@ -55,13 +57,28 @@ fn boolean(args: &[String]) -> Result<()> {
     let out = write_values(
         points
             .iter()
-            .map(|&q| expr.value(&mut |i| solids[i].value(q, &mut stats))),
+            .map(|&q| expr.value(&mut |i| i32::from(solids[i].value(q, &mut stats) == 1))),
     );
     emit(args.value("--output"), &out)
 }
 
-/// A mesh file (OBJ, or STL binary or ASCII) or a built-in example (`example:NAME`).
-fn load_solid(arg: &str) -> Result<EscSolid> {
+/// A mesh file (OBJ, or STL binary or ASCII), a built-in example (`example:NAME`), or a free-form
+/// model file or share link (its whole result).
+fn load_solid(arg: &str) -> Result<Boolean> {
+    let is_model = crate::is_link(arg)
+        || std::path::Path::new(arg)
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if is_model {
+        let file = crate::load_file(arg)?;
+        return file.to_boolean().with_context(|| {
+            if crate::is_link(arg) {
+                "the share link's model".to_string()
+            } else {
+                arg.to_string()
+            }
+        });
+    }
     let mesh = if let Some(name) = arg.strip_prefix("example:") {
         let names: Vec<&str> = Example::ALL.iter().map(|e| e.name()).collect();
         Example::from_name(name)
@@ -77,7 +94,11 @@ fn load_solid(arg: &str) -> Result<EscSolid> {
         let bytes = std::fs::read(arg).with_context(|| format!("cannot read {arg}"))?;
         read_mesh(&bytes).with_context(|| format!("{arg} is not a usable mesh"))?
     };
-    EscSolid::new(&mesh).with_context(|| format!("{arg} does not bound a solid"))
+    let solid = EscSolid::new(&mesh).with_context(|| format!("{arg} does not bound a solid"))?;
+    Ok(Boolean {
+        solids: vec![solid],
+        expr: Expr::Solid(0),
+    })
 }
 
 fn read_points(path: &str) -> Result<Vec<DVec3>> {

@@ -16,7 +16,11 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     }
     let file = crate::load_file(model)?;
     // Validate as every reader will, so that a link printed here always opens.
-    file.to_solid()?;
+    if let bezsolid_core::model::SolidSpec::Esc { .. } = file.solid {
+        file.to_boolean()?;
+    } else {
+        file.to_solid()?;
+    }
     println!("{base}{}", bezsolid_core::link::encode(&file)?);
     Ok(())
 }

@@ -47,7 +47,8 @@ commands (DESIGN §5):
 
 MODEL is a model file (.bsolid.json), a share link (the whole URL or its #v1. fragment; quote it
 in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. MESH, A and B are mesh files or
-built-in examples: example:icosphere, example:torus, example:blob.
+built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
+links (`mesh` writes the surface of a free-form model's result).
 
 options:
   -h, --help       this text
@@ -143,7 +144,7 @@ fn preset(name: &str) -> Result<Preset> {
 
 /// Whether `arg` is a share link rather than a path: it has a fragment, is a web address, or is a
 /// bare `v<N>.` fragment that names no file.
-fn is_link(arg: &str) -> bool {
+pub(crate) fn is_link(arg: &str) -> bool {
     arg.contains('#')
         || arg.starts_with("http://")
         || arg.starts_with("https://")

@@ -1,11 +1,11 @@
 //! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A]`: the closed boundary mesh of a
-//! volume solid.
+//! volume solid, or of the result of a free-form model.
 
 use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
 use bezsolid_core::mesh::{MAX_RESOLUTION, obj, ply, stl};
-use bezsolid_core::model::ModelSolid;
+use bezsolid_core::model::{ModelSolid, SolidSpec};
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
     let args = Args::parse("mesh", args, &["--res", "--accuracy", "--output"])?;
@@ -23,10 +23,21 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     if !(1..=MAX_RESOLUTION).contains(&res) {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
     }
-    let ModelSolid::Volume(solid) = crate::load_model(model)? else {
-        bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
+    let file = crate::load_file(model)?;
+    let mesh = if let SolidSpec::Esc { .. } = file.solid {
+        // A free-form model: the surface of its result, vertices on the PN surfaces.
+        let boolean = file.to_boolean().with_context(|| model.to_string())?;
+        let mesh = boolean.surface(res.max(2));
+        if mesh.triangles.is_empty() {
+            bail!("mesh: the result is empty");
+        }
+        mesh
+    } else {
+        let ModelSolid::Volume(solid) = crate::load_model(model)? else {
+            bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
+        };
+        solid.polygonize(res, accuracy)?
     };
-    let mesh = solid.polygonize(res, accuracy)?;
     let bytes = match ext {
         "stl" => stl::write_stl(&mesh),
         "obj" => obj::write_obj(&mesh).into_bytes(),

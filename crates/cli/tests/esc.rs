@@ -195,3 +195,68 @@ fn mesh_files_are_read_and_bad_ones_refused() {
         );
     }
 }
+
+#[test]
+fn free_form_model_files_and_links_classify_and_mesh() {
+    let model = scratch(
+        "diff.bsolid.json",
+        r#"{ "format": "bezsolid", "version": 1,
+             "solid": { "kind": "esc", "operation": "difference",
+                        "operands": [ { "example": "icosphere" },
+                                      { "example": "torus", "offset": [0.0, 0.0, 0.5] } ] } }"#,
+    );
+    let model = model.to_str().unwrap();
+    let pts = points();
+    let file = scratch("model-points.csv", &csv(&pts));
+    let file = file.to_str().unwrap();
+    let got = run(&["esc", "classify", model, "--points", file]);
+    let shifted = |p: [f64; 3]| torus([p[0], p[1], p[2] - 0.5]);
+    for (p, &g) in pts.iter().zip(&got) {
+        let (a, b) = (sphere(*p), shifted(*p));
+        if a.abs() > 0.02 && b.abs() > 0.02 {
+            assert_eq!(g == 1, a > 0.0 && b <= 0.0, "at {p:?}");
+        }
+    }
+    // Its share link gives the same answers.
+    let out = bezsolid(&["link", model]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let link = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        run(&["esc", "classify", link.trim(), "--points", file]),
+        got
+    );
+    // The result's surface as STL: parsed back, closed, with every vertex outside the torus
+    // and inside the sphere (to the grid's and the PN surface's tolerance).
+    let stl = out_path("diff.stl");
+    let out = bezsolid(&["mesh", model, "--res", "32", "-o", stl.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&stl).unwrap();
+    let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert!(count > 500);
+    assert_eq!(bytes.len(), 84 + 50 * count);
+    for t in 0..count {
+        for v in 0..3 {
+            let at = 84 + 50 * t + 12 + 12 * v;
+            let c: Vec<f64> = (0..3)
+                .map(|k| {
+                    let b = &bytes[at + 4 * k..at + 4 * k + 4];
+                    f64::from(f32::from_le_bytes(b.try_into().unwrap()))
+                })
+                .collect();
+            let p = [c[0], c[1], c[2]];
+            assert!(sphere(p) > -0.01 && shifted(p) < 0.01, "{p:?}");
+        }
+    }
+    // A Bézier command refuses it with the reason.
+    let out = bezsolid(&["eval", model, "--points", file]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("free-form"));
+}

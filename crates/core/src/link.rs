@@ -25,7 +25,7 @@
 //! assert!(link::decode("#v1.AAAA").is_err());
 //! ```
 
-use alloc::string::String;
+use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use core::fmt;
 
@@ -33,7 +33,7 @@ use base64::Engine as _;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
 
-use crate::model::{ModelError, ModelFile, ModelSolid, SolidSpec};
+use crate::model::{EscOperand, MeshSpec, ModelError, ModelFile, ModelSolid, SolidSpec};
 
 /// The version tag this build writes, with its separator.
 pub const PREFIX: &str = "v1.";
@@ -60,7 +60,27 @@ enum Wire {
         z: Vec<f64>,
         xi: Vec<f64>,
     },
+    /// A free-form model: operation 0 none, 1 union, 2 intersection, 3 difference.
+    Esc {
+        operation: u8,
+        operands: Vec<WireOperand>,
+    },
 }
+
+/// One operand of [`Wire::Esc`]: `example` 1, 2, 3 for icosphere, torus, blob, or 0 with a mesh
+/// (vertex coordinates by column, triangle indices flat).
+#[derive(Serialize, Deserialize)]
+struct WireOperand {
+    example: u8,
+    offset: [f64; 3],
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    triangles: Vec<u32>,
+}
+
+const EXAMPLES: [&str; 3] = ["icosphere", "torus", "blob"];
+const OPERATIONS: [&str; 3] = ["union", "intersection", "difference"];
 
 /// Why a link could not be made or opened.
 #[derive(Clone, Debug, PartialEq)]
@@ -184,6 +204,42 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
                 xi,
             }
         }
+        SolidSpec::Esc {
+            operation,
+            operands,
+        } => Wire::Esc {
+            // An unknown name is carried as one no reader knows (it fails validation when read).
+            operation: operation.as_deref().map_or(0, |name| {
+                OPERATIONS
+                    .iter()
+                    .position(|&o| o == name)
+                    .map_or(u8::MAX, |i| i as u8 + 1)
+            }),
+            operands: operands
+                .iter()
+                .map(|o| {
+                    let example = o.example.as_deref().map_or(0, |name| {
+                        EXAMPLES
+                            .iter()
+                            .position(|&e| e == name)
+                            .map_or(u8::MAX, |i| i as u8 + 1)
+                    });
+                    let (positions, triangles) = o
+                        .mesh
+                        .as_ref()
+                        .map_or((&[][..], &[][..]), |m| (&m.positions[..], &m.triangles[..]));
+                    let [x, y, z] = columns(positions);
+                    WireOperand {
+                        example,
+                        offset: o.offset,
+                        x,
+                        y,
+                        z,
+                        triangles: triangles.iter().flatten().copied().collect(),
+                    }
+                })
+                .collect(),
+        },
     };
     // Serialising into a Vec cannot fail for this type.
     let bytes = postcard::to_allocvec(&wire).map_err(|_| LinkError::Decode)?;
@@ -263,6 +319,52 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
         } => SolidSpec::Volume {
             degree: degree.map(usize::from),
             points: rows([x, y, z, xi])?,
+        },
+        Wire::Esc {
+            operation,
+            operands,
+        } => SolidSpec::Esc {
+            operation: match operation {
+                0 => None,
+                k => Some(
+                    OPERATIONS
+                        .get(usize::from(k) - 1)
+                        .map_or_else(|| "unknown".to_string(), |o| (*o).to_string()),
+                ),
+            },
+            operands: operands
+                .into_iter()
+                .map(|o| {
+                    let example = match o.example {
+                        0 => None,
+                        k => Some(
+                            EXAMPLES
+                                .get(usize::from(k) - 1)
+                                .map_or_else(|| "unknown".to_string(), |e| (*e).to_string()),
+                        ),
+                    };
+                    let mesh = if o.example == 0 {
+                        if o.triangles.len() % 3 != 0 {
+                            return Err(LinkError::Decode);
+                        }
+                        Some(MeshSpec {
+                            positions: rows([o.x, o.y, o.z])?,
+                            triangles: o
+                                .triangles
+                                .chunks_exact(3)
+                                .map(|t| [t[0], t[1], t[2]])
+                                .collect(),
+                        })
+                    } else {
+                        None
+                    };
+                    Ok(EscOperand {
+                        example,
+                        mesh,
+                        offset: o.offset,
+                    })
+                })
+                .collect::<Result<_, _>>()?,
         },
     };
     Ok(ModelFile {
@@ -346,6 +448,115 @@ mod tests {
                 solid
             );
             assert_eq!(decode(&link[1..]).unwrap(), solid);
+        }
+    }
+
+    #[test]
+    fn free_form_models_round_trip_and_stay_short() {
+        use crate::esc::bool::Op;
+        use crate::esc::examples::Example;
+        use crate::model::{EscOperand, MeshSpec};
+        let two = ModelFile::from_esc(
+            Some(Op::Difference),
+            vec![
+                EscOperand::example(Example::Blob, [0.0; 3]),
+                EscOperand::example(Example::Torus, [0.25, -0.5, 0.125]),
+            ],
+        );
+        let link = encode(&two).unwrap();
+        assert!(link.len() < 80, "{link}");
+        assert_eq!(decode_file(&link).unwrap(), two);
+        let boolean = decode_file(&link).unwrap().to_boolean().unwrap();
+        assert_eq!(boolean.solids.len(), 2);
+        // A small imported mesh travels in the link; the model is the same.
+        let tetra = ModelFile::from_esc(
+            None,
+            vec![EscOperand {
+                example: None,
+                mesh: Some(MeshSpec {
+                    positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                    triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+                }),
+                offset: [0.0; 3],
+            }],
+        );
+        let link = encode(&tetra).unwrap();
+        assert_eq!(decode_file(&link).unwrap(), tetra);
+        assert!(decode_file(&link).unwrap().to_boolean().is_ok());
+        // A Bézier reader refuses it with a clear reason, and the other way round.
+        assert!(matches!(
+            decode(&link),
+            Err(LinkError::Model(ModelError::Kind(_)))
+        ));
+        let fig9 = ModelFile::from_solid2(&Solid2::fig9());
+        assert!(matches!(fig9.to_boolean(), Err(ModelError::Kind(_))));
+        // A big mesh does not fit in a link: the model file carries it.
+        let ball = crate::esc::examples::icosphere(4);
+        let big = ModelFile::from_esc(
+            None,
+            vec![EscOperand {
+                example: None,
+                mesh: Some(MeshSpec {
+                    positions: ball.positions.iter().map(|p| p.to_array()).collect(),
+                    triangles: ball.triangles.clone(),
+                }),
+                offset: [0.0; 3],
+            }],
+        );
+        assert!(matches!(encode(&big), Err(LinkError::TooLong { .. })));
+    }
+
+    #[test]
+    fn free_form_models_that_cannot_be_built_say_why() {
+        use crate::model::{EscOperand, SolidSpec};
+        let model = |operation: Option<&str>, operands: Vec<EscOperand>| ModelFile {
+            format: crate::model::FORMAT.into(),
+            version: crate::model::VERSION,
+            solid: SolidSpec::Esc {
+                operation: operation.map(Into::into),
+                operands,
+            },
+        };
+        let ex = |name: &str| EscOperand {
+            example: Some(name.into()),
+            mesh: None,
+            offset: [0.0; 3],
+        };
+        for (m, says) in [
+            (
+                model(Some("xor"), vec![ex("torus"), ex("blob")]),
+                "unknown operation",
+            ),
+            (model(Some("union"), vec![ex("torus")]), "expected 2"),
+            (model(None, vec![]), "expected 1"),
+            (model(None, vec![ex("teapot")]), "no example"),
+            (
+                model(None, vec![EscOperand::default()]),
+                "either an example or a mesh",
+            ),
+            (
+                model(
+                    None,
+                    vec![EscOperand {
+                        offset: [f64::NAN, 0.0, 0.0],
+                        ..ex("torus")
+                    }],
+                ),
+                "finite",
+            ),
+        ] {
+            let err = m.to_boolean().unwrap_err().to_string();
+            assert!(err.contains(says), "{err}");
+            // Through a link too (where it survives encoding).
+            if let Ok(link) = encode(&m) {
+                let err = decode_file(&link)
+                    .unwrap()
+                    .to_boolean()
+                    .unwrap_err()
+                    .to_string();
+                let lost = err.contains("unknown") || err.contains("no triangles");
+                assert!(err.contains(says) || lost, "{err}");
+            }
         }
     }
 

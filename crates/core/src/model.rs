@@ -7,6 +7,9 @@
 //!
 //! - `kind: "patch"`: `degree [n, m]`, points `[x, y, ξ]`, `P_ij` at `i·(m + 1) + j`.
 //! - `kind: "volume"`: `degree [n, m, l]`, points `[x, y, z, ξ]`, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
+//! - `kind: "esc"` (free-form, issue 6): `operands`, one or two of `{ "example": "torus",
+//!   "offset": [x, y, z] }` or `{ "mesh": { "positions": [[x, y, z], …], "triangles": [[a, b, c],
+//!   …] }, "offset": … }`, and with two an `operation`: `union`, `intersection` or `difference`.
 //!
 //! There is no separate box: a regular grid is recognised from the points. Readers ignore fields they
 //! do not know (later kinds add fields) and reject an unknown version. With the `serde` feature the
@@ -18,6 +21,15 @@ use core::fmt;
 
 use glam::{DVec3, DVec4};
 
+use alloc::format;
+use alloc::string::ToString;
+
+use crate::esc::bool::{Expr, Op};
+use crate::esc::chain::EscSolid;
+use crate::esc::draw::Boolean;
+use crate::esc::examples::Example;
+use crate::esc::import::{RawMesh, mesh_from_raw};
+use crate::mesh::Mesh;
 use crate::solid::{Solid2, Solid3, SolidError};
 use crate::tensor::{Patch, Volume};
 
@@ -57,6 +69,49 @@ pub enum SolidSpec {
         /// `(n + 1)(m + 1)(l + 1)` points, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
         points: Vec<[f64; 4]>,
     },
+    /// A free-form solid (issue 6): one or two solids bounded by the PN triangles of closed
+    /// triangle meshes, combined by `operation` when there are two.
+    Esc {
+        /// `union`, `intersection` or `difference`; absent for one operand.
+        #[cfg_attr(
+            feature = "serde",
+            serde(default, skip_serializing_if = "Option::is_none")
+        )]
+        operation: Option<String>,
+        /// The solids, in order (`A`, then `B`).
+        operands: Vec<EscOperand>,
+    },
+}
+
+/// One solid of a free-form model: a built-in example or a triangle mesh, moved by `offset`.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct EscOperand {
+    /// The name of a built-in example (`icosphere`, `torus`, `blob`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub example: Option<String>,
+    /// Or a closed triangle mesh, triangles counter-clockwise seen from outside.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub mesh: Option<MeshSpec>,
+    /// Added to every vertex.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub offset: [f64; 3],
+}
+
+/// A triangle mesh in a model file.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct MeshSpec {
+    /// Vertex positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Vertex indices, three per triangle, from 0.
+    pub triangles: Vec<[u32; 3]>,
 }
 
 /// A validated solid of a model.
@@ -77,6 +132,10 @@ pub enum ModelError {
     Version(u32),
     /// The solid is invalid.
     Solid(SolidError),
+    /// A free-form model where a Bézier solid is wanted, or the other way round.
+    Kind(&'static str),
+    /// A free-form model that cannot be built: what is wrong.
+    Esc(String),
 }
 
 impl fmt::Display for ModelError {
@@ -93,6 +152,8 @@ impl fmt::Display for ModelError {
                 )
             }
             Self::Solid(e) => write!(f, "invalid solid: {e}"),
+            Self::Kind(why) => f.write_str(why),
+            Self::Esc(why) => write!(f, "invalid free-form model: {why}"),
         }
     }
 }
@@ -161,12 +222,7 @@ impl ModelFile {
     /// outside 1..=16, non-finite or huge values, an empty box, or moved control points, which need
     /// the inverse map of a later version).
     pub fn to_solid(&self) -> Result<ModelSolid, ModelError> {
-        if self.format != FORMAT {
-            return Err(ModelError::Format(self.format.clone()));
-        }
-        if self.version != VERSION {
-            return Err(ModelError::Version(self.version));
-        }
+        self.check_header()?;
         Ok(match &self.solid {
             SolidSpec::Patch { degree, points } => {
                 let pts = points.iter().map(|&p| DVec3::from_array(p)).collect();
@@ -180,7 +236,139 @@ impl ModelFile {
                     .map_err(SolidError::from)?;
                 ModelSolid::Volume(Solid3::try_from_volume(volume)?)
             }
+            SolidSpec::Esc { .. } => {
+                return Err(ModelError::Kind(
+                    "this is a free-form model (meshes and Booleans), not a Bézier solid",
+                ));
+            }
         })
+    }
+
+    fn check_header(&self) -> Result<(), ModelError> {
+        if self.format != FORMAT {
+            return Err(ModelError::Format(self.format.clone()));
+        }
+        if self.version != VERSION {
+            return Err(ModelError::Version(self.version));
+        }
+        Ok(())
+    }
+
+    /// The model file of a free-form model.
+    #[must_use]
+    pub fn from_esc(operation: Option<Op>, operands: Vec<EscOperand>) -> Self {
+        Self::new(SolidSpec::Esc {
+            operation: operation.map(|o| o.name().into()),
+            operands,
+        })
+    }
+
+    /// Checks the header and builds a free-form model: its solids and the expression over them
+    /// (solid 0, or `0 op 1`).
+    ///
+    /// # Errors
+    ///
+    /// [`ModelError`] for another format or version, a Bézier solid ([`ModelError::Kind`]), or a
+    /// free-form model that cannot be built ([`ModelError::Esc`]: an unknown example or operation,
+    /// the wrong number of operands, an offset that is not finite, or a mesh that is not a closed
+    /// solid).
+    pub fn to_boolean(&self) -> Result<Boolean, ModelError> {
+        self.check_header()?;
+        let SolidSpec::Esc {
+            operation,
+            operands,
+        } = &self.solid
+        else {
+            return Err(ModelError::Kind(
+                "this is a Bézier solid, not a free-form model",
+            ));
+        };
+        let op = match operation {
+            None => None,
+            Some(name) => Some(Op::from_name(name).ok_or_else(|| {
+                ModelError::Esc(format!(
+                    "unknown operation {name:?}: use union, intersection or difference"
+                ))
+            })?),
+        };
+        let want = if op.is_some() { 2 } else { 1 };
+        if operands.len() != want {
+            return Err(ModelError::Esc(format!(
+                "{} operand(s) with {}: expected {want}",
+                operands.len(),
+                operation.as_deref().unwrap_or("no operation")
+            )));
+        }
+        let solids = operands
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                o.to_solid()
+                    .map_err(|e| ModelError::Esc(format!("operand {}: {e}", i + 1)))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let expr = match op {
+            None => Expr::Solid(0),
+            Some(op) => Expr::binary(op, Expr::Solid(0), Expr::Solid(1)),
+        };
+        Ok(Boolean { solids, expr })
+    }
+}
+
+impl EscOperand {
+    /// A built-in example, moved by `offset`.
+    #[must_use]
+    pub fn example(example: Example, offset: [f64; 3]) -> Self {
+        Self {
+            example: Some(example.name().into()),
+            mesh: None,
+            offset,
+        }
+    }
+
+    /// The operand's mesh (the example's or its own), moved, welded, validated and with normals.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with it, in words.
+    pub fn to_mesh(&self) -> Result<Mesh, String> {
+        let offset = DVec3::from_array(self.offset);
+        if !offset.is_finite() || offset.abs().max_element() > 1e9 {
+            return Err("the offset must be finite numbers of at most 1e9".into());
+        }
+        let mut mesh = match (&self.example, &self.mesh) {
+            (Some(name), None) => Example::from_name(name)
+                .ok_or_else(|| {
+                    format!("no example {name:?}; the examples are icosphere, torus and blob")
+                })?
+                .mesh(),
+            (None, Some(spec)) => {
+                let raw = RawMesh {
+                    positions: spec
+                        .positions
+                        .iter()
+                        .map(|&p| DVec3::from_array(p))
+                        .collect(),
+                    normals: None,
+                    triangles: spec.triangles.clone(),
+                };
+                mesh_from_raw(&raw).map_err(|e| e.to_string())?
+            }
+            _ => return Err("give either an example or a mesh".into()),
+        };
+        for p in &mut mesh.positions {
+            *p += offset;
+        }
+        Ok(mesh)
+    }
+
+    /// The operand's [`EscSolid`].
+    ///
+    /// # Errors
+    ///
+    /// As [`EscOperand::to_mesh`], and a mesh that cannot be a chain.
+    pub fn to_solid(&self) -> Result<EscSolid, String> {
+        EscSolid::new(&self.to_mesh()?).map_err(|e| e.to_string())
     }
 }
 

@@ -247,6 +247,28 @@ pub fn read_mesh(bytes: &[u8]) -> Result<Mesh, ImportError> {
         MeshFormat::Obj => parse_obj(bytes)?,
         MeshFormat::StlBinary | MeshFormat::StlAscii => parse_stl(bytes)?,
     };
+    mesh_from_raw(&raw)
+}
+
+/// A closed, outward-oriented mesh with unit vertex normals from parsed (or hand-made) vertices
+/// and triangles: weld, check the caps, validate, orient, normals (the steps of [`read_mesh`]
+/// after parsing).
+///
+/// # Errors
+///
+/// [`ImportError`]: too many triangles or vertices, a bad index, a coordinate that is not finite,
+/// no triangles, or not a closed solid.
+pub fn mesh_from_raw(raw: &RawMesh) -> Result<Mesh, ImportError> {
+    if raw.triangles.len() > MAX_TRIANGLES {
+        return Err(ImportError::TooLarge {
+            what: "triangles",
+            count: raw.triangles.len(),
+            max: MAX_TRIANGLES,
+        });
+    }
+    if let Some(vertex) = raw.positions.iter().position(|p| !p.is_finite()) {
+        return Err(ImportError::NotFinite { vertex: vertex + 1 });
+    }
     if raw.triangles.is_empty() {
         return Err(ImportError::Empty);
     }
