@@ -272,7 +272,7 @@ pub fn mesh_from_raw(raw: &RawMesh) -> Result<Mesh, ImportError> {
     if raw.triangles.is_empty() {
         return Err(ImportError::Empty);
     }
-    let (positions, file_normals, triangles) = weld(&raw)?;
+    let (positions, file_normals, triangles) = weld(raw)?;
     if positions.len() > MAX_VERTICES {
         return Err(ImportError::TooLarge {
             what: "vertices",
