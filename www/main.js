@@ -1,6 +1,8 @@
 // The page: brings up the modeler (Rust, wasm) on the canvas and forwards input to it. All state and
 // logic are in Rust; this file only wires DOM events, sizes the canvas and fills the side panel.
-import init, { start, start_3d } from './pkg/bezsolid_web.js';
+import init, {
+  start, start_3d, FreeFormView, is_free_form, headless_esc_mesh,
+} from './pkg/bezsolid_web.js';
 
 const $ = (id) => document.getElementById(id);
 const statusLine = $('status');
@@ -58,12 +60,38 @@ async function main() {
     }
     modeler.forget_history();
   }
+  // The Free-form mode (issue 6): solids over triangle meshes and their Booleans, drawn in the 3D
+  // view; its model autosaves beside the Bézier one.
+  const ff = new FreeFormView();
+  const ffSaved = storage.get(FF_KEY);
+  if (ffSaved) {
+    try {
+      ff.open(ffSaved);
+    } catch (err) {
+      console.warn(`bezsolid: the autosaved free-form model could not be restored (${err?.message ?? err})`);
+    }
+  }
+  let workspace = storage.get(WORKSPACE_KEY) === 'freeform' ? 'freeform' : 'bezier';
+  const freeform = () => workspace === 'freeform';
   const openFromAddress = () => {
     if (!location.hash || location.hash === '#') return false;
     let opened = false;
+    if (is_free_form(location.href)) {
+      try {
+        ff.open(location.href);
+        setWorkspace('freeform');
+        say('Opened the free-form model from the link.');
+        opened = true;
+      } catch (err) {
+        say(`This link could not be opened, so the current model was kept: ${err.message ?? err}`, 'error');
+      }
+      history.replaceState(null, '', location.pathname + location.search);
+      return opened;
+    }
     try {
       modeler.open_link(location.href);
       say('Opened the model from the link.');
+      setWorkspace('bezier');
       opened = true;
     } catch (err) {
       say(`This link could not be opened, so the current model was kept: ${err.message ?? err}`, 'error');
@@ -71,6 +99,13 @@ async function main() {
     history.replaceState(null, '', location.pathname + location.search);
     return opened;
   };
+  const setWorkspace = (name) => {
+    workspace = name === 'freeform' ? 'freeform' : 'bezier';
+    document.body.dataset.workspace = workspace;
+    for (const r of document.querySelectorAll('input[name="workspace"]')) r.checked = r.value === workspace;
+    storage.set(workspace, WORKSPACE_KEY);
+  };
+  setWorkspace(workspace);
   openFromAddress();
 
   // The 3D view has its own device (a WebGL2 device draws on one canvas only); it is optional: the
@@ -175,6 +210,45 @@ async function main() {
     };
   })();
 
+  // The free-form result's fine surface, as the volume's: in the worker, cancelled by a newer one.
+  const ffMesher = (() => {
+    let busy = null;
+    let lastMs = 0;
+    let runnerFF = null;
+    try {
+      runnerFF = runner();
+    } catch {
+      return null;
+    }
+    const send = async ([revision, resolution]) => {
+      busy = [revision, resolution];
+      showBadge(`Meshing the result at ${resolution}…`);
+      try {
+        const { data, ms } = await runnerFF.run({ kind: 'esc-surface', model: ff.model_json(), resolution });
+        if (ff.set_surface(revision, resolution, data)) {
+          lastMs = ms;
+          redraw(VIEW3);
+        }
+      } catch (err) {
+        if (!err.cancelled) say(`The result could not be meshed: ${err.message}`, 'error');
+      }
+      if (busy && busy[0] === revision && busy[1] === resolution) {
+        busy = null;
+        showBadge(exporting);
+      }
+    };
+    return {
+      check() {
+        const request = ff.surface_request();
+        if (!request) return;
+        if (busy && busy[0] === request[0] && busy[1] === request[1]) return;
+        runnerFF.cancel();
+        send(request);
+      },
+      lastMs: () => lastMs,
+    };
+  })();
+
   let pending = 0;
   let lastRender = 0;
   let lastRender3 = 0;
@@ -189,12 +263,17 @@ async function main() {
     requestAnimationFrame(() => {
       const todo = pending;
       pending = 0;
-      if (todo & VIEW2) {
+      if (todo & VIEW2 && !freeform()) {
         const t0 = performance.now();
         modeler.render();
         lastRender = performance.now() - t0;
       }
-      if (todo & VIEW3 && viewer) {
+      if (todo & VIEW3 && viewer && freeform()) {
+        const t0 = performance.now();
+        ff.render(viewer);
+        lastRender3 = performance.now() - t0;
+        ffMesher?.check();
+      } else if (todo & VIEW3 && viewer) {
         const t0 = performance.now();
         modeler.render_3d(viewer);
         lastRender3 = performance.now() - t0;
@@ -213,6 +292,7 @@ async function main() {
   const saveNow = () => {
     clearTimeout(saveTimer);
     saveTimer = 0;
+    storage.set(ff.model_json(), FF_KEY);
     if (!storage.set(modeler.model_json())) {
       say('The model could not be saved in this browser (storage is full or blocked); use Export → Model file.', 'warn');
     }
@@ -226,7 +306,54 @@ async function main() {
   document.addEventListener('visibilitychange', () => { if (document.hidden && saveTimer) saveNow(); });
 
   const inputs = { x: $('px'), y: $('py'), xi: xiInput };
+  const updateFreeForm = () => {
+    const op = ff.operation();
+    $('ff-op').value = op;
+    $('ff-b-controls').disabled = op === 'none';
+    for (const [slot, id] of [[0, 'ff-a'], [1, 'ff-b']]) {
+      const select = $(id);
+      const name = ff.operand_name(slot);
+      const imported = select.querySelector('option[value="imported"]');
+      if (name && !ff.operand_is_example(slot)) {
+        imported.hidden = false;
+        imported.textContent = `Imported: ${name}`;
+        select.value = 'imported';
+      } else if (name) {
+        imported.hidden = true;
+        select.value = name;
+      }
+    }
+    const offset = ff.operand_offset(1);
+    if (offset) {
+      ['ff-bx', 'ff-by', 'ff-bz'].forEach((id, k) => {
+        if (document.activeElement !== $(id)) $(id).value = String(Math.round(offset[k] * 1e6) / 1e6);
+      });
+    }
+    const counts = ff.triangle_counts();
+    const info = ff.surface_info();
+    const opName = { none: 'A', union: 'A ∪ B', intersection: 'A ∩ B', difference: 'A − B' }[op];
+    $('model-name').textContent = `Free-form: ${opName}`;
+    let text = `A: ${counts[0].toLocaleString('en')} triangles`
+      + (counts.length > 1 ? `, B: ${counts[1].toLocaleString('en')} triangles` : '') + '. ';
+    if (display === 'points') {
+      const [inside, marked] = ff.point_counts();
+      text += `Point mesh 25 × 25 × 25: ${inside.toLocaleString('en')} points`
+        + (marked ? `, ${marked.toLocaleString('en')} red (in the partial chain, removed by its last term)` : '');
+    } else if (info) {
+      text += `Result surface: ${info[0].toLocaleString('en')} triangles at ${info[1]}.`;
+    }
+    $('ff-info').textContent = text;
+    document.body.dataset.ffSurface = info ? `${info[0]},${info[1]}` : '';
+    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = false;
+    for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = true;
+    document.body.dataset.ffOperation = op;
+  };
+  let display = 'result';
   const updatePanel = () => {
+    if (freeform()) {
+      updateFreeForm();
+      return;
+    }
     const sel = modeler.selected();
     const point = modeler.selected_point();
     if (sel && point) {
@@ -273,6 +400,7 @@ async function main() {
     $('volume-controls').hidden = !volume;
     $('elevate-w').disabled = !volume;
     for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !volume;
+    for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = false;
     document.body.dataset.kind = volume ? 'volume' : 'patch';
     $('undo').disabled = !modeler.can_undo();
     $('redo').disabled = !modeler.can_redo();
@@ -290,6 +418,7 @@ async function main() {
     debug.textContent = `2D frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
       + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
       + `worker mesh: ${mesher ? mesher.lastMs().toFixed(1) : '–'} ms\n`
+      + `worker free-form surface: ${ffMesher ? ffMesher.lastMs().toFixed(1) : '–'} ms\n`
       + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
     if (lastEdit) document.body.dataset.latencyMs = (performance.now() - lastEdit).toFixed(2);
@@ -323,6 +452,7 @@ async function main() {
     if (!viewer) return;
     const rect = canvas3.getBoundingClientRect();
     const [w, h] = modeler.resize_3d(viewer, rect.width, rect.height, window.devicePixelRatio || 1);
+    ff.resize(viewer, rect.width, rect.height, window.devicePixelRatio || 1);
     if (canvas3.width !== w) canvas3.width = w;
     if (canvas3.height !== h) canvas3.height = h;
     redraw(VIEW3);
@@ -336,10 +466,19 @@ async function main() {
     return [e.clientX - rect.left, e.clientY - rect.top];
   };
   canvas3.addEventListener('contextmenu', (e) => e.preventDefault());
+  let ffDragging = false;
   canvas3.addEventListener('pointerdown', (e) => {
     if (!viewer || (e.button !== 0 && e.button !== 2)) return;
     canvas3.focus();
     const [x, y] = local3(e);
+    if (freeform()) {
+      ff.pointer_down(x, y, e.button === 2 || e.shiftKey);
+      ffDragging = true;
+      canvas3.setPointerCapture(e.pointerId);
+      canvas3.classList.add('dragging');
+      e.preventDefault();
+      return;
+    }
     const grabbed = modeler.pointer_down_3d(x, y, e.button === 2, e.shiftKey);
     canvas3.setPointerCapture(e.pointerId);
     canvas3.classList.add('dragging');
@@ -349,6 +488,10 @@ async function main() {
   canvas3.addEventListener('pointermove', (e) => {
     if (!viewer) return;
     const [x, y] = local3(e);
+    if (freeform()) {
+      if (ffDragging && ff.pointer_move(x, y)) redraw(VIEW3);
+      return;
+    }
     if (modeler.busy_3d()) {
       if (modeler.pointer_move_3d(x, y)) {
         const editing = modeler.editing_3d();
@@ -367,6 +510,13 @@ async function main() {
   });
   let restTimer = 0;
   const endDrag3 = (e) => {
+    if (viewer && ffDragging) {
+      ffDragging = false;
+      ff.pointer_up();
+      canvas3.classList.remove('dragging');
+      if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+      return;
+    }
     if (!viewer || !modeler.busy_3d()) return;
     const editing = modeler.editing_3d();
     clearTimeout(restTimer);
@@ -383,11 +533,13 @@ async function main() {
   canvas3.addEventListener('wheel', (e) => {
     if (!viewer) return;
     e.preventDefault();
-    modeler.wheel_3d(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
+    if (freeform()) ff.wheel(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
+    else modeler.wheel_3d(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
     redraw(VIEW3);
   }, { passive: false });
   const fit3 = () => {
-    modeler.fit_3d();
+    if (freeform()) ff.fit();
+    else modeler.fit_3d();
     redraw(VIEW3);
   };
   $('fit-3d').addEventListener('click', fit3);
@@ -479,7 +631,7 @@ async function main() {
   $('undo').addEventListener('click', () => act(() => modeler.undo()));
   $('redo').addEventListener('click', () => act(() => modeler.redo()));
   document.addEventListener('keydown', (e) => {
-    if (!(e.ctrlKey || e.metaKey) || e.altKey) return;
+    if (!(e.ctrlKey || e.metaKey) || e.altKey || freeform()) return;
     const tag = e.target?.tagName;
     if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
     const key = e.key.toLowerCase();
@@ -583,7 +735,7 @@ async function main() {
   $('copy-link').addEventListener('click', async () => {
     let fragment;
     try {
-      fragment = modeler.link();
+      fragment = freeform() ? ff.link() : modeler.link();
     } catch (err) {
       say(`${err.message ?? err}`, 'error');
       return;
@@ -608,13 +760,26 @@ async function main() {
   // Files: open (picker or drop), save and export.
   const openFile = async (file) => {
     if (!file) return;
-    if (file.size > 16 * 1024 * 1024) {
+    if (file.size > 16 * 1024 * 1024 && !/\.(obj|stl)$/i.test(file.name)) {
       say(`${file.name} is too large for a model file (${file.size} bytes).`, 'error');
+      return;
+    }
+    if (/\.(obj|stl)$/i.test(file.name)) {
+      importMesh(0, file);
       return;
     }
     try {
       const text = await file.text();
+      if (is_free_form(text)) {
+        ff.open(text);
+        setWorkspace('freeform');
+        resize3();
+        say(`Opened ${file.name}.`);
+        changed();
+        return;
+      }
       modeler.load_model(text);
+      setWorkspace('bezier');
       say(`Opened ${file.name}; Undo brings back the previous model.`);
       changed();
     } catch (err) {
@@ -636,7 +801,9 @@ async function main() {
     if (!e.dataTransfer?.files?.length) return;
     e.preventDefault();
     drop.hidden = true;
-    openFile(e.dataTransfer.files[0]);
+    const file = e.dataTransfer.files[0];
+    if (/\.(obj|stl)$/i.test(file.name)) importMesh(freeform() && e.shiftKey ? 1 : 0, file);
+    else openFile(file);
   });
 
   const download = (name, blob) => {
@@ -650,7 +817,7 @@ async function main() {
     say(`Saved ${name}.`);
   };
   const exporters = {
-    model: () => download('bezsolid.bsolid.json', new Blob([modeler.model_json()], { type: 'application/json' })),
+    model: () => download('bezsolid.bsolid.json', new Blob([freeform() ? ff.model_json() : modeler.model_json()], { type: 'application/json' })),
     svg: () => download('bezsolid-contours.svg', new Blob([modeler.svg()], { type: 'image/svg+xml' })),
     hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
     // The canvas is read in the same task as the frame is drawn, before the browser clears it.
@@ -665,9 +832,40 @@ async function main() {
       }, 'image/png');
     },
   };
+  // Free-form: the result's surface at the chosen resolution, meshed in the export worker.
+  const exportResult = async (format) => {
+    const resolution = $('ff-resolution').valueAsNumber || 64;
+    if (!exportRunner) {
+      // No worker: on the page (it holds the page for as long as the meshing takes).
+      download(`bezsolid-result.${format}`, new Blob([headless_esc_mesh(ff.model_json(), format, resolution)]));
+      return;
+    }
+    exporting = `Exporting ${format.toUpperCase()}…`;
+    showBadge(exporting);
+    try {
+      const { data } = await exportRunner.run({ kind: 'esc-mesh', model: ff.model_json(), format, resolution });
+      download(`bezsolid-result.${format}`, new Blob([data], { type: format === 'stl' ? 'model/stl' : format === 'obj' ? 'model/obj' : 'application/octet-stream' }));
+    } catch (err) {
+      say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');
+    }
+    exporting = '';
+    showBadge('');
+  };
   $('export').addEventListener('change', (e) => {
     const kind = e.target.value;
     e.target.value = '';
+    if (freeform() && ['stl', 'obj', 'ply'].includes(kind)) {
+      exportResult(kind);
+      return;
+    }
+    if (freeform() && kind === 'png') {
+      ff.render(viewer);
+      canvas3.toBlob((blob) => {
+        if (blob) download('bezsolid-free-form.png', blob);
+        else say('The view could not be captured as PNG.', 'error');
+      }, 'image/png');
+      return;
+    }
     if (!exporters[kind]) return;
     try {
       exporters[kind]();
@@ -676,11 +874,79 @@ async function main() {
     }
   });
 
-  window.bezsolid = { modeler, canvas, canvas3, viewer, redraw, saveNow };
+  // The Free-form controls.
+  const ffAttempt = (what, f) => {
+    try {
+      f();
+      changed();
+      return true;
+    } catch (err) {
+      say(`${what}: ${err.message ?? err}`, 'error');
+      updatePanel();
+      return false;
+    }
+  };
+  const importMesh = async (slot, file) => {
+    if (!file) return;
+    if (file.size > 128 * 1024 * 1024) {
+      say(`${file.name} is too large (${file.size} bytes; a mesh file is at most 128 MiB).`, 'error');
+      return;
+    }
+    const bytes = new Uint8Array(await file.arrayBuffer());
+    if (ffAttempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes))) {
+      setWorkspace('freeform');
+      resize3();
+      say(`Imported ${file.name} as solid ${slot === 0 ? 'A' : 'B'}.`);
+    }
+  };
+  for (const radio of document.querySelectorAll('input[name="workspace"]')) {
+    radio.addEventListener('change', () => {
+      if (!radio.checked) return;
+      setWorkspace(radio.value);
+      resize();
+      resize3();
+      redraw();
+    });
+  }
+  $('ff-a').addEventListener('change', (e) => ffAttempt('Solid A', () => ff.set_example(0, e.target.value)));
+  $('ff-b').addEventListener('change', (e) => ffAttempt('Solid B', () => ff.set_example(1, e.target.value)));
+  $('ff-op').addEventListener('change', (e) => ffAttempt('Operation', () => ff.set_operation(e.target.value)));
+  $('ff-import-a').addEventListener('change', (e) => { importMesh(0, e.target.files?.[0]); e.target.value = ''; });
+  $('ff-import-b').addEventListener('change', (e) => { importMesh(1, e.target.files?.[0]); e.target.value = ''; });
+  for (const id of ['ff-bx', 'ff-by', 'ff-bz']) {
+    $(id).addEventListener('change', () => {
+      const v = ['ff-bx', 'ff-by', 'ff-bz'].map((k) => $(k).valueAsNumber);
+      if (!v.every(Number.isFinite)) {
+        $(id).setAttribute('aria-invalid', 'true');
+        return;
+      }
+      $(id).removeAttribute('aria-invalid');
+      ffAttempt('Move B', () => ff.set_offset(1, v[0], v[1], v[2]));
+    });
+  }
+  for (const radio of document.querySelectorAll('input[name="ff-display"]')) {
+    radio.addEventListener('change', () => {
+      if (!radio.checked) return;
+      display = radio.value;
+      ff.set_display(display);
+      redraw(VIEW3);
+    });
+  }
+  $('ff-resolution').addEventListener('change', (e) => {
+    const v = e.target.valueAsNumber;
+    if (!Number.isFinite(v)) return;
+    e.target.value = String(ff.set_resolution(v));
+    redraw(VIEW3);
+  });
+
+  window.bezsolid = { modeler, ff, canvas, canvas3, viewer, redraw, saveNow, setWorkspace };
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();
-    if (viewer) modeler.render_3d(viewer);
+    if (viewer) {
+      if (freeform()) ff.render(viewer);
+      else modeler.render_3d(viewer);
+    }
     updatePanel();
     saveNow();
     document.body.dataset.ready = 'true';
@@ -688,13 +954,15 @@ async function main() {
 }
 
 // localStorage can be missing or refuse (private modes, quota): the page works on without it.
+const FF_KEY = 'bezsolid.freeform.v1';
+const WORKSPACE_KEY = 'bezsolid.workspace.v1';
 const storage = {
   key: 'bezsolid.model.v1',
-  get() {
-    try { return localStorage.getItem(this.key); } catch { return null; }
+  get(key = this.key) {
+    try { return localStorage.getItem(key); } catch { return null; }
   },
-  set(value) {
-    try { localStorage.setItem(this.key, value); return true; } catch { return false; }
+  set(value, key = this.key) {
+    try { localStorage.setItem(key, value); return true; } catch { return false; }
   },
 };
 

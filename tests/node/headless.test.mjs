@@ -72,3 +72,40 @@ test('bad input throws a clear error and never kills the module', () => {
   // Still alive after the errors.
   assert.ok(headless_mesh(MODEL, 'stl', 8).length > 84);
 });
+
+test('a free-form model: its result surface and mesh files, from the file and its link', () => {
+  const { headless_esc_surface, headless_esc_mesh, is_free_form, FreeFormView } = glue;
+  const file = JSON.stringify({
+    format: 'bezsolid',
+    version: 1,
+    solid: {
+      kind: 'esc',
+      operation: 'difference',
+      operands: [{ example: 'icosphere' }, { example: 'torus', offset: [0, 0, 0.5] }],
+    },
+  });
+  assert.ok(is_free_form(file));
+  assert.ok(!is_free_form(MODEL));
+  const view = new FreeFormView();
+  view.open(file);
+  const link = view.link();
+  assert.ok(is_free_form(link));
+  const floats = headless_esc_surface(link, 24);
+  assert.deepEqual(floats, headless_esc_surface(file, 24));
+  const triangles = floats.length / 18;
+  assert.ok(triangles > 500);
+  // Every vertex is inside the unit sphere (the PN icosphere is within 1e-3 of it) and outside the
+  // torus moved up by 0.5, to the surface's tolerance.
+  for (let v = 0; v < floats.length; v += 6) {
+    const [x, y, z] = [floats[v], floats[v + 1], floats[v + 2]];
+    assert.ok(Math.hypot(x, y, z) < 1.01, `${x} ${y} ${z}`);
+    const r = Math.hypot(x, y) - 1;
+    assert.ok(Math.hypot(r, z - 0.5) > 0.39, `${x} ${y} ${z}`);
+  }
+  const stl = headless_esc_mesh(link, 'stl', 24);
+  assert.equal(new DataView(stl.buffer, stl.byteOffset).getUint32(80, true), triangles);
+  assert.throws(() => headless_esc_mesh(link, 'gltf', 24), /unknown mesh format/);
+  assert.throws(() => headless_esc_surface('#v1.AAAA', 24), /./);
+  assert.throws(() => view.open('{"format":"bezsolid","version":1,"solid":{"kind":"esc","operands":[{"example":"teapot"}]}}'), /no example/);
+  view.free();
+});

@@ -7,6 +7,7 @@ use web_sys::HtmlCanvasElement;
 
 use crate::app::{ContourView, Mode};
 use crate::document;
+use crate::freeform::{Display, FreeForm};
 use crate::render::Renderer;
 use crate::render3d::Renderer3;
 use crate::view3d::View3;
@@ -829,4 +830,271 @@ impl Modeler {
     pub fn fit_3d(&mut self) {
         self.view3.fit(&self.view);
     }
+}
+
+/// The Free-form mode ([`crate::freeform`]) for the page: its scene draws on the 3D view's
+/// [`Viewer3`].
+#[wasm_bindgen]
+pub struct FreeFormView {
+    state: FreeForm,
+}
+
+impl Default for FreeFormView {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[wasm_bindgen]
+impl FreeFormView {
+    /// The default scene (the blob minus a torus).
+    #[wasm_bindgen(constructor)]
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            state: FreeForm::new(),
+        }
+    }
+
+    /// Sizes the view on `viewer`'s canvas; returns the canvas size in device pixels.
+    pub fn resize(&mut self, viewer: &mut Viewer3, width: f64, height: f64, dpr: f64) -> Vec<u32> {
+        self.state.resize(width, height);
+        let (w, h) = device_pixels(width, height, dpr, viewer.max_size);
+        if (w, h) != (viewer.config.width, viewer.config.height) {
+            viewer.config.width = w;
+            viewer.config.height = h;
+            viewer
+                .surface
+                .configure(viewer.renderer.device(), &viewer.config);
+        }
+        vec![w, h]
+    }
+
+    /// Draws the scene on `viewer`.
+    pub fn render(&mut self, viewer: &mut Viewer3) {
+        let scene = self.state.scene();
+        let texture = match viewer.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                viewer
+                    .surface
+                    .configure(viewer.renderer.device(), &viewer.config);
+                return;
+            }
+            _ => return,
+        };
+        let view = texture
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        viewer
+            .renderer
+            .draw(&view, (viewer.config.width, viewer.config.height), &scene);
+        viewer.renderer.queue().present(texture);
+    }
+
+    /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.
+    pub fn pointer_down(&mut self, x: f64, y: f64, pan: bool) {
+        self.state.pointer_down(DVec2::new(x, y), pan);
+    }
+
+    /// Pointer moved; returns whether the camera moved.
+    pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
+        self.state.pointer_move(DVec2::new(x, y))
+    }
+
+    /// Pointer released.
+    pub fn pointer_up(&mut self) {
+        self.state.pointer_up();
+    }
+
+    /// The wheel: zooms.
+    pub fn wheel(&mut self, delta_y: f64) {
+        self.state.wheel(delta_y);
+    }
+
+    /// Frames the scene again.
+    pub fn fit(&mut self) {
+        self.state.fit();
+    }
+
+    /// Operand `slot` (0: A, 1: B) becomes the built-in example `name`.
+    ///
+    /// # Errors
+    ///
+    /// An unknown example or slot.
+    pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), JsError> {
+        self.state
+            .set_example(slot, name)
+            .map_err(|e| JsError::new(&e))
+    }
+
+    /// Operand `slot` becomes the mesh in the OBJ or STL file `bytes`, named `name`.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the file (malformed, too large, not closed) or the slot.
+    pub fn import_mesh(&mut self, slot: usize, name: &str, bytes: &[u8]) -> Result<(), JsError> {
+        let mesh = bezsolid_core::esc::import::read_mesh(bytes)
+            .map_err(|e| JsError::new(&format!("{name}: {e}")))?;
+        self.state
+            .set_mesh(slot, name, &mesh)
+            .map_err(|e| JsError::new(&format!("{name}: {e}")))
+    }
+
+    /// Moves operand `slot` by `(x, y, z)`.
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot or numbers that are not finite.
+    pub fn set_offset(&mut self, slot: usize, x: f64, y: f64, z: f64) -> Result<(), JsError> {
+        self.state
+            .set_offset(slot, [x, y, z])
+            .map_err(|e| JsError::new(&e))
+    }
+
+    /// `union`, `intersection`, `difference`, or `none` (A alone).
+    ///
+    /// # Errors
+    ///
+    /// An unknown operation.
+    pub fn set_operation(&mut self, name: &str) -> Result<(), JsError> {
+        self.state.set_operation(name).map_err(|e| JsError::new(&e))
+    }
+
+    /// The operation, or `none`.
+    #[must_use]
+    pub fn operation(&self) -> String {
+        self.state.operation().into()
+    }
+
+    /// Operand `slot`'s name (an example's or the imported file's), or `undefined`.
+    #[must_use]
+    pub fn operand_name(&self, slot: usize) -> Option<String> {
+        self.state.operand(slot).map(|o| o.0)
+    }
+
+    /// Whether operand `slot` is a built-in example (else an imported mesh).
+    #[must_use]
+    pub fn operand_is_example(&self, slot: usize) -> bool {
+        self.state.operand(slot).is_some_and(|o| o.2)
+    }
+
+    /// Operand `slot`'s offset `[x, y, z]`, or `undefined`.
+    #[must_use]
+    pub fn operand_offset(&self, slot: usize) -> Option<Vec<f64>> {
+        self.state.operand(slot).map(|o| o.1.to_vec())
+    }
+
+    /// The triangles of each operand's mesh.
+    #[must_use]
+    pub fn triangle_counts(&self) -> Vec<u32> {
+        self.state
+            .boolean()
+            .solids
+            .iter()
+            .map(|s| s.triangles().len() as u32)
+            .collect()
+    }
+
+    /// What the view shows: `result`, `points` or `operands`.
+    ///
+    /// # Errors
+    ///
+    /// Another name.
+    pub fn set_display(&mut self, name: &str) -> Result<(), JsError> {
+        let d = Display::from_name(name)
+            .ok_or_else(|| JsError::new(&format!("no display {name:?}")))?;
+        self.state.set_display(d);
+        Ok(())
+    }
+
+    /// The result surface's resolution at rest; returns the value taken.
+    pub fn set_resolution(&mut self, cells: u32) -> u32 {
+        self.state.set_resolution(cells as usize) as u32
+    }
+
+    /// The fine surface wanted from the worker: `[revision, resolution]`, once.
+    pub fn surface_request(&mut self) -> Option<Vec<f64>> {
+        self.state
+            .surface_request()
+            .map(|(r, n)| vec![r as f64, n as f64])
+    }
+
+    /// The worker's fine surface; returns whether it was taken (not stale).
+    pub fn set_surface(&mut self, revision: f64, resolution: u32, data: &[f32]) -> bool {
+        self.state
+            .set_surface(revision as u64, resolution as usize, data)
+    }
+
+    /// `[triangles, resolution]` of the result's surface drawn now, or `undefined`.
+    #[must_use]
+    pub fn surface_info(&self) -> Option<Vec<u32>> {
+        self.state
+            .surface_info()
+            .map(|(t, r)| vec![t as u32, r as u32])
+    }
+
+    /// `[points in the partial chain or result, marked]` of the point mesh.
+    #[must_use]
+    pub fn point_counts(&self) -> Vec<u32> {
+        let (a, b) = self.state.point_counts();
+        vec![a as u32, b as u32]
+    }
+
+    /// The model file (JSON).
+    #[must_use]
+    pub fn model_json(&self) -> String {
+        serde_json::to_string_pretty(&self.state.model_file()).unwrap_or_default()
+    }
+
+    /// Opens a free-form model file or link.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with it (the scene is kept).
+    pub fn open(&mut self, text: &str) -> Result<(), JsError> {
+        let file = crate::freeform::read_file(text).map_err(|e| JsError::new(&e))?;
+        self.state.open(&file).map_err(|e| JsError::new(&e))
+    }
+
+    /// The share link fragment `#v1.…`.
+    ///
+    /// # Errors
+    ///
+    /// When an imported mesh makes the model too large for a link (save the model file instead).
+    pub fn link(&self) -> Result<String, JsError> {
+        bezsolid_core::link::encode(&self.state.model_file()).map_err(|e| {
+            JsError::new(&format!(
+                "{e}. An imported mesh travels in the model file: use Export → Model file"
+            ))
+        })
+    }
+}
+
+/// Whether a model file or link holds a free-form model.
+#[wasm_bindgen]
+#[must_use]
+pub fn is_free_form(text: &str) -> bool {
+    crate::freeform::is_free_form(text)
+}
+
+/// The result's surface of a free-form model file or link at `resolution` (the worker's job).
+///
+/// # Errors
+///
+/// What is wrong with the input.
+#[wasm_bindgen]
+pub fn headless_esc_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError> {
+    crate::freeform::headless::surface(text, resolution as usize).map_err(|e| JsError::new(&e))
+}
+
+/// A mesh file (`stl`, `obj`, `ply`) of a free-form model's result.
+///
+/// # Errors
+///
+/// What is wrong with the input, an empty result, or another format.
+#[wasm_bindgen]
+pub fn headless_esc_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
+    crate::freeform::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
 }

@@ -1,0 +1,699 @@
+//! The Free-form mode (issue 6) as plain Rust: one or two solids bounded by PN triangles over
+//! triangle meshes (built-in examples or imported files), a Boolean operation, and what the 3D view
+//! shows of them: the result's surface, the paper's point mesh with the points the last term of the
+//! chain removes marked red (Figs. 12–17), or the operands' PN surfaces.
+//!
+//! The model is a free-form model file (`kind: "esc"`), so it saves, opens and shares as the
+//! Bézier models do. The fine surface of the result is meshed elsewhere (a Web Worker, through
+//! [`FreeForm::surface_request`] and [`FreeForm::set_surface`]); until it comes a coarse one is
+//! drawn.
+
+use bezsolid_core::esc::bool::Op;
+use bezsolid_core::esc::draw::Boolean;
+use bezsolid_core::esc::examples::Example;
+use bezsolid_core::mesh::Mesh;
+use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
+use glam::{DVec2, DVec3};
+
+use crate::app::Rgba;
+use crate::view3d::{Camera, MeshVertex, Scene};
+
+/// The result's surface while the fine one is being made (cells along the longest side).
+pub const COARSE_RESOLUTION: usize = 24;
+/// The result's surface at rest, by default.
+pub const DEFAULT_RESOLUTION: usize = 64;
+/// Points along the longest side of the point mesh, as the paper's Fig. 19 (25 × 25 × 25).
+pub const POINT_MESH: usize = 25;
+
+const RESULT_COLOR: Rgba = [0.42, 0.62, 0.86, 1.0];
+const A_COLOR: Rgba = [0.42, 0.62, 0.86, 1.0];
+const B_COLOR: Rgba = [0.92, 0.6, 0.32, 1.0];
+const GHOST_ALPHA: f32 = 0.1;
+const INSIDE_COLOR: Rgba = [0.3, 0.34, 0.42, 1.0];
+const MARKED_COLOR: Rgba = [0.9, 0.12, 0.1, 1.0];
+
+/// What the 3D view shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Display {
+    /// The result's surface, with the operands' surfaces faintly.
+    Result,
+    /// The paper's intermediate point mesh: the partial chain's points, red where the last term
+    /// removes them.
+    Points,
+    /// The operands' PN surfaces.
+    Operands,
+}
+
+impl Display {
+    /// By name: `result`, `points`, `operands`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "result" => Some(Self::Result),
+            "points" => Some(Self::Points),
+            "operands" => Some(Self::Operands),
+            _ => None,
+        }
+    }
+}
+
+/// What the triangles depend on: the revision, the display, and the surface's revision and
+/// resolution.
+type GeometryKey = (u64, Display, Option<(u64, usize)>);
+
+/// The triangles for one key: key, generation, opaque, translucent.
+type Geometry = (GeometryKey, u64, Vec<MeshVertex>, Vec<MeshVertex>);
+
+/// The Free-form mode's document, view and camera.
+#[derive(Clone, Debug)]
+pub struct FreeForm {
+    operands: Vec<EscOperand>,
+    /// The names shown for imported meshes (the file name), by operand.
+    names: Vec<String>,
+    operation: Option<Op>,
+    display: Display,
+    resolution: usize,
+    boolean: Boolean,
+    revision: u64,
+    /// The result's surface: revision, resolution, vertices.
+    surface: Option<(u64, usize, Vec<MeshVertex>)>,
+    request: Option<(u64, usize)>,
+    camera: Camera,
+    size: DVec2,
+    gesture: Option<(bool, DVec2)>,
+    geometry: Option<Geometry>,
+    generation: u64,
+}
+
+impl Default for FreeForm {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FreeForm {
+    /// The default scene: the blob minus a torus through it.
+    #[must_use]
+    pub fn new() -> Self {
+        let operands = vec![
+            EscOperand::example(Example::Blob, [0.0; 3]),
+            EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]),
+        ];
+        let file = ModelFile::from_esc(Some(Op::Difference), operands);
+        let mut f = Self {
+            operands: Vec::new(),
+            names: Vec::new(),
+            operation: None,
+            display: Display::Result,
+            resolution: DEFAULT_RESOLUTION,
+            boolean: Boolean {
+                solids: Vec::new(),
+                expr: bezsolid_core::esc::bool::Expr::Solid(0),
+            },
+            revision: 0,
+            surface: None,
+            request: None,
+            camera: Camera::fit(DVec3::splat(-1.0), DVec3::ONE, 1.0),
+            size: DVec2::new(640.0, 480.0),
+            gesture: None,
+            geometry: None,
+            // Far from the patch view's generations: both draw on one renderer, which uploads
+            // the triangles again whenever the generation it last drew changes.
+            generation: 1 << 40,
+        };
+        f.open(&file)
+            .unwrap_or_else(|_| unreachable!("the default scene is valid"));
+        f
+    }
+
+    /// The model file of the scene.
+    #[must_use]
+    pub fn model_file(&self) -> ModelFile {
+        ModelFile::from_esc(self.operation, self.operands.clone())
+    }
+
+    /// Opens a free-form model file.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with it (the scene is kept).
+    pub fn open(&mut self, file: &ModelFile) -> Result<(), String> {
+        let boolean = file.to_boolean().map_err(|e| e.to_string())?;
+        let SolidSpec::Esc {
+            operation,
+            operands,
+        } = &file.solid
+        else {
+            return Err("not a free-form model".into());
+        };
+        self.operation = operation.as_deref().and_then(Op::from_name);
+        self.operands = operands.clone();
+        self.names = operands
+            .iter()
+            .map(|o| o.example.clone().unwrap_or_else(|| "imported mesh".into()))
+            .collect();
+        self.boolean = boolean;
+        self.changed();
+        self.fit();
+        Ok(())
+    }
+
+    fn changed(&mut self) {
+        self.revision += 1;
+        self.request = Some((self.revision, self.resolution));
+    }
+
+    /// Rebuilds the solids from a changed operand list; on failure the scene stays as it was.
+    fn apply(&mut self, operands: Vec<EscOperand>, operation: Option<Op>) -> Result<(), String> {
+        let file = ModelFile::from_esc(operation, operands.clone());
+        let boolean = file.to_boolean().map_err(|e| e.to_string())?;
+        self.operands = operands;
+        self.operation = operation;
+        self.boolean = boolean;
+        self.changed();
+        Ok(())
+    }
+
+    /// Operand `slot` (0 for A, 1 for B) becomes the built-in example `name`, keeping its offset.
+    ///
+    /// # Errors
+    ///
+    /// An unknown example or slot.
+    pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), String> {
+        let example = Example::from_name(name).ok_or_else(|| format!("no example {name:?}"))?;
+        let mut operands = self.operands.clone();
+        let offset = operands.get(slot).map_or([0.0; 3], |o| o.offset);
+        let op = EscOperand::example(example, offset);
+        match slot {
+            _ if slot < operands.len() => operands[slot] = op,
+            1 if operands.len() == 1 => operands.push(op),
+            _ => return Err(format!("no operand {}", slot + 1)),
+        }
+        let operation = self
+            .operation
+            .or((operands.len() == 2).then_some(Op::Union));
+        self.apply(operands, operation)?;
+        self.set_name(slot, name);
+        Ok(())
+    }
+
+    /// Operand `slot` becomes an imported mesh (read by `bezsolid_core::esc::import`), named `name`.
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot, or a mesh that cannot bound a solid.
+    pub fn set_mesh(&mut self, slot: usize, name: &str, mesh: &Mesh) -> Result<(), String> {
+        let mut operands = self.operands.clone();
+        let op = EscOperand {
+            example: None,
+            mesh: Some(MeshSpec {
+                positions: mesh.positions.iter().map(|p| p.to_array()).collect(),
+                triangles: mesh.triangles.clone(),
+            }),
+            offset: [0.0; 3],
+        };
+        match slot {
+            _ if slot < operands.len() => operands[slot] = op,
+            1 if operands.len() == 1 => operands.push(op),
+            _ => return Err(format!("no operand {}", slot + 1)),
+        }
+        let operation = self
+            .operation
+            .or((operands.len() == 2).then_some(Op::Union));
+        self.apply(operands, operation)?;
+        self.set_name(slot, name);
+        self.fit();
+        Ok(())
+    }
+
+    fn set_name(&mut self, slot: usize, name: &str) {
+        self.names.resize(self.operands.len(), String::new());
+        if let Some(n) = self.names.get_mut(slot) {
+            *n = name.into();
+        }
+    }
+
+    /// Moves operand `slot` to `offset` (from its file position).
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot or an offset that is not finite.
+    pub fn set_offset(&mut self, slot: usize, offset: [f64; 3]) -> Result<(), String> {
+        let mut operands = self.operands.clone();
+        let o = operands
+            .get_mut(slot)
+            .ok_or_else(|| format!("no operand {}", slot + 1))?;
+        o.offset = offset;
+        self.apply(operands, self.operation)
+    }
+
+    /// The operation (`union`, `intersection`, `difference`), or `none` for solid A alone.
+    ///
+    /// # Errors
+    ///
+    /// An unknown operation.
+    pub fn set_operation(&mut self, name: &str) -> Result<(), String> {
+        let mut operands = self.operands.clone();
+        let operation = match name {
+            "none" => {
+                operands.truncate(1);
+                None
+            }
+            _ => {
+                let op = Op::from_name(name).ok_or_else(|| format!("no operation {name:?}"))?;
+                if operands.len() == 1 {
+                    operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
+                    self.names.push("torus".into());
+                }
+                Some(op)
+            }
+        };
+        self.apply(operands, operation)
+    }
+
+    /// The operation's name, or `none`.
+    #[must_use]
+    pub fn operation(&self) -> &'static str {
+        self.operation.map_or("none", Op::name)
+    }
+
+    /// Operand `slot`: its name (an example's, or the imported file's) and offset.
+    #[must_use]
+    pub fn operand(&self, slot: usize) -> Option<(String, [f64; 3], bool)> {
+        let o = self.operands.get(slot)?;
+        let name = self.names.get(slot).cloned().unwrap_or_default();
+        Some((name, o.offset, o.example.is_some()))
+    }
+
+    /// The solids and expression.
+    #[must_use]
+    pub fn boolean(&self) -> &Boolean {
+        &self.boolean
+    }
+
+    /// Sets what the view shows.
+    pub fn set_display(&mut self, display: Display) {
+        self.display = display;
+    }
+
+    /// The resolution of the result's surface at rest (8 to 160); returns the value taken.
+    pub fn set_resolution(&mut self, resolution: usize) -> usize {
+        self.resolution = resolution.clamp(8, bezsolid_core::esc::draw::MAX_RESOLUTION);
+        if self.surface.as_ref().is_none_or(|s| s.1 != self.resolution) {
+            self.request = Some((self.revision, self.resolution));
+        }
+        self.resolution
+    }
+
+    /// The resolution at rest.
+    #[must_use]
+    pub fn resolution(&self) -> usize {
+        self.resolution
+    }
+
+    /// The fine surface wanted: `(revision, resolution)`, once.
+    pub fn surface_request(&mut self) -> Option<(u64, usize)> {
+        self.request.take()
+    }
+
+    /// The fine surface for `revision` at `resolution` as six `f32` per vertex (position, normal),
+    /// three vertices per triangle; ignored when the scene has changed since. Returns whether it
+    /// was taken.
+    pub fn set_surface(&mut self, revision: u64, resolution: usize, data: &[f32]) -> bool {
+        if revision != self.revision {
+            return false;
+        }
+        self.surface = Some((revision, resolution, vertices(data, RESULT_COLOR)));
+        true
+    }
+
+    /// The triangles and resolution of the result's surface drawn now.
+    #[must_use]
+    pub fn surface_info(&self) -> Option<(usize, usize)> {
+        self.surface
+            .as_ref()
+            .filter(|s| s.0 == self.revision)
+            .map(|s| (s.2.len() / 3, s.1))
+    }
+
+    /// Frames the scene.
+    pub fn fit(&mut self) {
+        let (lo, hi) = self.extent_box();
+        self.camera = Camera::fit(lo, hi, self.size.x / self.size.y.max(1.0));
+    }
+
+    fn extent_box(&self) -> (DVec3, DVec3) {
+        self.boolean.solids.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), s| {
+                let (a, b) = s.bounds();
+                (lo.min(a), hi.max(b))
+            },
+        )
+    }
+
+    /// The viewport's size in CSS pixels.
+    pub fn resize(&mut self, width: f64, height: f64) {
+        self.size = DVec2::new(width.max(1.0), height.max(1.0));
+    }
+
+    /// Pointer pressed: orbit, or pan with `pan`.
+    pub fn pointer_down(&mut self, q: DVec2, pan: bool) {
+        self.gesture = Some((pan, q));
+    }
+
+    /// Pointer moved; returns whether the camera moved.
+    pub fn pointer_move(&mut self, q: DVec2) -> bool {
+        let Some((pan, last)) = self.gesture else {
+            return false;
+        };
+        if pan {
+            self.camera.pan(q - last, self.size.y);
+        } else {
+            self.camera.orbit(q - last, self.size.y);
+        }
+        self.gesture = Some((pan, q));
+        true
+    }
+
+    /// Pointer released.
+    pub fn pointer_up(&mut self) {
+        self.gesture = None;
+    }
+
+    /// The wheel: zooms.
+    pub fn wheel(&mut self, delta_y: f64) {
+        self.camera.zoom(delta_y);
+    }
+
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Everything one redraw needs; the triangles are rebuilt only when the scene, the display or
+    /// the surface changes.
+    pub fn scene(&mut self) -> Scene<'_> {
+        if self.surface.as_ref().is_none_or(|s| s.0 != self.revision) {
+            // Nothing for this revision yet: a coarse surface now, the fine one on request.
+            let mesh = self.boolean.surface(COARSE_RESOLUTION);
+            self.surface = Some((
+                self.revision,
+                COARSE_RESOLUTION,
+                mesh_vertices(&mesh, RESULT_COLOR),
+            ));
+            if self.resolution != COARSE_RESOLUTION && self.request.is_none() {
+                self.request = Some((self.revision, self.resolution));
+            }
+        }
+        let key = (
+            self.revision,
+            self.display,
+            self.surface.as_ref().map(|s| (s.0, s.1)),
+        );
+        if self.geometry.as_ref().is_none_or(|g| g.0 != key) {
+            let (opaque, translucent) = self.build();
+            self.generation += 1;
+            self.geometry = Some((key, self.generation, opaque, translucent));
+        }
+        let (lo, hi) = self.extent_box();
+        let extent = (hi - lo).length().max(1e-9);
+        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
+        let (opaque, translucent, generation) = match &self.geometry {
+            Some(g) => (&g.2[..], &g.3[..], g.1),
+            None => (&[][..], &[][..], 0),
+        };
+        Scene {
+            opaque,
+            translucent,
+            generation,
+            view_proj: m.map(|c| c.map(|x| x as f32)),
+            eye: self.camera.eye().as_vec3().to_array(),
+        }
+    }
+
+    fn build(&self) -> (Vec<MeshVertex>, Vec<MeshVertex>) {
+        let mut opaque = Vec::new();
+        let mut translucent = Vec::new();
+        let ghost = |c: Rgba| [c[0], c[1], c[2], GHOST_ALPHA];
+        let pn = |k: usize, color: Rgba, out: &mut Vec<MeshVertex>| {
+            if let Some(s) = self.boolean.solids.get(k) {
+                let level = if s.triangles().len() > 2000 { 2 } else { 4 };
+                out.extend(mesh_vertices(&s.surface().tessellate(level), color));
+            }
+        };
+        match self.display {
+            Display::Result => {
+                if let Some(s) = &self.surface {
+                    opaque.extend_from_slice(&s.2);
+                }
+                pn(0, ghost(A_COLOR), &mut translucent);
+                pn(1, ghost(B_COLOR), &mut translucent);
+            }
+            Display::Operands => {
+                pn(0, A_COLOR, &mut opaque);
+                pn(
+                    1,
+                    [B_COLOR[0], B_COLOR[1], B_COLOR[2], 0.55],
+                    &mut translucent,
+                );
+            }
+            Display::Points => {
+                let points = self.boolean.point_mesh(POINT_MESH);
+                let r = points.step * 0.22;
+                for p in &points.inside {
+                    octahedron(&mut opaque, *p, r, INSIDE_COLOR);
+                }
+                for p in &points.marked {
+                    octahedron(&mut opaque, *p, r * 1.15, MARKED_COLOR);
+                }
+            }
+        }
+        (opaque, translucent)
+    }
+
+    /// Counts of the point mesh: `(in the result or partial chain, marked)`.
+    #[must_use]
+    pub fn point_counts(&self) -> (usize, usize) {
+        let p = self.boolean.point_mesh(POINT_MESH);
+        (p.inside.len(), p.marked.len())
+    }
+}
+
+/// The model file in `text`: JSON, or a share link (a whole URL or its fragment).
+///
+/// # Errors
+///
+/// What is wrong with it.
+pub fn read_file(text: &str) -> Result<ModelFile, String> {
+    if text.len() > crate::document::MAX_MODEL_BYTES {
+        return Err(format!(
+            "the file is {} bytes; a model file is at most {}",
+            text.len(),
+            crate::document::MAX_MODEL_BYTES
+        ));
+    }
+    if text.trim_start().starts_with('{') {
+        serde_json::from_str(text).map_err(|e| format!("not a bezsolid model file: {e}"))
+    } else {
+        bezsolid_core::link::decode_file(text.trim()).map_err(|e| e.to_string())
+    }
+}
+
+/// Whether `text` (a model file or link) holds a free-form model.
+#[must_use]
+pub fn is_free_form(text: &str) -> bool {
+    read_file(text).is_ok_and(|f| matches!(f.solid, SolidSpec::Esc { .. }))
+}
+
+/// The page's free-form work without a page (the worker's jobs, and node).
+pub mod headless {
+    use super::read_file;
+
+    /// The largest resolution of a headless surface or mesh.
+    pub const MAX_RESOLUTION: usize = bezsolid_core::esc::draw::MAX_RESOLUTION;
+
+    fn boolean(text: &str, resolution: usize) -> Result<bezsolid_core::esc::draw::Boolean, String> {
+        if !(2..=MAX_RESOLUTION).contains(&resolution) {
+            return Err(format!(
+                "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
+            ));
+        }
+        read_file(text)?.to_boolean().map_err(|e| e.to_string())
+    }
+
+    /// The result's surface of a free-form model or link, as [`super::surface_floats`].
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input or the resolution (2 to 160).
+    pub fn surface(text: &str, resolution: usize) -> Result<Vec<f32>, String> {
+        Ok(super::surface_floats(
+            &boolean(text, resolution)?,
+            resolution,
+        ))
+    }
+
+    /// A mesh file (`"stl"`, `"obj"`, `"ply"`) of the result's surface.
+    ///
+    /// # Errors
+    ///
+    /// As [`surface`], an empty result, or another format.
+    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, String> {
+        let mesh = boolean(text, resolution)?.surface(resolution);
+        if mesh.triangles.is_empty() {
+            return Err("the result is empty: there is no surface to export".into());
+        }
+        crate::document::mesh_file(&mesh, format)
+    }
+}
+
+/// A mesh as triangle-list vertices of one colour.
+#[must_use]
+pub fn mesh_vertices(mesh: &Mesh, color: Rgba) -> Vec<MeshVertex> {
+    let mut out = Vec::with_capacity(mesh.triangles.len() * 3);
+    for t in &mesh.triangles {
+        for &i in t {
+            out.push(MeshVertex {
+                position: mesh.positions[i as usize].as_vec3().to_array(),
+                normal: mesh.normals[i as usize].as_vec3().to_array(),
+                color,
+            });
+        }
+    }
+    out
+}
+
+/// The result's surface of a free-form model at `resolution`, as six `f32` per vertex, three
+/// vertices per triangle (what the worker hands to [`FreeForm::set_surface`]).
+#[must_use]
+pub fn surface_floats(boolean: &Boolean, resolution: usize) -> Vec<f32> {
+    let mesh = boolean.surface(resolution);
+    let mut out = Vec::with_capacity(mesh.triangles.len() * 18);
+    for t in &mesh.triangles {
+        for &i in t {
+            out.extend(mesh.positions[i as usize].as_vec3().to_array());
+            out.extend(mesh.normals[i as usize].as_vec3().to_array());
+        }
+    }
+    out
+}
+
+fn vertices(data: &[f32], color: Rgba) -> Vec<MeshVertex> {
+    data.chunks_exact(6)
+        .map(|v| MeshVertex {
+            position: [v[0], v[1], v[2]],
+            normal: [v[3], v[4], v[5]],
+            color,
+        })
+        .collect()
+}
+
+/// A small octahedron (a point of the point mesh).
+fn octahedron(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
+    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            for sz in [-1.0, 1.0] {
+                let a = axes[0] * sx;
+                let b = axes[1] * sy;
+                let z = axes[2] * sz;
+                // Counter-clockwise seen from outside.
+                let (p, q) = if sx * sy * sz > 0.0 { (a, b) } else { (b, a) };
+                let n = (p + q + z).normalize();
+                for v in [p, q, z] {
+                    out.push(MeshVertex {
+                        position: (c + v * r).as_vec3().to_array(),
+                        normal: n.as_vec3().to_array(),
+                        color,
+                    });
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_scene_draws_every_display() {
+        let mut f = FreeForm::new();
+        for d in [Display::Result, Display::Points, Display::Operands] {
+            f.set_display(d);
+            let scene = f.scene();
+            assert!(!scene.opaque.is_empty(), "{d:?}");
+        }
+        // The coarse surface is drawn and the fine one requested.
+        assert_eq!(f.surface_info().map(|s| s.1), Some(COARSE_RESOLUTION));
+        let (revision, resolution) = f.surface_request().expect("a request");
+        assert_eq!(resolution, DEFAULT_RESOLUTION);
+        let fine = surface_floats(f.boolean(), resolution);
+        assert!(f.set_surface(revision, resolution, &fine));
+        assert_eq!(f.surface_info().map(|s| s.1), Some(DEFAULT_RESOLUTION));
+        // A stale surface is refused.
+        f.set_operation("union").unwrap();
+        assert!(!f.set_surface(revision, resolution, &fine));
+    }
+
+    #[test]
+    fn edits_round_trip_through_the_model_file_and_bad_ones_keep_the_scene() {
+        let mut f = FreeForm::new();
+        f.set_example(0, "icosphere").unwrap();
+        f.set_offset(1, [0.5, 0.0, 0.0]).unwrap();
+        f.set_operation("intersection").unwrap();
+        let file = f.model_file();
+        let mut g = FreeForm::new();
+        g.open(&file).unwrap();
+        assert_eq!(g.model_file(), file);
+        assert_eq!(g.operation(), "intersection");
+        let before = f.model_file();
+        assert!(f.set_example(0, "teapot").is_err());
+        assert!(f.set_offset(1, [f64::NAN, 0.0, 0.0]).is_err());
+        assert!(f.set_operation("xor").is_err());
+        let open = bezsolid_core::esc::examples::icosphere(1);
+        let mut broken = open.clone();
+        broken.triangles.pop();
+        assert!(f.set_mesh(1, "broken.obj", &broken).is_err());
+        assert_eq!(f.model_file(), before);
+        // A good mesh is taken, named by its file.
+        f.set_mesh(1, "ball.obj", &open).unwrap();
+        assert_eq!(f.operand(1).map(|o| o.0), Some("ball.obj".into()));
+        // One operand alone.
+        f.set_operation("none").unwrap();
+        assert_eq!(f.boolean().solids.len(), 1);
+    }
+
+    #[test]
+    fn headless_surfaces_and_meshes_of_files_and_links() {
+        let f = FreeForm::new();
+        let json = serde_json::to_string(&f.model_file()).unwrap();
+        let link = bezsolid_core::link::encode(&f.model_file()).unwrap();
+        assert!(is_free_form(&json) && is_free_form(&link));
+        assert!(!is_free_form("{}"));
+        let a = headless::surface(&json, 16).unwrap();
+        assert_eq!(a, headless::surface(&link, 16).unwrap());
+        assert!(a.len() > 18 * 100);
+        let stl = headless::mesh(&link, "stl", 16).unwrap();
+        assert_eq!(stl.len(), 84 + 50 * a.len() / 18);
+        assert!(headless::mesh(&link, "gltf", 16).is_err());
+        assert!(headless::surface(&link, 1000).is_err());
+        assert!(headless::surface("#v1.garbage", 16).is_err());
+    }
+
+    #[test]
+    fn the_camera_orbits_pans_and_zooms() {
+        let mut f = FreeForm::new();
+        let start = *f.camera();
+        f.pointer_down(DVec2::new(10.0, 10.0), false);
+        assert!(f.pointer_move(DVec2::new(40.0, 10.0)));
+        f.pointer_up();
+        assert_ne!(f.camera().yaw, start.yaw);
+        f.wheel(100.0);
+        assert!(f.camera().distance > start.distance);
+        f.fit();
+        assert_eq!(*f.camera(), start);
+    }
+}

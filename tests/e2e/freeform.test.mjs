@@ -1,0 +1,168 @@
+// The Free-form mode in a real browser, on the backend under test: the default scene (the blob
+// minus a torus) draws its result surface, the worker's fine surface arrives, the point mesh shows
+// red points, a mesh file is imported by the picker and by a drop, the operation changes the
+// result, the result exports as STL, OBJ and PLY that parse back, and a link reopens the scene.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { decodePng } from './png.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+const FIXTURES = new URL('../../crates/core/tests/fixtures/mesh/', import.meta.url).pathname;
+
+async function freeForm(page) {
+  await page.check('input[name="workspace"][value="freeform"]');
+  await page.waitForSelector('body[data-workspace="freeform"]');
+  await settle(page);
+}
+
+const waitFine = (page, resolution = 64) => page.waitForFunction(
+  (r) => (document.body.dataset.ffSurface ?? '').endsWith(`,${r}`), resolution, { timeout: 60_000 });
+
+/** Counts of blue (result) and red (marked) pixels in the 3D view. */
+async function colours(page, name) {
+  await settle(page);
+  const png = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, `${name}.png`), png);
+  const img = decodePng(png);
+  let blue = 0;
+  let red = 0;
+  for (let y = 0; y < img.height; y += 2) {
+    for (let x = 0; x < img.width; x += 2) {
+      const [r, g, b] = img.at(x, y);
+      if (b > r + 30 && b > 90) blue += 1;
+      if (r > 150 && g < 90 && b < 90) red += 1;
+    }
+  }
+  return { blue, red, png };
+}
+
+async function download(page, value) {
+  const [file] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', value)]);
+  return readFileSync(await file.path());
+}
+
+test('the default free-form scene draws, meshes finely in the worker and shows the point mesh', async () => {
+  const { page, errors } = await open(browser);
+  await freeForm(page);
+  assert.match(await page.textContent('#model-name'), /Free-form: A − B/);
+  await waitFine(page);
+  assert.match(await page.textContent('#ff-info'), /Result surface: [\d,]+ triangles at 64/);
+  const result = await colours(page, 'freeform-result');
+  assert.ok(result.blue > 2000, `the result is drawn (${result.blue} blue pixels)`);
+  // The paper's intermediate picture: the points of A, red where B takes them away.
+  await page.check('input[name="ff-display"][value="points"]');
+  const points = await colours(page, 'freeform-points');
+  assert.ok(points.red > 100, `red points are drawn (${points.red})`);
+  assert.match(await page.textContent('#ff-info'), /Point mesh 25 × 25 × 25: [\d,]+ points, [\d,]+ red/);
+  // Orbiting changes the picture and edits nothing.
+  const before = await page.evaluate(() => window.bezsolid.ff.model_json());
+  const box = await page.locator('#view3d').boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 80, box.y + box.height / 2, { steps: 4 });
+  await page.mouse.up();
+  const orbited = await colours(page, 'freeform-orbited');
+  assert.ok(!orbited.png.equals(points.png));
+  assert.equal(await page.evaluate(() => window.bezsolid.ff.model_json()), before);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a mesh imports by the picker and by a drop, bad ones keep the scene, and the result exports', async () => {
+  const { page, errors } = await open(browser);
+  await freeForm(page);
+  await page.setInputFiles('#ff-import-b', join(FIXTURES, 'cube.obj'));
+  await page.waitForFunction(() => /Imported cube\.obj as solid B/.test(document.getElementById('status').textContent));
+  await settle(page);
+  assert.equal(await page.inputValue('#ff-b'), 'imported');
+  assert.match(await page.textContent('#ff-info'), /B: 12 triangles/);
+  // The cube into the blob, intersected.
+  await page.selectOption('#ff-op', 'intersection');
+  await page.waitForSelector('body[data-ff-operation="intersection"]');
+  await waitFine(page);
+  const inter = await colours(page, 'freeform-intersection');
+  assert.ok(inter.blue > 500, `${inter.blue}`);
+  const model = JSON.parse(await page.evaluate(() => window.bezsolid.ff.model_json()));
+  assert.equal(model.solid.kind, 'esc');
+  assert.equal(model.solid.operation, 'intersection');
+  assert.equal(model.solid.operands[1].mesh.triangles.length, 12);
+
+  // A broken mesh: its reason, and the scene is kept.
+  await page.setInputFiles('#ff-import-a', join(FIXTURES, 'open.obj'));
+  await page.waitForFunction(() => document.getElementById('status').dataset.kind === 'error');
+  assert.match(await page.textContent('#status'), /open\.obj could not be imported.*4 open edges/);
+  assert.deepEqual(JSON.parse(await page.evaluate(() => window.bezsolid.ff.model_json())), model);
+
+  // A drop of a binary STL onto the page imports it as A.
+  const stl = readFileSync(join(FIXTURES, 'tetra.stl'));
+  await page.evaluate(async (bytes) => {
+    const dt = new DataTransfer();
+    dt.items.add(new File([new Uint8Array(bytes)], 'tetra.stl'));
+    window.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+  }, [...stl]);
+  await page.waitForFunction(() => /Imported tetra\.stl as solid A/.test(document.getElementById('status').textContent));
+  await settle(page);
+  assert.match(await page.textContent('#ff-info'), /A: 4 triangles/);
+
+  // Back to the blob minus a torus; the exports parse back.
+  await page.selectOption('#ff-a', 'blob');
+  await page.selectOption('#ff-b', 'torus');
+  await page.selectOption('#ff-op', 'difference');
+  await page.fill('#ff-resolution', '32');
+  await page.dispatchEvent('#ff-resolution', 'change');
+  await waitFine(page, 32);
+  const [triangles] = (await page.evaluate(() => document.body.dataset.ffSurface)).split(',').map(Number);
+  const bin = await download(page, 'stl');
+  const count = bin.readUInt32LE(80);
+  assert.equal(bin.length, 84 + 50 * count);
+  assert.equal(count, triangles, 'the STL has the drawn surface');
+  const obj = (await download(page, 'obj')).toString();
+  assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, triangles);
+  const ply = (await download(page, 'ply')).toString('latin1');
+  assert.match(ply, new RegExp(`element face ${triangles}\\b`));
+  assert.ok(await page.isDisabled('#export option[value="svg"]'));
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a free-form link reopens the scene, and the model file opens back in the mode', async () => {
+  const { page, errors } = await open(browser);
+  await freeForm(page);
+  await page.selectOption('#ff-a', 'icosphere');
+  await page.fill('#ff-bx', '0.6');
+  await page.dispatchEvent('#ff-bx', 'change');
+  await page.selectOption('#ff-op', 'union');
+  await page.click('#copy-link');
+  await page.waitForFunction(() => document.body.dataset.link);
+  const link = await page.evaluate(() => document.body.dataset.link);
+  assert.ok(link.length < 200, link);
+  const model = await page.evaluate(() => window.bezsolid.ff.model_json());
+  const file = await download(page, 'model');
+  assert.equal(file.toString(), model);
+
+  // A new page, in the Bézier mode, opens the link into the Free-form mode.
+  const other = await open(browser);
+  await other.page.evaluate(() => window.bezsolid.setWorkspace('bezier'));
+  await other.page.goto(link);
+  await other.page.waitForSelector('body[data-ready="true"]');
+  await other.page.waitForSelector('body[data-workspace="freeform"]');
+  assert.equal(await other.page.evaluate(() => window.bezsolid.ff.model_json()), model);
+  assert.equal(await other.page.inputValue('#ff-bx'), '0.6');
+  // The model file opens too (picker), after another edit.
+  await other.page.selectOption('#ff-op', 'intersection');
+  const path = join(ARTIFACTS, 'freeform.bsolid.json');
+  writeFileSync(path, file);
+  await other.page.setInputFiles('#open-file', path);
+  await other.page.waitForFunction(() => /Opened freeform\.bsolid\.json/.test(document.getElementById('status').textContent));
+  assert.equal(await other.page.evaluate(() => window.bezsolid.ff.model_json()), model);
+  assert.deepEqual(other.errors, []);
+  assert.deepEqual(errors, []);
+  await other.page.close();
+  await page.close();
+});
