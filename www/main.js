@@ -335,8 +335,9 @@ async function main() {
     $('model-name').textContent = `Free-form: ${opName}`;
     let text = `A: ${counts[0].toLocaleString('en')} triangles`
       + (counts.length > 1 ? `, B: ${counts[1].toLocaleString('en')} triangles` : '') + '. ';
-    if (display === 'points') {
-      const [inside, marked] = ff.point_counts();
+    const pointCounts = ff.point_counts();
+    if (display === 'points' && pointCounts) {
+      const [inside, marked] = pointCounts;
       text += `Point mesh 25 × 25 × 25: ${inside.toLocaleString('en')} points`
         + (marked ? `, ${marked.toLocaleString('en')} red (in the partial chain, removed by its last term)` : '');
     } else if (info) {

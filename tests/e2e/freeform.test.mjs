@@ -152,6 +152,7 @@ test('a free-form link reopens the scene, and the model file opens back in the m
   await other.page.goto(link);
   await other.page.waitForSelector('body[data-ready="true"]');
   await other.page.waitForSelector('body[data-workspace="freeform"]');
+  await settle(other.page);
   assert.equal(await other.page.evaluate(() => window.bezsolid.ff.model_json()), model);
   assert.equal(await other.page.inputValue('#ff-bx'), '0.6');
   // The model file opens too (picker), after another edit.

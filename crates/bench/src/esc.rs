@@ -2,7 +2,9 @@
 //! simplicial chain against Jordan ray parity on the same PN surface and the same grid (the paper's
 //! Fig. 20 claim, as queries per second and patch intersections per query).
 
+use bezsolid_core::esc::bool::{Expr, Op};
 use bezsolid_core::esc::chain::{EscSolid, Stats};
+use bezsolid_core::esc::draw::Boolean;
 use bezsolid_core::esc::examples::Example;
 use glam::DVec3;
 
@@ -128,6 +130,61 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
                 "{}; differs from ESC on {differ} points",
                 note(&stats, inside, count)
             ),
+        });
+    }
+    // The modeler's result surface: the blob minus a torus through it, by marching cubes on the
+    // chain's membership with vertices where grid edges cross the PN surfaces.
+    let blob = EscSolid::new(&Example::Blob.mesh()).unwrap_or_else(|_| unreachable!("valid"));
+    let mut torus = Example::Torus.mesh();
+    for p in &mut torus.positions {
+        p.z += 0.35;
+    }
+    let torus = EscSolid::new(&torus).unwrap_or_else(|_| unreachable!("valid"));
+    let boolean = Boolean {
+        solids: vec![blob, torus],
+        expr: Expr::binary(Op::Difference, Expr::Solid(0), Expr::Solid(1)),
+    };
+    let surface = "result surface of blob − torus (exact edge crossings)";
+    let sizes: &[usize] = if quick { &[24] } else { &[24, 64, 128] };
+    for &res in sizes {
+        let (ms, runs, mesh) = time(clock, budget, || boolean.surface(res));
+        rows.push(Row {
+            case: surface.into(),
+            who: "bezsolid".into(),
+            n: res,
+            ms,
+            runs,
+            extra: mesh.triangles.len() as f64,
+            note: String::new(),
+        });
+    }
+    let (ms, runs, points) = time(clock, budget, || boolean.point_mesh(25));
+    rows.push(Row {
+        case: "point mesh of blob − torus (the paper's 25³ view)".into(),
+        who: "bezsolid".into(),
+        n: 25,
+        ms,
+        runs,
+        extra: (points.inside.len() + points.marked.len()) as f64,
+        note: String::new(),
+    });
+
+    // What importing a mesh costs before the first query: PN patches, apex, cube map, walls, grid.
+    let build = "build the chain of a mesh (PN patches, apex, cube map, walls, grid)";
+    let sizes: &[u32] = if quick { &[3] } else { &[3, 4, 6] };
+    for &level in sizes {
+        let mesh = bezsolid_core::esc::examples::icosphere(level);
+        let (ms, runs, solid) = time(clock, budget, || {
+            EscSolid::new(&mesh).unwrap_or_else(|_| unreachable!("a valid icosphere"))
+        });
+        rows.push(Row {
+            case: build.into(),
+            who: "bezsolid: icosphere".into(),
+            n: solid.triangles().len(),
+            ms,
+            runs,
+            extra: solid.triangles().len() as f64,
+            note: String::new(),
         });
     }
     rows

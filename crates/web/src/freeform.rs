@@ -8,7 +8,8 @@
 //! [`FreeForm::surface_request`] and [`FreeForm::set_surface`]); until it comes a coarse one is
 //! drawn.
 
-use bezsolid_core::esc::bool::Op;
+use bezsolid_core::esc::bool::{Expr, Op};
+use bezsolid_core::esc::chain::EscSolid;
 use bezsolid_core::esc::draw::Boolean;
 use bezsolid_core::esc::examples::Example;
 use bezsolid_core::mesh::Mesh;
@@ -19,7 +20,7 @@ use crate::app::Rgba;
 use crate::view3d::{Camera, MeshVertex, Scene};
 
 /// The result's surface while the fine one is being made (cells along the longest side).
-pub const COARSE_RESOLUTION: usize = 24;
+pub const COARSE_RESOLUTION: usize = 16;
 /// The result's surface at rest, by default.
 pub const DEFAULT_RESOLUTION: usize = 64;
 /// Points along the longest side of the point mesh, as the paper's Fig. 19 (25 × 25 × 25).
@@ -82,6 +83,8 @@ pub struct FreeForm {
     size: DVec2,
     gesture: Option<(bool, DVec2)>,
     geometry: Option<Geometry>,
+    /// The point mesh's counts `(inside, marked)` for a revision.
+    point_counts: Option<(u64, usize, usize)>,
     generation: u64,
 }
 
@@ -108,7 +111,7 @@ impl FreeForm {
             resolution: DEFAULT_RESOLUTION,
             boolean: Boolean {
                 solids: Vec::new(),
-                expr: bezsolid_core::esc::bool::Expr::Solid(0),
+                expr: Expr::Solid(0),
             },
             revision: 0,
             surface: None,
@@ -117,6 +120,7 @@ impl FreeForm {
             size: DVec2::new(640.0, 480.0),
             gesture: None,
             geometry: None,
+            point_counts: None,
             // Far from the patch view's generations: both draw on one renderer, which uploads
             // the triangles again whenever the generation it last drew changes.
             generation: 1 << 40,
@@ -165,8 +169,39 @@ impl FreeForm {
 
     /// Rebuilds the solids from a changed operand list; on failure the scene stays as it was.
     fn apply(&mut self, operands: Vec<EscOperand>, operation: Option<Op>) -> Result<(), String> {
-        let file = ModelFile::from_esc(operation, operands.clone());
-        let boolean = file.to_boolean().map_err(|e| e.to_string())?;
+        // Solids whose operand is unchanged are kept (moved, not rebuilt or copied): changing the
+        // operation rebuilds nothing. On an error they are put back.
+        let mut old: Vec<Option<EscSolid>> = core::mem::take(&mut self.boolean.solids)
+            .into_iter()
+            .map(Some)
+            .collect();
+        let mut solids = Vec::with_capacity(operands.len());
+        for (i, o) in operands.iter().enumerate() {
+            let kept = if self.operands.get(i) == Some(o) {
+                old.get_mut(i).and_then(Option::take)
+            } else {
+                None
+            };
+            match kept.map_or_else(|| o.to_solid(), Ok) {
+                Ok(s) => solids.push(s),
+                Err(e) => {
+                    // Back where they were: each taken solid is at its own index.
+                    for (k, s) in solids.into_iter().enumerate() {
+                        if self.operands.get(k) == operands.get(k) {
+                            old[k] = Some(s);
+                        }
+                    }
+                    self.boolean.solids = old.into_iter().flatten().collect();
+                    return Err(format!("operand {}: {e}", i + 1));
+                }
+            }
+        }
+        let expr = match operation {
+            None if operands.len() == 1 => Expr::Solid(0),
+            Some(op) if operands.len() == 2 => Expr::binary(op, Expr::Solid(0), Expr::Solid(1)),
+            _ => return Err("an operation needs two solids, and one solid no operation".into()),
+        };
+        let boolean = Boolean { solids, expr };
         self.operands = operands;
         self.operation = operation;
         self.boolean = boolean;
@@ -413,7 +448,10 @@ impl FreeForm {
             self.surface.as_ref().map(|s| (s.0, s.1)),
         );
         if self.geometry.as_ref().is_none_or(|g| g.0 != key) {
-            let (opaque, translucent) = self.build();
+            let (opaque, translucent, counts) = self.build();
+            if let Some((inside, marked)) = counts {
+                self.point_counts = Some((self.revision, inside, marked));
+            }
             self.generation += 1;
             self.geometry = Some((key, self.generation, opaque, translucent));
         }
@@ -433,9 +471,11 @@ impl FreeForm {
         }
     }
 
-    fn build(&self) -> (Vec<MeshVertex>, Vec<MeshVertex>) {
+    /// The triangles of the current display, and the point mesh's counts when it is shown.
+    fn build(&self) -> (Vec<MeshVertex>, Vec<MeshVertex>, Option<(usize, usize)>) {
         let mut opaque = Vec::new();
         let mut translucent = Vec::new();
+        let mut counts = None;
         let ghost = |c: Rgba| [c[0], c[1], c[2], GHOST_ALPHA];
         let pn = |k: usize, color: Rgba, out: &mut Vec<MeshVertex>| {
             if let Some(s) = self.boolean.solids.get(k) {
@@ -461,6 +501,7 @@ impl FreeForm {
             }
             Display::Points => {
                 let points = self.boolean.point_mesh(POINT_MESH);
+                counts = Some((points.inside.len(), points.marked.len()));
                 let r = points.step * 0.22;
                 for p in &points.inside {
                     octahedron(&mut opaque, *p, r, INSIDE_COLOR);
@@ -470,14 +511,16 @@ impl FreeForm {
                 }
             }
         }
-        (opaque, translucent)
+        (opaque, translucent, counts)
     }
 
-    /// Counts of the point mesh: `(in the result or partial chain, marked)`.
+    /// Counts of the point mesh last drawn for this scene: `(in the result or partial chain,
+    /// marked)`; `None` before it is drawn.
     #[must_use]
-    pub fn point_counts(&self) -> (usize, usize) {
-        let p = self.boolean.point_mesh(POINT_MESH);
-        (p.inside.len(), p.marked.len())
+    pub fn point_counts(&self) -> Option<(usize, usize)> {
+        self.point_counts
+            .filter(|c| c.0 == self.revision)
+            .map(|c| (c.1, c.2))
     }
 }
 
@@ -658,6 +701,8 @@ mod tests {
         broken.triangles.pop();
         assert!(f.set_mesh(1, "broken.obj", &broken).is_err());
         assert_eq!(f.model_file(), before);
+        assert_eq!(f.boolean().solids.len(), 2, "the solids are kept");
+        assert!(f.boolean().solids[0].contains(DVec3::ZERO));
         // A good mesh is taken, named by its file.
         f.set_mesh(1, "ball.obj", &open).unwrap();
         assert_eq!(f.operand(1).map(|o| o.0), Some("ball.obj".into()));

@@ -1035,11 +1035,13 @@ impl FreeFormView {
             .map(|(t, r)| vec![t as u32, r as u32])
     }
 
-    /// `[points in the partial chain or result, marked]` of the point mesh.
+    /// `[points in the partial chain or result, marked]` of the point mesh last drawn, or
+    /// `undefined` before it is drawn.
     #[must_use]
-    pub fn point_counts(&self) -> Vec<u32> {
-        let (a, b) = self.state.point_counts();
-        vec![a as u32, b as u32]
+    pub fn point_counts(&self) -> Option<Vec<u32>> {
+        self.state
+            .point_counts()
+            .map(|(a, b)| vec![a as u32, b as u32])
     }
 
     /// The model file (JSON).
