@@ -75,23 +75,13 @@ async function main() {
   const freeform = () => workspace === 'freeform';
   const openFromAddress = () => {
     if (!location.hash || location.hash === '#') return false;
+    const free = is_free_form(location.href);
     let opened = false;
-    if (is_free_form(location.href)) {
-      try {
-        ff.open(location.href);
-        setWorkspace('freeform');
-        say('Opened the free-form model from the link.');
-        opened = true;
-      } catch (err) {
-        say(`This link could not be opened, so the current model was kept: ${err.message ?? err}`, 'error');
-      }
-      history.replaceState(null, '', location.pathname + location.search);
-      return opened;
-    }
     try {
-      modeler.open_link(location.href);
-      say('Opened the model from the link.');
-      setWorkspace('bezier');
+      if (free) ff.open(location.href);
+      else modeler.open_link(location.href);
+      setWorkspace(free ? 'freeform' : 'bezier');
+      say(`Opened the ${free ? 'free-form ' : ''}model from the link.`);
       opened = true;
     } catch (err) {
       say(`This link could not be opened, so the current model was kept: ${err.message ?? err}`, 'error');
@@ -177,20 +167,23 @@ async function main() {
     document.body.dataset.meshing = text ? 'true' : 'false';
   };
   let exporting = '';
-  const mesher = surfaceRunner && (() => {
+  // A fine surface made in a worker for `target` (the Bézier modeler's volume or the free-form
+  // result): `target.surface_request()` says what is wanted, and a newer request cancels the job
+  // under way by restarting the worker.
+  const backgroundMesher = (work, target, kind, what) => {
     let busy = null; // [revision, resolution] in flight
     let lastMs = 0;
     const send = async ([revision, resolution]) => {
       busy = [revision, resolution];
-      showBadge(`Meshing the surface at ${resolution}…`);
+      showBadge(`Meshing the ${what} at ${resolution}…`);
       try {
-        const { data, ms } = await surfaceRunner.run({ kind: 'surface', model: modeler.model_json(), resolution });
-        if (modeler.set_surface(revision, resolution, data)) {
+        const { data, ms } = await work.run({ kind, model: target.model_json(), resolution });
+        if (target.set_surface(revision, resolution, data)) {
           lastMs = ms;
           redraw(VIEW3);
         }
       } catch (err) {
-        if (!err.cancelled) say(`The surface could not be meshed: ${err.message}`, 'error');
+        if (!err.cancelled) say(`The ${what} could not be meshed: ${err.message}`, 'error');
       }
       if (busy && busy[0] === revision && busy[1] === resolution) {
         busy = null;
@@ -199,55 +192,24 @@ async function main() {
     };
     return {
       check() {
-        const request = modeler.surface_request();
+        const request = target.surface_request();
         if (!request) return;
         if (busy && busy[0] === request[0] && busy[1] === request[1]) return;
-        // A newer model or resolution: the job under way is of no use any more.
-        surfaceRunner.cancel();
+        work.cancel();
         send(request);
       },
       lastMs: () => lastMs,
     };
-  })();
-
-  // The free-form result's fine surface, as the volume's: in the worker, cancelled by a newer one.
-  const ffMesher = (() => {
-    let busy = null;
-    let lastMs = 0;
-    let runnerFF = null;
-    try {
-      runnerFF = runner();
-    } catch {
-      return null;
-    }
-    const send = async ([revision, resolution]) => {
-      busy = [revision, resolution];
-      showBadge(`Meshing the result at ${resolution}…`);
-      try {
-        const { data, ms } = await runnerFF.run({ kind: 'esc-surface', model: ff.model_json(), resolution });
-        if (ff.set_surface(revision, resolution, data)) {
-          lastMs = ms;
-          redraw(VIEW3);
-        }
-      } catch (err) {
-        if (!err.cancelled) say(`The result could not be meshed: ${err.message}`, 'error');
-      }
-      if (busy && busy[0] === revision && busy[1] === resolution) {
-        busy = null;
-        showBadge(exporting);
-      }
-    };
-    return {
-      check() {
-        const request = ff.surface_request();
-        if (!request) return;
-        if (busy && busy[0] === request[0] && busy[1] === request[1]) return;
-        runnerFF.cancel();
-        send(request);
-      },
-      lastMs: () => lastMs,
-    };
-  })();
+  };
+  const mesher = surfaceRunner && backgroundMesher(surfaceRunner, modeler, 'surface', 'surface');
+  // The Free-form mode (issue 6) has its own worker for its result's surface.
+  let ffRunner = null;
+  try {
+    ffRunner = surfaceRunner && runner();
+  } catch {
+    ffRunner = null;
+  }
+  const ffMesher = ffRunner && backgroundMesher(ffRunner, ff, 'esc-surface', 'result');
 
   let pending = 0;
   let lastRender = 0;

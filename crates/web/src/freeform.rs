@@ -17,7 +17,7 @@ use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
 use glam::{DVec2, DVec3};
 
 use crate::app::Rgba;
-use crate::view3d::{Camera, MeshVertex, Scene};
+use crate::view3d::{Camera, MeshVertex, Scene, float_vertices, mesh_floats};
 
 /// The result's surface while the fine one is being made (cells along the longest side).
 pub const COARSE_RESOLUTION: usize = 16;
@@ -216,20 +216,8 @@ impl FreeForm {
     /// An unknown example or slot.
     pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), String> {
         let example = Example::from_name(name).ok_or_else(|| format!("no example {name:?}"))?;
-        let mut operands = self.operands.clone();
-        let offset = operands.get(slot).map_or([0.0; 3], |o| o.offset);
-        let op = EscOperand::example(example, offset);
-        match slot {
-            _ if slot < operands.len() => operands[slot] = op,
-            1 if operands.len() == 1 => operands.push(op),
-            _ => return Err(format!("no operand {}", slot + 1)),
-        }
-        let operation = self
-            .operation
-            .or((operands.len() == 2).then_some(Op::Union));
-        self.apply(operands, operation)?;
-        self.set_name(slot, name);
-        Ok(())
+        let offset = self.operands.get(slot).map_or([0.0; 3], |o| o.offset);
+        self.replace(slot, name, EscOperand::example(example, offset))
     }
 
     /// Operand `slot` becomes an imported mesh (read by `bezsolid_core::esc::import`), named `name`.
@@ -238,7 +226,6 @@ impl FreeForm {
     ///
     /// An unknown slot, or a mesh that cannot bound a solid.
     pub fn set_mesh(&mut self, slot: usize, name: &str, mesh: &Mesh) -> Result<(), String> {
-        let mut operands = self.operands.clone();
         let op = EscOperand {
             example: None,
             mesh: Some(MeshSpec {
@@ -247,6 +234,14 @@ impl FreeForm {
             }),
             offset: [0.0; 3],
         };
+        self.replace(slot, name, op)?;
+        self.fit();
+        Ok(())
+    }
+
+    /// Operand `slot` becomes `op`, named `name`; a new B comes with a union.
+    fn replace(&mut self, slot: usize, name: &str, op: EscOperand) -> Result<(), String> {
+        let mut operands = self.operands.clone();
         match slot {
             _ if slot < operands.len() => operands[slot] = op,
             1 if operands.len() == 1 => operands.push(op),
@@ -257,7 +252,6 @@ impl FreeForm {
             .or((operands.len() == 2).then_some(Op::Union));
         self.apply(operands, operation)?;
         self.set_name(slot, name);
-        self.fit();
         Ok(())
     }
 
@@ -358,7 +352,10 @@ impl FreeForm {
         if revision != self.revision {
             return false;
         }
-        self.surface = Some((revision, resolution, vertices(data, RESULT_COLOR)));
+        if !data.len().is_multiple_of(18) {
+            return false;
+        }
+        self.surface = Some((revision, resolution, float_vertices(data, RESULT_COLOR)));
         true
     }
 
@@ -378,13 +375,7 @@ impl FreeForm {
     }
 
     fn extent_box(&self) -> (DVec3, DVec3) {
-        self.boolean.solids.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), s| {
-                let (a, b) = s.bounds();
-                (lo.min(a), hi.max(b))
-            },
-        )
+        self.boolean.scene_bounds()
     }
 
     /// The viewport's size in CSS pixels.
@@ -612,25 +603,7 @@ pub fn mesh_vertices(mesh: &Mesh, color: Rgba) -> Vec<MeshVertex> {
 /// vertices per triangle (what the worker hands to [`FreeForm::set_surface`]).
 #[must_use]
 pub fn surface_floats(boolean: &Boolean, resolution: usize) -> Vec<f32> {
-    let mesh = boolean.surface(resolution);
-    let mut out = Vec::with_capacity(mesh.triangles.len() * 18);
-    for t in &mesh.triangles {
-        for &i in t {
-            out.extend(mesh.positions[i as usize].as_vec3().to_array());
-            out.extend(mesh.normals[i as usize].as_vec3().to_array());
-        }
-    }
-    out
-}
-
-fn vertices(data: &[f32], color: Rgba) -> Vec<MeshVertex> {
-    data.chunks_exact(6)
-        .map(|v| MeshVertex {
-            position: [v[0], v[1], v[2]],
-            normal: [v[3], v[4], v[5]],
-            color,
-        })
-        .collect()
+    mesh_floats(&boolean.surface(resolution))
 }
 
 /// A small octahedron (a point of the point mesh).

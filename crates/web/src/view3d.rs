@@ -578,14 +578,7 @@ impl View3 {
         {
             return false;
         }
-        let surface = data
-            .chunks_exact(6)
-            .map(|v| MeshVertex {
-                position: [v[0], v[1], v[2]],
-                normal: [v[3], v[4], v[5]],
-                color: SURFACE_COLOR,
-            })
-            .collect::<Vec<_>>();
+        let surface = float_vertices(data, SURFACE_COLOR);
         self.surface = Some(SurfaceCache {
             revision,
             resolution,
@@ -872,9 +865,13 @@ pub fn surface_mesh(volume: &Solid3, resolution: usize) -> Option<bezsolid_core:
 /// a Web Worker hands to [`View3::set_surface`].
 #[must_use]
 pub fn surface_floats(volume: &Solid3, resolution: usize) -> Vec<f32> {
-    let Some(mesh) = surface_mesh(volume, resolution) else {
-        return Vec::new();
-    };
+    surface_mesh(volume, resolution).map_or_else(Vec::new, |m| mesh_floats(&m))
+}
+
+/// A mesh as six `f32` per vertex (position, normal), three vertices per triangle: the form in
+/// which surfaces come back from a Web Worker.
+#[must_use]
+pub fn mesh_floats(mesh: &bezsolid_core::mesh::Mesh) -> Vec<f32> {
     let mut out = Vec::with_capacity(mesh.triangles.len() * 18);
     for t in &mesh.triangles {
         for &i in t {
@@ -885,16 +882,20 @@ pub fn surface_floats(volume: &Solid3, resolution: usize) -> Vec<f32> {
     out
 }
 
-fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usize) {
-    let floats = surface_floats(volume, resolution);
-    let surface: Vec<MeshVertex> = floats
-        .chunks_exact(6)
+/// Vertices of one colour from [`mesh_floats`]' form.
+#[must_use]
+pub fn float_vertices(data: &[f32], color: Rgba) -> Vec<MeshVertex> {
+    data.chunks_exact(6)
         .map(|v| MeshVertex {
             position: [v[0], v[1], v[2]],
             normal: [v[3], v[4], v[5]],
-            color: SURFACE_COLOR,
+            color,
         })
-        .collect();
+        .collect()
+}
+
+fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usize) {
+    let surface = float_vertices(&surface_floats(volume, resolution), SURFACE_COLOR);
     let triangles = surface.len() / 3;
     (surface, triangles)
 }

@@ -33,6 +33,27 @@ fn error(context: &str, e: impl core::fmt::Display) -> JsError {
     JsError::new(&format!("{context}: {e}"))
 }
 
+/// The surface's next texture and a view of it, or `None` for this frame (a lost or outdated
+/// surface is configured again, to draw on the next).
+fn frame_texture(
+    surface: &wgpu::Surface<'static>,
+    device: &wgpu::Device,
+    config: &wgpu::SurfaceConfiguration,
+) -> Option<(wgpu::SurfaceTexture, wgpu::TextureView)> {
+    let texture = match surface.get_current_texture() {
+        wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+        wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+            surface.configure(device, config);
+            return None;
+        }
+        _ => return None,
+    };
+    let view = texture
+        .texture
+        .create_view(&wgpu::TextureViewDescriptor::default());
+    Some((texture, view))
+}
+
 /// A device and a configured-to-be surface on one canvas.
 struct Gpu {
     surface: wgpu::Surface<'static>,
@@ -196,6 +217,32 @@ pub struct Viewer3 {
     max_size: u32,
 }
 
+impl Viewer3 {
+    /// Sizes the canvas's surface for `width × height` CSS pixels at `dpr`; returns the size in
+    /// device pixels.
+    fn fit_canvas(&mut self, width: f64, height: f64, dpr: f64) -> Vec<u32> {
+        let (w, h) = device_pixels(width, height, dpr, self.max_size);
+        if (w, h) != (self.config.width, self.config.height) {
+            self.config.width = w;
+            self.config.height = h;
+            self.surface.configure(self.renderer.device(), &self.config);
+        }
+        vec![w, h]
+    }
+
+    /// Draws `scene` on the canvas and presents it.
+    fn present(&mut self, scene: &crate::view3d::Scene<'_>) {
+        let Some((texture, view)) =
+            frame_texture(&self.surface, self.renderer.device(), &self.config)
+        else {
+            return;
+        };
+        self.renderer
+            .draw(&view, (self.config.width, self.config.height), scene);
+        self.renderer.queue().present(texture);
+    }
+}
+
 /// Brings up the 3D view's renderer on `canvas`, on `backend` as [`start`] takes it.
 ///
 /// # Errors
@@ -288,18 +335,11 @@ impl Modeler {
         self.range = frame.range;
         self.loops = frame.contours.len();
         self.folded = frame.folded;
-        let texture = match self.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                self.surface.configure(self.renderer.device(), &self.config);
-                return;
-            }
-            _ => return,
+        let Some((texture, view)) =
+            frame_texture(&self.surface, self.renderer.device(), &self.config)
+        else {
+            return;
         };
-        let view = texture
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
         self.renderer
             .draw(&view, (self.config.width, self.config.height), &frame);
         self.renderer.queue().present(texture);
@@ -743,38 +783,13 @@ impl Modeler {
         dpr: f64,
     ) -> Vec<u32> {
         self.view3.resize(&self.view, width, height);
-        let (w, h) = device_pixels(width, height, dpr, viewer.max_size);
-        if (w, h) != (viewer.config.width, viewer.config.height) {
-            viewer.config.width = w;
-            viewer.config.height = h;
-            viewer
-                .surface
-                .configure(viewer.renderer.device(), &viewer.config);
-        }
-        vec![w, h]
+        viewer.fit_canvas(width, height, dpr)
     }
 
     /// Draws the 3D view.
     pub fn render_3d(&mut self, viewer: &mut Viewer3) {
         let scene = self.view3.scene(&self.view);
-        let texture = match viewer.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                viewer
-                    .surface
-                    .configure(viewer.renderer.device(), &viewer.config);
-                return;
-            }
-            _ => return,
-        };
-        let view = texture
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
-        viewer
-            .renderer
-            .draw(&view, (viewer.config.width, viewer.config.height), &scene);
-        viewer.renderer.queue().present(texture);
+        viewer.present(&scene);
     }
 
     /// Pointer pressed in the 3D view: `pan` for the right button; `shift` pans on empty space and
@@ -859,38 +874,13 @@ impl FreeFormView {
     /// Sizes the view on `viewer`'s canvas; returns the canvas size in device pixels.
     pub fn resize(&mut self, viewer: &mut Viewer3, width: f64, height: f64, dpr: f64) -> Vec<u32> {
         self.state.resize(width, height);
-        let (w, h) = device_pixels(width, height, dpr, viewer.max_size);
-        if (w, h) != (viewer.config.width, viewer.config.height) {
-            viewer.config.width = w;
-            viewer.config.height = h;
-            viewer
-                .surface
-                .configure(viewer.renderer.device(), &viewer.config);
-        }
-        vec![w, h]
+        viewer.fit_canvas(width, height, dpr)
     }
 
     /// Draws the scene on `viewer`.
     pub fn render(&mut self, viewer: &mut Viewer3) {
         let scene = self.state.scene();
-        let texture = match viewer.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                viewer
-                    .surface
-                    .configure(viewer.renderer.device(), &viewer.config);
-                return;
-            }
-            _ => return,
-        };
-        let view = texture
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
-        viewer
-            .renderer
-            .draw(&view, (viewer.config.width, viewer.config.height), &scene);
-        viewer.renderer.queue().present(texture);
+        viewer.present(&scene);
     }
 
     /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.

@@ -462,13 +462,6 @@ impl EscSolid {
         }
         Ok(())
     }
-
-    /// The number of original simplices listed in the cube-map cell of each query, on average over
-    /// the cells (a measure of the apex's quality).
-    #[must_use]
-    pub fn mean_cone_depth(&self) -> f64 {
-        self.cube.items.len() as f64 / (self.cube.offsets.len() - 1) as f64
-    }
 }
 
 /// The exact side of `apex` against the triangle, without the perturbation (0 when coplanar).

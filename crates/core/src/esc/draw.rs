@@ -46,17 +46,22 @@ impl Boolean {
         })
     }
 
-    /// A box holding the result: unions and differences of the operands' boxes, intersections of
-    /// them; a complement is bounded by all the solids' box.
+    /// The box of all the solids (empty, with infinite corners, when there are none).
     #[must_use]
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        let all = self
-            .solids
+    pub fn scene_bounds(&self) -> (DVec3, DVec3) {
+        self.solids
             .iter()
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), s| {
                 let (a, b) = s.bounds();
                 (lo.min(a), hi.max(b))
-            });
+            })
+    }
+
+    /// A box holding the result: unions and differences of the operands' boxes, intersections of
+    /// them; a complement is bounded by all the solids' box.
+    #[must_use]
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let all = self.scene_bounds();
         let (lo, hi) = bound(&self.expr, &self.solids, all);
         if lo.cmple(hi).all() {
             (lo, hi)
@@ -73,13 +78,7 @@ impl Boolean {
     #[must_use]
     pub fn point_mesh(&self, res: usize) -> PointMesh {
         let res = res.clamp(2, MAX_RESOLUTION);
-        let all = self
-            .solids
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), s| {
-                let (a, b) = s.bounds();
-                (lo.min(a), hi.max(b))
-            });
+        let all = self.scene_bounds();
         let mut out = PointMesh::default();
         if !all.0.is_finite() {
             return out;

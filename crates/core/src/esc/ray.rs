@@ -18,8 +18,7 @@ pub struct Ray {
     pub origin: DVec3,
     /// The unit direction.
     pub dir: DVec3,
-    /// The largest `λ` counted (`f64::INFINITY` for a ray, 1 for a segment of length `|dir|`... of
-    /// a unit direction, the segment's length).
+    /// The largest `λ` counted: `f64::INFINITY` for a ray, the length for a segment.
     pub max: f64,
     e1: DVec3,
     e2: DVec3,
