@@ -559,6 +559,9 @@ fn ray_hits_box(ray: &Ray, lo: DVec3, hi: DVec3) -> bool {
     far >= near.max(0.0) && near <= ray.max || far.is_nan() || near.is_nan()
 }
 
+/// The most entries of the cube map's or the grid's index: the grids are coarsened past it.
+const MAX_INDEX: usize = 1 << 24;
+
 /// Directions from the apex, binned on the six faces of a cube: each cell lists the original
 /// simplices whose cone meets it.
 #[derive(Clone, Debug)]
@@ -571,26 +574,41 @@ struct CubeMap {
 impl CubeMap {
     fn new(apex: DVec3, positions: &[DVec3], triangles: &[[u32; 3]], coefficients: &[i8]) -> Self {
         let cells_wanted = (triangles.len() * 8).max(6);
-        let res = (libm::ceil(crate::math::sqrt((cells_wanted / 6) as f64)) as usize).clamp(1, 128);
-        let n = 6 * res * res;
-        let mut counts = vec![0u32; n + 1];
-        let mut footprints: Vec<(u32, usize, [usize; 4])> = Vec::new();
-        for (t, tri) in triangles.iter().enumerate() {
-            if coefficients[t] == 0 {
-                continue;
-            }
-            let corners = tri.map(|i| positions[i as usize] - apex);
-            for face in 0..6 {
-                if let Some(rect) = footprint(&corners, face, res) {
-                    footprints.push((t as u32, face, rect));
-                    for v in rect[2]..=rect[3] {
-                        for u in rect[0]..=rect[1] {
-                            counts[(face * res + v) * res + u] += 1;
-                        }
+        let mut res =
+            (libm::ceil(crate::math::sqrt((cells_wanted / 6) as f64)) as usize).clamp(1, 128);
+        // Footprints, coarsened until the index fits in MAX_INDEX entries (a hostile mesh of many
+        // nested layers would otherwise list each triangle in thousands of cells).
+        let (counts, footprints) = loop {
+            let n = 6 * res * res;
+            let mut counts = vec![0u32; n + 1];
+            let mut footprints: Vec<(u32, usize, [usize; 4])> = Vec::new();
+            let mut total = 0usize;
+            for (t, tri) in triangles.iter().enumerate() {
+                if coefficients[t] == 0 {
+                    continue;
+                }
+                let corners = tri.map(|i| positions[i as usize] - apex);
+                for face in 0..6 {
+                    if let Some(rect) = footprint(&corners, face, res) {
+                        total += (rect[1] - rect[0] + 1) * (rect[3] - rect[2] + 1);
+                        footprints.push((t as u32, face, rect));
                     }
                 }
             }
-        }
+            if total > MAX_INDEX && res > 1 {
+                res /= 2;
+                continue;
+            }
+            for &(_, face, rect) in &footprints {
+                for v in rect[2]..=rect[3] {
+                    for u in rect[0]..=rect[1] {
+                        counts[(face * res + v) * res + u] += 1;
+                    }
+                }
+            }
+            break (counts, footprints);
+        };
+        let n = 6 * res * res;
         let mut offsets = vec![0u32; n + 1];
         for i in 0..n {
             offsets[i + 1] = offsets[i] + counts[i];
@@ -725,10 +743,24 @@ impl Grid {
         );
         let extent = (hi - lo).max(DVec3::splat(1e-300));
         let target = (boxes.len() * 2).max(1) as f64;
-        let size =
+        let mut size =
             libm::cbrt(extent.x * extent.y * extent.z / target).max(extent.max_element() / 256.0);
-        let dims = [0, 1, 2].map(|a| (libm::ceil(extent[a] / size) as usize).clamp(1, 256));
-        let step = extent / DVec3::new(dims[0] as f64, dims[1] as f64, dims[2] as f64);
+        // Coarsened until the index fits in MAX_INDEX entries (long slivers span many cells).
+        let (dims, step) = loop {
+            let dims = [0, 1, 2].map(|a| (libm::ceil(extent[a] / size) as usize).clamp(1, 256));
+            let step = extent / DVec3::new(dims[0] as f64, dims[1] as f64, dims[2] as f64);
+            let total: usize = boxes
+                .iter()
+                .map(|&(a, b)| {
+                    let cells = ((b - a) / step).floor() + 2.0;
+                    (0..3).map(|k| (cells[k] as usize).min(dims[k])).product::<usize>()
+                })
+                .sum();
+            if total <= MAX_INDEX || dims == [1, 1, 1] {
+                break (dims, step);
+            }
+            size *= 2.0;
+        };
         let index_range = |a: DVec3, b: DVec3| {
             let i0 = ((a - lo) / step).floor();
             let i1 = ((b - lo) / step).floor();
@@ -843,5 +875,28 @@ impl Grid {
             cell[k] = c as usize;
             next[k] += delta[k];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn the_grid_index_stays_bounded_for_boxes_that_span_everything() {
+        // 20 000 boxes across the whole scene would list each in every cell of a fine grid.
+        let boxes: Vec<(DVec3, DVec3)> = (0..20_000)
+            .map(|i| {
+                let t = f64::from(i) / 20_000.0;
+                (DVec3::new(0.0, t, 0.0), DVec3::new(1.0, t + 1e-3, 1.0))
+            })
+            .collect();
+        let grid = Grid::new(&boxes);
+        assert!(grid.items.len() <= MAX_INDEX, "{}", grid.items.len());
+        // Still an index: every box is listed where it is.
+        let q = DVec3::new(0.5, 0.25, 0.5);
+        assert!(grid.cell(q).contains(&5000));
     }
 }
