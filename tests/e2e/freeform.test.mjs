@@ -117,13 +117,24 @@ test('a mesh imports by the picker and by a drop, bad ones keep the scene, and t
   await page.fill('#ff-resolution', '32');
   await page.dispatchEvent('#ff-resolution', 'change');
   await waitFine(page, 32);
-  const [triangles] = (await page.evaluate(() => document.body.dataset.ffSurface)).split(',').map(Number);
+  // The view draws the trimmed PN surfaces; the export is the closed mesh at the resolution, one
+  // triangle count in every format, every edge shared by two faces.
   const bin = await download(page, 'stl');
-  const count = bin.readUInt32LE(80);
-  assert.equal(bin.length, 84 + 50 * count);
-  assert.equal(count, triangles, 'the STL has the drawn surface');
+  const triangles = bin.readUInt32LE(80);
+  assert.ok(triangles > 1000, `${triangles}`);
+  assert.equal(bin.length, 84 + 50 * triangles);
   const obj = (await download(page, 'obj')).toString();
-  assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, triangles);
+  const faces = obj.split('\n').filter((l) => l.startsWith('f ')).map((l) => l.split(/\s+/).slice(1).map((v) => parseInt(v, 10)));
+  assert.equal(faces.length, triangles);
+  const edges = new Map();
+  for (const f of faces) {
+    for (let k = 0; k < 3; k++) {
+      const [a, b] = [f[k], f[(k + 1) % 3]];
+      const key = a < b ? `${a},${b}` : `${b},${a}`;
+      edges.set(key, (edges.get(key) ?? 0) + 1);
+    }
+  }
+  assert.ok([...edges.values()].every((n) => n === 2), 'the exported mesh is closed');
   const ply = (await download(page, 'ply')).toString('latin1');
   assert.match(ply, new RegExp(`element face ${triangles}\\b`));
   assert.ok(await page.isDisabled('#export option[value="svg"]'));

@@ -102,8 +102,12 @@ test('a free-form model: its result surface and mesh files, from the file and it
     const r = Math.hypot(x, y) - 1;
     assert.ok(Math.hypot(r, z - 0.5) > 0.39, `${x} ${y} ${z}`);
   }
+  // The export is the closed mesh at the resolution: one triangle count in STL and OBJ.
   const stl = headless_esc_mesh(link, 'stl', 24);
-  assert.equal(new DataView(stl.buffer, stl.byteOffset).getUint32(80, true), triangles);
+  const obj = new TextDecoder().decode(headless_esc_mesh(link, 'obj', 24));
+  const faces = obj.split('\n').filter((l) => l.startsWith('f ')).length;
+  assert.ok(faces > 500);
+  assert.equal(new DataView(stl.buffer, stl.byteOffset).getUint32(80, true), faces);
   assert.throws(() => headless_esc_mesh(link, 'gltf', 24), /unknown mesh format/);
   assert.throws(() => headless_esc_surface('#v1.AAAA', 24), /./);
   assert.throws(() => view.open('{"format":"bezsolid","version":1,"solid":{"kind":"esc","operands":[{"example":"teapot"}]}}'), /no example/);

@@ -144,7 +144,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
         solids: vec![blob, torus],
         expr: Expr::binary(Op::Difference, Expr::Solid(0), Expr::Solid(1)),
     };
-    let surface = "result surface of blob − torus (exact edge crossings)";
+    let surface = "closed result mesh of blob − torus (the export; exact edge crossings)";
     let sizes: &[usize] = if quick { &[24] } else { &[24, 64, 128] };
     for &res in sizes {
         let (ms, runs, mesh) = time(clock, budget, || boolean.surface(res));
@@ -152,6 +152,20 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             case: surface.into(),
             who: "bezsolid".into(),
             n: res,
+            ms,
+            runs,
+            extra: mesh.triangles.len() as f64,
+            note: String::new(),
+        });
+    }
+    let trimmed = "trimmed PN surfaces of blob − torus (the page's view at rest; n = triangles per patch edge)";
+    let levels: &[usize] = if quick { &[1] } else { &[1, 4] };
+    for &level in levels {
+        let (ms, runs, mesh) = time(clock, budget, || boolean.trimmed_surface(level));
+        rows.push(Row {
+            case: trimmed.into(),
+            who: "bezsolid".into(),
+            n: level,
             ms,
             runs,
             extra: mesh.triangles.len() as f64,

@@ -354,22 +354,38 @@ impl EscSolid {
     /// `Σ (winding of ffcᵢ at q)`: the free-form cells' part of `f(q)`.
     #[must_use]
     pub fn cells_value(&self, q: DVec3, stats: &mut Stats) -> i32 {
+        if let Some(sum) = self.cells_at(q, stats) {
+            return sum;
+        }
+        // `q` is on a cell's boundary (a wall between two cells, or a patch): every cell is asked
+        // again at one point moved off it by a hair in a fixed direction, so that exactly one of
+        // two cells that share a wall claims it.
+        let (lo, hi) = self.bounds();
+        let nudge = DVec3::new(0.539_3, 0.807_1, 0.241_2) * (1e-9 * (hi - lo).max_element());
+        self.cells_at(q + nudge, stats).unwrap_or_else(|| {
+            stats.unsure += 1;
+            0
+        })
+    }
+
+    fn cells_at(&self, q: DVec3, stats: &mut Stats) -> Option<i32> {
         let mut sum = 0;
         for &t in self.grid.cell(q) {
             if self.cells[t as usize].holds(q) {
-                sum += self.cell_winding(t as usize, q, stats);
+                sum += self.cell_winding(t as usize, q, stats)?;
             }
         }
-        sum
+        Some(sum)
     }
 
-    /// The winding number of the boundary of free-form cell `t` around `q`.
-    fn cell_winding(&self, t: usize, q: DVec3, stats: &mut Stats) -> i32 {
+    /// The winding number of the boundary of free-form cell `t` around `q`; `None` when no ray
+    /// tells (`q` on the cell's boundary: its patch or a wall).
+    fn cell_winding(&self, t: usize, q: DVec3, stats: &mut Stats) -> Option<i32> {
         let cell = &self.cells[t];
         let [a, b, c] = self.triangles[t].map(|i| self.positions[i as usize]);
         // Cast away from the base triangle's plane, so the ray never meets the base triangle.
         let up = match side(a, b, c, q) {
-            0 => return 0,
+            0 => return Some(0),
             s if s < 0 => cell.normal,
             _ => -cell.normal,
         };
@@ -388,11 +404,10 @@ impl EscSolid {
                 });
             }
             if let Crossings::Count(n) = count {
-                return n;
+                return Some(n);
             }
         }
-        stats.unsure += 1;
-        0
+        None
     }
 
     /// Jordan ray parity against the PN surface, with the same grid: a ray from `q` walks the grid
@@ -753,7 +768,9 @@ impl Grid {
                 .iter()
                 .map(|&(a, b)| {
                     let cells = ((b - a) / step).floor() + 2.0;
-                    (0..3).map(|k| (cells[k] as usize).min(dims[k])).product::<usize>()
+                    (0..3)
+                        .map(|k| (cells[k] as usize).min(dims[k]))
+                        .product::<usize>()
                 })
                 .sum();
             if total <= MAX_INDEX || dims == [1, 1, 1] {

@@ -158,6 +158,121 @@ impl Boolean {
     }
 }
 
+impl Boolean {
+    /// The result's boundary drawn from the solids' own PN surfaces: each patch tessellated into
+    /// `level²` triangles (1 to 32), kept where the result changes across it (the expression with
+    /// the solid inside differs from it with the solid outside, the other solids as they are at the
+    /// point), turned over where the result lies on the solid's outside (the wall a difference
+    /// cuts), and trimmed along the other solids' surfaces by bisection in the patch's parameters.
+    /// The pieces of different solids meet along the intersection curves without sharing vertices:
+    /// a picture of the exact boundary, not a closed mesh (see [`Boolean::surface`] for that).
+    #[must_use]
+    pub fn trimmed_surface(&self, level: usize) -> Mesh {
+        let level = level.clamp(1, 32);
+        let mut mesh = Mesh::default();
+        let mut stats = Stats::default();
+        for (i, solid) in self.solids.iter().enumerate() {
+            let pn = solid.surface();
+            // +1: kept as it is; −1: kept turned over; 0: not on the result's boundary.
+            let mut state = |q: DVec3| -> i8 {
+                let mut others = [0i32; 8];
+                for (j, other) in self.solids.iter().enumerate().take(others.len()) {
+                    if j != i {
+                        others[j] = i32::from(other.value(q, &mut stats) == 1);
+                    }
+                }
+                let with = |v: i32| {
+                    self.expr.value(&mut |j| {
+                        if j == i {
+                            v
+                        } else {
+                            others.get(j).copied().unwrap_or(0)
+                        }
+                    })
+                };
+                match (with(1), with(0)) {
+                    (1, 0) => 1,
+                    (0, 1) => -1,
+                    _ => 0,
+                }
+            };
+            for t in 0..pn.patches.len() {
+                let net = &pn.patches[t];
+                let at = |b: DVec3| super::pn::eval_cubic(net, b);
+                // The parameter grid: row r (v = r/l), column c (w = c/l).
+                let l = level;
+                let bary = |r: usize, c: usize| {
+                    let (v, w) = (r as f64 / l as f64, c as f64 / l as f64);
+                    DVec3::new((1.0 - v - w).max(0.0), v, w)
+                };
+                let index = |r: usize, c: usize| r * (2 * l + 3 - r) / 2 + c;
+                let mut states = Vec::with_capacity((l + 1) * (l + 2) / 2);
+                for r in 0..=l {
+                    for c in 0..=l - r {
+                        states.push(state(at(bary(r, c))));
+                    }
+                }
+                let mut emit = |corners: [(usize, usize); 3]| {
+                    let b = corners.map(|(r, c)| bary(r, c));
+                    let st = corners.map(|(r, c)| states[index(r, c)]);
+                    for keep in [1i8, -1] {
+                        if !st.contains(&keep) {
+                            continue;
+                        }
+                        // The part of the sub-triangle where the state is `keep`: corners in it,
+                        // and on each edge that leaves it the point where the state changes.
+                        let mut poly: Vec<DVec3> = Vec::with_capacity(4);
+                        for k in 0..3 {
+                            let (b0, b1) = (b[k], b[(k + 1) % 3]);
+                            let (s0, s1) = (st[k], st[(k + 1) % 3]);
+                            if s0 == keep {
+                                poly.push(b0);
+                            }
+                            if (s0 == keep) != (s1 == keep) {
+                                // Bisection along the edge in the parameters, to 2⁻¹⁴ of it.
+                                let (mut lo, mut hi) = (0.0, 1.0);
+                                for _ in 0..14 {
+                                    let m = 0.5 * (lo + hi);
+                                    let inside = state(at(b0.lerp(b1, m))) == keep;
+                                    if inside == (s0 == keep) {
+                                        lo = m;
+                                    } else {
+                                        hi = m;
+                                    }
+                                }
+                                poly.push(b0.lerp(b1, 0.5 * (lo + hi)));
+                            }
+                        }
+                        for k in 1..poly.len().saturating_sub(1) {
+                            let tri = [poly[0], poly[k], poly[k + 1]];
+                            let tri = if keep > 0 {
+                                tri
+                            } else {
+                                [tri[0], tri[2], tri[1]]
+                            };
+                            let base = mesh.positions.len() as u32;
+                            for q in tri {
+                                mesh.positions.push(at(q));
+                                mesh.normals.push(pn.normal(t, q) * f64::from(keep));
+                            }
+                            mesh.triangles.push([base, base + 1, base + 2]);
+                        }
+                    }
+                };
+                for r in 0..l {
+                    for c in 0..l - r {
+                        emit([(r, c), (r + 1, c), (r, c + 1)]);
+                        if c + 1 < l - r {
+                            emit([(r + 1, c), (r + 1, c + 1), (r, c + 1)]);
+                        }
+                    }
+                }
+            }
+        }
+        mesh
+    }
+}
+
 /// The box of an expression's result, within `all`.
 fn bound(expr: &Expr, solids: &[EscSolid], all: (DVec3, DVec3)) -> (DVec3, DVec3) {
     match expr {
@@ -323,6 +438,43 @@ mod tests {
                 exact * 10 > mesh.positions.len() * 9,
                 "{op}: most vertices exact"
             );
+        }
+    }
+
+    #[test]
+    fn trimmed_surfaces_lie_on_the_boundary_of_the_result() {
+        for op in Op::ALL {
+            // A torus that crosses the sphere steeply (the default scene's meets it at a shallow
+            // angle, along a band where the two surfaces stay within h of each other).
+            let mut boolean = scene(op);
+            let mut torus = Example::Torus.mesh();
+            for p in &mut torus.positions {
+                *p += DVec3::new(0.6, 0.1, 0.05);
+            }
+            boolean.solids[1] = EscSolid::new(&torus).expect("valid");
+            let mesh = boolean.trimmed_surface(4);
+            assert!(mesh.triangles.len() > 1000, "{op}");
+            let mut stats = Stats::default();
+            let mut checked = 0;
+            for (p, n) in mesh.positions.iter().zip(&mesh.normals).step_by(7) {
+                // Just inside along the normal is in the result and just outside is not, except
+                // at vertices within h of the trimming curves, where a step of h can cross the
+                // other solid.
+                let h = 1e-3;
+                let (a, b) = (
+                    boolean.value(*p - *n * h, &mut stats),
+                    boolean.value(*p + *n * h, &mut stats),
+                );
+                if (a, b) == (1, 0) {
+                    checked += 1;
+                }
+            }
+            let total = mesh.positions.len().div_ceil(7);
+            assert!(checked * 100 >= total * 97, "{op}: {checked} of {total}");
+            // Oriented outward: the enclosed volume of a union is at least either solid's.
+            if op == Op::Union {
+                assert!(mesh.volume() > 0.0);
+            }
         }
     }
 

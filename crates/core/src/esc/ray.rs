@@ -484,6 +484,10 @@ impl Wall {
                 continue;
             }
             let z = l.z + s * delta.z;
+            if z.abs() <= 1e-12 * (self.b - self.a).length() {
+                // The ray starts on the wall: no direction tells which side it is on.
+                return Crossings::Unsure;
+            }
             if z <= 0.0 || z > ray.max {
                 continue;
             }

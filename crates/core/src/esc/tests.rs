@@ -317,3 +317,31 @@ fn most_queries_compute_no_patch_intersection() {
         "{esc:?} {parity:?}"
     );
 }
+
+#[test]
+fn points_on_the_walls_between_cells_are_counted_once() {
+    // On the icosphere the wall between two cells lies in the plane through the shared edge and
+    // the centre (the normals are radial), so points just below a patch edge, moved towards the
+    // centre, lie exactly on a wall: one of the two cells must claim each, not both or neither.
+    let solid = EscSolid::new(&Example::Icosphere.mesh()).expect("valid");
+    let pn = solid.surface();
+    let mut stats = Stats::default();
+    let mut checked = 0;
+    for t in (0..pn.patches.len()).step_by(7) {
+        for b in [
+            DVec3::new(0.25, 0.75, 0.0),
+            DVec3::new(0.5, 0.0, 0.5),
+            DVec3::new(0.0, 0.6, 0.4),
+        ] {
+            let q = super::pn::eval_cubic(&pn.patches[t], b);
+            let n = q.normalize();
+            for h in [1e-5, 3e-4, 6e-4, 1e-3] {
+                assert_eq!(solid.value(q - n * h, &mut stats), 1, "below {q} by {h}");
+                assert_eq!(solid.value(q + n * h, &mut stats), 0, "above {q} by {h}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100);
+    assert_eq!(stats.unsure, 0);
+}
