@@ -27,6 +27,10 @@
 //! - [`mesh`]: indexed meshes, a manifold marching cubes, manifold checks, and the STL, OBJ, PLY and
 //!   SVG writers.
 //! - [`hyperfun`]: HyperFun export.
+//! - [`esc`]: free-form solids over triangle meshes (the second paper): PN triangles, extended
+//!   simplicial chains, point-in-solid and Booleans.
+//! - [`blend`]: transfinite Bézier and Hermite blending of maps (the third paper), and its tie to
+//!   tensor-product patches and volumes.
 //! - [`presets`]: Fig. 9, a blob, a ring and a fish.
 //! - [`model`]: the model file of DESIGN §5 (serde derives behind the `serde` feature).
 //! - `link` (feature `link`): share links, `#v1.` + base64url(deflate(postcard(model))), decoded
@@ -62,6 +66,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod bernstein;
+pub mod blend;
 pub mod contour;
 mod curve;
 pub mod esc;

@@ -1,0 +1,719 @@
+//! Transfinite blending (Paoluzzi, the third paper): curves, surfaces and solids as vector-valued
+//! maps, built by blending lower-dimensional maps with a polynomial basis, in a variable-free
+//! algebra where maps add and multiply like numbers.
+//!
+//! - [`Fun`]: a scalar map `ℝᵈ → ℝ` as a value: the identity on the first coordinate, constants
+//!   (`K`), selectors (`S1`, `S2`, …), arithmetic between maps and numbers, composition.
+//! - A vector-valued map is a sequence of coordinate maps (`Vec<Fun>`), as the paper recommends
+//!   (its `CONS` builds one function only where needed).
+//! - [`bernstein_basis`] and [`hermite_basis`], in any parameter `u` (a map, usually a selector).
+//! - [`bezier`] and [`hermite`]: transfinite Bézier of any degree and cubic Hermite, whose handles
+//!   are points, vectors or maps of any domain and range dimension (Scripts 4.3 and 4.5).
+//! - [`Complex`], [`interval`], [`Complex::product`] and [`Complex::map`]: `MAP` of a map over a
+//!   simplicial decomposition of an interval or a product of intervals.
+//! - [`patch_from_curves`], [`volume_from_patches`]: a transfinite Bézier blend of Bézier curves
+//!   (surfaces) of one degree is a tensor-product patch (volume): its control net, so that a solid
+//!   can be built from boundary curves and then edited as a Bézier solid.
+//!
+//! ```
+//! use bezsolid_core::blend::{bezier, Fun, Handle};
+//!
+//! // A quadratic Bézier curve in the plane, blended from points with the basis in S1.
+//! let c = bezier(&Fun::select(0), &[
+//!     Handle::point(&[0.0, 0.0]), Handle::point(&[1.0, 2.0]), Handle::point(&[2.0, 0.0]),
+//! ]).unwrap();
+//! assert_eq!(c[0].eval(&[0.5]), 1.0);
+//! assert_eq!(c[1].eval(&[0.5]), 1.0);
+//! ```
+
+use alloc::rc::Rc;
+use alloc::vec::Vec;
+use core::fmt;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use crate::bernstein::binomial;
+use crate::tensor::{ControlPoint, PatchError};
+use crate::{BezierCurve, Patch, Volume};
+
+/// A scalar function of a point's coordinates.
+type Scalar = dyn Fn(&[f64]) -> f64;
+
+/// A scalar map `ℝᵈ → ℝ`, evaluated at a point given by its coordinates. Cheap to clone (shared).
+#[derive(Clone)]
+pub struct Fun(Rc<Scalar>);
+
+impl fmt::Debug for Fun {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("Fun")
+    }
+}
+
+impl Fun {
+    /// The map `x ↦ f(x)`.
+    pub fn from_fn(f: impl Fn(&[f64]) -> f64 + 'static) -> Self {
+        Self(Rc::new(f))
+    }
+
+    /// The constant map `K:c`.
+    #[must_use]
+    pub fn constant(c: f64) -> Self {
+        Self::from_fn(move |_| c)
+    }
+
+    /// The selector of coordinate `i` (0-based; PLaSM's `S1` is `select(0)`); 0 past the end.
+    #[must_use]
+    pub fn select(i: usize) -> Self {
+        Self::from_fn(move |x| x.get(i).copied().unwrap_or(0.0))
+    }
+
+    /// The identity of a one-parameter map (`ID` on numbers): the first coordinate.
+    #[must_use]
+    pub fn id() -> Self {
+        Self::select(0)
+    }
+
+    /// The value at `x`.
+    #[must_use]
+    pub fn eval(&self, x: &[f64]) -> f64 {
+        (self.0)(x)
+    }
+
+    /// `outer ∘ self` for a scalar `outer: ℝ → ℝ`.
+    #[must_use]
+    pub fn then(&self, outer: impl Fn(f64) -> f64 + 'static) -> Self {
+        let inner = self.clone();
+        Self::from_fn(move |x| outer(inner.eval(x)))
+    }
+
+    /// `outer ∘ self`, `outer` a map of one parameter.
+    #[must_use]
+    pub fn compose_into(&self, outer: &Fun) -> Self {
+        let (inner, outer) = (self.clone(), outer.clone());
+        Self::from_fn(move |x| outer.eval(&[inner.eval(x)]))
+    }
+
+    /// `self ∘ (inner₁, …, innerₖ)`: `self` evaluated at the point whose coordinates are the
+    /// `inner` maps' values (`f ~ CONS:<g, h>`).
+    #[must_use]
+    pub fn compose(&self, inner: &[Fun]) -> Self {
+        let (outer, inner) = (self.clone(), inner.to_vec());
+        Self::from_fn(move |x| {
+            let y: Vec<f64> = inner.iter().map(|g| g.eval(x)).collect();
+            outer.eval(&y)
+        })
+    }
+
+    /// `self ** k` (a real power, as PLaSM's `**`).
+    #[must_use]
+    pub fn powf(&self, k: f64) -> Self {
+        self.then(move |v| libm::pow(v, k))
+    }
+
+    /// `self ** k` for a natural `k`, by repeated multiplication (exact for small `k`).
+    #[must_use]
+    pub fn powi(&self, k: u32) -> Self {
+        self.then(move |v| (0..k).fold(1.0, |acc, _| acc * v))
+    }
+}
+
+macro_rules! fun_ops {
+    ($($trait:ident $method:ident $op:tt),*) => {$(
+        impl $trait<Fun> for Fun {
+            type Output = Fun;
+            fn $method(self, rhs: Fun) -> Fun {
+                Fun::from_fn(move |x| self.eval(x) $op rhs.eval(x))
+            }
+        }
+        impl $trait<&Fun> for &Fun {
+            type Output = Fun;
+            fn $method(self, rhs: &Fun) -> Fun {
+                self.clone() $op rhs.clone()
+            }
+        }
+        impl $trait<f64> for Fun {
+            type Output = Fun;
+            fn $method(self, rhs: f64) -> Fun {
+                Fun::from_fn(move |x| self.eval(x) $op rhs)
+            }
+        }
+        impl $trait<Fun> for f64 {
+            type Output = Fun;
+            fn $method(self, rhs: Fun) -> Fun {
+                Fun::from_fn(move |x| self $op rhs.eval(x))
+            }
+        }
+    )*};
+}
+
+fun_ops!(Add add +, Sub sub -, Mul mul *, Div div /);
+
+impl Neg for Fun {
+    type Output = Fun;
+    fn neg(self) -> Fun {
+        Fun::from_fn(move |x| -self.eval(x))
+    }
+}
+
+/// A vector-valued map as its coordinate maps.
+pub type VecMap = Vec<Fun>;
+
+/// Evaluates a vector-valued map at `x`.
+#[must_use]
+pub fn eval(map: &[Fun], x: &[f64]) -> Vec<f64> {
+    map.iter().map(|f| f.eval(x)).collect()
+}
+
+/// The Bernstein polynomial `β_iⁿ ∘ u = C(n, i) uⁱ (1 − u)ⁿ⁻ⁱ` (`0 ≤ i ≤ n ≤ MAX_DEGREE`, else 0).
+#[must_use]
+pub fn bernstein(u: &Fun, n: usize, i: usize) -> Fun {
+    if i > n || n > crate::MAX_DEGREE {
+        return Fun::constant(0.0);
+    }
+    let c = binomial(n, i);
+    let (a, b) = (i as u32, (n - i) as u32);
+    u.then(move |t| {
+        let pi = (0..a).fold(1.0, |acc, _| acc * t);
+        let pj = (0..b).fold(1.0, |acc, _| acc * (1.0 - t));
+        c * pi * pj
+    })
+}
+
+/// The Bernstein basis `(β_0ⁿ, …, β_nⁿ) ∘ u`.
+#[must_use]
+pub fn bernstein_basis(u: &Fun, n: usize) -> Vec<Fun> {
+    (0..=n).map(|i| bernstein(u, n, i)).collect()
+}
+
+/// The cubic Hermite basis `(η₀, η₁, η₂, η₃) ∘ u`: `η₀ = 2u³ − 3u² + 1`, `η₁ = −2u³ + 3u²`,
+/// `η₂ = u³ − 2u² + u`, `η₃ = u³ − u²`, so that `p0 η₀ + p1 η₁ + t0 η₂ + t1 η₃` has the values
+/// `p0`, `p1` and the derivatives `t0`, `t1` at `u = 0, 1`.
+#[must_use]
+pub fn hermite_basis(u: &Fun) -> [Fun; 4] {
+    [
+        u.then(|t| 2.0 * t * t * t - 3.0 * t * t + 1.0),
+        u.then(|t| -2.0 * t * t * t + 3.0 * t * t),
+        u.then(|t| t * t * t - 2.0 * t * t + t),
+        u.then(|t| t * t * t - t * t),
+    ]
+}
+
+/// A geometric handle of a blend: a point or vector (its coordinates), or a map (its coordinate
+/// maps), which may depend on any number of parameters.
+#[derive(Clone, Debug)]
+pub enum Handle {
+    /// Numbers, made constant maps.
+    Point(Vec<f64>),
+    /// Coordinate maps.
+    Map(VecMap),
+}
+
+impl Handle {
+    /// A point or vector.
+    #[must_use]
+    pub fn point(x: &[f64]) -> Self {
+        Self::Point(x.to_vec())
+    }
+
+    fn dim(&self) -> usize {
+        match self {
+            Self::Point(p) => p.len(),
+            Self::Map(m) => m.len(),
+        }
+    }
+
+    fn coordinate(&self, j: usize) -> Fun {
+        match self {
+            Self::Point(p) => Fun::constant(p[j]),
+            Self::Map(m) => m[j].clone(),
+        }
+    }
+}
+
+/// Why a blend cannot be made.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BlendError {
+    /// No handles, or more than `MAX_DEGREE + 1`.
+    Count(usize),
+    /// Handles of different dimensions.
+    Dimensions {
+        /// The first handle's dimension.
+        first: usize,
+        /// The offending handle's.
+        other: usize,
+    },
+    /// A decomposition larger than [`MAX_CELLS`].
+    TooManyCells(usize),
+    /// Control nets that do not make a patch or volume.
+    Net(PatchError),
+}
+
+impl fmt::Display for BlendError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Count(n) => write!(
+                f,
+                "a blend takes 1 to {} handles, not {n}",
+                crate::MAX_DEGREE + 1
+            ),
+            Self::Dimensions { first, other } => write!(
+                f,
+                "the handles have {first} and {other} coordinates: they must all have the same"
+            ),
+            Self::TooManyCells(n) => {
+                write!(
+                    f,
+                    "{n} cells is more than the {MAX_CELLS} a decomposition may have"
+                )
+            }
+            Self::Net(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl core::error::Error for BlendError {}
+
+fn dimension(handles: &[Handle]) -> Result<usize, BlendError> {
+    let first = handles.first().ok_or(BlendError::Count(0))?.dim();
+    if let Some(h) = handles.iter().find(|h| h.dim() != first) {
+        return Err(BlendError::Dimensions {
+            first,
+            other: h.dim(),
+        });
+    }
+    Ok(first)
+}
+
+/// Transfinite Bézier blending (Script 4.3): `Σᵢ handleᵢ · β_iᵏ ∘ u`, `k` = handles − 1, component
+/// by component. `u` is usually the selector of the new parameter (`S1` for a curve of points,
+/// `S2` for a surface of curves, …).
+///
+/// # Errors
+///
+/// [`BlendError::Count`] for no handles or more than `MAX_DEGREE + 1`, [`BlendError::Dimensions`]
+/// for handles of different dimensions.
+pub fn bezier(u: &Fun, handles: &[Handle]) -> Result<VecMap, BlendError> {
+    if handles.is_empty() || handles.len() > crate::MAX_DEGREE + 1 {
+        return Err(BlendError::Count(handles.len()));
+    }
+    let n = dimension(handles)?;
+    let basis = bernstein_basis(u, handles.len() - 1);
+    Ok((0..n)
+        .map(|j| {
+            let terms: Vec<(Fun, Fun)> = handles
+                .iter()
+                .zip(&basis)
+                .map(|(h, b)| (h.coordinate(j), b.clone()))
+                .collect();
+            Fun::from_fn(move |x| terms.iter().map(|(c, b)| c.eval(x) * b.eval(x)).sum())
+        })
+        .collect())
+}
+
+/// Transfinite cubic Hermite blending (Script 4.5): `p0 η₀ + p1 η₁ + t0 η₂ + t1 η₃` in `u`, the
+/// handles `[p0, p1, t0, t1]` points, vectors or maps.
+///
+/// # Errors
+///
+/// [`BlendError::Dimensions`] for handles of different dimensions.
+pub fn hermite(u: &Fun, handles: &[Handle; 4]) -> Result<VecMap, BlendError> {
+    let n = dimension(handles)?;
+    let basis = hermite_basis(u);
+    Ok((0..n)
+        .map(|j| {
+            let terms: Vec<(Fun, Fun)> = handles
+                .iter()
+                .zip(basis.iter())
+                .map(|(h, b)| (h.coordinate(j), b.clone()))
+                .collect();
+            Fun::from_fn(move |x| terms.iter().map(|(c, b)| c.eval(x) * b.eval(x)).sum())
+        })
+        .collect())
+}
+
+/// The most cells of a [`Complex`].
+pub const MAX_CELLS: usize = 4_000_000;
+
+/// A simplicial complex: points and cells (each a list of point indices: 2 for segments, 3 for
+/// triangles, 4 for tetrahedra).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Complex {
+    /// Point coordinates, all of one dimension.
+    pub points: Vec<Vec<f64>>,
+    /// Cells by point index.
+    pub cells: Vec<Vec<u32>>,
+}
+
+/// `[a, b]` split into `n` segments (`interval:<a, b>:n`).
+///
+/// # Errors
+///
+/// [`BlendError::TooManyCells`] for `n` past [`MAX_CELLS`] (or 0).
+pub fn interval(a: f64, b: f64, n: usize) -> Result<Complex, BlendError> {
+    if n == 0 || n > MAX_CELLS {
+        return Err(BlendError::TooManyCells(n));
+    }
+    Ok(Complex {
+        points: (0..=n)
+            .map(|k| alloc::vec![a + (b - a) * k as f64 / n as f64])
+            .collect(),
+        cells: (0..n as u32).map(|k| alloc::vec![k, k + 1]).collect(),
+    })
+}
+
+impl Complex {
+    /// The product of two one-dimensional complexes (segments × segments), each square split into
+    /// two triangles, counter-clockwise in the product's two coordinates.
+    ///
+    /// # Errors
+    ///
+    /// [`BlendError::TooManyCells`] past [`MAX_CELLS`] triangles; [`BlendError::Dimensions`] when
+    /// either is not a complex of segments in one dimension.
+    pub fn product(&self, other: &Complex) -> Result<Complex, BlendError> {
+        for c in [self, other] {
+            if c.points.iter().any(|p| p.len() != 1) || c.cells.iter().any(|s| s.len() != 2) {
+                return Err(BlendError::Dimensions {
+                    first: 1,
+                    other: c.points.first().map_or(0, Vec::len),
+                });
+            }
+        }
+        let count = self
+            .cells
+            .len()
+            .saturating_mul(other.cells.len())
+            .saturating_mul(2);
+        if count > MAX_CELLS {
+            return Err(BlendError::TooManyCells(count));
+        }
+        let m = other.points.len();
+        let points = self
+            .points
+            .iter()
+            .flat_map(|p| other.points.iter().map(move |q| alloc::vec![p[0], q[0]]))
+            .collect();
+        let mut cells = Vec::with_capacity(count);
+        for a in &self.cells {
+            for b in &other.cells {
+                let at = |i: u32, j: u32| i * m as u32 + j;
+                let (p00, p10, p11, p01) = (
+                    at(a[0], b[0]),
+                    at(a[1], b[0]),
+                    at(a[1], b[1]),
+                    at(a[0], b[1]),
+                );
+                cells.push(alloc::vec![p00, p10, p11]);
+                cells.push(alloc::vec![p00, p11, p01]);
+            }
+        }
+        Ok(Complex { points, cells })
+    }
+
+    /// `MAP:f:self`: the same cells on the images of the points under the vector-valued map `f`.
+    #[must_use]
+    pub fn map(&self, f: &[Fun]) -> Complex {
+        Complex {
+            points: self.points.iter().map(|p| eval(f, p)).collect(),
+            cells: self.cells.clone(),
+        }
+    }
+}
+
+/// The tensor-product patch equal to the transfinite Bézier blend `Σᵢ curveᵢ(u₁) β_iᵏ(u₂)` of
+/// Bézier curves of one degree `m` (`k` = curves − 1): control point `P_ij` is curve `i`'s point
+/// `j`, so the patch at `(u, v)` is the blend at `(u₁, u₂) = (v, u)`.
+///
+/// # Errors
+///
+/// [`BlendError::Count`] for no curves or more than `MAX_DEGREE + 1`, [`BlendError::Dimensions`]
+/// for curves of different degrees (elevate them first), [`BlendError::Net`] for one curve.
+pub fn patch_from_curves<P: ControlPoint>(
+    curves: &[BezierCurve<P>],
+) -> Result<Patch<P>, BlendError> {
+    let first = curves.first().ok_or(BlendError::Count(0))?;
+    if curves.len() > crate::MAX_DEGREE + 1 {
+        return Err(BlendError::Count(curves.len()));
+    }
+    let m = first.degree();
+    if let Some(c) = curves.iter().find(|c| c.degree() != m) {
+        return Err(BlendError::Dimensions {
+            first: m,
+            other: c.degree(),
+        });
+    }
+    let points = curves
+        .iter()
+        .flat_map(|c| c.points().iter().copied())
+        .collect();
+    Patch::try_new((curves.len() - 1, m), points).map_err(BlendError::Net)
+}
+
+/// The tensor-product volume equal to the transfinite Bézier blend
+/// `Σᵢ patchᵢ(u₁, u₂) β_iᵏ(u₃)` of patches of one degree `(n, m)`: control point `P_ijl` is patch
+/// `i`'s `P_jl`, so the volume at `(u, v, w)` is the blend at `(u₁, u₂, u₃) = (v, w, u)`.
+///
+/// # Errors
+///
+/// As [`patch_from_curves`], for patches.
+pub fn volume_from_patches<P: ControlPoint>(patches: &[Patch<P>]) -> Result<Volume<P>, BlendError> {
+    let first = patches.first().ok_or(BlendError::Count(0))?;
+    if patches.len() > crate::MAX_DEGREE + 1 {
+        return Err(BlendError::Count(patches.len()));
+    }
+    let (n, m) = first.degree();
+    if let Some(p) = patches.iter().find(|p| p.degree() != (n, m)) {
+        return Err(BlendError::Dimensions {
+            first: n * 100 + m,
+            other: p.degree().0 * 100 + p.degree().1,
+        });
+    }
+    let points = patches
+        .iter()
+        .flat_map(|p| p.points().iter().copied())
+        .collect();
+    Volume::try_new((patches.len() - 1, n, m), points).map_err(BlendError::Net)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::Rng;
+    use glam::DVec3;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn curve(points: &[[f64; 3]]) -> VecMap {
+        let handles: Vec<Handle> = points.iter().map(|p| Handle::point(p)).collect();
+        bezier(&Fun::select(0), &handles).unwrap()
+    }
+
+    #[test]
+    fn the_algebra_of_maps_is_pointwise() {
+        let id = Fun::id();
+        let sqr = &id * &id;
+        // Script 3.1's beta: ((1 − u²)/(1 + u²), 2u/(1 + u²)) is on the unit circle.
+        let beta = [
+            (1.0 - sqr.clone()) / (1.0 + sqr.clone()),
+            (2.0 * id.clone()) / (1.0 + sqr.clone()),
+        ];
+        let arc = interval(0.0, 1.0, 10).unwrap().map(&beta);
+        for p in &arc.points {
+            assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15);
+        }
+        assert_eq!(arc.cells.len(), 10);
+        // alpha = (cos, sin) ∘ (π/2 · id), composed.
+        let half_pi = core::f64::consts::FRAC_PI_2 * id.clone();
+        let alpha = [half_pi.then(libm::cos), half_pi.then(libm::sin)];
+        for p in interval(0.0, 1.0, 7).unwrap().map(&alpha).points {
+            assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15);
+        }
+        // gamma = (id, √ ∘ (1 − id²)), with √ as id ** 1/2.
+        let sqrt = id.powf(0.5);
+        let gamma = [id.clone(), (1.0 - sqr).compose_into(&sqrt)];
+        for p in interval(0.0, 1.0, 9).unwrap().map(&gamma).points {
+            assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-12);
+        }
+        assert_eq!((-id.clone() + 3.0).eval(&[1.0]), 2.0);
+        assert_eq!(id.powi(3).eval(&[2.0]), 8.0);
+        assert_eq!(
+            Fun::select(1)
+                .compose(&[Fun::constant(4.0), id])
+                .eval(&[7.0]),
+            7.0
+        );
+    }
+
+    #[test]
+    fn bernstein_bases_sum_to_one_and_bezier_of_points_is_the_curve() {
+        let u = Fun::id();
+        let mut rng = Rng::new(4);
+        for n in 0..=6 {
+            let basis = bernstein_basis(&u, n);
+            let t = rng.range(0.0, 1.0);
+            let sum: f64 = basis.iter().map(|b| b.eval(&[t])).sum();
+            assert!((sum - 1.0).abs() < 1e-14);
+        }
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 2.0, 0.5],
+            [3.0, -1.0, 1.0],
+            [4.0, 0.0, 0.0],
+        ];
+        let c = curve(&pts);
+        let reference =
+            BezierCurve::try_new(pts.iter().map(|p| DVec3::from_array(*p)).collect()).unwrap();
+        for k in 0..=10 {
+            let t = k as f64 / 10.0;
+            let got = DVec3::from_slice(&eval(&c, &[t]));
+            assert!((got - reference.eval(t)).length() < 1e-14);
+        }
+        assert_eq!(bezier(&u, &[]).unwrap_err(), BlendError::Count(0));
+        assert!(matches!(
+            bezier(&u, &[Handle::point(&[1.0]), Handle::point(&[1.0, 2.0])]),
+            Err(BlendError::Dimensions { first: 1, other: 2 })
+        ));
+    }
+
+    #[test]
+    fn script_4_4_the_surface_is_the_sum_of_curves_times_the_cubic_basis() {
+        // Curves of degrees 1, 2, 3, 2 (Script 4.4), blended in S2.
+        let c = [
+            curve(&[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]]),
+            curve(&[[0.0, 2.0, 0.0], [8.0, 3.0, 0.0], [9.0, 2.0, 0.0]]),
+            curve(&[
+                [0.0, 4.0, 1.0],
+                [7.0, 5.0, -1.0],
+                [8.0, 5.0, 1.0],
+                [12.0, 4.0, 0.0],
+            ]),
+            curve(&[[0.0, 6.0, 0.0], [9.0, 6.0, 3.0], [10.0, 6.0, -1.0]]),
+        ];
+        let handles: Vec<Handle> = c.iter().map(|m| Handle::Map(m.clone())).collect();
+        let surf = bezier(&Fun::select(1), &handles).unwrap();
+        let mut rng = Rng::new(8);
+        for _ in 0..50 {
+            let (u1, u2) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+            let got = eval(&surf, &[u1, u2]);
+            for j in 0..3 {
+                let expect: f64 = (0..4)
+                    .map(|i| {
+                        let b = binomial(3, i)
+                            * libm::pow(u2, i as f64)
+                            * libm::pow(1.0 - u2, (3 - i) as f64);
+                        c[i][j].eval(&[u1]) * b
+                    })
+                    .sum();
+                assert!((got[j] - expect).abs() < 1e-12);
+            }
+        }
+        // MAP over the product of intervals: 20 × 20 squares, two triangles each.
+        let domain = interval(0.0, 1.0, 20)
+            .unwrap()
+            .product(&interval(0.0, 1.0, 20).unwrap())
+            .unwrap();
+        let mapped = domain.map(&surf);
+        assert_eq!(mapped.cells.len(), 800);
+        assert_eq!(mapped.points.len(), 441);
+        // The boundary curves are interpolated: u2 = 0 is C0, u2 = 1 is C3.
+        assert_eq!(eval(&surf, &[0.3, 0.0]), eval(&c[0], &[0.3]));
+        let top = eval(&surf, &[0.3, 1.0]);
+        for (a, b) in top.iter().zip(eval(&c[3], &[0.3])) {
+            assert!((a - b).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn hermite_end_conditions_hold() {
+        let (p0, p1, t0, t1) = ([1.0, 0.0], [0.0, 2.0], [3.0, 1.0], [-1.0, 4.0]);
+        let h = hermite(
+            &Fun::id(),
+            &[
+                Handle::point(&p0),
+                Handle::point(&p1),
+                Handle::point(&t0),
+                Handle::point(&t1),
+            ],
+        )
+        .unwrap();
+        let d = 1e-6;
+        for j in 0..2 {
+            assert!((h[j].eval(&[0.0]) - p0[j]).abs() < 1e-15);
+            assert!((h[j].eval(&[1.0]) - p1[j]).abs() < 1e-15);
+            let d0 = (h[j].eval(&[d]) - h[j].eval(&[-d])) / (2.0 * d);
+            let d1 = (h[j].eval(&[1.0 + d]) - h[j].eval(&[1.0 - d])) / (2.0 * d);
+            assert!((d0 - t0[j]).abs() < 1e-8, "{d0}");
+            assert!((d1 - t1[j]).abs() < 1e-8, "{d1}");
+        }
+        // Transfinite: blending two curves with tangent curves gives a surface whose edges are
+        // the curves.
+        let a = curve(&[[0.0, 0.0, 0.0], [1.0, 0.0, 1.0]]);
+        let b = curve(&[[0.0, 1.0, 0.0], [1.0, 1.0, -1.0]]);
+        let ta = curve(&[[0.0, 1.0, 1.0], [0.0, 1.0, 1.0]]);
+        let surf = hermite(
+            &Fun::select(1),
+            &[
+                Handle::Map(a.clone()),
+                Handle::Map(b.clone()),
+                Handle::Map(ta.clone()),
+                Handle::Map(ta),
+            ],
+        )
+        .unwrap();
+        assert_eq!(eval(&surf, &[0.4, 0.0]), eval(&a, &[0.4]));
+        let e = eval(&surf, &[0.4, 1.0]);
+        for (x, y) in e.iter().zip(eval(&b, &[0.4])) {
+            assert!((x - y).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn blends_of_bezier_curves_and_patches_are_tensor_nets() {
+        let mut rng = Rng::new(12);
+        let mut random_curve = |m: usize| {
+            BezierCurve::try_new(
+                (0..=m)
+                    .map(|_| {
+                        DVec3::new(
+                            rng.range(-1.0, 1.0),
+                            rng.range(-1.0, 1.0),
+                            rng.range(-1.0, 1.0),
+                        )
+                    })
+                    .collect(),
+            )
+            .unwrap()
+        };
+        let curves: Vec<BezierCurve<DVec3>> = (0..4).map(|_| random_curve(2)).collect();
+        let patch = patch_from_curves(&curves).unwrap();
+        let handles: Vec<Handle> = curves
+            .iter()
+            .map(|c| {
+                let pts: Vec<[f64; 3]> = c.points().iter().map(|p| p.to_array()).collect();
+                Handle::Map(curve(&pts))
+            })
+            .collect();
+        let blend = bezier(&Fun::select(1), &handles).unwrap();
+        for (u1, u2) in [(0.1, 0.7), (0.5, 0.5), (0.9, 0.2), (0.0, 1.0)] {
+            let got = DVec3::from_slice(&eval(&blend, &[u1, u2]));
+            assert!((got - patch.eval(u2, u1)).length() < 1e-13);
+        }
+        // Patches of one degree blend into a volume.
+        let patches: Vec<Patch<DVec3>> = (0..3)
+            .map(|_| {
+                patch_from_curves(&(0..2).map(|_| random_curve(3)).collect::<Vec<_>>()).unwrap()
+            })
+            .collect();
+        let volume = volume_from_patches(&patches).unwrap();
+        for (u1, u2, u3) in [(0.2, 0.3, 0.4), (0.9, 0.1, 0.6)] {
+            let expect: DVec3 = (0..3)
+                .map(|i| {
+                    patches[i].eval(u1, u2)
+                        * (binomial(2, i)
+                            * libm::pow(u3, i as f64)
+                            * libm::pow(1.0 - u3, (2 - i) as f64))
+                })
+                .sum();
+            assert!((volume.eval(u3, u1, u2) - expect).length() < 1e-13);
+        }
+        // Curves of different degrees must be elevated first.
+        assert!(matches!(
+            patch_from_curves(&[random_curve(2), random_curve(3)]),
+            Err(BlendError::Dimensions { first: 2, other: 3 })
+        ));
+    }
+
+    #[test]
+    fn decompositions_are_capped() {
+        assert!(matches!(
+            interval(0.0, 1.0, 0),
+            Err(BlendError::TooManyCells(0))
+        ));
+        assert!(interval(0.0, 1.0, MAX_CELLS + 1).is_err());
+        let big = interval(0.0, 1.0, 10_000).unwrap();
+        assert!(matches!(
+            big.product(&big),
+            Err(BlendError::TooManyCells(_))
+        ));
+        let square = big.product(&interval(0.0, 1.0, 1).unwrap()).unwrap();
+        assert!(square.product(&big).is_err(), "a product takes segments");
+    }
+}
