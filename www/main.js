@@ -856,6 +856,11 @@ async function main() {
       return;
     }
     const bytes = new Uint8Array(await file.arrayBuffer());
+    // Reading, checking and indexing a large mesh takes a moment on this thread: say so first.
+    say(`Importing ${file.name} (${bytes.length.toLocaleString('en')} bytes)…`);
+    showBadge(`Importing ${file.name}…`);
+    await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
+    showBadge(exporting);
     if (ffAttempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes))) {
       setWorkspace('freeform');
       resize3();

@@ -23,6 +23,10 @@ use crate::view3d::{Camera, MeshVertex, Scene, float_vertices, mesh_floats};
 pub const COARSE_RESOLUTION: usize = 16;
 /// The result's surface at rest, by default.
 pub const DEFAULT_RESOLUTION: usize = 64;
+/// The most triangles of the trimmed result drawn at rest (more patches draw coarser).
+pub const VIEW_TRIANGLES: usize = 600_000;
+/// The most triangles of the operands' faint surfaces.
+pub const GHOST_TRIANGLES: usize = 150_000;
 /// Points along the longest side of the point mesh, as the paper's Fig. 19 (25 × 25 × 25).
 pub const POINT_MESH: usize = 25;
 
@@ -470,7 +474,7 @@ impl FreeForm {
         let ghost = |c: Rgba| [c[0], c[1], c[2], GHOST_ALPHA];
         let pn = |k: usize, color: Rgba, out: &mut Vec<MeshVertex>| {
             if let Some(s) = self.boolean.solids.get(k) {
-                let level = if s.triangles().len() > 2000 { 2 } else { 4 };
+                let level = tessellation_level(s.triangles().len(), 4, GHOST_TRIANGLES);
                 out.extend(mesh_vertices(&s.surface().tessellate(level), color));
             }
         };
@@ -533,6 +537,19 @@ pub fn read_file(text: &str) -> Result<ModelFile, String> {
     } else {
         bezsolid_core::link::decode_file(text.trim()).map_err(|e| e.to_string())
     }
+}
+
+/// The text of a free-form model file: indented, or compact when an operand is a mesh.
+#[must_use]
+pub fn model_json(file: &ModelFile) -> String {
+    let has_mesh = matches!(&file.solid, SolidSpec::Esc { operands, .. }
+        if operands.iter().any(|o| o.mesh.is_some()));
+    if has_mesh {
+        serde_json::to_string(file)
+    } else {
+        serde_json::to_string_pretty(file)
+    }
+    .unwrap_or_default()
 }
 
 /// Whether `text` (a model file or link) holds a free-form model.
@@ -607,7 +624,17 @@ pub fn mesh_vertices(mesh: &Mesh, color: Rgba) -> Vec<MeshVertex> {
 /// intersection curves are followed, not cut across by grid cells.
 #[must_use]
 pub fn surface_floats(boolean: &Boolean, resolution: usize) -> Vec<f32> {
-    mesh_floats(&boolean.trimmed_surface((resolution / 16).clamp(1, 10)))
+    let patches = boolean.solids.iter().map(|s| s.triangles().len()).sum();
+    let level = tessellation_level(patches, (resolution / 16).clamp(1, 10), VIEW_TRIANGLES);
+    mesh_floats(&boolean.trimmed_surface(level))
+}
+
+/// Triangles per patch edge: `wanted`, or fewer so that `patches · level²` stays within
+/// `budget` (at least 1): a 200 k-triangle import is drawn with one triangle per patch, not 16.
+#[must_use]
+pub fn tessellation_level(patches: usize, wanted: usize, budget: usize) -> usize {
+    let fit = (budget as f64 / patches.max(1) as f64).sqrt() as usize;
+    wanted.min(fit).max(1)
 }
 
 /// A small octahedron (a point of the point mesh).
@@ -706,6 +733,25 @@ mod tests {
         assert!(headless::mesh(&link, "gltf", 16).is_err());
         assert!(headless::surface(&link, 1000).is_err());
         assert!(headless::surface("#v1.garbage", 16).is_err());
+    }
+
+    #[test]
+    fn model_files_with_meshes_are_compact_and_read_back() {
+        let mut f = FreeForm::new();
+        assert!(model_json(&f.model_file()).contains('\n'));
+        f.set_mesh(1, "ball.obj", &bezsolid_core::esc::examples::icosphere(2))
+            .unwrap();
+        let text = model_json(&f.model_file());
+        assert!(!text.contains('\n'));
+        assert_eq!(read_file(&text).unwrap(), f.model_file());
+    }
+
+    #[test]
+    fn big_meshes_are_drawn_coarser() {
+        assert_eq!(tessellation_level(5120, 4, VIEW_TRIANGLES), 4);
+        assert_eq!(tessellation_level(200_000, 4, VIEW_TRIANGLES), 1);
+        assert_eq!(tessellation_level(60_000, 4, VIEW_TRIANGLES), 3);
+        assert_eq!(tessellation_level(0, 4, VIEW_TRIANGLES), 4);
     }
 
     #[test]

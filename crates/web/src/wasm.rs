@@ -1034,10 +1034,11 @@ impl FreeFormView {
             .map(|(a, b)| vec![a as u32, b as u32])
     }
 
-    /// The model file (JSON).
+    /// The model file (JSON): indented, or compact when it holds an imported mesh (a 200 k-triangle
+    /// mesh indented would pass the 16 MiB a model file may have).
     #[must_use]
     pub fn model_json(&self) -> String {
-        serde_json::to_string_pretty(&self.state.model_file()).unwrap_or_default()
+        crate::freeform::model_json(&self.state.model_file())
     }
 
     /// Opens a free-form model file or link.
