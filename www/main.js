@@ -1,7 +1,7 @@
 // The page: brings up the modeler (Rust, wasm) on the canvas and forwards input to it. All state and
 // logic are in Rust; this file only wires DOM events, sizes the canvas and fills the side panel.
 import init, {
-  start, start_3d, FreeFormView, is_free_form, headless_esc_mesh,
+  start, start_3d, FreeFormView, is_free_form, headless_esc_mesh, headless_esc_surface,
 } from './pkg/bezsolid_web.js';
 
 const $ = (id) => document.getElementById(id);
@@ -71,6 +71,7 @@ async function main() {
       console.warn(`bezsolid: the autosaved free-form model could not be restored (${err?.message ?? err})`);
     }
   }
+  let ffSavedRevision = ff.revision(); // the revision last autosaved (or restored)
   let workspace = storage.get(WORKSPACE_KEY) === 'freeform' ? 'freeform' : 'bezier';
   const freeform = () => workspace === 'freeform';
   const openFromAddress = () => {
@@ -110,43 +111,41 @@ async function main() {
     console.warn(`bezsolid: no 3D view (${err?.message ?? err})`);
   }
 
-  // Long work runs in Web Workers (the same module): a volume's fine surface (the view draws a
-  // coarse one meanwhile; a newer request cancels the job under way by restarting its worker) and
-  // the exports of meshes and contours (one after another, a badge while they run).
+  // Long work runs in Web Workers (the same module): a volume's or free-form result's fine surface
+  // (the view draws a coarse one meanwhile; a newer request cancels the job under way by
+  // restarting its worker) and the exports of meshes (a badge while they run).
   const runner = () => {
     let worker = null;
-    let current = null; // { resolve, reject }
+    const jobs = new Map(); // id → { resolve, reject }: replies are matched to their requests
     let next = 0;
+    const failAll = (error) => {
+      for (const job of jobs.values()) job.reject(error);
+      jobs.clear();
+    };
     const start = () => {
       worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
       worker.onmessage = ({ data }) => {
-        const job = current;
-        current = null;
+        const job = jobs.get(data.id);
+        jobs.delete(data.id);
         if (data.error) job?.reject(new Error(data.error));
         else job?.resolve(data);
       };
-      worker.onerror = (e) => {
-        const job = current;
-        current = null;
-        job?.reject(new Error(e.message || 'the worker failed'));
-      };
+      worker.onerror = (e) => failAll(new Error(e.message || 'the worker failed'));
     };
     start();
     return {
       run(message) {
         return new Promise((resolve, reject) => {
-          current = { resolve, reject };
           next += 1;
+          jobs.set(next, { resolve, reject });
           worker.postMessage({ ...message, id: next });
         });
       },
-      busy: () => current !== null,
+      busy: () => jobs.size > 0,
       cancel() {
-        if (!current) return;
+        if (!jobs.size) return;
         worker.terminate();
-        const job = current;
-        current = null;
-        job.reject(Object.assign(new Error('cancelled'), { cancelled: true }));
+        failAll(Object.assign(new Error('cancelled'), { cancelled: true }));
         start();
       },
     };
@@ -234,7 +233,13 @@ async function main() {
         const t0 = performance.now();
         ff.render(viewer);
         lastRender3 = performance.now() - t0;
-        ffMesher?.check();
+        if (ffMesher) {
+          ffMesher.check();
+        } else {
+          // No worker: the fine surface on the page, once per change.
+          const request = ff.surface_request();
+          if (request && ff.set_surface(request[0], request[1], headless_esc_surface(ff.model_json(), request[1]))) redraw(VIEW3);
+        }
       } else if (todo & VIEW3 && viewer) {
         const t0 = performance.now();
         modeler.render_3d(viewer);
@@ -254,7 +259,16 @@ async function main() {
   const saveNow = () => {
     clearTimeout(saveTimer);
     saveTimer = 0;
-    storage.set(ff.model_json(), FF_KEY);
+    // The free-form scene only when it changed (with an imported mesh it is megabytes); if the
+    // browser refuses it, the stale copy is dropped rather than restored on the next visit.
+    if (ff.revision() !== ffSavedRevision) {
+      if (storage.set(ff.model_json(), FF_KEY)) {
+        ffSavedRevision = ff.revision();
+      } else {
+        storage.remove(FF_KEY);
+        say('The free-form scene is too large to keep in this browser; use Export → Model file.', 'warn');
+      }
+    }
     if (!storage.set(modeler.model_json())) {
       say('The model could not be saved in this browser (storage is full or blocked); use Export → Model file.', 'warn');
     }
@@ -648,6 +662,8 @@ async function main() {
   }
 
   // The model: presets, a new grid, elevation.
+  // An edit through the model: redraw and autosave, or say why not (the panel shows the model
+  // as it stayed).
   const attempt = (what, f) => {
     try {
       f();
@@ -655,6 +671,7 @@ async function main() {
       return true;
     } catch (err) {
       say(`${what}: ${err.message ?? err}`, 'error');
+      updatePanel();
       return false;
     }
   };
@@ -783,10 +800,10 @@ async function main() {
     model: () => download('bezsolid.bsolid.json', new Blob([freeform() ? ff.model_json() : modeler.model_json()], { type: 'application/json' })),
     svg: () => download('bezsolid-contours.svg', new Blob([modeler.svg()], { type: 'image/svg+xml' })),
     hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
+    stl: () => exportMesh('bezsolid.stl', 'mesh', 'stl', modeler.model_json(), modeler.resolution(), () => modeler.mesh_file('stl')),
+    obj: () => exportMesh('bezsolid.obj', 'mesh', 'obj', modeler.model_json(), modeler.resolution(), () => modeler.mesh_file('obj')),
+    ply: () => exportMesh('bezsolid.ply', 'mesh', 'ply', modeler.model_json(), modeler.resolution(), () => modeler.mesh_file('ply')),
     // The canvas is read in the same task as the frame is drawn, before the browser clears it.
-    stl: () => download('bezsolid.stl', new Blob([modeler.mesh_file('stl')], { type: 'model/stl' })),
-    obj: () => download('bezsolid.obj', new Blob([modeler.mesh_file('obj')], { type: 'model/obj' })),
-    ply: () => download('bezsolid.ply', new Blob([modeler.mesh_file('ply')], { type: 'application/octet-stream' })),
     png: () => {
       modeler.render();
       canvas.toBlob((blob) => {
@@ -795,24 +812,29 @@ async function main() {
       }, 'image/png');
     },
   };
-  // Free-form: the result's surface at the chosen resolution, meshed in the export worker.
-  const exportResult = async (format) => {
-    const resolution = $('ff-resolution').valueAsNumber || 64;
+  // A mesh file made in the export worker (a badge while it runs), or on the page without one.
+  const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream' };
+  const exportMesh = async (name, kind, format, model, resolution, here) => {
     if (!exportRunner) {
-      // No worker: on the page (it holds the page for as long as the meshing takes).
-      download(`bezsolid-result.${format}`, new Blob([headless_esc_mesh(ff.model_json(), format, resolution)]));
+      download(name, new Blob([here()], { type: MESH_TYPES[format] }));
       return;
     }
     exporting = `Exporting ${format.toUpperCase()}…`;
     showBadge(exporting);
     try {
-      const { data } = await exportRunner.run({ kind: 'esc-mesh', model: ff.model_json(), format, resolution });
-      download(`bezsolid-result.${format}`, new Blob([data], { type: format === 'stl' ? 'model/stl' : format === 'obj' ? 'model/obj' : 'application/octet-stream' }));
+      const { data } = await exportRunner.run({ kind, model, format, resolution });
+      download(name, new Blob([data], { type: MESH_TYPES[format] }));
     } catch (err) {
-      say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');
+      if (!err.cancelled) say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');
     }
     exporting = '';
     showBadge('');
+  };
+  // Free-form: the result's closed mesh at the chosen resolution.
+  const exportResult = (format) => {
+    const model = ff.model_json();
+    const resolution = ff.resolution();
+    exportMesh(`bezsolid-result.${format}`, 'esc-mesh', format, model, resolution, () => headless_esc_mesh(model, format, resolution));
   };
   $('export').addEventListener('change', (e) => {
     const kind = e.target.value;
@@ -838,17 +860,6 @@ async function main() {
   });
 
   // The Free-form controls.
-  const ffAttempt = (what, f) => {
-    try {
-      f();
-      changed();
-      return true;
-    } catch (err) {
-      say(`${what}: ${err.message ?? err}`, 'error');
-      updatePanel();
-      return false;
-    }
-  };
   const importMesh = async (slot, file) => {
     if (!file) return;
     if (file.size > 128 * 1024 * 1024) {
@@ -861,7 +872,7 @@ async function main() {
     showBadge(`Importing ${file.name}…`);
     await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
     showBadge(exporting);
-    if (ffAttempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes))) {
+    if (attempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes))) {
       setWorkspace('freeform');
       resize3();
       say(`Imported ${file.name} as solid ${slot === 0 ? 'A' : 'B'}.`);
@@ -876,9 +887,10 @@ async function main() {
       redraw();
     });
   }
-  $('ff-a').addEventListener('change', (e) => ffAttempt('Solid A', () => ff.set_example(0, e.target.value)));
-  $('ff-b').addEventListener('change', (e) => ffAttempt('Solid B', () => ff.set_example(1, e.target.value)));
-  $('ff-op').addEventListener('change', (e) => ffAttempt('Operation', () => ff.set_operation(e.target.value)));
+  $('ff-b').innerHTML = $('ff-a').innerHTML; // one list of meshes for both solids
+  $('ff-a').addEventListener('change', (e) => attempt('Solid A', () => ff.set_example(0, e.target.value)));
+  $('ff-b').addEventListener('change', (e) => attempt('Solid B', () => ff.set_example(1, e.target.value)));
+  $('ff-op').addEventListener('change', (e) => attempt('Operation', () => ff.set_operation(e.target.value)));
   $('ff-import-a').addEventListener('change', (e) => { importMesh(0, e.target.files?.[0]); e.target.value = ''; });
   $('ff-import-b').addEventListener('change', (e) => { importMesh(1, e.target.files?.[0]); e.target.value = ''; });
   for (const id of ['ff-bx', 'ff-by', 'ff-bz']) {
@@ -889,7 +901,7 @@ async function main() {
         return;
       }
       $(id).removeAttribute('aria-invalid');
-      ffAttempt('Move B', () => ff.set_offset(1, v[0], v[1], v[2]));
+      attempt('Move B', () => ff.set_offset(1, v[0], v[1], v[2]));
     });
   }
   for (const radio of document.querySelectorAll('input[name="ff-display"]')) {
@@ -931,6 +943,9 @@ const storage = {
   },
   set(value, key = this.key) {
     try { localStorage.setItem(key, value); return true; } catch { return false; }
+  },
+  remove(key) {
+    try { localStorage.removeItem(key); } catch { /* nothing kept, nothing to remove */ }
   },
 };
 

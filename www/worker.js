@@ -2,7 +2,7 @@
 // resolution or a large export never freezes the page. One job at a time; the page cancels a job
 // by terminating the worker and starting another.
 import init, {
-  headless_surface, headless_mesh, headless_svg, headless_esc_surface, headless_esc_mesh,
+  headless_surface, headless_mesh, headless_esc_surface, headless_esc_mesh,
 } from './pkg/bezsolid_web.js';
 
 const ready = init();
@@ -10,7 +10,6 @@ const ready = init();
 const jobs = {
   surface: ({ model, resolution }) => headless_surface(model, resolution),
   mesh: ({ model, format, resolution }) => headless_mesh(model, format, resolution),
-  svg: ({ model }) => new TextEncoder().encode(headless_svg(model)),
   'esc-surface': ({ model, resolution }) => headless_esc_surface(model, resolution),
   'esc-mesh': ({ model, format, resolution }) => headless_esc_mesh(model, format, resolution),
 };

@@ -42,6 +42,12 @@ async function colours(page, name) {
   return { blue, red, png };
 }
 
+/** Waits until `f()` holds (polling, up to 30 s). */
+async function expect(f) {
+  for (let k = 0; k < 300 && !f(); k++) await new Promise((r) => setTimeout(r, 100));
+  assert.ok(f());
+}
+
 async function download(page, value) {
   const [file] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', value)]);
   return readFileSync(await file.path());
@@ -138,6 +144,17 @@ test('a mesh imports by the picker and by a drop, bad ones keep the scene, and t
   const ply = (await download(page, 'ply')).toString('latin1');
   assert.match(ply, new RegExp(`element face ${triangles}\\b`));
   assert.ok(await page.isDisabled('#export option[value="svg"]'));
+  // Two exports asked for at once each get their own file.
+  const both = [];
+  page.on('download', (d) => both.push(d));
+  await page.selectOption('#export', 'stl');
+  await page.selectOption('#export', 'obj');
+  await page.waitForFunction(() => !document.getElementById('meshing').textContent, null, { timeout: 60_000 });
+  await expect(() => both.length === 2);
+  const byName = Object.fromEntries(await Promise.all(both.map(async (d) => [d.suggestedFilename(), readFileSync(await d.path())])));
+  assert.equal(byName['bezsolid-result.stl'].readUInt32LE(80), triangles);
+  const faces2 = byName['bezsolid-result.obj'].toString().split('\n').filter((l) => l.startsWith('f ')).length;
+  assert.equal(faces2, triangles);
   assert.deepEqual(errors, []);
   await page.close();
 });
@@ -166,8 +183,10 @@ test('a free-form link reopens the scene, and the model file opens back in the m
   await settle(other.page);
   assert.equal(await other.page.evaluate(() => window.bezsolid.ff.model_json()), model);
   assert.equal(await other.page.inputValue('#ff-bx'), '0.6');
-  // The model file opens too (picker), after another edit.
+  // The model file opens too (picker), after another edit, from the Bézier mode into this one.
   await other.page.selectOption('#ff-op', 'intersection');
+  await other.page.check('input[name="workspace"][value="bezier"]');
+  await other.page.waitForSelector('body[data-workspace="bezier"]');
   const path = join(ARTIFACTS, 'freeform.bsolid.json');
   writeFileSync(path, file);
   await other.page.setInputFiles('#open-file', path);

@@ -8,6 +8,7 @@ use bezsolid_core::esc::draw::Boolean;
 use bezsolid_core::esc::examples::Example;
 use glam::DVec3;
 
+use crate::inverse::Rng;
 use crate::{Clock, Row, time};
 
 /// Uniform random points in the solid's box enlarged by 10% (xorshift, fixed seed).
@@ -15,13 +16,8 @@ fn points(solid: &EscSolid, count: usize) -> Vec<DVec3> {
     let (lo, hi) = solid.bounds();
     let pad = (hi - lo) * 0.1;
     let (lo, hi) = (lo - pad, hi + pad);
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut unit = move || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut unit = move || rng.unit();
     (0..count)
         .map(|_| {
             DVec3::new(
@@ -66,71 +62,50 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
         let origin = EscSolid::with_apex(&mesh, DVec3::ZERO)
             .unwrap_or_else(|_| unreachable!("a valid example"));
         let queries = points(&solid, count);
-        let (ms, runs, (stats, inside)) = time(clock, budget, || {
-            let mut stats = Stats::default();
-            let inside = queries
-                .iter()
-                .filter(|&&q| solid.value(q, &mut stats) == 1)
-                .count();
-            (stats, inside)
-        });
-        rows.push(Row {
-            case: case.clone(),
-            who: "bezsolid: ESC (apex chosen)".into(),
-            n,
-            ms,
-            runs,
-            extra: count as f64 / (ms / 1000.0),
-            note: note(&stats, inside, count),
-        });
-        let esc_inside = inside;
-        let (ms, runs, (stats, inside)) = time(clock, budget, || {
-            let mut stats = Stats::default();
-            let inside = queries
-                .iter()
-                .filter(|&&q| origin.value(q, &mut stats) == 1)
-                .count();
-            (stats, inside)
-        });
-        assert_eq!(inside, esc_inside, "the apex does not change the solid");
-        rows.push(Row {
-            case: case.clone(),
-            who: "bezsolid: ESC, apex at the origin (the paper's)".into(),
-            n,
-            ms,
-            runs,
-            extra: count as f64 / (ms / 1000.0),
-            note: note(&stats, inside, count),
-        });
-        let (ms, runs, (stats, inside, differ)) = time(clock, budget, || {
-            let mut stats = Stats::default();
-            let mut seen = Vec::new();
-            let answers: Vec<i32> = queries
-                .iter()
-                .map(|&q| solid.parity_value(q, &mut stats, &mut seen))
-                .collect();
+        let mut row = |who: &str, test: &dyn Fn(DVec3, &mut Stats, &mut Vec<u32>) -> i32| {
+            let (ms, runs, (stats, answers)) = time(clock, budget, || {
+                let (mut stats, mut seen) = (Stats::default(), Vec::new());
+                let answers: Vec<i32> = queries
+                    .iter()
+                    .map(|&q| test(q, &mut stats, &mut seen))
+                    .collect();
+                (stats, answers)
+            });
             let inside = answers.iter().filter(|&&a| a == 1).count();
-            (stats, inside, answers)
+            let row = Row {
+                case: case.clone(),
+                who: who.into(),
+                n,
+                ms,
+                runs,
+                extra: count as f64 / (ms / 1000.0),
+                note: note(&stats, inside, count),
+            };
+            (row, answers)
+        };
+        let (esc, esc_answers) = row("bezsolid: ESC (apex chosen)", &|q, stats, _| {
+            solid.value(q, stats)
         });
+        let (paper, paper_answers) = row(
+            "bezsolid: ESC, apex at the origin (the paper's)",
+            &|q, stats, _| origin.value(q, stats),
+        );
+        assert_eq!(
+            esc_answers, paper_answers,
+            "the apex does not change the solid"
+        );
+        let (mut parity, parity_answers) = row(
+            "ray parity (Jordan), same PN surface and grid",
+            &|q, stats, seen| solid.parity_value(q, stats, seen),
+        );
         // Where the two tests disagree (none, when both are right).
-        let mut esc_stats = Stats::default();
-        let differ = queries
+        let differ = esc_answers
             .iter()
-            .zip(&differ)
-            .filter(|&(&q, &p)| solid.value(q, &mut esc_stats) != p)
+            .zip(&parity_answers)
+            .filter(|(a, b)| a != b)
             .count();
-        rows.push(Row {
-            case,
-            who: "ray parity (Jordan), same PN surface and grid".into(),
-            n,
-            ms,
-            runs,
-            extra: count as f64 / (ms / 1000.0),
-            note: format!(
-                "{}; differs from ESC on {differ} points",
-                note(&stats, inside, count)
-            ),
-        });
+        parity.note = format!("{}; differs from ESC on {differ} points", parity.note);
+        rows.extend([esc, paper, parity]);
     }
     // The modeler's result surface: the blob minus a torus through it, by marching cubes on the
     // chain's membership with vertices where grid edges cross the PN surfaces.

@@ -71,13 +71,7 @@ fn load_solid(arg: &str) -> Result<Boolean> {
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_model {
         let file = crate::load_file(arg)?;
-        return file.to_boolean().with_context(|| {
-            if crate::is_link(arg) {
-                "the share link's model".to_string()
-            } else {
-                arg.to_string()
-            }
-        });
+        return file.to_boolean().with_context(|| crate::describe(arg));
     }
     let mesh = if let Some(name) = arg.strip_prefix("example:") {
         let names: Vec<&str> = Example::ALL.iter().map(|e| e.name()).collect();

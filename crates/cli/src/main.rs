@@ -104,14 +104,16 @@ fn report(result: Result<()>) -> ExitCode {
 
 /// Reads and validates a model file, a share link, or a preset (`preset:NAME`).
 pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
-    let file = load_file(arg)?;
-    // A link is too long to quote in a message: name it by what it is.
-    let what = if is_link(arg) {
-        "the share link's model"
+    load_file(arg)?.to_solid().with_context(|| describe(arg))
+}
+
+/// How messages name the model `arg`: its path, or for a link (too long to quote) what it is.
+pub(crate) fn describe(arg: &str) -> String {
+    if is_link(arg) {
+        "the share link's model".into()
     } else {
-        arg
-    };
-    file.to_solid().with_context(|| what.to_string())
+        arg.into()
+    }
 }
 
 /// The model file named by `arg` (a path, a share link or a preset), not yet validated.

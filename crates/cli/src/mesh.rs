@@ -4,6 +4,7 @@
 use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
+use bezsolid_core::esc::draw::MAX_RESOLUTION as ESC_MAX_RESOLUTION;
 use bezsolid_core::mesh::{MAX_RESOLUTION, obj, ply, stl};
 use bezsolid_core::model::{ModelSolid, SolidSpec};
 
@@ -25,15 +26,20 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     }
     let file = crate::load_file(model)?;
     let mesh = if let SolidSpec::Esc { .. } = file.solid {
-        // A free-form model: the surface of its result, vertices on the PN surfaces.
-        let boolean = file.to_boolean().with_context(|| model.to_string())?;
-        let mesh = boolean.surface(res.max(2));
+        // A free-form model: the surface of its result, vertices on the PN surfaces (exact, so
+        // --accuracy does not apply).
+        if res > ESC_MAX_RESOLUTION {
+            bail!("--res {res} is outside 1..={ESC_MAX_RESOLUTION} for a free-form model");
+        }
+        let boolean = file.to_boolean().with_context(|| crate::describe(model))?;
+        let mesh = boolean.surface(res);
         if mesh.triangles.is_empty() {
             bail!("mesh: the result is empty");
         }
         mesh
     } else {
-        let ModelSolid::Volume(solid) = crate::load_model(model)? else {
+        let solid = file.to_solid().with_context(|| crate::describe(model))?;
+        let ModelSolid::Volume(solid) = solid else {
             bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
         };
         solid.polygonize(res, accuracy)?

@@ -31,7 +31,6 @@ use alloc::vec::Vec;
 use core::fmt;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::bernstein::binomial;
 use crate::tensor::{ControlPoint, PatchError};
 use crate::{BezierCurve, Patch, Volume};
 
@@ -169,13 +168,7 @@ pub fn bernstein(u: &Fun, n: usize, i: usize) -> Fun {
     if i > n || n > crate::MAX_DEGREE {
         return Fun::constant(0.0);
     }
-    let c = binomial(n, i);
-    let (a, b) = (i as u32, (n - i) as u32);
-    u.then(move |t| {
-        let pi = (0..a).fold(1.0, |acc, _| acc * t);
-        let pj = (0..b).fold(1.0, |acc, _| acc * (1.0 - t));
-        c * pi * pj
-    })
+    u.then(move |t| crate::bernstein::bernstein(n, i, t))
 }
 
 /// The Bernstein basis `(β_0ⁿ, …, β_nⁿ) ∘ u`.
@@ -241,6 +234,8 @@ pub enum BlendError {
         /// The offending handle's.
         other: usize,
     },
+    /// Curves or patches of different degrees, which make no tensor net (elevate them first).
+    Degrees,
     /// A decomposition larger than [`MAX_CELLS`].
     TooManyCells(usize),
     /// Control nets that do not make a patch or volume.
@@ -258,6 +253,9 @@ impl fmt::Display for BlendError {
             Self::Dimensions { first, other } => write!(
                 f,
                 "the handles have {first} and {other} coordinates: they must all have the same"
+            ),
+            Self::Degrees => f.write_str(
+                "the curves or patches have different degrees: elevate them to one degree first",
             ),
             Self::TooManyCells(n) => {
                 write!(
@@ -295,13 +293,17 @@ pub fn bezier(u: &Fun, handles: &[Handle]) -> Result<VecMap, BlendError> {
     if handles.is_empty() || handles.len() > crate::MAX_DEGREE + 1 {
         return Err(BlendError::Count(handles.len()));
     }
+    combine(handles, &bernstein_basis(u, handles.len() - 1))
+}
+
+/// `Σᵢ handleᵢ · basisᵢ`, coordinate by coordinate.
+fn combine(handles: &[Handle], basis: &[Fun]) -> Result<VecMap, BlendError> {
     let n = dimension(handles)?;
-    let basis = bernstein_basis(u, handles.len() - 1);
     Ok((0..n)
         .map(|j| {
             let terms: Vec<(Fun, Fun)> = handles
                 .iter()
-                .zip(&basis)
+                .zip(basis)
                 .map(|(h, b)| (h.coordinate(j), b.clone()))
                 .collect();
             Fun::from_fn(move |x| terms.iter().map(|(c, b)| c.eval(x) * b.eval(x)).sum())
@@ -316,18 +318,7 @@ pub fn bezier(u: &Fun, handles: &[Handle]) -> Result<VecMap, BlendError> {
 ///
 /// [`BlendError::Dimensions`] for handles of different dimensions.
 pub fn hermite(u: &Fun, handles: &[Handle; 4]) -> Result<VecMap, BlendError> {
-    let n = dimension(handles)?;
-    let basis = hermite_basis(u);
-    Ok((0..n)
-        .map(|j| {
-            let terms: Vec<(Fun, Fun)> = handles
-                .iter()
-                .zip(basis.iter())
-                .map(|(h, b)| (h.coordinate(j), b.clone()))
-                .collect();
-            Fun::from_fn(move |x| terms.iter().map(|(c, b)| c.eval(x) * b.eval(x)).sum())
-        })
-        .collect())
+    combine(handles, &hermite_basis(u))
 }
 
 /// The most cells of a [`Complex`].
@@ -382,9 +373,21 @@ impl Complex {
             .len()
             .saturating_mul(other.cells.len())
             .saturating_mul(2);
-        if count > MAX_CELLS {
-            return Err(BlendError::TooManyCells(count));
+        let points = self.points.len().saturating_mul(other.points.len());
+        if count > MAX_CELLS || points > MAX_CELLS {
+            return Err(BlendError::TooManyCells(count.max(points)));
         }
+        // Cells name their points (the fields are public): every index in range.
+        for c in [self, other] {
+            let n = c.points.len();
+            if let Some(&i) = c.cells.iter().flatten().find(|&&i| i as usize >= n) {
+                return Err(BlendError::Dimensions {
+                    first: n,
+                    other: i as usize + 1,
+                });
+            }
+        }
+        // At most MAX_CELLS points: their indices fit in u32.
         let m = other.points.len();
         let points = self
             .points
@@ -424,8 +427,8 @@ impl Complex {
 ///
 /// # Errors
 ///
-/// [`BlendError::Count`] for no curves or more than `MAX_DEGREE + 1`, [`BlendError::Dimensions`]
-/// for curves of different degrees (elevate them first), [`BlendError::Net`] for one curve.
+/// [`BlendError::Count`] for no curves or more than `MAX_DEGREE + 1`, [`BlendError::Degrees`]
+/// for curves of different degrees (elevate them first).
 pub fn patch_from_curves<P: ControlPoint>(
     curves: &[BezierCurve<P>],
 ) -> Result<Patch<P>, BlendError> {
@@ -434,11 +437,8 @@ pub fn patch_from_curves<P: ControlPoint>(
         return Err(BlendError::Count(curves.len()));
     }
     let m = first.degree();
-    if let Some(c) = curves.iter().find(|c| c.degree() != m) {
-        return Err(BlendError::Dimensions {
-            first: m,
-            other: c.degree(),
-        });
+    if curves.iter().any(|c| c.degree() != m) {
+        return Err(BlendError::Degrees);
     }
     let points = curves
         .iter()
@@ -460,11 +460,8 @@ pub fn volume_from_patches<P: ControlPoint>(patches: &[Patch<P>]) -> Result<Volu
         return Err(BlendError::Count(patches.len()));
     }
     let (n, m) = first.degree();
-    if let Some(p) = patches.iter().find(|p| p.degree() != (n, m)) {
-        return Err(BlendError::Dimensions {
-            first: n * 100 + m,
-            other: p.degree().0 * 100 + p.degree().1,
-        });
+    if patches.iter().any(|p| p.degree() != (n, m)) {
+        return Err(BlendError::Degrees);
     }
     let points = patches
         .iter()
@@ -476,6 +473,7 @@ pub fn volume_from_patches<P: ControlPoint>(patches: &[Patch<P>]) -> Result<Volu
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bernstein::binomial;
     use crate::testutil::Rng;
     use glam::DVec3;
     #[cfg(target_arch = "wasm32")]
@@ -697,7 +695,7 @@ mod tests {
         // Curves of different degrees must be elevated first.
         assert!(matches!(
             patch_from_curves(&[random_curve(2), random_curve(3)]),
-            Err(BlendError::Dimensions { first: 2, other: 3 })
+            Err(BlendError::Degrees)
         ));
     }
 
@@ -715,5 +713,19 @@ mod tests {
         ));
         let square = big.product(&interval(0.0, 1.0, 1).unwrap()).unwrap();
         assert!(square.product(&big).is_err(), "a product takes segments");
+        // Few cells but too many points, and cells naming points that do not exist.
+        let dots = Complex {
+            points: (0..100_000).map(|k| alloc::vec![f64::from(k)]).collect(),
+            cells: alloc::vec![alloc::vec![0, 1]],
+        };
+        assert!(matches!(
+            dots.product(&dots),
+            Err(BlendError::TooManyCells(_))
+        ));
+        let dangling = Complex {
+            points: alloc::vec![alloc::vec![0.0], alloc::vec![1.0]],
+            cells: alloc::vec![alloc::vec![0, 7]],
+        };
+        assert!(dangling.product(&interval(0.0, 1.0, 1).unwrap()).is_err());
     }
 }

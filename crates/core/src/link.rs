@@ -33,6 +33,7 @@ use base64::Engine as _;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
 
+use crate::esc::bool::Op;
 use crate::model::{EscOperand, MeshSpec, ModelError, ModelFile, ModelSolid, SolidSpec};
 
 /// The version tag this build writes, with its separator.
@@ -80,7 +81,6 @@ struct WireOperand {
 }
 
 const EXAMPLES: [&str; 3] = ["icosphere", "torus", "blob"];
-const OPERATIONS: [&str; 3] = ["union", "intersection", "difference"];
 
 /// Why a link could not be made or opened.
 #[derive(Clone, Debug, PartialEq)]
@@ -210,9 +210,8 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
         } => Wire::Esc {
             // An unknown name is carried as one no reader knows (it fails validation when read).
             operation: operation.as_deref().map_or(0, |name| {
-                OPERATIONS
-                    .iter()
-                    .position(|&o| o == name)
+                Op::from_name(name)
+                    .and_then(|op| Op::ALL.iter().position(|&o| o == op))
                     .map_or(u8::MAX, |i| i as u8 + 1)
             }),
             operands: operands
@@ -327,9 +326,9 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
             operation: match operation {
                 0 => None,
                 k => Some(
-                    OPERATIONS
+                    Op::ALL
                         .get(usize::from(k) - 1)
-                        .map_or_else(|| "unknown".to_string(), |o| (*o).to_string()),
+                        .map_or_else(|| "unknown".to_string(), |o| o.name().to_string()),
                 ),
             },
             operands: operands
@@ -465,6 +464,12 @@ mod tests {
         );
         let link = encode(&two).unwrap();
         assert!(link.len() < 80, "{link}");
+        // An operation spelled by an alias travels as the operation itself.
+        let mut alias = two.clone();
+        if let SolidSpec::Esc { operation, .. } = &mut alias.solid {
+            *operation = Some("minus".into());
+        }
+        assert_eq!(decode_file(&encode(&alias).unwrap()).unwrap(), two);
         assert_eq!(decode_file(&link).unwrap(), two);
         let boolean = decode_file(&link).unwrap().to_boolean().unwrap();
         assert_eq!(boolean.solids.len(), 2);

@@ -343,16 +343,17 @@ impl EscOperand {
                 })?
                 .mesh(),
             (None, Some(spec)) => {
+                // Moved before it is checked, so that the checks see the mesh as it is used.
                 let raw = RawMesh {
                     positions: spec
                         .positions
                         .iter()
-                        .map(|&p| DVec3::from_array(p))
+                        .map(|&p| DVec3::from_array(p) + offset)
                         .collect(),
                     normals: None,
                     triangles: spec.triangles.clone(),
                 };
-                mesh_from_raw(&raw).map_err(|e| e.to_string())?
+                return mesh_from_raw(&raw).map_err(|e| e.to_string());
             }
             _ => return Err("give either an example or a mesh".into()),
         };

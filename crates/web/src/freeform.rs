@@ -17,7 +17,7 @@ use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
 use glam::{DVec2, DVec3};
 
 use crate::app::Rgba;
-use crate::view3d::{Camera, MeshVertex, Scene, float_vertices, mesh_floats};
+use crate::view3d::{Camera, MeshVertex, Scene, float_vertices, mesh_floats, next_generation};
 
 /// The result's surface while the fine one is being made (cells along the longest side).
 pub const COARSE_RESOLUTION: usize = 16;
@@ -73,8 +73,9 @@ type Geometry = (GeometryKey, u64, Vec<MeshVertex>, Vec<MeshVertex>);
 #[derive(Clone, Debug)]
 pub struct FreeForm {
     operands: Vec<EscOperand>,
-    /// The names shown for imported meshes (the file name), by operand.
-    names: Vec<String>,
+    /// The file names of imported meshes, by operand (`None` for a built-in example, which is
+    /// named by the operand itself).
+    names: Vec<Option<String>>,
     operation: Option<Op>,
     display: Display,
     resolution: usize,
@@ -86,6 +87,8 @@ pub struct FreeForm {
     camera: Camera,
     size: DVec2,
     gesture: Option<(bool, DVec2)>,
+    /// The user has moved the camera since it was last fitted (a resize then keeps it).
+    moved: bool,
     geometry: Option<Geometry>,
     /// The point mesh's counts `(inside, marked)` for a revision.
     point_counts: Option<(u64, usize, usize)>,
@@ -123,11 +126,10 @@ impl FreeForm {
             camera: Camera::fit(DVec3::splat(-1.0), DVec3::ONE, 1.0),
             size: DVec2::new(640.0, 480.0),
             gesture: None,
+            moved: false,
             geometry: None,
             point_counts: None,
-            // Far from the patch view's generations: both draw on one renderer, which uploads
-            // the triangles again whenever the generation it last drew changes.
-            generation: 1 << 40,
+            generation: 0,
         };
         f.open(&file)
             .unwrap_or_else(|_| unreachable!("the default scene is valid"));
@@ -156,10 +158,7 @@ impl FreeForm {
         };
         self.operation = operation.as_deref().and_then(Op::from_name);
         self.operands = operands.clone();
-        self.names = operands
-            .iter()
-            .map(|o| o.example.clone().unwrap_or_else(|| "imported mesh".into()))
-            .collect();
+        self.names = vec![None; operands.len()];
         self.boolean = boolean;
         self.changed();
         self.fit();
@@ -206,6 +205,13 @@ impl FreeForm {
             _ => return Err("an operation needs two solids, and one solid no operation".into()),
         };
         let boolean = Boolean { solids, expr };
+        // A replaced or dropped operand's file name goes with it.
+        for (k, name) in self.names.iter_mut().enumerate() {
+            if self.operands.get(k) != operands.get(k) {
+                *name = None;
+            }
+        }
+        self.names.resize(operands.len(), None);
         self.operands = operands;
         self.operation = operation;
         self.boolean = boolean;
@@ -260,9 +266,9 @@ impl FreeForm {
     }
 
     fn set_name(&mut self, slot: usize, name: &str) {
-        self.names.resize(self.operands.len(), String::new());
+        self.names.resize(self.operands.len(), None);
         if let Some(n) = self.names.get_mut(slot) {
-            *n = name.into();
+            *n = self.operands[slot].mesh.is_some().then(|| name.into());
         }
     }
 
@@ -296,12 +302,17 @@ impl FreeForm {
                 let op = Op::from_name(name).ok_or_else(|| format!("no operation {name:?}"))?;
                 if operands.len() == 1 {
                     operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
-                    self.names.push("torus".into());
                 }
                 Some(op)
             }
         };
         self.apply(operands, operation)
+    }
+
+    /// Changes whenever the scene does.
+    #[must_use]
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// The operation's name, or `none`.
@@ -314,7 +325,11 @@ impl FreeForm {
     #[must_use]
     pub fn operand(&self, slot: usize) -> Option<(String, [f64; 3], bool)> {
         let o = self.operands.get(slot)?;
-        let name = self.names.get(slot).cloned().unwrap_or_default();
+        let name = match (&o.example, self.names.get(slot)) {
+            (Some(example), _) => example.clone(),
+            (None, Some(Some(file))) => file.clone(),
+            (None, _) => "imported mesh".into(),
+        };
         Some((name, o.offset, o.example.is_some()))
     }
 
@@ -376,6 +391,7 @@ impl FreeForm {
     pub fn fit(&mut self) {
         let (lo, hi) = self.extent_box();
         self.camera = Camera::fit(lo, hi, self.size.x / self.size.y.max(1.0));
+        self.moved = false;
     }
 
     fn extent_box(&self) -> (DVec3, DVec3) {
@@ -385,6 +401,9 @@ impl FreeForm {
     /// The viewport's size in CSS pixels.
     pub fn resize(&mut self, width: f64, height: f64) {
         self.size = DVec2::new(width.max(1.0), height.max(1.0));
+        if !self.moved {
+            self.fit();
+        }
     }
 
     /// Pointer pressed: orbit, or pan with `pan`.
@@ -403,6 +422,7 @@ impl FreeForm {
             self.camera.orbit(q - last, self.size.y);
         }
         self.gesture = Some((pan, q));
+        self.moved = true;
         true
     }
 
@@ -414,6 +434,7 @@ impl FreeForm {
     /// The wheel: zooms.
     pub fn wheel(&mut self, delta_y: f64) {
         self.camera.zoom(delta_y);
+        self.moved = true;
     }
 
     /// The camera.
@@ -425,7 +446,8 @@ impl FreeForm {
     /// Everything one redraw needs; the triangles are rebuilt only when the scene, the display or
     /// the surface changes.
     pub fn scene(&mut self) -> Scene<'_> {
-        if self.surface.as_ref().is_none_or(|s| s.0 != self.revision) {
+        let shows_surface = self.display == Display::Result;
+        if shows_surface && self.surface.as_ref().is_none_or(|s| s.0 != self.revision) {
             // Nothing for this revision yet: a coarse surface now, the fine one on request.
             let mesh = self.boolean.surface(COARSE_RESOLUTION);
             self.surface = Some((
@@ -437,32 +459,28 @@ impl FreeForm {
                 self.request = Some((self.revision, self.resolution));
             }
         }
+        // Only the result display depends on the surface (its arrival redraws nothing else).
         let key = (
             self.revision,
             self.display,
-            self.surface.as_ref().map(|s| (s.0, s.1)),
+            self.surface
+                .as_ref()
+                .filter(|_| shows_surface)
+                .map(|s| (s.0, s.1)),
         );
         if self.geometry.as_ref().is_none_or(|g| g.0 != key) {
             let (opaque, translucent, counts) = self.build();
             if let Some((inside, marked)) = counts {
                 self.point_counts = Some((self.revision, inside, marked));
             }
-            self.generation += 1;
+            self.generation = next_generation();
             self.geometry = Some((key, self.generation, opaque, translucent));
         }
         let (lo, hi) = self.extent_box();
         let extent = (hi - lo).length().max(1e-9);
-        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
-        let (opaque, translucent, generation) = match &self.geometry {
-            Some(g) => (&g.2[..], &g.3[..], g.1),
-            None => (&[][..], &[][..], 0),
-        };
-        Scene {
-            opaque,
-            translucent,
-            generation,
-            view_proj: m.map(|c| c.map(|x| x as f32)),
-            eye: self.camera.eye().as_vec3().to_array(),
+        match &self.geometry {
+            Some(g) => self.camera.scene(&g.2, &g.3, g.1, self.size, extent),
+            None => self.camera.scene(&[], &[], 0, self.size, extent),
         }
     }
 
@@ -744,6 +762,29 @@ mod tests {
         let text = model_json(&f.model_file());
         assert!(!text.contains('\n'));
         assert_eq!(read_file(&text).unwrap(), f.model_file());
+    }
+
+    #[test]
+    fn operand_names_follow_the_operands() {
+        let mut f = FreeForm::new();
+        f.set_example(1, "icosphere").unwrap();
+        f.set_operation("none").unwrap();
+        f.set_operation("union").unwrap();
+        assert_eq!(f.operand(1).map(|o| o.0), Some("torus".into()));
+        f.set_mesh(1, "ball.obj", &bezsolid_core::esc::examples::icosphere(1))
+            .unwrap();
+        assert_eq!(f.operand(1).map(|o| o.0), Some("ball.obj".into()));
+        f.set_example(1, "blob").unwrap();
+        assert_eq!(
+            f.operand(1).map(|o| (o.0, o.2)),
+            Some(("blob".into(), true))
+        );
+        // Opening a file names its meshes plainly.
+        f.set_mesh(0, "ball.obj", &bezsolid_core::esc::examples::icosphere(1))
+            .unwrap();
+        let file = f.model_file();
+        f.open(&file).unwrap();
+        assert_eq!(f.operand(0).map(|o| o.0), Some("imported mesh".into()));
     }
 
     #[test]

@@ -86,6 +86,14 @@ pub struct Scene<'a> {
     pub eye: [f32; 3],
 }
 
+/// A number for a new set of triangles, never handed out before: the patch, volume and free-form
+/// scenes draw on one renderer, which uploads the triangles again whenever the generation it
+/// last drew changes, so their generations must not collide.
+pub fn next_generation() -> u64 {
+    static NEXT: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, core::sync::atomic::Ordering::Relaxed)
+}
+
 /// An orbit camera around a target, z up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -167,6 +175,27 @@ impl Camera {
             }
         }
         out
+    }
+
+    /// A scene of cached triangles seen by this camera in a viewport of `size` CSS pixels, for a
+    /// model of size `extent` (which sets the clip planes).
+    #[must_use]
+    pub fn scene<'a>(
+        &self,
+        opaque: &'a [MeshVertex],
+        translucent: &'a [MeshVertex],
+        generation: u64,
+        size: DVec2,
+        extent: f64,
+    ) -> Scene<'a> {
+        let m = self.view_proj(size.x / size.y, extent);
+        Scene {
+            opaque,
+            translucent,
+            generation,
+            view_proj: m.map(|c| c.map(|x| x as f32)),
+            eye: self.eye().as_vec3().to_array(),
+        }
     }
 
     /// The ray through CSS pixel `q` of a viewport of `size`: origin (the eye) and unit direction.
@@ -607,7 +636,7 @@ impl View3 {
                 Some(volume) => self.volume_geometry(editor, volume),
                 None => self.patch_geometry(editor),
             };
-            let generation = self.geometry.as_ref().map_or(1, |g| g.generation + 1);
+            let generation = next_generation();
             self.geometry = Some(Geometry {
                 key,
                 generation,
@@ -616,17 +645,12 @@ impl View3 {
                 extent,
             });
         }
-        let (opaque, translucent, generation, extent) = match &self.geometry {
-            Some(g) => (&g.opaque[..], &g.translucent[..], g.generation, g.extent),
-            None => (&[][..], &[][..], 0, 1.0),
-        };
-        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
-        Scene {
-            opaque,
-            translucent,
-            generation,
-            view_proj: m.map(|c| c.map(|x| x as f32)),
-            eye: self.camera.eye().as_vec3().to_array(),
+        match &self.geometry {
+            Some(g) => {
+                self.camera
+                    .scene(&g.opaque, &g.translucent, g.generation, self.size, g.extent)
+            }
+            None => self.camera.scene(&[], &[], 0, self.size, 1.0),
         }
     }
 

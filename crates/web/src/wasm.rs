@@ -654,14 +654,6 @@ impl Modeler {
         self.view3.resolution() as u32
     }
 
-    /// The patch in the 2D view (the patch model, or the volume's selected slice as a patch) as a
-    /// model file.
-    #[must_use]
-    pub fn patch_json(&self) -> String {
-        let file = bezsolid_core::model::ModelFile::from_solid2(self.view.solid());
-        serde_json::to_string(&file).unwrap_or_default()
-    }
-
     /// Whether the model is a volume.
     #[must_use]
     pub fn is_volume(&self) -> bool {
@@ -1002,6 +994,18 @@ impl FreeFormView {
     /// The result surface's resolution at rest; returns the value taken.
     pub fn set_resolution(&mut self, cells: u32) -> u32 {
         self.state.set_resolution(cells as usize) as u32
+    }
+
+    /// The result surface's resolution at rest (cells along the longest side of an export).
+    #[must_use]
+    pub fn resolution(&self) -> u32 {
+        self.state.resolution() as u32
+    }
+
+    /// Changes whenever the scene does (for saving only what changed).
+    #[must_use]
+    pub fn revision(&self) -> f64 {
+        self.state.revision() as f64
     }
 
     /// The fine surface wanted from the worker: `[revision, resolution]`, once.

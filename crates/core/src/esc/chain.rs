@@ -46,7 +46,7 @@ use glam::DVec3;
 
 use super::import::{MeshDefects, validate};
 use super::pn::{PnSurface, cubic_index};
-use super::predicates::side;
+use super::predicates::{orient_sign, side};
 use super::ray::{Crossings, Ray, Unsure, Wall, patch_crossings, patch_hits};
 use crate::mesh::Mesh;
 
@@ -94,9 +94,8 @@ pub struct Stats {
 /// A free-form cell's oriented bounding box and walls.
 #[derive(Clone, Copy, Debug)]
 struct Cell {
-    /// Unit normal of the base triangle (counter-clockwise).
-    normal: DVec3,
-    /// Frame axes: edge direction, in-plane perpendicular, normal.
+    /// Frame axes: edge direction, in-plane perpendicular, and the base triangle's unit normal
+    /// (counter-clockwise).
     axes: [DVec3; 3],
     /// The box in the frame: `lo ≤ (p·axes) ≤ hi`.
     lo: DVec3,
@@ -186,7 +185,7 @@ impl EscSolid {
             .iter()
             .map(|t| {
                 let [a, b, c] = t.map(|i| positions[i as usize]);
-                exact_side(a, b, c, apex)
+                orient_sign(a, b, c, apex)
             })
             .collect();
         let cube = CubeMap::new(apex, &positions, &triangles, &coefficients);
@@ -207,7 +206,7 @@ impl EscSolid {
             let net = &pn.patches[t as usize];
             // The curved edge e of patch t runs from corner e to corner e + 1; its inner points.
             let [c1, c2] = edge_inner(net, e as usize);
-            let (a, b) = (tri[e as usize], tri[(e as usize + 1) % 3]);
+            let a = tri[e as usize];
             let wall = if a == lo {
                 Wall::new(positions[lo as usize], positions[hi as usize], c1, c2)
             } else {
@@ -220,7 +219,6 @@ impl EscSolid {
                 let forward = tri[e as usize] == lo;
                 cell_walls[t as usize][e as usize] = (index, if forward { 1 } else { -1 });
             }
-            debug_assert!(b == hi || b == lo);
         }
         let cells: Vec<Cell> = triangles
             .iter()
@@ -242,7 +240,6 @@ impl EscSolid {
                 let pad = 1e-9 * (hi - lo).max_element().max(1e-300)
                     + 1e-12 * lo.abs().max(hi.abs()).max_element();
                 Cell {
-                    normal,
                     axes,
                     lo: lo - pad,
                     hi: hi + pad,
@@ -324,7 +321,21 @@ impl EscSolid {
     #[must_use]
     pub fn value(&self, q: DVec3, stats: &mut Stats) -> i32 {
         stats.queries += 1;
-        self.flat_value(q, stats) + self.cells_value(q, stats)
+        if let Some(cells) = self.cells_at(q, stats) {
+            return self.flat_value(q, stats) + cells;
+        }
+        // `q` is on a cell's boundary (a wall between two cells, or a patch), where no ray tells
+        // which side it is on: the whole chain is evaluated at one point moved off it by a hair
+        // in a fixed direction, the tetrahedra too, so that both parts describe the same point.
+        let (lo, hi) = self.bounds();
+        let moved = q + DVec3::new(0.539_3, 0.807_1, 0.241_2) * (1e-9 * (hi - lo).max_element());
+        match self.cells_at(moved, stats) {
+            Some(cells) => self.flat_value(moved, stats) + cells,
+            None => {
+                stats.unsure += 1;
+                self.flat_value(q, stats)
+            }
+        }
     }
 
     /// `Σ sᵢ·[q ∈ Sᵢ]`: the winding number of the flat mesh at `q` (the chain without its
@@ -351,24 +362,10 @@ impl EscSolid {
         sum
     }
 
-    /// `Σ (winding of ffcᵢ at q)`: the free-form cells' part of `f(q)`.
+    /// `Σ (winding of ffcᵢ at q)`: the free-form cells' part of `f(q)`; `None` where `q` is on a
+    /// cell's boundary.
     #[must_use]
-    pub fn cells_value(&self, q: DVec3, stats: &mut Stats) -> i32 {
-        if let Some(sum) = self.cells_at(q, stats) {
-            return sum;
-        }
-        // `q` is on a cell's boundary (a wall between two cells, or a patch): every cell is asked
-        // again at one point moved off it by a hair in a fixed direction, so that exactly one of
-        // two cells that share a wall claims it.
-        let (lo, hi) = self.bounds();
-        let nudge = DVec3::new(0.539_3, 0.807_1, 0.241_2) * (1e-9 * (hi - lo).max_element());
-        self.cells_at(q + nudge, stats).unwrap_or_else(|| {
-            stats.unsure += 1;
-            0
-        })
-    }
-
-    fn cells_at(&self, q: DVec3, stats: &mut Stats) -> Option<i32> {
+    pub fn cells_at(&self, q: DVec3, stats: &mut Stats) -> Option<i32> {
         let mut sum = 0;
         for &t in self.grid.cell(q) {
             if self.cells[t as usize].holds(q) {
@@ -386,8 +383,8 @@ impl EscSolid {
         // Cast away from the base triangle's plane, so the ray never meets the base triangle.
         let up = match side(a, b, c, q) {
             0 => return Some(0),
-            s if s < 0 => cell.normal,
-            _ => -cell.normal,
+            s if s < 0 => cell.axes[2],
+            _ => -cell.axes[2],
         };
         for (k, &(x, y)) in TILTS.iter().enumerate() {
             if k > 0 {
@@ -479,23 +476,6 @@ impl EscSolid {
     }
 }
 
-/// The exact side of `apex` against the triangle, without the perturbation (0 when coplanar).
-fn exact_side(a: DVec3, b: DVec3, c: DVec3, apex: DVec3) -> i8 {
-    let coord = |p: DVec3| robust::Coord3D {
-        x: p.x,
-        y: p.y,
-        z: p.z,
-    };
-    let o = robust::orient3d(coord(a), coord(b), coord(c), coord(apex));
-    if o > 0.0 {
-        1
-    } else if o < 0.0 {
-        -1
-    } else {
-        0
-    }
-}
-
 fn check(mesh: &Mesh) -> Result<(), EscError> {
     if mesh.triangles.is_empty() {
         return Err(EscError::Empty);
@@ -524,7 +504,7 @@ fn edge_inner(net: &super::pn::CubicNet, e: usize) -> [DVec3; 2] {
     }
 }
 
-/// The apex with the fewest negative original simplices among the volume centroid, the vertex
+/// The apex with the fewest negative or flat original simplices among the volume centroid, the vertex
 /// mean and the box centre.
 fn choose_apex(positions: &[DVec3], triangles: &[[u32; 3]]) -> DVec3 {
     let mut volume = 0.0;
@@ -552,7 +532,7 @@ fn choose_apex(positions: &[DVec3], triangles: &[[u32; 3]]) -> DVec3 {
             .iter()
             .filter(|t| {
                 let [a, b, c] = t.map(|i| positions[i as usize]);
-                exact_side(a, b, c, apex) <= 0
+                orient_sign(a, b, c, apex) <= 0
             })
             .count()
     };

@@ -26,7 +26,8 @@ pub struct Boolean {
 /// A regular grid of points classified against a Boolean (the paper's point-mesh view).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PointMesh {
-    /// Points in the final result.
+    /// Points drawn plain: for one binary operation, those of the partial chain that the final
+    /// term keeps (the final result less the marked points); otherwise the final result.
     pub inside: Vec<DVec3>,
     /// Points of the partial chain that the final term removes (drawn red in the paper's
     /// intermediate figures); empty unless the expression is one binary operation.
@@ -83,7 +84,7 @@ impl Boolean {
         if !all.0.is_finite() {
             return out;
         }
-        let (grid, _) = grid_over(all, res, 0);
+        let grid = grid_over(all, res, 0);
         out.step = grid.step.x;
         let mut stats = Stats::default();
         for c in 0..grid.dims[2] {
@@ -102,7 +103,7 @@ impl Boolean {
                         let (partial, marked) = op.partial(f1, f2);
                         if marked {
                             out.marked.push(q);
-                        } else if partial || op.apply(f1, f2) == 1 {
+                        } else if partial {
                             out.inside.push(q);
                         }
                     } else if self.value(q, &mut stats) == 1 {
@@ -126,7 +127,7 @@ impl Boolean {
         if !(lo.is_finite() && hi.is_finite()) || lo == hi {
             return Mesh::default();
         }
-        let (grid, _) = grid_over((lo, hi), res, 1);
+        let grid = grid_over((lo, hi), res, 1);
         let [nx, ny, nz] = grid.dims;
         let mut stats = Stats::default();
         // Each solid's membership at each sample, then the result's.
@@ -175,18 +176,22 @@ impl Boolean {
             let pn = solid.surface();
             // +1: kept as it is; −1: kept turned over; 0: not on the result's boundary.
             let mut state = |q: DVec3| -> i8 {
-                let mut others = [0i32; 8];
-                for (j, other) in self.solids.iter().enumerate().take(others.len()) {
-                    if j != i {
-                        others[j] = i32::from(other.value(q, &mut stats) == 1);
-                    }
-                }
-                let with = |v: i32| {
+                // The other solids' values at q, each asked once and only if the expression needs
+                // it (-1: not yet asked).
+                let mut others = vec![-1i32; self.solids.len()];
+                let mut with = |v: i32| {
                     self.expr.value(&mut |j| {
                         if j == i {
-                            v
-                        } else {
-                            others.get(j).copied().unwrap_or(0)
+                            return v;
+                        }
+                        match others.get(j) {
+                            Some(&k) if k >= 0 => k,
+                            Some(_) => {
+                                let k = i32::from(self.solids[j].value(q, &mut stats) == 1);
+                                others[j] = k;
+                                k
+                            }
+                            None => 0,
                         }
                     })
                 };
@@ -205,7 +210,7 @@ impl Boolean {
                     let (v, w) = (r as f64 / l as f64, c as f64 / l as f64);
                     DVec3::new((1.0 - v - w).max(0.0), v, w)
                 };
-                let index = |r: usize, c: usize| r * (2 * l + 3 - r) / 2 + c;
+                let index = |r: usize, c: usize| crate::triangular::net_index(l, r, c);
                 let mut states = Vec::with_capacity((l + 1) * (l + 2) / 2);
                 for r in 0..=l {
                     for c in 0..=l - r {
@@ -294,7 +299,7 @@ fn bound(expr: &Expr, solids: &[EscSolid], all: (DVec3, DVec3)) -> (DVec3, DVec3
 
 /// A sample grid over `(lo, hi)` with `res` cells along the longest side and `pad` extra cells on
 /// every side.
-fn grid_over((lo, hi): (DVec3, DVec3), res: usize, pad: usize) -> (SampleGrid, f64) {
+fn grid_over((lo, hi): (DVec3, DVec3), res: usize, pad: usize) -> SampleGrid {
     let extent = (hi - lo).max(DVec3::splat(1e-12));
     let step = extent.max_element() / res as f64;
     let dims = [0, 1, 2].map(|k| (libm::ceil(extent[k] / step) as usize).max(1) + 1 + 2 * pad);
@@ -306,14 +311,11 @@ fn grid_over((lo, hi): (DVec3, DVec3), res: usize, pad: usize) -> (SampleGrid, f
         DVec3::ZERO
     };
     let origin = lo - DVec3::splat(step * pad as f64) - shift;
-    (
-        SampleGrid {
-            origin,
-            step: DVec3::splat(step),
-            dims,
-        },
-        step,
-    )
+    SampleGrid {
+        origin,
+        step: DVec3::splat(step),
+        dims,
+    }
 }
 
 /// Exact edge crossings for [`polygonize`].
@@ -471,7 +473,7 @@ mod tests {
             }
             let total = mesh.positions.len().div_ceil(7);
             assert!(checked * 100 >= total * 97, "{op}: {checked} of {total}");
-            // Oriented outward: the enclosed volume of a union is at least either solid's.
+            // Oriented outward: the pieces of a union enclose a positive volume.
             if op == Op::Union {
                 assert!(mesh.volume() > 0.0);
             }

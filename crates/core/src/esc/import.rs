@@ -120,6 +120,14 @@ pub enum ImportError {
         /// The index as written (negative indices count back from the latest vertex).
         index: i64,
     },
+    /// A triangle of a mesh given as lists (a model file, not a file read here) names a vertex
+    /// that does not exist.
+    TriangleIndex {
+        /// The triangle's 0-based number.
+        triangle: usize,
+        /// The vertex index it names.
+        index: u32,
+    },
     /// The mesh is not a closed, consistently oriented 2-manifold.
     Defects(MeshDefects),
 }
@@ -156,6 +164,10 @@ impl fmt::Display for ImportError {
                     "line {line}: index {index} refers to nothing defined before it"
                 )
             }
+            Self::TriangleIndex { triangle, index } => write!(
+                f,
+                "triangle {triangle} names vertex {index}, which does not exist"
+            ),
             Self::Defects(defects) => write!(f, "{defects}"),
         }
     }
@@ -271,6 +283,13 @@ pub fn mesh_from_raw(raw: &RawMesh) -> Result<Mesh, ImportError> {
     }
     if raw.triangles.is_empty() {
         return Err(ImportError::Empty);
+    }
+    // The parsers check their indices with line numbers; lists from elsewhere are checked here.
+    let n = raw.positions.len();
+    for (triangle, tri) in raw.triangles.iter().enumerate() {
+        if let Some(&index) = tri.iter().find(|&&i| i as usize >= n) {
+            return Err(ImportError::TriangleIndex { triangle, index });
+        }
     }
     let (positions, file_normals, triangles) = weld(raw)?;
     if positions.len() > MAX_VERTICES {

@@ -23,7 +23,7 @@ use alloc::vec::Vec;
 use glam::DVec3;
 
 use crate::mesh::Mesh;
-use crate::triangular::TriangularPatch;
+use crate::triangular::{TriangularPatch, net_index};
 
 /// The control points of a cubic triangular patch, in the storage order of [`TriangularPatch`]
 /// (`P_ijk` at `i·(9 − i)/2 + j`): `P_003, P_012, P_021, P_030, P_102, P_111, P_120, P_201, P_210,
@@ -33,7 +33,7 @@ pub type CubicNet = [DVec3; 10];
 /// Storage index of `P_ijk` in a [`CubicNet`].
 #[must_use]
 pub const fn cubic_index(i: usize, j: usize) -> usize {
-    i * (9 - i) / 2 + j
+    net_index(3, i, j)
 }
 
 /// The inner control point of the curved edge from `a` (normal `na`) to `b` next to `a`:
@@ -210,7 +210,8 @@ impl PnSurface {
                     mesh.normals.push(self.normal(t, b));
                 }
             }
-            let index = |r: usize, c: usize| base + (r * (2 * l + 3 - r) / 2 + c) as u32;
+            // Row r of the grid is row r of a degree-l net.
+            let index = |r: usize, c: usize| base + net_index(l, r, c) as u32;
             for r in 0..l {
                 for c in 0..l - r {
                     // (u, v, w) corners: moving along v then w keeps the patch's orientation

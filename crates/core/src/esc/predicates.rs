@@ -30,14 +30,24 @@ fn c2(x: f64, y: f64) -> Coord<f64> {
 /// `a, b, c` are collinear.
 #[must_use]
 pub fn side(a: DVec3, b: DVec3, c: DVec3, q: DVec3) -> i8 {
+    match orient_sign(a, b, c, q) {
+        0 => perturbed(a, b, c),
+        s => s,
+    }
+}
+
+/// The exact sign of `orient3d(a, b, c, q)` without the perturbation: 0 when the four points are
+/// coplanar.
+#[must_use]
+pub fn orient_sign(a: DVec3, b: DVec3, c: DVec3, q: DVec3) -> i8 {
     let o = orient3d(c3(a), c3(b), c3(c), c3(q));
     if o > 0.0 {
-        return 1;
+        1
+    } else if o < 0.0 {
+        -1
+    } else {
+        0
     }
-    if o < 0.0 {
-        return -1;
-    }
-    perturbed(a, b, c)
 }
 
 /// The sign of `−N_x`, else `−N_y`, else `−N_z`, `N = (b − a) × (c − a)`, each exact.
@@ -98,7 +108,8 @@ mod tests {
                 continue; // the midpoint arithmetic rounded off the plane
             }
             // Moving q a little along x, then y, then z, agrees with the symbolic answer.
-            let tiny = [1e-6, 1e-12, 1e-18];
+            // Powers of two that survive the addition to coordinates up to 8 (doubles carry 52 bits).
+            let tiny = [2f64.powi(-12), 2f64.powi(-26), 2f64.powi(-40)];
             let moved = q + DVec3::new(tiny[0], tiny[1], tiny[2]);
             let expect = side(a, b, c, moved);
             assert_eq!(side(a, b, c, q), expect, "{a} {b} {c}");

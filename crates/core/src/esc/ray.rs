@@ -124,7 +124,8 @@ pub fn patch_hits(net: &CubicNet, ray: &Ray, visit: &mut dyn FnMut(Hit)) -> Resu
     let mut found_count = 0usize;
     // Stack of sub-patches: local net, barycentric corners in the original patch, depth. The edge
     // split next is always the one from corner 0 to corner 1 (newest vertex bisection).
-    let mut stack = [([DVec3::ZERO; 10], [DVec3::ZERO; 3], 0u32); 64];
+    // Depth first, two children per split: at most one pending sibling per level.
+    let mut stack = [([DVec3::ZERO; 10], [DVec3::ZERO; 3], 0u32); MAX_DEPTH as usize + 2];
     stack[0] = (local, [DVec3::X, DVec3::Y, DVec3::Z], 0);
     let mut top = 1;
     while top > 0 {
@@ -161,17 +162,16 @@ pub fn patch_hits(net: &CubicNet, ray: &Ray, visit: &mut dyn FnMut(Hit)) -> Resu
                 }
                 Leaf::Elsewhere => continue,
                 Leaf::Seam => return Err(Unsure),
-                Leaf::Failed => {
-                    if depth >= MAX_DEPTH {
-                        // A hull that still holds the ray at this size, with no regular root: a
-                        // tangency or a crossing on the seam.
-                        return Err(Unsure);
-                    }
-                }
+                Leaf::Failed => {}
             }
         }
-        if top + 2 > stack.len() {
+        if depth >= MAX_DEPTH {
+            // A hull that still holds the ray at this size, with no regular root: a tangency, a
+            // fold along the ray, or a crossing on the seam.
             return Err(Unsure);
+        }
+        if top + 2 > stack.len() {
+            return Err(Unsure); // cannot happen (see the stack's size); never index past it
         }
         let (first, second) = bisect(&sub);
         let mid = (corners[0] + corners[1]) * 0.5;
@@ -427,8 +427,7 @@ impl Wall {
         let (qa, qb, qc) = (c0 - 2.0 * c1 + c2, 2.0 * (c1 - c0), c0);
         let tiny = 1e-13 * size.max(1e-300);
         if qa.abs() <= tiny && qb.abs() <= tiny && qc.abs() <= tiny {
-            // The ray lies in the wall's plane (the wall is planar here): unsure unless it misses
-            // the wall's bounding box in (x, y) altogether.
+            // The ray lies in the wall's plane (the wall is planar here): no crossing can be told.
             return Crossings::Unsure;
         }
         let mut roots = [f64::NAN; 2];
