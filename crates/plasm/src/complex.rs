@@ -1,0 +1,239 @@
+//! Simplicial complexes: what `interval`, `QUOTE` and products make and `MAP` maps.
+
+use std::fmt;
+
+/// A simplicial complex: points of one dimension and cells of one order (1 vertex for points, 2
+/// for segments, 3 for triangles, 4 for tetrahedra), both flat.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Complex {
+    /// Coordinates per point.
+    pub dim: usize,
+    /// `dim` coordinates per point.
+    pub points: Vec<f64>,
+    /// Vertices per cell: the cells' dimension plus one.
+    pub order: usize,
+    /// `order` point indices per cell.
+    pub cells: Vec<u32>,
+}
+
+/// Why a complex cannot be made.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ComplexError {
+    /// More cells (or points) than the limit.
+    TooMany {
+        /// How many the operation would make.
+        count: u128,
+        /// The limit.
+        limit: usize,
+    },
+    /// A product past four vertices per cell (past tetrahedra), or of points of too many
+    /// coordinates.
+    Dimension(usize),
+}
+
+impl fmt::Display for ComplexError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ComplexError::TooMany { count, limit } => {
+                write!(f, "{count} cells, past the limit of {limit}")
+            }
+            ComplexError::Dimension(d) => write!(
+                f,
+                "a product of dimension {d}: cells of at most 3 dimensions (tetrahedra) are \
+                 supported"
+            ),
+        }
+    }
+}
+
+impl Complex {
+    /// Points.
+    pub fn point_count(&self) -> usize {
+        self.points.len().checked_div(self.dim).unwrap_or(0)
+    }
+
+    /// Cells.
+    pub fn cell_count(&self) -> usize {
+        self.cells.len().checked_div(self.order).unwrap_or(0)
+    }
+
+    /// Point `i`'s coordinates.
+    pub fn point(&self, i: usize) -> &[f64] {
+        &self.points[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// Cell `i`'s point indices.
+    pub fn cell(&self, i: usize) -> &[u32] {
+        &self.cells[i * self.order..(i + 1) * self.order]
+    }
+
+    /// The one-dimensional complex of `QUOTE`: a segment for each positive length and a gap for
+    /// each negative one, from 0.
+    pub fn quote(lengths: &[f64]) -> Complex {
+        let mut points = Vec::new();
+        let mut cells = Vec::new();
+        let mut pos = 0.0;
+        let mut last: Option<(f64, u32)> = None;
+        for &d in lengths {
+            if d > 0.0 {
+                let a = match last {
+                    Some((x, i)) if x == pos => i,
+                    _ => {
+                        points.push(pos);
+                        (points.len() - 1) as u32
+                    }
+                };
+                points.push(pos + d);
+                let b = (points.len() - 1) as u32;
+                cells.extend([a, b]);
+                last = Some((pos + d, b));
+            }
+            pos += d.abs();
+        }
+        Complex {
+            dim: 1,
+            points,
+            order: 2,
+            cells,
+        }
+    }
+
+    /// `[a, b]` in `n` equal segments.
+    pub fn interval(a: f64, b: f64, n: usize) -> Complex {
+        Complex {
+            dim: 1,
+            points: (0..=n)
+                .map(|k| {
+                    if k == n {
+                        b
+                    } else {
+                        a + (b - a) * k as f64 / n as f64
+                    }
+                })
+                .collect(),
+            order: 2,
+            cells: (0..n as u32).flat_map(|k| [k, k + 1]).collect(),
+        }
+    }
+
+    /// The cells a product would have, without making it.
+    pub fn product_count(&self, other: &Complex) -> u128 {
+        let (k, l) = (self.order - 1, other.order - 1);
+        self.cell_count() as u128 * other.cell_count() as u128 * binomial(k + l, k)
+    }
+
+    /// The product of two complexes (`A * B`): points are pairs (coordinates concatenated), and
+    /// each product of a `k`-cell and an `l`-cell is split into the `C(k+l, k)` simplices of the
+    /// staircase triangulation, which agree on shared faces. Cells of full dimension are turned
+    /// to positive orientation (counter-clockwise triangles in the plane).
+    ///
+    /// # Errors
+    ///
+    /// [`ComplexError::TooMany`] past `limit` cells or points, [`ComplexError::Dimension`] past
+    /// tetrahedra.
+    pub fn product(&self, other: &Complex, limit: usize) -> Result<Complex, ComplexError> {
+        let (k, l) = (self.order - 1, other.order - 1);
+        if k + l > 3 {
+            return Err(ComplexError::Dimension(k + l));
+        }
+        let count = self.product_count(other);
+        let points = self.point_count() as u128 * other.point_count() as u128;
+        if count.max(points) > limit as u128 {
+            return Err(ComplexError::TooMany {
+                count: count.max(points),
+                limit,
+            });
+        }
+        let dim = self.dim + other.dim;
+        let m = other.point_count();
+        let mut pts = Vec::with_capacity(points as usize * dim);
+        for i in 0..self.point_count() {
+            for j in 0..m {
+                pts.extend_from_slice(self.point(i));
+                pts.extend_from_slice(other.point(j));
+            }
+        }
+        // Each monotone lattice path from (0, 0) to (k, l) is one simplex.
+        let mut paths = Vec::new();
+        staircase(k, l, &mut Vec::new(), &mut paths);
+        let order = k + l + 1;
+        let mut cells = Vec::with_capacity(count as usize * order);
+        for a in 0..self.cell_count() {
+            let mut ca = self.cell(a).to_vec();
+            ca.sort_unstable();
+            for b in 0..other.cell_count() {
+                let mut cb = other.cell(b).to_vec();
+                cb.sort_unstable();
+                for path in &paths {
+                    for &(i, j) in path {
+                        cells.push(ca[i] * m as u32 + cb[j]);
+                    }
+                }
+            }
+        }
+        let mut out = Complex {
+            dim,
+            points: pts,
+            order,
+            cells,
+        };
+        out.orient();
+        Ok(out)
+    }
+
+    /// Turns cells of full dimension to positive orientation.
+    fn orient(&mut self) {
+        if self.order != self.dim + 1 || !(3..=4).contains(&self.order) {
+            return;
+        }
+        for c in 0..self.cell_count() {
+            let v: Vec<&[f64]> = self
+                .cell(c)
+                .iter()
+                .map(|&i| self.point(i as usize))
+                .collect();
+            let e = |a: usize, d: usize| v[a][d] - v[0][d];
+            let det = if self.order == 3 {
+                e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0)
+            } else {
+                e(1, 0) * (e(2, 1) * e(3, 2) - e(2, 2) * e(3, 1))
+                    - e(1, 1) * (e(2, 0) * e(3, 2) - e(2, 2) * e(3, 0))
+                    + e(1, 2) * (e(2, 0) * e(3, 1) - e(2, 1) * e(3, 0))
+            };
+            if det < 0.0 {
+                let o = self.order;
+                self.cells.swap(c * o + 1, c * o + 2);
+            }
+        }
+    }
+}
+
+fn staircase(
+    k: usize,
+    l: usize,
+    path: &mut Vec<(usize, usize)>,
+    out: &mut Vec<Vec<(usize, usize)>>,
+) {
+    let (i, j) = path.last().copied().unwrap_or((0, 0));
+    if path.is_empty() {
+        path.push((0, 0));
+    }
+    if i == k && j == l {
+        out.push(path.clone());
+    } else {
+        if i < k {
+            path.push((i + 1, j));
+            staircase(k, l, path, out);
+            path.pop();
+        }
+        if j < l {
+            path.push((i, j + 1));
+            staircase(k, l, path, out);
+            path.pop();
+        }
+    }
+}
+
+fn binomial(n: usize, k: usize) -> u128 {
+    (0..k).fold(1u128, |acc, i| acc * (n - i) as u128 / (i + 1) as u128)
+}

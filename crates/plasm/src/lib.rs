@@ -1,0 +1,164 @@
+//! # bezsolid-plasm
+//!
+//! The subset of PLaSM (Paoluzzi's functional language for geometry, after Backus's FL) that the
+//! transfinite blending paper is written in, so that its scripts run verbatim:
+//!
+//! ```
+//! use bezsolid_plasm::Interp;
+//!
+//! let mut plasm = Interp::new();
+//! let run = plasm
+//!     .run("DEF SQR = ID * ID; MAP:(CONS:< S1, SQR ~ S1 >):(interval:<0, 1>:4);")
+//!     .into_result()
+//!     .unwrap();
+//! let curve = run[0].value.as_pol().unwrap();
+//! assert_eq!((curve.point_count(), curve.cell_count()), (5, 4));
+//! assert_eq!(curve.point(2), &[0.5, 0.25]);
+//! ```
+//!
+//! The language: `DEF name (params :: Pred)… = expr WHERE locals END;`, sequences `< >`,
+//! application `:`, composition `~`, `[f, g]` (that is `CONS:<f, g>`), arithmetic `+ - * / **`
+//! on numbers and, pointwise, on functions (`K:1 - ID`), ranges `0..n`, and the built-ins of
+//! [`value::Prim`], with `PI`, `TRUE` and `FALSE`. Names are case-insensitive, as in PLaSM
+//! (the paper writes both `k:2` and `K:2`, `IsReal` and `isReal`). Comments run from `%` to the
+//! next `%` or the end of the line. A `DEF` may redefine a built-in (Script 3.1 defines `SQRT`).
+//!
+//! Where the paper's text is damaged, the reading is stated in a [`Warning`]: a `~` with no left
+//! operand is read as `* ~` (Script 4.2's Bernstein), and sequences continued after a `,` outside
+//! brackets as one sequence (Script 4.4's `<<0,0,0>>, <<10,0,0>>`). `TRANS` pads shorter
+//! sequences with 0, so that a plane curve blends with 3D handles as the curve at z = 0 (Scripts
+//! 4.6 and 4.7). `Domain:n`, which the paper uses but does not define, is `Intervals:1:n`. `C:f:a` fixes
+//! the right operand (`C:f:a:x` is `f:<x, a>`), since the paper's `Pred = C:-:1` is the
+//! predecessor that its `Choose` recursion needs.
+//!
+//! Scripts are untrusted: every error has a line and column, and [`Limits`] bound the steps, the
+//! depth of calls, the length of sequences and the cells of complexes, so a script ends with an
+//! error rather than a hang, an overflow of the stack or a panic.
+
+use std::fmt;
+
+mod complex;
+mod eval;
+mod lex;
+pub mod mesh;
+mod parse;
+pub mod scripts;
+pub mod value;
+
+pub use complex::{Complex, ComplexError};
+pub use eval::{Interp, Run, Shown};
+pub use parse::{Arith, Def};
+pub use value::{Fun, Prim, Value};
+
+/// A place in the source: byte offsets and the 1-based line and column (in characters) of the
+/// start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Span {
+    /// Byte offset of the start.
+    pub start: u32,
+    /// Byte offset past the end.
+    pub end: u32,
+    /// Line, from 1.
+    pub line: u32,
+    /// Column, from 1, in characters.
+    pub col: u32,
+}
+
+/// What kind of error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The text is not a script: an unbalanced bracket, a missing `;`, …
+    Syntax,
+    /// A name that is neither defined nor built in.
+    Name,
+    /// A value of the wrong kind: applying a number, adding a sequence, a parameter that fails
+    /// its predicate, …
+    Type,
+    /// A result that is not a finite number: a division by zero, the root of a negative number.
+    Math,
+    /// Past one of the [`Limits`].
+    Limit,
+}
+
+/// An error, located.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Error {
+    /// What kind.
+    pub kind: ErrorKind,
+    /// Where.
+    pub span: Span,
+    /// What, in words.
+    pub message: String,
+}
+
+impl Error {
+    pub(crate) fn new(kind: ErrorKind, span: Span, message: String) -> Self {
+        Error {
+            kind,
+            span,
+            message,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "line {}, column {}: {}",
+            self.span.line, self.span.col, self.message
+        )
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// A reading of the source that is worth saying: where the paper's text is damaged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Warning {
+    /// Where.
+    pub span: Span,
+    /// What was read, and why.
+    pub message: String,
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "line {}, column {}: {}",
+            self.span.line, self.span.col, self.message
+        )
+    }
+}
+
+/// Bounds on a run, so that a script cannot freeze the page or exhaust its memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Function applications and items made, in one run.
+    pub steps: u64,
+    /// Applications nested inside one another (recursion).
+    pub depth: u32,
+    /// Items of one sequence.
+    pub items: usize,
+    /// Cells (and points) of one complex.
+    pub cells: usize,
+    /// Bytes of source.
+    pub source: usize,
+}
+
+impl Default for Limits {
+    /// 20 M steps (about a second), 200 nested calls, 1 M items, 1 M cells, 256 KiB of source.
+    fn default() -> Self {
+        Limits {
+            steps: 20_000_000,
+            depth: 200,
+            items: 1_000_000,
+            cells: 1_000_000,
+            source: 256 * 1024,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
