@@ -16,10 +16,16 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     }
     let file = crate::load_file(model)?;
     // Validate as every reader will, so that a link printed here always opens.
-    if let bezsolid_core::model::SolidSpec::Esc { .. } = file.solid {
-        file.to_boolean()?;
-    } else {
-        file.to_solid()?;
+    match file.solid {
+        bezsolid_core::model::SolidSpec::Esc { .. } => {
+            file.to_boolean()?;
+        }
+        bezsolid_core::model::SolidSpec::Plasm { .. } => {
+            file.to_script()?;
+        }
+        _ => {
+            file.to_solid()?;
+        }
     }
     println!("{base}{}", bezsolid_core::link::encode(&file)?);
     Ok(())

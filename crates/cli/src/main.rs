@@ -3,7 +3,8 @@
 //! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a patch
 //! model as SVG, `mesh` the closed boundary mesh of a volume model as STL, OBJ or PLY, and `hf` either
 //! as HyperFun, and `link` prints the share link of a model; `esc` classifies points against
-//! solids bounded by PN triangles over triangle meshes, and their Booleans; `bench` is `cargo xtask bench` for now.
+//! solids bounded by PN triangles over triangle meshes, and their Booleans; `plasm` runs a PLaSM
+//! script and writes what it draws; `bench` is `cargo xtask bench` for now.
 //! Wherever a command takes a MODEL, a share link (the whole URL or its fragment) works too.
 //! Errors go to stderr with a non-zero exit; bad input never panics.
 
@@ -14,6 +15,7 @@ mod eval;
 mod hf;
 mod link;
 mod mesh;
+mod plasm;
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -43,12 +45,19 @@ commands (DESIGN §5):
   esc bool A OP B --points FILE.csv [-o OUT]
                                    the same for A OP B, OP one of union, intersection,
                                    difference
+  plasm SCRIPT [-o OUT.{obj,stl,ply}]
+                                   run a PLaSM script (the third paper's language) and write
+                                   what its top-level expressions draw: OBJ with faces, lines
+                                   and points, or the triangles as STL or PLY; without -o, print
+                                   the value of each top-level expression
   bench                            benchmarks                          (run `cargo xtask bench`)
 
 MODEL is a model file (.bsolid.json), a share link (the whole URL or its #v1. fragment; quote it
 in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. MESH, A and B are mesh files or
 built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
-links (`mesh` writes the surface of a free-form model's result).
+links (`mesh` writes the surface of a free-form model's result). SCRIPT is a script file (.psm),
+a model file or link holding one, or one of the paper's examples: example:3.1, example:3.3,
+example:4.1, example:4.4, example:4.6, example:4.7, example:4.8.
 
 options:
   -h, --help       this text
@@ -79,6 +88,7 @@ fn main() -> ExitCode {
         Some("hf") => report(hf::run(&args[1..])),
         Some("link") => report(link::run(&args[1..])),
         Some("esc") => report(esc::run(&args[1..])),
+        Some("plasm") => report(plasm::run(&args[1..])),
         Some("bench") => {
             eprintln!(
                 "bezsolid: `bench` is not in this build; run `cargo xtask bench` in the repository"
@@ -116,7 +126,8 @@ pub(crate) fn describe(arg: &str) -> String {
     }
 }
 
-/// The model file named by `arg` (a path, a share link or a preset), not yet validated.
+/// The model file named by `arg` (a path, a share link or a preset), not yet validated. A PLaSM
+/// script file (`.psm`) is read as the model file holding it.
 pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
     if let Some(name) = arg.strip_prefix("preset:") {
         return Ok(match preset(name)?.solid() {
@@ -135,6 +146,12 @@ pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
         bail!("{arg} is {size} bytes; a model file is at most {MAX_MODEL_BYTES}");
     }
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {arg}"))?;
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("psm"))
+    {
+        return Ok(ModelFile::from_plasm(&text));
+    }
     serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))
 }
 

@@ -66,6 +66,8 @@ enum Wire {
         operation: u8,
         operands: Vec<WireOperand>,
     },
+    /// A PLaSM script, as text.
+    Plasm { script: String },
 }
 
 /// One operand of [`Wire::Esc`]: `example` 1, 2, 3 for icosphere, torus, blob, or 0 with a mesh
@@ -239,6 +241,9 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
                 })
                 .collect(),
         },
+        SolidSpec::Plasm { script } => Wire::Plasm {
+            script: script.clone(),
+        },
     };
     // Serialising into a Vec cannot fail for this type.
     let bytes = postcard::to_allocvec(&wire).map_err(|_| LinkError::Decode)?;
@@ -365,6 +370,7 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
                 })
                 .collect::<Result<_, _>>()?,
         },
+        Wire::Plasm { script } => SolidSpec::Plasm { script },
     };
     Ok(ModelFile {
         format: crate::model::FORMAT.into(),
@@ -563,6 +569,26 @@ mod tests {
                 assert!(err.contains(says) || lost, "{err}");
             }
         }
+    }
+
+    #[test]
+    fn scripts_round_trip() {
+        let script = "DEF SQR = ID * ID;\nMAP:(CONS:<S1, SQR ~ S1>):(Domain:8); % é, ≤ %\n";
+        let model = ModelFile::from_plasm(script);
+        let link = encode(&model).expect("a link");
+        let back = decode_file(&link).expect("it opens");
+        assert_eq!(back, model);
+        assert_eq!(back.to_script(), Ok(script));
+        assert!(matches!(back.to_solid(), Err(ModelError::Kind(_))));
+        assert!(matches!(back.to_boolean(), Err(ModelError::Kind(_))));
+        // A long script compresses, up to the link's limits.
+        let long = script.repeat(200);
+        assert!(encode(&ModelFile::from_plasm(&long)).is_ok());
+        let huge = ModelFile::from_plasm(&"x".repeat(crate::model::MAX_SCRIPT_BYTES + 1));
+        assert!(matches!(
+            huge.to_script(),
+            Err(ModelError::ScriptTooLong(_))
+        ));
     }
 
     #[test]

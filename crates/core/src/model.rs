@@ -10,6 +10,8 @@
 //! - `kind: "esc"` (free-form, issue 6): `operands`, one or two of `{ "example": "torus",
 //!   "offset": [x, y, z] }` or `{ "mesh": { "positions": [[x, y, z], …], "triangles": [[a, b, c],
 //!   …] }, "offset": … }`, and with two an `operation`: `union`, `intersection` or `difference`.
+//! - `kind: "plasm"` (scripts, issue 7): `script`, the text of a PLaSM script (at most
+//!   [`MAX_SCRIPT_BYTES`]); what it draws is what the script's top-level expressions give.
 //!
 //! There is no separate box: a regular grid is recognised from the points. Readers ignore fields they
 //! do not know (later kinds add fields) and reject an unknown version. With the `serde` feature the
@@ -35,6 +37,8 @@ use crate::tensor::{Patch, Volume};
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "bezsolid";
+/// The longest script a model file may hold, in bytes.
+pub const MAX_SCRIPT_BYTES: usize = 256 * 1024;
 /// The model file version this build writes and reads.
 pub const VERSION: u32 = 1;
 
@@ -80,6 +84,11 @@ pub enum SolidSpec {
         operation: Option<String>,
         /// The solids, in order (`A`, then `B`).
         operands: Vec<EscOperand>,
+    },
+    /// A PLaSM script (issue 7), run by `bezsolid-plasm`.
+    Plasm {
+        /// The script's text.
+        script: String,
     },
 }
 
@@ -136,6 +145,8 @@ pub enum ModelError {
     Kind(&'static str),
     /// A free-form model that cannot be built: what is wrong.
     Esc(String),
+    /// A script past [`MAX_SCRIPT_BYTES`]: its length.
+    ScriptTooLong(usize),
 }
 
 impl fmt::Display for ModelError {
@@ -154,6 +165,10 @@ impl fmt::Display for ModelError {
             Self::Solid(e) => write!(f, "invalid solid: {e}"),
             Self::Kind(why) => f.write_str(why),
             Self::Esc(why) => write!(f, "invalid free-form model: {why}"),
+            Self::ScriptTooLong(len) => write!(
+                f,
+                "the script is {len} bytes; a model file holds at most {MAX_SCRIPT_BYTES}"
+            ),
         }
     }
 }
@@ -241,6 +256,11 @@ impl ModelFile {
                     "this is a free-form model (meshes and Booleans), not a Bézier solid",
                 ));
             }
+            SolidSpec::Plasm { .. } => {
+                return Err(ModelError::Kind(
+                    "this is a PLaSM script (run it with `bezsolid plasm`), not a Bézier solid",
+                ));
+            }
         })
     }
 
@@ -252,6 +272,31 @@ impl ModelFile {
             return Err(ModelError::Version(self.version));
         }
         Ok(())
+    }
+
+    /// The model file of a PLaSM script.
+    #[must_use]
+    pub fn from_plasm(script: &str) -> Self {
+        Self::new(SolidSpec::Plasm {
+            script: script.into(),
+        })
+    }
+
+    /// Checks the header and gives the script of a PLaSM model.
+    ///
+    /// # Errors
+    ///
+    /// [`ModelError`] for another format or version, another kind ([`ModelError::Kind`]), or a
+    /// script past [`MAX_SCRIPT_BYTES`].
+    pub fn to_script(&self) -> Result<&str, ModelError> {
+        self.check_header()?;
+        let SolidSpec::Plasm { script } = &self.solid else {
+            return Err(ModelError::Kind("this model is not a PLaSM script"));
+        };
+        if script.len() > MAX_SCRIPT_BYTES {
+            return Err(ModelError::ScriptTooLong(script.len()));
+        }
+        Ok(script)
     }
 
     /// The model file of a free-form model.
@@ -274,14 +319,21 @@ impl ModelFile {
     /// solid).
     pub fn to_boolean(&self) -> Result<Boolean, ModelError> {
         self.check_header()?;
-        let SolidSpec::Esc {
-            operation,
-            operands,
-        } = &self.solid
-        else {
-            return Err(ModelError::Kind(
-                "this is a Bézier solid, not a free-form model",
-            ));
+        let (operation, operands) = match &self.solid {
+            SolidSpec::Esc {
+                operation,
+                operands,
+            } => (operation, operands),
+            SolidSpec::Plasm { .. } => {
+                return Err(ModelError::Kind(
+                    "this is a PLaSM script, not a free-form model",
+                ));
+            }
+            _ => {
+                return Err(ModelError::Kind(
+                    "this is a Bézier solid, not a free-form model",
+                ));
+            }
         };
         let op = match operation {
             None => None,
