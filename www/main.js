@@ -2,6 +2,8 @@
 // logic are in Rust; this file only wires DOM events, sizes the canvas and fills the side panel.
 import init, {
   start, start_3d, FreeFormView, is_free_form, headless_esc_mesh, headless_esc_surface,
+  ScriptViewer, headless_plasm, headless_plasm_mesh, script_of, script_model_json, script_link,
+  plasm_examples,
 } from './pkg/bezsolid_web.js';
 
 const $ = (id) => document.getElementById(id);
@@ -72,13 +74,32 @@ async function main() {
     }
   }
   let ffSavedRevision = ff.revision(); // the revision last autosaved (or restored)
-  let workspace = storage.get(WORKSPACE_KEY) === 'freeform' ? 'freeform' : 'bezier';
+  const WORKSPACES = ['bezier', 'freeform', 'script'];
+  let workspace = WORKSPACES.includes(storage.get(WORKSPACE_KEY)) ? storage.get(WORKSPACE_KEY) : 'bezier';
   const freeform = () => workspace === 'freeform';
+  const scripting = () => workspace === 'script';
+  // The Script mode (issue 7): a PLaSM script in the editor, run in a worker, drawn in the 3D view.
+  const sv = new ScriptViewer();
+  const editor = $('script');
+  const examples = JSON.parse(plasm_examples());
+  editor.value = storage.get(SCRIPT_KEY) ?? examples.find((e) => e.id === '4.4').source;
+  let scriptRan = false; // whether the editor's script was run since it was opened
   const openFromAddress = () => {
     if (!location.hash || location.hash === '#') return false;
-    const free = is_free_form(location.href);
+    const script = script_of(location.href);
+    const free = script === undefined && is_free_form(location.href);
     let opened = false;
     try {
+      if (script !== undefined) {
+        editor.value = script;
+        storage.set(script, SCRIPT_KEY);
+        scriptRan = false;
+        setWorkspace('script');
+        say('Opened the script from the link.');
+        opened = true;
+        history.replaceState(null, '', location.pathname + location.search);
+        return true;
+      }
       if (free) ff.open(location.href);
       else modeler.open_link(location.href);
       setWorkspace(free ? 'freeform' : 'bezier');
@@ -91,7 +112,7 @@ async function main() {
     return opened;
   };
   const setWorkspace = (name) => {
-    workspace = name === 'freeform' ? 'freeform' : 'bezier';
+    workspace = WORKSPACES.includes(name) ? name : 'bezier';
     document.body.dataset.workspace = workspace;
     for (const r of document.querySelectorAll('input[name="workspace"]')) r.checked = r.value === workspace;
     storage.set(workspace, WORKSPACE_KEY);
@@ -224,12 +245,16 @@ async function main() {
     requestAnimationFrame(() => {
       const todo = pending;
       pending = 0;
-      if (todo & VIEW2 && !freeform()) {
+      if (todo & VIEW2 && workspace === 'bezier') {
         const t0 = performance.now();
         modeler.render();
         lastRender = performance.now() - t0;
       }
-      if (todo & VIEW3 && viewer && freeform()) {
+      if (todo & VIEW3 && viewer && scripting()) {
+        const t0 = performance.now();
+        sv.render(viewer);
+        lastRender3 = performance.now() - t0;
+      } else if (todo & VIEW3 && viewer && freeform()) {
         const t0 = performance.now();
         ff.render(viewer);
         lastRender3 = performance.now() - t0;
@@ -331,6 +356,13 @@ async function main() {
       updateFreeForm();
       return;
     }
+    if (scripting()) {
+      $('model-name').textContent = 'PLaSM script';
+      for (const o of document.querySelectorAll('#export option[data-volume], #export option[data-script]')) o.disabled = false;
+      for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = true;
+      return;
+    }
+    for (const o of document.querySelectorAll('#export option[data-script]')) o.disabled = true;
     const sel = modeler.selected();
     const point = modeler.selected_point();
     if (sel && point) {
@@ -430,6 +462,7 @@ async function main() {
     const rect = canvas3.getBoundingClientRect();
     const [w, h] = modeler.resize_3d(viewer, rect.width, rect.height, window.devicePixelRatio || 1);
     ff.resize(viewer, rect.width, rect.height, window.devicePixelRatio || 1);
+    sv.resize(viewer, rect.width, rect.height, window.devicePixelRatio || 1);
     if (canvas3.width !== w) canvas3.width = w;
     if (canvas3.height !== h) canvas3.height = h;
     redraw(VIEW3);
@@ -444,12 +477,14 @@ async function main() {
   };
   canvas3.addEventListener('contextmenu', (e) => e.preventDefault());
   let ffDragging = false;
+  // The free-form and script views only move their camera.
+  const orbiter = () => (freeform() ? ff : scripting() ? sv : null);
   canvas3.addEventListener('pointerdown', (e) => {
     if (!viewer || (e.button !== 0 && e.button !== 2)) return;
     canvas3.focus();
     const [x, y] = local3(e);
-    if (freeform()) {
-      ff.pointer_down(x, y, e.button === 2 || e.shiftKey);
+    if (orbiter()) {
+      orbiter().pointer_down(x, y, e.button === 2 || e.shiftKey);
       ffDragging = true;
       canvas3.setPointerCapture(e.pointerId);
       canvas3.classList.add('dragging');
@@ -465,8 +500,8 @@ async function main() {
   canvas3.addEventListener('pointermove', (e) => {
     if (!viewer) return;
     const [x, y] = local3(e);
-    if (freeform()) {
-      if (ffDragging && ff.pointer_move(x, y)) redraw(VIEW3);
+    if (orbiter()) {
+      if (ffDragging && orbiter().pointer_move(x, y)) redraw(VIEW3);
       return;
     }
     if (modeler.busy_3d()) {
@@ -489,7 +524,7 @@ async function main() {
   const endDrag3 = (e) => {
     if (viewer && ffDragging) {
       ffDragging = false;
-      ff.pointer_up();
+      orbiter()?.pointer_up();
       canvas3.classList.remove('dragging');
       if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
       return;
@@ -510,12 +545,12 @@ async function main() {
   canvas3.addEventListener('wheel', (e) => {
     if (!viewer) return;
     e.preventDefault();
-    if (freeform()) ff.wheel(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
+    if (orbiter()) orbiter().wheel(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
     else modeler.wheel_3d(e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY);
     redraw(VIEW3);
   }, { passive: false });
   const fit3 = () => {
-    if (freeform()) ff.fit();
+    if (orbiter()) orbiter().fit();
     else modeler.fit_3d();
     redraw(VIEW3);
   };
@@ -608,7 +643,7 @@ async function main() {
   $('undo').addEventListener('click', () => act(() => modeler.undo()));
   $('redo').addEventListener('click', () => act(() => modeler.redo()));
   document.addEventListener('keydown', (e) => {
-    if (!(e.ctrlKey || e.metaKey) || e.altKey || freeform()) return;
+    if (!(e.ctrlKey || e.metaKey) || e.altKey || workspace !== 'bezier') return;
     const tag = e.target?.tagName;
     if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
     const key = e.key.toLowerCase();
@@ -715,7 +750,7 @@ async function main() {
   $('copy-link').addEventListener('click', async () => {
     let fragment;
     try {
-      fragment = freeform() ? ff.link() : modeler.link();
+      fragment = scripting() ? script_link(editor.value) : freeform() ? ff.link() : modeler.link();
     } catch (err) {
       say(`${err.message ?? err}`, 'error');
       return;
@@ -734,7 +769,10 @@ async function main() {
     }
   });
   addEventListener('hashchange', () => {
-    if (openFromAddress()) changed();
+    if (openFromAddress()) {
+      changed();
+      if (scripting() && !scriptRan) runScript({ refit: true });
+    }
   });
 
   // Files: open (picker or drop), save and export.
@@ -750,6 +788,11 @@ async function main() {
     }
     try {
       const text = await file.text();
+      const script = /\.psm$/i.test(file.name) ? text : script_of(text);
+      if (script !== undefined) {
+        openScript(script, `Opened ${file.name}.`);
+        return;
+      }
       if (is_free_form(text)) {
         ff.open(text);
         setWorkspace('freeform');
@@ -839,6 +882,20 @@ async function main() {
   $('export').addEventListener('change', (e) => {
     const kind = e.target.value;
     e.target.value = '';
+    if (scripting()) {
+      const script = editor.value;
+      if (kind === 'model') download('bezsolid-script.bsolid.json', new Blob([script_model_json(script)], { type: 'application/json' }));
+      else if (kind === 'psm') download('bezsolid.psm', new Blob([script], { type: 'text/plain' }));
+      else if (['stl', 'obj', 'ply'].includes(kind)) exportMesh(`bezsolid-script.${kind}`, 'plasm-mesh', kind, script, 0, () => headless_plasm_mesh(script, kind));
+      else if (kind === 'png' && viewer) {
+        sv.render(viewer);
+        canvas3.toBlob((blob) => {
+          if (blob) download('bezsolid-script.png', blob);
+          else say('The view could not be captured as PNG.', 'error');
+        }, 'image/png');
+      }
+      return;
+    }
     if (freeform() && ['stl', 'obj', 'ply'].includes(kind)) {
       exportResult(kind);
       return;
@@ -884,6 +941,7 @@ async function main() {
       setWorkspace(radio.value);
       resize();
       resize3();
+      if (scripting() && !scriptRan) runScript({ refit: true });
       redraw();
     });
   }
@@ -919,22 +977,205 @@ async function main() {
     redraw(VIEW3);
   });
 
-  window.bezsolid = { modeler, ff, canvas, canvas3, viewer, redraw, saveNow, setWorkspace };
+  // The script editor: line numbers, marks where the last run had errors or warnings, Ctrl+Enter
+  // runs; runs go to a worker of their own, and a newer run (or Stop) cancels the one under way.
+  const gutter = $('script-gutter');
+  let marks = new Map(); // line → 'error' | 'warn'
+  let gutterLines = 0;
+  const renderGutter = (force = false) => {
+    const n = editor.value.split('\n').length;
+    if (!force && n === gutterLines) return;
+    gutterLines = n;
+    const out = [];
+    for (let i = 1; i <= n; i++) {
+      const mark = marks.get(i);
+      out.push(mark ? `<span class="${mark}" title="${mark === 'error' ? 'error' : 'warning'}">${i}</span>` : String(i));
+    }
+    gutter.innerHTML = out.join('\n') + '\n\n';
+    gutter.scrollTop = editor.scrollTop;
+  };
+  editor.addEventListener('scroll', () => { gutter.scrollTop = editor.scrollTop; });
+  let scriptSaveTimer = 0;
+  editor.addEventListener('input', () => {
+    renderGutter();
+    clearTimeout(scriptSaveTimer);
+    scriptSaveTimer = setTimeout(() => {
+      if (!storage.set(editor.value, SCRIPT_KEY)) say('The script could not be saved in this browser; use Export → Script.', 'warn');
+    }, 300);
+  });
+  addEventListener('pagehide', () => storage.set(editor.value, SCRIPT_KEY));
+  // The place (line, column from 1) as an offset in the editor's text.
+  const offsetOf = (line, column) => {
+    const lines = editor.value.split('\n');
+    let offset = 0;
+    for (let i = 0; i < Math.min(line - 1, lines.length); i++) offset += lines[i].length + 1;
+    return Math.min(offset + Math.max(column - 1, 0), editor.value.length);
+  };
+  const goTo = (line, column) => {
+    const at = offsetOf(line, column);
+    editor.focus();
+    editor.setSelectionRange(at, Math.min(at + 1, editor.value.length));
+    const lineHeight = parseFloat(getComputedStyle(editor).lineHeight) || 19;
+    editor.scrollTop = Math.max(0, (line - 4) * lineHeight);
+  };
+  const message = $('script-message');
+  const showReport = (report, ms, workerMs) => {
+    marks = new Map();
+    message.replaceChildren();
+    const place = (x) => `Line ${x.line}, column ${x.column}`;
+    if (report.error) {
+      const e = report.error;
+      marks.set(e.line, 'error');
+      const p = document.createElement('p');
+      p.textContent = `${place(e)}: ${e.message}`;
+      const go = document.createElement('button');
+      go.type = 'button';
+      go.textContent = 'Go to';
+      go.addEventListener('click', () => goTo(e.line, e.column));
+      p.append(go);
+      message.append(p);
+    }
+    for (const w of report.warnings) {
+      if (!marks.has(w.line)) marks.set(w.line, 'warn');
+      const p = document.createElement('p');
+      p.textContent = `${place(w)} (note): ${w.message}`;
+      message.append(p);
+    }
+    message.dataset.kind = report.error ? 'error' : report.warnings.length ? 'warn' : '';
+    renderGutter(true);
+    const count = (n, one, many) => `${n.toLocaleString('en')} ${n === 1 ? one : many}`;
+    const parts = [];
+    if (report.triangles) parts.push(count(report.triangles, 'triangle', 'triangles'));
+    if (report.segments) parts.push(count(report.segments, 'segment', 'segments'));
+    if (report.points) parts.push(count(report.points, 'point', 'points'));
+    $('script-info').textContent = (report.error ? 'Stopped at an error' : `Ran in ${ms.toFixed(0)} ms`)
+      + ` (${count(report.steps, 'step', 'steps')}${workerMs !== undefined ? `, ${workerMs.toFixed(0)} ms in the worker` : ''}): `
+      + (report.complexes ? `${count(report.complexes, 'result', 'results')} drawn, ${parts.join(', ')}.` : 'nothing to draw.')
+      + (report.left_out ? ` Left out of the view: ${report.left_out}.` : '');
+    const list = $('script-values');
+    list.replaceChildren(...report.values.map((v) => {
+      const li = document.createElement('li');
+      const line = document.createElement('span');
+      line.className = 'line';
+      line.textContent = `line ${v.line}`;
+      li.append(line, v.text);
+      return li;
+    }));
+    document.body.dataset.scriptState = report.error ? 'error' : 'done';
+    document.body.dataset.scriptMs = ms.toFixed(1);
+    document.body.dataset.scriptCounts = `${report.triangles},${report.segments},${report.points}`;
+  };
+  let scriptRunner = null;
+  try {
+    scriptRunner = surfaceRunner && runner();
+  } catch {
+    scriptRunner = null;
+  }
+  let runSeq = 0;
+  const runScript = async ({ refit = false } = {}) => {
+    const script = editor.value;
+    const seq = ++runSeq;
+    scriptRan = true;
+    $('script-stop').disabled = false;
+    document.body.dataset.scriptState = 'running';
+    showBadge('Running the script…');
+    const t0 = performance.now();
+    let result;
+    try {
+      if (scriptRunner) {
+        scriptRunner.cancel();
+        result = await scriptRunner.run({ kind: 'plasm', script });
+      } else {
+        const run = headless_plasm(script);
+        result = { report: run.report(), data: run.take_floats() };
+        run.free();
+      }
+    } catch (err) {
+      if (err.cancelled || seq !== runSeq) return; // a newer run or Stop took over
+      result = null;
+      say(`The script could not run: ${err.message ?? err}`, 'error');
+      document.body.dataset.scriptState = 'error';
+    }
+    if (seq !== runSeq) return;
+    $('script-stop').disabled = true;
+    showBadge(exporting);
+    if (!result) return;
+    const report = JSON.parse(result.report);
+    // A run that fails before drawing anything keeps the last drawing on screen.
+    if (result.data.length || !report.error) sv.set_drawing(result.data, refit);
+    showReport(report, performance.now() - t0, result.ms);
+    redraw(VIEW3);
+  };
+  const openScript = (text, note) => {
+    editor.value = text;
+    storage.set(text, SCRIPT_KEY);
+    setWorkspace('script');
+    resize();
+    resize3();
+    renderGutter(true);
+    say(note);
+    runScript({ refit: true });
+  };
+  for (const e of examples) {
+    const option = document.createElement('option');
+    option.value = e.id;
+    option.textContent = `Script ${e.id}: ${e.title}`;
+    $('script-example').append(option);
+  }
+  $('script-example').addEventListener('change', (e) => {
+    const example = examples.find((x) => x.id === e.target.value);
+    e.target.value = '';
+    if (example) openScript(example.source, `Opened the paper's Script ${example.id}.`);
+  });
+  $('script-run').addEventListener('click', () => runScript());
+  $('script-stop').addEventListener('click', () => {
+    runSeq += 1;
+    scriptRunner?.cancel();
+    $('script-stop').disabled = true;
+    showBadge(exporting);
+    document.body.dataset.scriptState = 'stopped';
+    $('script-info').textContent = 'Stopped; the drawing is from the last run.';
+  });
+  // Tab indents; after Esc it leaves the editor (the usual way out of a code editor's Tab).
+  let tabEscapes = false;
+  editor.addEventListener('keydown', (e) => {
+    if ((e.ctrlKey || e.metaKey) && e.key === 'Enter') {
+      e.preventDefault();
+      runScript();
+      return;
+    }
+    if (e.key === 'Escape') {
+      tabEscapes = true;
+      return;
+    }
+    if (e.key === 'Tab' && !tabEscapes && !e.shiftKey && !e.ctrlKey && !e.altKey && !e.metaKey) {
+      e.preventDefault();
+      document.execCommand?.('insertText', false, '  ') || editor.setRangeText('  ', editor.selectionStart, editor.selectionEnd, 'end');
+      return;
+    }
+    tabEscapes = false;
+  });
+  editor.addEventListener('focus', () => { tabEscapes = false; });
+  renderGutter(true);
+
+  window.bezsolid = { modeler, ff, sv, canvas, canvas3, viewer, redraw, saveNow, setWorkspace, runScript };
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();
     if (viewer) {
       if (freeform()) ff.render(viewer);
-      else modeler.render_3d(viewer);
+      else if (!scripting()) modeler.render_3d(viewer);
     }
     updatePanel();
     saveNow();
+    if (scripting() && !scriptRan) runScript({ refit: true });
     document.body.dataset.ready = 'true';
   });
 }
 
 // localStorage can be missing or refuse (private modes, quota): the page works on without it.
 const FF_KEY = 'bezsolid.freeform.v1';
+const SCRIPT_KEY = 'bezsolid.script.v1';
 const WORKSPACE_KEY = 'bezsolid.workspace.v1';
 const storage = {
   key: 'bezsolid.model.v1',

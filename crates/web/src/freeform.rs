@@ -14,10 +14,12 @@ use bezsolid_core::esc::draw::Boolean;
 use bezsolid_core::esc::examples::Example;
 use bezsolid_core::mesh::Mesh;
 use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 
 use crate::app::Rgba;
-use crate::view3d::{Camera, MeshVertex, Scene, float_vertices, mesh_floats, next_generation};
+use crate::view3d::{
+    Camera, MeshVertex, OrbitView, Scene, float_vertices, mesh_floats, next_generation,
+};
 
 /// The result's surface while the fine one is being made (cells along the longest side).
 pub const COARSE_RESOLUTION: usize = 16;
@@ -84,11 +86,7 @@ pub struct FreeForm {
     /// The result's surface: revision, resolution, vertices.
     surface: Option<(u64, usize, Vec<MeshVertex>)>,
     request: Option<(u64, usize)>,
-    camera: Camera,
-    size: DVec2,
-    gesture: Option<(bool, DVec2)>,
-    /// The user has moved the camera since it was last fitted (a resize then keeps it).
-    moved: bool,
+    orbit: OrbitView,
     geometry: Option<Geometry>,
     /// The point mesh's counts `(inside, marked)` for a revision.
     point_counts: Option<(u64, usize, usize)>,
@@ -123,10 +121,7 @@ impl FreeForm {
             revision: 0,
             surface: None,
             request: None,
-            camera: Camera::fit(DVec3::splat(-1.0), DVec3::ONE, 1.0),
-            size: DVec2::new(640.0, 480.0),
-            gesture: None,
-            moved: false,
+            orbit: OrbitView::default(),
             geometry: None,
             point_counts: None,
             generation: 0,
@@ -390,8 +385,7 @@ impl FreeForm {
     /// Frames the scene.
     pub fn fit(&mut self) {
         let (lo, hi) = self.extent_box();
-        self.camera = Camera::fit(lo, hi, self.size.x / self.size.y.max(1.0));
-        self.moved = false;
+        self.orbit.fit(lo, hi);
     }
 
     fn extent_box(&self) -> (DVec3, DVec3) {
@@ -400,47 +394,19 @@ impl FreeForm {
 
     /// The viewport's size in CSS pixels.
     pub fn resize(&mut self, width: f64, height: f64) {
-        self.size = DVec2::new(width.max(1.0), height.max(1.0));
-        if !self.moved {
-            self.fit();
-        }
+        let bounds = self.extent_box();
+        self.orbit.resize(width, height, bounds);
     }
 
-    /// Pointer pressed: orbit, or pan with `pan`.
-    pub fn pointer_down(&mut self, q: DVec2, pan: bool) {
-        self.gesture = Some((pan, q));
-    }
-
-    /// Pointer moved; returns whether the camera moved.
-    pub fn pointer_move(&mut self, q: DVec2) -> bool {
-        let Some((pan, last)) = self.gesture else {
-            return false;
-        };
-        if pan {
-            self.camera.pan(q - last, self.size.y);
-        } else {
-            self.camera.orbit(q - last, self.size.y);
-        }
-        self.gesture = Some((pan, q));
-        self.moved = true;
-        true
-    }
-
-    /// Pointer released.
-    pub fn pointer_up(&mut self) {
-        self.gesture = None;
-    }
-
-    /// The wheel: zooms.
-    pub fn wheel(&mut self, delta_y: f64) {
-        self.camera.zoom(delta_y);
-        self.moved = true;
+    /// The camera and its gestures.
+    pub fn orbit(&mut self) -> &mut OrbitView {
+        &mut self.orbit
     }
 
     /// The camera.
     #[must_use]
     pub fn camera(&self) -> &Camera {
-        &self.camera
+        self.orbit.camera()
     }
 
     /// Everything one redraw needs; the triangles are rebuilt only when the scene, the display or
@@ -479,8 +445,8 @@ impl FreeForm {
         let (lo, hi) = self.extent_box();
         let extent = (hi - lo).length().max(1e-9);
         match &self.geometry {
-            Some(g) => self.camera.scene(&g.2, &g.3, g.1, self.size, extent),
-            None => self.camera.scene(&[], &[], 0, self.size, extent),
+            Some(g) => self.orbit.scene(&g.2, &g.3, g.1, extent),
+            None => self.orbit.scene(&[], &[], 0, extent),
         }
     }
 
@@ -682,6 +648,7 @@ fn octahedron(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec2;
 
     #[test]
     fn the_default_scene_draws_every_display() {
@@ -799,11 +766,11 @@ mod tests {
     fn the_camera_orbits_pans_and_zooms() {
         let mut f = FreeForm::new();
         let start = *f.camera();
-        f.pointer_down(DVec2::new(10.0, 10.0), false);
-        assert!(f.pointer_move(DVec2::new(40.0, 10.0)));
-        f.pointer_up();
+        f.orbit().pointer_down(DVec2::new(10.0, 10.0), false);
+        assert!(f.orbit().pointer_move(DVec2::new(40.0, 10.0)));
+        f.orbit().pointer_up();
         assert_ne!(f.camera().yaw, start.yaw);
-        f.wheel(100.0);
+        f.orbit().wheel(100.0);
         assert!(f.camera().distance > start.distance);
         f.fit();
         assert_eq!(*f.camera(), start);

@@ -7,6 +7,7 @@
 pub mod app;
 pub mod document;
 pub mod freeform;
+pub mod script;
 pub mod view3d;
 
 #[cfg(target_arch = "wasm32")]

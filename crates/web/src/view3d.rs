@@ -233,6 +233,108 @@ impl Camera {
     }
 }
 
+/// An orbit camera with its viewport and gesture, for the views whose only interaction is the
+/// camera (the free-form and script views): left drag orbits, right or Shift drag pans, the
+/// wheel zooms, and the view refits on resize until the camera is moved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrbitView {
+    camera: Camera,
+    size: DVec2,
+    /// Panning or orbiting, and the last pointer position.
+    gesture: Option<(bool, DVec2)>,
+    /// The user has moved the camera since it was last fitted.
+    moved: bool,
+}
+
+impl Default for OrbitView {
+    fn default() -> Self {
+        Self {
+            camera: Camera::fit(DVec3::splat(-1.0), DVec3::ONE, 1.0),
+            size: DVec2::new(640.0, 480.0),
+            gesture: None,
+            moved: false,
+        }
+    }
+}
+
+impl OrbitView {
+    /// Frames the box `[lo, hi]`; a flat box (a plane drawing at z = 0, its lines drawn as thin
+    /// tubes: under 2% as deep as it is large) is seen from above, x to the right and y up.
+    pub fn fit(&mut self, lo: DVec3, hi: DVec3) {
+        self.camera = Camera::fit(lo, hi, self.size.x / self.size.y.max(1.0));
+        let size = hi - lo;
+        if size.z <= 0.02 * size.length() {
+            self.camera.yaw = -core::f64::consts::FRAC_PI_2;
+            self.camera.pitch = core::f64::consts::FRAC_PI_2 - POLE_MARGIN;
+        }
+        self.moved = false;
+    }
+
+    /// The viewport's size in CSS pixels; refits to `[lo, hi]` unless the camera was moved.
+    pub fn resize(&mut self, width: f64, height: f64, (lo, hi): (DVec3, DVec3)) {
+        self.size = DVec2::new(width.max(1.0), height.max(1.0));
+        if !self.moved {
+            self.fit(lo, hi);
+        }
+    }
+
+    /// Whether the user moved the camera since it was last fitted.
+    #[must_use]
+    pub fn moved(&self) -> bool {
+        self.moved
+    }
+
+    /// Pointer pressed: orbit, or pan with `pan`.
+    pub fn pointer_down(&mut self, q: DVec2, pan: bool) {
+        self.gesture = Some((pan, q));
+    }
+
+    /// Pointer moved; returns whether the camera moved.
+    pub fn pointer_move(&mut self, q: DVec2) -> bool {
+        let Some((pan, last)) = self.gesture else {
+            return false;
+        };
+        if pan {
+            self.camera.pan(q - last, self.size.y);
+        } else {
+            self.camera.orbit(q - last, self.size.y);
+        }
+        self.gesture = Some((pan, q));
+        self.moved = true;
+        true
+    }
+
+    /// Pointer released.
+    pub fn pointer_up(&mut self) {
+        self.gesture = None;
+    }
+
+    /// The wheel: zooms.
+    pub fn wheel(&mut self, delta_y: f64) {
+        self.camera.zoom(delta_y);
+        self.moved = true;
+    }
+
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// A scene of cached triangles seen from here, for a model of size `extent`.
+    #[must_use]
+    pub fn scene<'a>(
+        &self,
+        opaque: &'a [MeshVertex],
+        translucent: &'a [MeshVertex],
+        generation: u64,
+        extent: f64,
+    ) -> Scene<'a> {
+        self.camera
+            .scene(opaque, translucent, generation, self.size, extent)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Gesture {
     Orbit(DVec2),
@@ -1000,7 +1102,7 @@ fn xi_range(editor: &ContourView) -> (f64, f64) {
 }
 
 /// A UV sphere of 8 × 12 quads.
-fn sphere(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
+pub(crate) fn sphere(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
     const RINGS: usize = 8;
     const SEGMENTS: usize = 12;
     let at = |i: usize, j: usize| {
@@ -1026,7 +1128,7 @@ fn sphere(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
 }
 
 /// A thin square prism from `a` to `b`.
-fn prism(out: &mut Vec<MeshVertex>, a: DVec3, b: DVec3, r: f64, color: Rgba) {
+pub(crate) fn prism(out: &mut Vec<MeshVertex>, a: DVec3, b: DVec3, r: f64, color: Rgba) {
     let axis = b - a;
     if axis.length() < 1e-12 {
         return;

@@ -877,22 +877,22 @@ impl FreeFormView {
 
     /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.
     pub fn pointer_down(&mut self, x: f64, y: f64, pan: bool) {
-        self.state.pointer_down(DVec2::new(x, y), pan);
+        self.state.orbit().pointer_down(DVec2::new(x, y), pan);
     }
 
     /// Pointer moved; returns whether the camera moved.
     pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
-        self.state.pointer_move(DVec2::new(x, y))
+        self.state.orbit().pointer_move(DVec2::new(x, y))
     }
 
     /// Pointer released.
     pub fn pointer_up(&mut self) {
-        self.state.pointer_up();
+        self.state.orbit().pointer_up();
     }
 
     /// The wheel: zooms.
     pub fn wheel(&mut self, delta_y: f64) {
-        self.state.wheel(delta_y);
+        self.state.orbit().wheel(delta_y);
     }
 
     /// Frames the scene again.
@@ -1094,4 +1094,153 @@ pub fn headless_esc_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsE
 #[wasm_bindgen]
 pub fn headless_esc_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
     crate::freeform::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
+}
+
+/// The Script mode's view (issue 7): the drawing of a script's run and an orbit camera.
+#[wasm_bindgen]
+#[derive(Default)]
+pub struct ScriptViewer {
+    state: crate::script::ScriptView,
+}
+
+#[wasm_bindgen]
+impl ScriptViewer {
+    /// An empty view.
+    #[wasm_bindgen(constructor)]
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sizes the view on `viewer`'s canvas; returns the canvas size in device pixels.
+    pub fn resize(&mut self, viewer: &mut Viewer3, width: f64, height: f64, dpr: f64) -> Vec<u32> {
+        self.state.resize(width, height);
+        viewer.fit_canvas(width, height, dpr)
+    }
+
+    /// Draws on `viewer`.
+    pub fn render(&mut self, viewer: &mut Viewer3) {
+        let scene = self.state.scene();
+        viewer.present(&scene);
+    }
+
+    /// Shows a drawing made by [`headless_plasm`]; frames it if `refit` or the camera was not
+    /// moved.
+    ///
+    /// # Errors
+    ///
+    /// Data that is not whole triangles.
+    pub fn set_drawing(&mut self, floats: &[f32], refit: bool) -> Result<(), JsError> {
+        self.state
+            .set_drawing(floats, refit)
+            .map_err(|e| JsError::new(&e))
+    }
+
+    /// Triangles drawn.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.state.triangle_count()
+    }
+
+    /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.
+    pub fn pointer_down(&mut self, x: f64, y: f64, pan: bool) {
+        self.state.orbit().pointer_down(DVec2::new(x, y), pan);
+    }
+
+    /// Pointer moved; returns whether the camera moved.
+    pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
+        self.state.orbit().pointer_move(DVec2::new(x, y))
+    }
+
+    /// Pointer released.
+    pub fn pointer_up(&mut self) {
+        self.state.orbit().pointer_up();
+    }
+
+    /// The wheel: zooms.
+    pub fn wheel(&mut self, delta_y: f64) {
+        self.state.orbit().wheel(delta_y);
+    }
+
+    /// Frames the drawing again.
+    pub fn fit(&mut self) {
+        self.state.fit();
+    }
+}
+
+/// A script's run: the drawing's floats and the report (see `script::Drawing`).
+#[wasm_bindgen]
+pub struct PlasmRun {
+    floats: Vec<f32>,
+    report: String,
+}
+
+#[wasm_bindgen]
+impl PlasmRun {
+    /// The report, JSON.
+    #[must_use]
+    pub fn report(&self) -> String {
+        self.report.clone()
+    }
+
+    /// The drawing (taken: a second call gives nothing).
+    pub fn take_floats(&mut self) -> Vec<f32> {
+        core::mem::take(&mut self.floats)
+    }
+}
+
+/// Runs a PLaSM script and draws its results (the worker's job).
+#[wasm_bindgen]
+#[must_use]
+pub fn headless_plasm(script: &str) -> PlasmRun {
+    let d = crate::script::run(script);
+    PlasmRun {
+        floats: d.floats,
+        report: d.report,
+    }
+}
+
+/// A mesh file (`obj`, `stl`, `ply`) of a script's results.
+///
+/// # Errors
+///
+/// The script's error, nothing to export, or another format.
+#[wasm_bindgen]
+pub fn headless_plasm_mesh(script: &str, format: &str) -> Result<Vec<u8>, JsError> {
+    crate::script::export(script, format).map_err(|e| JsError::new(&e))
+}
+
+/// The script of a model file or link, if it holds one.
+#[wasm_bindgen]
+#[must_use]
+pub fn script_of(text: &str) -> Option<String> {
+    crate::script::script_of(text)
+}
+
+/// The model file (JSON) of a script.
+#[wasm_bindgen]
+#[must_use]
+pub fn script_model_json(script: &str) -> String {
+    crate::script::model_json(script)
+}
+
+/// The share link's fragment (`#v1.…`) of a script.
+///
+/// # Errors
+///
+/// A script too long for a link.
+#[wasm_bindgen]
+pub fn script_link(script: &str) -> Result<String, JsError> {
+    crate::script::link(script).map_err(|e| JsError::new(&e))
+}
+
+/// The paper's examples, JSON: `[{id, title, source}]`.
+#[wasm_bindgen]
+#[must_use]
+pub fn plasm_examples() -> String {
+    let list: Vec<serde_json::Value> = bezsolid_plasm::scripts::EXAMPLES
+        .iter()
+        .map(|e| serde_json::json!({"id": e.id, "title": e.title, "source": e.source()}))
+        .collect();
+    serde_json::Value::Array(list).to_string()
 }

@@ -1,0 +1,423 @@
+//! The Script mode (issue 7): a PLaSM script runs (in the page's worker), and what its top-level
+//! expressions give is drawn in the 3D view: surfaces shaded with their triangles' edges, curves
+//! as thin tubes, points as small spheres, one colour per result.
+
+use bezsolid_core::model::ModelFile;
+use bezsolid_plasm::mesh::{Geometry, embed};
+use bezsolid_plasm::{Complex, Interp, scripts};
+use glam::DVec3;
+use serde_json::json;
+
+use crate::app::Rgba;
+use crate::view3d::{MeshVertex, OrbitView, Scene, next_generation, prism, sphere};
+
+/// Floats per vertex of a drawing: position, normal, straight RGBA.
+pub const FLOATS_PER_VERTEX: usize = 10;
+/// The most face triangles drawn; a larger result is drawn without them (its edges and curves
+/// stay) and the report says so.
+pub const MAX_FACES: usize = 600_000;
+/// The most edges of faces drawn as a wireframe.
+pub const MAX_EDGES: usize = 20_000;
+/// The most curve segments drawn as tubes (beyond, the rest is left out and the report says so).
+pub const MAX_SEGMENTS: usize = 100_000;
+/// Curves of at most this many vertices show them as dots.
+pub const MAX_CURVE_DOTS: usize = 400;
+/// The most points drawn as spheres.
+pub const MAX_POINTS: usize = 5_000;
+
+/// Colours of the results, in turn: surfaces take them light, curves dark.
+const PALETTE: [[f32; 3]; 6] = [
+    [0.86, 0.55, 0.30],
+    [0.22, 0.42, 0.78],
+    [0.20, 0.60, 0.38],
+    [0.62, 0.32, 0.70],
+    [0.80, 0.30, 0.28],
+    [0.18, 0.58, 0.62],
+];
+const EDGE_COLOR: Rgba = [0.16, 0.17, 0.2, 1.0];
+
+/// The script shown when there is none: the paper's Fig. 1.
+#[must_use]
+pub fn default_script() -> String {
+    scripts::example("4.4").map_or_else(String::new, scripts::Example::source)
+}
+
+/// A run's drawing and its report.
+#[derive(Clone, Debug)]
+pub struct Drawing {
+    /// [`FLOATS_PER_VERTEX`] floats per vertex, three vertices per triangle.
+    pub floats: Vec<f32>,
+    /// The report, JSON: `error` (`null` or `{line, column, kind, message}`), `warnings` and
+    /// `values` (each `{line, column, text}`; values also `drawn`), counts of `complexes`,
+    /// `triangles`, `segments`, `points` and `steps`, and `left_out` (what was too large to draw,
+    /// in words, or `null`).
+    pub report: String,
+}
+
+/// Runs `script` and draws its results.
+#[must_use]
+pub fn run(script: &str) -> Drawing {
+    let mut interp = Interp::new();
+    let run = interp.run(script);
+    let complexes: Vec<&Complex> = run.shown.iter().filter_map(|s| s.value.as_pol()).collect();
+    let (floats, counts, left_out) = draw(&complexes);
+    let place = |span: bezsolid_plasm::Span| (span.line, span.col);
+    let report = json!({
+        "error": run.error.as_ref().map(|e| json!({
+            "line": e.span.line,
+            "column": e.span.col,
+            "kind": format!("{:?}", e.kind),
+            "message": e.message,
+        })),
+        "warnings": run.warnings.iter().map(|w| {
+            let (line, column) = place(w.span);
+            json!({"line": line, "column": column, "message": w.message})
+        }).collect::<Vec<_>>(),
+        "values": run.shown.iter().map(|s| {
+            let (line, column) = place(s.span);
+            json!({
+                "line": line,
+                "column": column,
+                "text": s.value.to_string(),
+                "drawn": s.value.as_pol().is_some(),
+            })
+        }).collect::<Vec<_>>(),
+        "complexes": complexes.len(),
+        "triangles": counts[0],
+        "segments": counts[1],
+        "points": counts[2],
+        "steps": run.steps,
+        "left_out": left_out,
+    });
+    Drawing {
+        floats,
+        report: report.to_string(),
+    }
+}
+
+/// The triangles that draw `complexes`, the counts of face triangles, segments and points drawn,
+/// and what was left out, if anything.
+#[must_use]
+pub fn draw(complexes: &[&Complex]) -> (Vec<f32>, [usize; 3], Option<String>) {
+    let geometries: Vec<Geometry> = complexes.iter().map(|c| Geometry::of([*c])).collect();
+    let bounds = geometries
+        .iter()
+        .filter_map(Geometry::bounds)
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)));
+    let Some((lo, hi)) = bounds else {
+        return (Vec::new(), [0; 3], None);
+    };
+    let size = (hi - lo).length().max(1e-9);
+    let faces: usize = geometries.iter().map(|g| g.mesh.triangles.len()).sum();
+    let edges: usize = geometries.iter().map(|g| g.edges.len()).sum();
+    let mut left_out = Vec::new();
+    let show_faces = faces <= MAX_FACES;
+    if !show_faces {
+        left_out.push(format!(
+            "{faces} triangles (past {MAX_FACES}): only edges and curves"
+        ));
+    }
+    let show_edges = edges <= MAX_EDGES;
+    if !show_edges && faces > 0 {
+        left_out.push(format!("the wireframe of {edges} edges (past {MAX_EDGES})"));
+    }
+    let mut out: Vec<MeshVertex> = Vec::new();
+    let mut counts = [0usize; 3];
+    let (mut segments_left, mut points_left) = (MAX_SEGMENTS, MAX_POINTS);
+    for (k, g) in geometries.iter().enumerate() {
+        let [r, gr, b] = PALETTE[k % PALETTE.len()];
+        let light: Rgba = [r, gr, b, 1.0];
+        let dark: Rgba = [r * 0.7, gr * 0.7, b * 0.7, 1.0];
+        if show_faces {
+            for t in &g.mesh.triangles {
+                for &i in t {
+                    out.push(MeshVertex {
+                        position: g.mesh.positions[i as usize].as_vec3().to_array(),
+                        normal: g.mesh.normals[i as usize].as_vec3().to_array(),
+                        color: light,
+                    });
+                }
+            }
+            counts[0] += g.mesh.triangles.len();
+        }
+        if show_edges || !show_faces {
+            let take = g.edges.len().min(segments_left);
+            for [a, b] in &g.edges[..take] {
+                prism(&mut out, *a, *b, size * 0.0012, EDGE_COLOR);
+            }
+            segments_left -= take;
+        }
+        let take = g.segments.len().min(segments_left);
+        for [a, b] in &g.segments[..take] {
+            prism(&mut out, *a, *b, size * 0.0035, dark);
+        }
+        counts[1] += take;
+        segments_left -= take;
+        // A curve's vertices show its parametrization (Script 3.1's three maps of one arc).
+        let c = complexes[k];
+        if c.order == 2 && c.point_count() <= MAX_CURVE_DOTS {
+            for i in 0..c.point_count() {
+                sphere(&mut out, embed(c.point(i)), size * 0.006, dark);
+            }
+        }
+        let take = g.points.len().min(points_left);
+        for p in &g.points[..take] {
+            sphere(&mut out, *p, size * 0.008, dark);
+        }
+        counts[2] += take;
+        points_left -= take;
+    }
+    let segments: usize = geometries.iter().map(|g| g.segments.len()).sum();
+    if counts[1] < segments {
+        left_out.push(format!("{} of {segments} segments", segments - counts[1]));
+    }
+    let points: usize = geometries.iter().map(|g| g.points.len()).sum();
+    if counts[2] < points {
+        left_out.push(format!("{} of {points} points", points - counts[2]));
+    }
+    let mut floats = Vec::with_capacity(out.len() * FLOATS_PER_VERTEX);
+    for v in &out {
+        floats.extend(v.position.iter().chain(&v.normal).chain(&v.color));
+    }
+    let left_out = (!left_out.is_empty()).then(|| left_out.join("; "));
+    (floats, counts, left_out)
+}
+
+/// A mesh file of a script's results: `"obj"` (faces, lines and points) or the triangles as
+/// `"stl"` or `"ply"`.
+///
+/// # Errors
+///
+/// The script's error, a script that draws nothing (or no triangles, for STL and PLY), or an
+/// unknown format.
+pub fn export(script: &str, format: &str) -> Result<Vec<u8>, String> {
+    let mut interp = Interp::new();
+    let run = interp.run(script);
+    if let Some(e) = run.error {
+        return Err(e.to_string());
+    }
+    let complexes: Vec<&Complex> = run.shown.iter().filter_map(|s| s.value.as_pol()).collect();
+    if complexes.is_empty() {
+        return Err("the script draws nothing: no top-level expression gives a complex".into());
+    }
+    if format == "obj" {
+        return Ok(bezsolid_plasm::mesh::write_obj(complexes).into_bytes());
+    }
+    let g = Geometry::of(complexes);
+    if g.mesh.triangles.is_empty() {
+        return Err("the script draws no triangles (only curves or points): export OBJ".into());
+    }
+    crate::document::mesh_file(&g.mesh, format)
+}
+
+/// The script of a model file or link (`None` for one that is not a script, or unreadable).
+#[must_use]
+pub fn script_of(text: &str) -> Option<String> {
+    let file = crate::freeform::read_file(text).ok()?;
+    file.to_script().ok().map(str::to_string)
+}
+
+/// The model file of a script (JSON).
+#[must_use]
+pub fn model_json(script: &str) -> String {
+    serde_json::to_string_pretty(&ModelFile::from_plasm(script)).unwrap_or_default()
+}
+
+/// The share link's fragment of a script.
+///
+/// # Errors
+///
+/// A script too long for a link (save the model file instead).
+pub fn link(script: &str) -> Result<String, String> {
+    bezsolid_core::link::encode(&ModelFile::from_plasm(script)).map_err(|e| e.to_string())
+}
+
+/// The Script mode's view: the last drawing and an orbit camera.
+#[derive(Clone, Debug, Default)]
+pub struct ScriptView {
+    orbit: OrbitView,
+    vertices: Vec<MeshVertex>,
+    bounds: Option<(DVec3, DVec3)>,
+    generation: u64,
+}
+
+impl ScriptView {
+    /// An empty view.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Shows a drawing ([`FLOATS_PER_VERTEX`] floats per vertex), framing it unless the camera
+    /// was moved since the last framing, or `refit`.
+    ///
+    /// # Errors
+    ///
+    /// Data that is not whole triangles of vertices.
+    pub fn set_drawing(&mut self, floats: &[f32], refit: bool) -> Result<(), String> {
+        let per_triangle = 3 * FLOATS_PER_VERTEX;
+        if !floats.len().is_multiple_of(per_triangle) {
+            return Err(format!(
+                "a drawing of {} floats is not whole triangles",
+                floats.len()
+            ));
+        }
+        self.vertices = floats
+            .chunks_exact(FLOATS_PER_VERTEX)
+            .map(|v| MeshVertex {
+                position: [v[0], v[1], v[2]],
+                normal: [v[3], v[4], v[5]],
+                color: [v[6], v[7], v[8], v[9]],
+            })
+            .collect();
+        self.bounds = self
+            .vertices
+            .iter()
+            .map(|v| DVec3::from_array(v.position.map(f64::from)))
+            .fold(None, |b, p| match b {
+                None => Some((p, p)),
+                Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
+            });
+        self.generation = next_generation();
+        if refit || !self.orbit.moved() {
+            self.fit();
+        }
+        Ok(())
+    }
+
+    /// Triangles drawn.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.vertices.len() / 3
+    }
+
+    fn extent_box(&self) -> (DVec3, DVec3) {
+        self.bounds.unwrap_or((DVec3::splat(-1.0), DVec3::ONE))
+    }
+
+    /// Frames the drawing.
+    pub fn fit(&mut self) {
+        let (lo, hi) = self.extent_box();
+        self.orbit.fit(lo, hi);
+    }
+
+    /// The viewport's size in CSS pixels.
+    pub fn resize(&mut self, width: f64, height: f64) {
+        let bounds = self.extent_box();
+        self.orbit.resize(width, height, bounds);
+    }
+
+    /// The camera and its gestures.
+    pub fn orbit(&mut self) -> &mut OrbitView {
+        &mut self.orbit
+    }
+
+    /// Everything one redraw needs.
+    #[must_use]
+    pub fn scene(&self) -> Scene<'_> {
+        let (lo, hi) = self.extent_box();
+        let extent = (hi - lo).length().max(1e-9);
+        self.orbit
+            .scene(&self.vertices, &[], self.generation, extent)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(d: &Drawing) -> serde_json::Value {
+        serde_json::from_str(&d.report).expect("JSON")
+    }
+
+    #[test]
+    fn every_example_draws_and_reports() {
+        for e in scripts::EXAMPLES {
+            let d = run(&e.source());
+            let r = report(&d);
+            assert!(r["error"].is_null(), "{}: {}", e.id, r["error"]);
+            assert!(!d.floats.is_empty() && d.floats.len().is_multiple_of(3 * FLOATS_PER_VERTEX));
+            assert!(r["complexes"].as_u64().unwrap_or(0) >= 1);
+            assert!(r["left_out"].is_null());
+            let mut view = ScriptView::new();
+            view.set_drawing(&d.floats, true).expect("whole triangles");
+            assert_eq!(
+                view.triangle_count() * 3 * FLOATS_PER_VERTEX,
+                d.floats.len()
+            );
+            assert!(!view.scene().opaque.is_empty());
+        }
+        // Fig. 1: the surface's 800 triangles and the four curves' 32 segments each.
+        let r = report(&run(&default_script()));
+        assert_eq!(
+            (r["triangles"].as_u64(), r["segments"].as_u64()),
+            (Some(800), Some(128))
+        );
+        assert_eq!(r["warnings"].as_array().map(Vec::len), Some(5));
+    }
+
+    #[test]
+    fn errors_are_reported_with_what_came_before() {
+        let d = run("Choose:<1,1>;\n1 + 2;\nMAP:(CONS:<S1, S1>):(Domain:4);\n<1,2> + 1;\n");
+        let r = report(&d);
+        assert_eq!(r["error"]["line"], 1);
+        assert!(d.floats.is_empty());
+        let d = run("1 + 2;\nMAP:(CONS:<S1, S1>):(Domain:4);\n<1,2> + 1;\n");
+        let r = report(&d);
+        assert_eq!(
+            (r["error"]["line"].as_u64(), r["error"]["column"].as_u64()),
+            (Some(3), Some(7))
+        );
+        assert_eq!(r["values"][0]["text"], "3");
+        assert_eq!(r["values"][1]["drawn"], true);
+        assert_eq!(r["segments"], 4);
+        assert!(!d.floats.is_empty(), "what came before the error is drawn");
+    }
+
+    #[test]
+    fn exports_parse_back() {
+        let src = scripts::example("4.6").expect("4.6").source();
+        let obj = String::from_utf8(export(&src, "obj").expect("obj")).expect("text");
+        assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 392);
+        let stl = export(&src, "stl").expect("stl");
+        assert_eq!(
+            u32::from_le_bytes(stl[80..84].try_into().expect("4 bytes")),
+            392
+        );
+        let arc = scripts::example("3.3").expect("3.3").source();
+        assert!(export(&arc, "stl").is_err_and(|e| e.contains("no triangles")));
+        assert!(
+            String::from_utf8(export(&arc, "obj").expect("obj"))
+                .is_ok_and(|t| t.contains("\nl 1 2\n"))
+        );
+        assert!(export("1;", "obj").is_err_and(|e| e.contains("draws nothing")));
+        assert!(export("1 +;", "obj").is_err_and(|e| e.starts_with("line 1, column 3")));
+    }
+
+    #[test]
+    fn scripts_travel_in_model_files_and_links() {
+        let src = default_script();
+        assert_eq!(script_of(&model_json(&src)).as_deref(), Some(src.as_str()));
+        let fragment = link(&src).expect("a link");
+        assert_eq!(
+            script_of(&format!("http://x/#{}", &fragment[1..])).as_deref(),
+            Some(src.as_str())
+        );
+        assert!(script_of("{\"format\":\"bezsolid\"}").is_none());
+        assert!(
+            script_of(&crate::freeform::model_json(
+                &crate::freeform::FreeForm::new().model_file()
+            ))
+            .is_none()
+        );
+    }
+
+    #[test]
+    fn plane_drawings_are_seen_from_above() {
+        let d = run(&scripts::example("4.8").expect("4.8").source());
+        let mut view = ScriptView::new();
+        view.set_drawing(&d.floats, true).expect("whole triangles");
+        assert!(view.orbit().camera().pitch > 1.5);
+        assert!(view.set_drawing(&[0.0; 7], false).is_err());
+    }
+}
