@@ -113,3 +113,39 @@ test('a free-form model: its result surface and mesh files, from the file and it
   assert.throws(() => view.open('{"format":"bezsolid","version":1,"solid":{"kind":"esc","operands":[{"example":"teapot"}]}}'), /no example/);
   view.free();
 });
+
+test("PLaSM scripts: the paper's examples draw and export; endless recursion stops within wasm's stack", () => {
+  const { headless_plasm, headless_plasm_mesh, plasm_examples, script_link, script_of } = glue;
+  const examples = JSON.parse(plasm_examples());
+  assert.deepEqual(examples.map((e) => e.id), ['3.1', '3.3', '4.1', '4.4', '4.6', '4.7', '4.8']);
+  for (const e of examples) {
+    const run = headless_plasm(e.source);
+    const report = JSON.parse(run.report());
+    const floats = run.take_floats();
+    run.free();
+    assert.equal(report.error, null, `${e.id}: ${JSON.stringify(report.error)}`);
+    assert.ok(floats.length > 0 && floats.length % 30 === 0, e.id);
+    // The script travels in a link.
+    assert.equal(script_of(script_link(e.source)), e.source);
+  }
+  // Script 4.4's OBJ: the surface's 800 triangles on 441 vertices, and four curves of 32 segments.
+  const fig1 = examples.find((e) => e.id === '4.4').source;
+  const obj = Buffer.from(headless_plasm_mesh(fig1, 'obj')).toString();
+  const lines = obj.split('\n');
+  assert.equal(lines.filter((l) => l.startsWith('f ')).length, 800);
+  assert.equal(lines.filter((l) => l.startsWith('l ')).length, 128);
+  assert.equal(lines.filter((l) => l.startsWith('v ')).length, 441 + 4 * 33);
+  // Recursion as deep as the limit allows, in the module's own (1 MiB) stack: an error, not a trap.
+  for (const script of [
+    'DEF f (n::IsReal) = f:(n + 1);\nf:0;',
+    'DEF Pred = C:-:1;\nDEF Choose (n,k::IsNat) = IF:<OR ~ [C:EQ:0 ~ S2, EQ], K:1, Choose ~ AA:Pred * / >:<n,k>;\nChoose:<1000, 999>;',
+  ]) {
+    const run = headless_plasm(script);
+    const report = JSON.parse(run.report());
+    run.free();
+    assert.equal(report.error.kind, 'Limit', script);
+  }
+  assert.throws(() => headless_plasm_mesh('1 +;', 'obj'), /line 1, column 3/);
+  // The module still works after all of that.
+  assert.ok(JSON.parse(headless_plasm(examples[0].source).report()).error === null);
+});

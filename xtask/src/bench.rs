@@ -197,6 +197,64 @@ fn issue4_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
 
 /// The targets of issue 6 (point-in-solid by extended simplicial chains), from the rows of
 /// `bezsolid_bench::esc`.
+/// Issue 7 (PLaSM): the paper's examples run whole, and the interpreter's cost against the same
+/// map compiled.
+fn issue7(s: &mut String, native: &[Row], wasm: &[Row]) {
+    let _ = writeln!(
+        s,
+        "## PLaSM scripts (issue 7, one thread)\n\n\
+         Each example as the page runs it: parse, evaluate, MAP (the drawing and the transfer to the \
+         page are not included; the page's times, to the drawing, are in the notes of issue 7).\n\n\
+         | example | cells made | steps | native ms | wasm ms |\n|---|---:|---:|---:|---:|"
+    );
+    for r in native.iter().filter(|r| r.case.starts_with("plasm: run")) {
+        let w = wasm
+            .iter()
+            .find(|w| w.case == r.case && w.who == r.who)
+            .map_or("–".to_owned(), |w| format!("{:.2}", w.ms));
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.2} | {w} |",
+            r.who.trim_start_matches("bezsolid: "),
+            r.n,
+            r.note.trim_end_matches(" steps"),
+            r.ms
+        );
+    }
+    let case = "plasm: Script 4.4's surface on an n × n grid of vertices";
+    let _ = writeln!(
+        s,
+        "\nScript 4.4's surface, (n + 1)² vertices: the interpreter (the whole script: its definitions \
+         and its MAP), the same blend as `core::blend` closures, and the equal bicubic tensor patch \
+         (the curves elevated to degree 3).\n\n\
+         | n | interpreter, native | closures, native | tensor patch, native | interpreter, wasm |\n|---:|---:|---:|---:|---:|"
+    );
+    let mut sizes: Vec<u64> = native
+        .iter()
+        .filter(|r| r.case == case)
+        .map(|r| r.n)
+        .collect();
+    sizes.dedup();
+    for n in sizes {
+        let get = |rows: &[Row], who: &str| {
+            rows.iter()
+                .find(|r| r.case == case && r.n == n && r.who.starts_with(who))
+                .map_or("–".to_owned(), |r| {
+                    format!("{:.3} ms ({:.2} M points/s)", r.ms, r.extra / 1e6)
+                })
+        };
+        let _ = writeln!(
+            s,
+            "| {n} | {} | {} | {} | {} |",
+            get(native, "bezsolid: PLaSM"),
+            get(native, "core::blend"),
+            get(native, "tensor patch"),
+            get(wasm, "bezsolid: PLaSM")
+        );
+    }
+    let _ = writeln!(s);
+}
+
 fn issue6_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     let _ = writeln!(
         s,
@@ -316,6 +374,7 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
         let _ = writeln!(s);
         issue4_targets(&mut s, native, wasm);
         issue6_targets(&mut s, native, wasm);
+        issue7(&mut s, native, wasm);
     }
     let mut cases: Vec<&str> = Vec::new();
     for r in native {
@@ -326,7 +385,8 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
     for case in cases {
         let eval = case.starts_with("grid evaluation")
             || case.starts_with("inverse map")
-            || case.starts_with("point-in-solid");
+            || case.starts_with("point-in-solid")
+            || case.starts_with("plasm: Script 4.4");
         let _ = writeln!(s, "## {case}\n");
         let extra = if case.starts_with("point-in-solid") {
             "queries/s"
@@ -336,6 +396,8 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
             "points/s"
         } else if case.starts_with("contour") {
             "vertices"
+        } else if case.starts_with("plasm: run") {
+            "cells made"
         } else if case.starts_with("build the inverse map") {
             "certified injective (1 = yes)"
         } else {

@@ -487,7 +487,7 @@ impl Interp {
                             at,
                             format!(
                                 "{}: parameter `{name}` = {v} does not satisfy {}",
-                                def.name, pred
+                                def.name, g.pred_text
                             ),
                         );
                     }

@@ -100,6 +100,8 @@ impl Expr {
 pub(crate) struct Group {
     pub(crate) names: Vec<(Rc<str>, Rc<str>)>,
     pub(crate) pred: Expr,
+    /// The predicate as written, for messages.
+    pub(crate) pred_text: String,
 }
 
 /// A local definition of `WHERE … END`.
@@ -136,6 +138,7 @@ pub(crate) enum Stmt {
 }
 
 struct Parser<'w> {
+    src: &'w str,
     toks: Vec<(Tok, Span)>,
     pos: usize,
     depth: u32,
@@ -145,6 +148,7 @@ struct Parser<'w> {
 /// Parses a whole script.
 pub(crate) fn parse(src: &str, warnings: &mut Vec<Warning>) -> Result<Vec<Stmt>, Error> {
     let mut p = Parser {
+        src,
         toks: lex(src)?,
         pos: 0,
         depth: 0,
@@ -243,8 +247,18 @@ impl Parser<'_> {
                 }
                 self.expect(Tok::ColonColon, "`::` and the parameters' predicate")?;
                 let pred = self.expr()?;
+                let span = pred.span();
+                let pred_text = self
+                    .src
+                    .get(span.start as usize..span.end as usize)
+                    .unwrap_or_default()
+                    .to_string();
                 self.expect(Tok::RParen, "`)` closing the parameters")?;
-                groups.push(Group { names, pred });
+                groups.push(Group {
+                    names,
+                    pred,
+                    pred_text,
+                });
             }
             self.expect(Tok::Eq, "`=` after the definition's name and parameters")?;
             let mut body = self.expr()?;
