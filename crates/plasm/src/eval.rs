@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::complex::Complex;
+use crate::kernel::Kernel;
 use crate::parse::{Arith, Def, Expr, Local, Stmt, parse};
 use crate::value::{Fun, NAMES, Prim, Value};
 use crate::{Error, ErrorKind, Limits, Span, Warning};
@@ -699,8 +700,25 @@ impl Interp {
         };
         let mut points = Vec::new();
         let mut dim = None;
+        // The fast path where the map compiles; the interpreter for the rest, and for any point
+        // where the kernel meets a value that is not finite (to give the interpreter's error).
+        let kernel = if self.limits.kernels {
+            Kernel::compile(&f, pol.dim)
+        } else {
+            None
+        };
+        let (mut slots, mut image) = (Vec::new(), Vec::new());
         for i in 0..pol.point_count() {
             let u: Vec<f64> = pol.point(i).to_vec();
+            if let Some(k) = &kernel {
+                self.tick(1 + k.len() as u64 / 10, at)?;
+                if k.eval(&u, &mut slots, &mut image) {
+                    // A kernel's points all have its output's dimension.
+                    dim.get_or_insert(image.len());
+                    points.extend_from_slice(&image);
+                    continue;
+                }
+            }
             let arg = Value::seq(u.iter().map(|&c| Value::Num(c)).collect());
             let image = self.apply(&f, arg, at)?;
             let coords = match &image {

@@ -39,6 +39,7 @@ use std::fmt;
 
 mod complex;
 mod eval;
+mod kernel;
 mod lex;
 pub mod mesh;
 mod parse;
@@ -145,6 +146,9 @@ pub struct Limits {
     pub cells: usize,
     /// Bytes of source.
     pub source: usize,
+    /// Whether `MAP` compiles maps made of built-ins to straight-line arithmetic (the same
+    /// numbers, faster); off, every point is interpreted.
+    pub kernels: bool,
 }
 
 impl Default for Limits {
@@ -156,6 +160,7 @@ impl Default for Limits {
             items: 1_000_000,
             cells: 1_000_000,
             source: 256 * 1024,
+            kernels: true,
         }
     }
 }

@@ -594,3 +594,59 @@ fn garbage_never_panics() {
         let _ = p.run(&src);
     }
 }
+
+#[test]
+fn compiled_maps_give_the_interpreters_points_to_the_bit() {
+    let interpreted = Limits {
+        kernels: false,
+        ..Limits::default()
+    };
+    let extra = [
+        // Arithmetic of every kind, math functions, C, AA, SEL and constants in a map.
+        "MAP:[S1, SIN ~ S2, (K:2 ** S1) - (S2 / K:3), C:-:1 ~ S1, + ~ AA:SQRT, \
+         ABS ~ (K:0.5 - S1) * ATAN ~ S2, SEL:2 ~ [S2, EXP ~ S1]]:(Domain:7 * Domain:5);",
+        "MAP:(CONS:<K:1, - ~ [ID, K:0.25] ~ S1>):(interval:<-1, 2>:9);",
+    ];
+    let mut sources: Vec<String> = scripts::EXAMPLES.iter().map(|e| e.source()).collect();
+    sources.extend(extra.iter().map(|s| (*s).to_string()));
+    for src in &sources {
+        let fast = Interp::new().run(src);
+        let slow = Interp::with_limits(interpreted).run(src);
+        assert!(
+            fast.error.is_none() && slow.error.is_none(),
+            "{:?}",
+            fast.error
+        );
+        assert!(fast.steps < slow.steps, "the kernel does less work");
+        for (a, b) in fast.shown.iter().zip(&slow.shown) {
+            let (Some(a), Some(b)) = (a.value.as_pol(), b.value.as_pol()) else {
+                continue;
+            };
+            assert_eq!(a.dim, b.dim);
+            assert!(
+                a.points
+                    .iter()
+                    .zip(&b.points)
+                    .all(|(x, y)| x.to_bits() == y.to_bits()),
+                "the same points, to the bit"
+            );
+            assert_eq!(a.cells, b.cells);
+        }
+    }
+    // Where the kernel meets a value that is not finite, the interpreter's error stands.
+    for (src, words) in [
+        ("MAP:(CONS:<K:1 / S1>):(Domain:2);", "division by zero"),
+        (
+            "MAP:(CONS:<K:1 / (K:1 / S1)>):(Domain:2);",
+            "division by zero",
+        ),
+        ("MAP:(CONS:<SQRT ~ (K:0.5 - S1)>):(Domain:2);", "SQRT:-0.5"),
+        (
+            "MAP:(CONS:<(ID ** K:0.5) ~ (K:0 - S1)>):(Domain:2);",
+            "not a finite number",
+        ),
+    ] {
+        let e = Interp::new().run(src).error.expect("an error");
+        assert!(e.message.contains(words), "{src}: {e}");
+    }
+}
