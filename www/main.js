@@ -3,7 +3,7 @@
 import init, {
   start, start_3d, FreeFormView, is_free_form, headless_esc_mesh, headless_esc_surface,
   ScriptViewer, headless_plasm, headless_plasm_mesh, script_of, script_model_json, script_link,
-  plasm_examples,
+  plasm_examples, script_patch_model,
 } from './pkg/bezsolid_web.js';
 
 const $ = (id) => document.getElementById(id);
@@ -1053,12 +1053,36 @@ async function main() {
       + (report.complexes ? `${count(report.complexes, 'result', 'results')} drawn, ${parts.join(', ')}.` : 'nothing to draw.')
       + (report.left_out ? ` Left out of the view: ${report.left_out}.` : '');
     const list = $('script-values');
-    list.replaceChildren(...report.values.map((v) => {
+    const ran = editor.value;
+    list.replaceChildren(...report.values.map((v, index) => {
       const li = document.createElement('li');
       const line = document.createElement('span');
       line.className = 'line';
       line.textContent = `line ${v.line}`;
       li.append(line, v.text);
+      if (v.patch) {
+        // A surface of two parameters: its Bézier net, to edit point by point (ξ = z).
+        const edit = document.createElement('button');
+        edit.type = 'button';
+        edit.className = 'edit-patch';
+        edit.textContent = 'Edit as a Bézier patch';
+        edit.title = 'Open this surface in the Bézier mode as a patch solid (x, y, ξ = z): its control net, found from the map';
+        edit.addEventListener('click', () => {
+          try {
+            modeler.load_model(script_patch_model(ran, index));
+          } catch (err) {
+            say(`This surface has no Bézier net: ${err.message ?? err}`, 'error');
+            return;
+          }
+          setWorkspace('bezier');
+          resize();
+          resize3();
+          const [n, m] = modeler.degree();
+          say(`Opened the surface of line ${v.line} as a ${n + 1} × ${m + 1}-point patch (ξ = z); Undo brings back the previous model.`);
+          changed();
+        });
+        li.append(edit);
+      }
       return li;
     }));
     document.body.dataset.scriptState = report.error ? 'error' : 'done';

@@ -181,6 +181,21 @@ test('a script travels in a link and a model file, and exports parse back', asyn
   await other.page.waitForSelector('body[data-ready="true"]');
   assert.equal(await finished(other.page), 'done');
   assert.equal(await other.page.inputValue('#script'), script);
+  // Fig. 1's surface opens in the Bézier mode as its bicubic net, and Undo brings back the patch
+  // that was there.
+  await other.page.selectOption('#script-example', '4.4');
+  assert.equal(await finished(other.page), 'done');
+  const previous = await other.page.evaluate(() => window.bezsolid.modeler.model_json());
+  await other.page.click('#script-values li:first-child .edit-patch');
+  await other.page.waitForSelector('body[data-workspace="bezier"]');
+  await settle(other.page);
+  assert.match(await other.page.textContent('#model-name'), /Patch solid, 4 × 4 points, space-mapped/);
+  const net = JSON.parse(await other.page.evaluate(() => window.bezsolid.modeler.model_json()));
+  assert.deepEqual(net.solid.degree, [3, 3]);
+  assert.deepEqual(net.solid.points[0].map((x) => Math.round(x * 1e9) / 1e9), [0, 0, 0]);
+  assert.deepEqual(net.solid.points[15].map((x) => Math.round(x * 1e9) / 1e9), [10, 6, -1]);
+  await other.page.click('#undo');
+  assert.equal(await other.page.evaluate(() => window.bezsolid.modeler.model_json()), previous);
   assert.deepEqual(other.errors, []);
   assert.deepEqual(errors, []);
   await other.page.close();

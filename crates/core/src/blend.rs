@@ -33,6 +33,7 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::tensor::{ControlPoint, PatchError};
 use crate::{BezierCurve, Patch, Volume};
+use glam::DVec3;
 
 /// A scalar function of a point's coordinates.
 type Scalar = dyn Fn(&[f64]) -> f64;
@@ -240,6 +241,10 @@ pub enum BlendError {
     TooManyCells(usize),
     /// Control nets that do not make a patch or volume.
     Net(PatchError),
+    /// A map that is not defined (or not finite) at a parameter point, for [`fit_patch`].
+    Undefined,
+    /// A map that is not a polynomial of degree at most `MAX_DEGREE` in each parameter.
+    NotPolynomial,
 }
 
 impl fmt::Display for BlendError {
@@ -264,6 +269,13 @@ impl fmt::Display for BlendError {
                 )
             }
             Self::Net(e) => write!(f, "{e}"),
+            Self::Undefined => f.write_str("the map is not defined everywhere on its domain"),
+            Self::NotPolynomial => write!(
+                f,
+                "the map is not a polynomial of degree at most {} in each parameter, so it has \
+                 no Bézier control net",
+                crate::MAX_DEGREE
+            ),
         }
     }
 }
@@ -468,6 +480,56 @@ pub fn volume_from_patches<P: ControlPoint>(patches: &[Patch<P>]) -> Result<Volu
         .flat_map(|p| p.points().iter().copied())
         .collect();
     Volume::try_new((patches.len() - 1, n, m), points).map_err(BlendError::Net)
+}
+
+#[cfg(test)]
+mod fit_tests {
+    use super::*;
+    use alloc::vec;
+
+    #[test]
+    fn fitting_finds_the_degree_and_net_of_a_blend() {
+        // Curves of degrees 1, 2, 3 and 2, blended: a patch of degree (3, 3).
+        let curves = [
+            vec![[0., 0., 0.], [10., 0., 0.]],
+            vec![[0., 2., 0.], [8., 3., 0.], [9., 2., 0.]],
+            vec![[0., 4., 1.], [7., 5., -1.], [8., 5., 1.], [12., 4., 0.]],
+            vec![[0., 6., 0.], [9., 6., 3.], [10., 6., -1.]],
+        ];
+        let handles: Vec<Handle> = curves
+            .iter()
+            .map(|c| {
+                let hs: Vec<Handle> = c.iter().map(|p| Handle::point(p)).collect();
+                Handle::Map(bezier(&Fun::select(0), &hs).unwrap_or_default())
+            })
+            .collect();
+        let surface = bezier(&Fun::select(1), &handles).unwrap_or_default();
+        let patch = fit_patch(&mut |u, v| {
+            let p = eval(&surface, &[u, v]);
+            Some(DVec3::new(p[0], p[1], p[2]))
+        })
+        .expect("a polynomial");
+        assert_eq!(patch.degree(), (3, 3));
+        // The first row of the net is C0 elevated to degree 3.
+        let c0 = BezierCurve::try_new(vec![DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)])
+            .and_then(|c| c.elevate())
+            .and_then(|c| c.elevate())
+            .expect("elevated");
+        for j in 0..4 {
+            assert!((patch.point(j, 0) - c0.points()[j]).length() < 1e-9);
+        }
+        // A plane is degree (1, 1); sin is no polynomial; a hole is undefined.
+        let plane = fit_patch(&mut |u, v| Some(DVec3::new(u, v, 2.0 * u - v))).expect("a plane");
+        assert_eq!(plane.degree(), (1, 1));
+        assert_eq!(
+            fit_patch(&mut |u, v| Some(DVec3::new(u, v, (7.0 * u).sin()))).err(),
+            Some(BlendError::NotPolynomial)
+        );
+        assert_eq!(
+            fit_patch(&mut |u, v| (u < 0.6).then_some(DVec3::new(u, v, 0.0))).err(),
+            Some(BlendError::Undefined)
+        );
+    }
 }
 
 #[cfg(test)]
@@ -728,4 +790,150 @@ mod tests {
         };
         assert!(dangling.product(&interval(0.0, 1.0, 1).unwrap()).is_err());
     }
+}
+
+/// The tensor-product Bézier patch equal to a polynomial map of the unit square, such as any
+/// transfinite Bézier or Hermite blend of Bézier or Hermite curves: a patch, or a solid's net, can
+/// be built by blending boundary curves and then edited point by point (issue 7's tie to the
+/// modeler). `f` is sampled only.
+///
+/// The degree in each parameter is the least `d` whose `(d + 1)`-th finite differences vanish
+/// (to rounding) along three lines; the control points interpolate `f` on the uniform
+/// `(n + 1) × (m + 1)` grid; the patch is then checked against `f` at points off the grid.
+///
+/// # Errors
+///
+/// [`BlendError::Undefined`] where `f` gives `None` or a coordinate that is not finite,
+/// [`BlendError::NotPolynomial`] for a map of higher degree or none.
+pub fn fit_patch(f: &mut dyn FnMut(f64, f64) -> Option<DVec3>) -> Result<Patch<DVec3>, BlendError> {
+    let mut eval = |u: f64, v: f64| {
+        f(u, v)
+            .filter(|p| p.is_finite())
+            .ok_or(BlendError::Undefined)
+    };
+    let n = degree_along(&mut |t, line| eval(t, line))?;
+    let m = degree_along(&mut |t, line| eval(line, t))?;
+    let mut samples = Vec::with_capacity((n + 1) * (m + 1));
+    for i in 0..=n {
+        for j in 0..=m {
+            samples.push(eval(i as f64 / n as f64, j as f64 / m as f64)?);
+        }
+    }
+    // Bernstein collocation at uniform nodes, solved along v, then along u.
+    let a_n = collocation(n);
+    let a_m = collocation(m);
+    let mut rows = Vec::with_capacity(samples.len());
+    for i in 0..=n {
+        rows.extend(
+            solve(&a_m, &samples[i * (m + 1)..(i + 1) * (m + 1)])
+                .ok_or(BlendError::NotPolynomial)?,
+        );
+    }
+    let mut points = alloc::vec![DVec3::ZERO; rows.len()];
+    for j in 0..=m {
+        let column: Vec<DVec3> = (0..=n).map(|i| rows[i * (m + 1) + j]).collect();
+        for (i, p) in solve(&a_n, &column)
+            .ok_or(BlendError::NotPolynomial)?
+            .into_iter()
+            .enumerate()
+        {
+            points[i * (m + 1) + j] = p;
+        }
+    }
+    let patch = Patch::try_new((n, m), points).map_err(BlendError::Net)?;
+    let scale = samples
+        .iter()
+        .fold(1e-300f64, |s, p| s.max(p.abs().max_element()));
+    for (u, v) in [
+        (0.31, 0.77),
+        (0.9, 0.05),
+        (0.137, 0.421),
+        (0.66, 0.93),
+        (0.5, 0.5),
+    ] {
+        if (patch.eval(u, v) - eval(u, v)?).abs().max_element() > 1e-10 * scale {
+            return Err(BlendError::NotPolynomial);
+        }
+    }
+    Ok(patch)
+}
+
+/// The least degree `d` (1 to `MAX_DEGREE`) whose `(d + 1)`-th differences of `g(·, line)` on
+/// `d + 2` uniform nodes vanish on three lines.
+fn degree_along(
+    g: &mut dyn FnMut(f64, f64) -> Result<DVec3, BlendError>,
+) -> Result<usize, BlendError> {
+    let lines = [0.173, 0.5, 0.887];
+    for d in 1..=crate::MAX_DEGREE {
+        let mut flat = true;
+        for &line in &lines {
+            let mut values: Vec<DVec3> = (0..=d + 1)
+                .map(|k| g(k as f64 / (d + 1) as f64, line))
+                .collect::<Result<_, _>>()?;
+            let scale = values
+                .iter()
+                .fold(1e-300f64, |s, p| s.max(p.abs().max_element()));
+            for order in 1..=d + 1 {
+                for k in 0..values.len() - order {
+                    values[k] = values[k + 1] - values[k];
+                }
+            }
+            // Rounding (a few ulps per sample) grows as 2^(d+1) in the differences.
+            if values[0].abs().max_element()
+                > 64.0 * f64::EPSILON * scale * (1u64 << (d + 1)) as f64
+            {
+                flat = false;
+                break;
+            }
+        }
+        if flat {
+            return Ok(d);
+        }
+    }
+    Err(BlendError::NotPolynomial)
+}
+
+/// `A[k][j] = β_j^n(k / n)`, row-major.
+fn collocation(n: usize) -> Vec<f64> {
+    let mut a = Vec::with_capacity((n + 1) * (n + 1));
+    for k in 0..=n {
+        for j in 0..=n {
+            a.push(crate::bernstein::bernstein(n, j, k as f64 / n as f64));
+        }
+    }
+    a
+}
+
+/// `x` with `A x = b` (Gaussian elimination with partial pivoting), or `None` for a singular `A`.
+fn solve(a: &[f64], b: &[DVec3]) -> Option<Vec<DVec3>> {
+    let n = b.len();
+    let mut a = a.to_vec();
+    let mut b = b.to_vec();
+    for col in 0..n {
+        let pivot =
+            (col..n).max_by(|&r, &s| a[r * n + col].abs().total_cmp(&a[s * n + col].abs()))?;
+        if a[pivot * n + col].abs() < 1e-300 {
+            return None;
+        }
+        for k in 0..n {
+            a.swap(col * n + k, pivot * n + k);
+        }
+        b.swap(col, pivot);
+        for r in col + 1..n {
+            let factor = a[r * n + col] / a[col * n + col];
+            for k in col..n {
+                a[r * n + k] -= factor * a[col * n + k];
+            }
+            b[r] = b[r] - b[col] * factor;
+        }
+    }
+    let mut x = alloc::vec![DVec3::ZERO; n];
+    for r in (0..n).rev() {
+        let mut sum = b[r];
+        for k in r + 1..n {
+            sum -= x[k] * a[r * n + k];
+        }
+        x[r] = sum / a[r * n + r];
+    }
+    Some(x)
 }

@@ -17,6 +17,18 @@ pub struct Shown {
     pub span: Span,
     /// Its value.
     pub value: Value,
+    /// For a complex made by `MAP` (the expression's value itself), the map and its domain, so
+    /// that the map can be sampled again (to fit a Bézier net, for instance).
+    pub map: Option<MapOf>,
+}
+
+/// A map and the complex `MAP` applied it to.
+#[derive(Clone, Debug)]
+pub struct MapOf {
+    /// The map (a function; a sequence of coordinate functions is made one with `CONS`).
+    pub f: Value,
+    /// Its domain.
+    pub domain: Rc<Complex>,
 }
 
 /// What a run gives: the values of the top-level expressions before the first error, the
@@ -50,6 +62,8 @@ impl Run {
 /// An interpreter: the global definitions persist from one [`Interp::run`] to the next.
 pub struct Interp {
     globals: HashMap<Rc<str>, (Rc<str>, Value)>,
+    /// The last `MAP`: its result, its map and its domain.
+    last_map: Option<(Rc<Complex>, MapOf)>,
     limits: Limits,
     steps: u64,
     depth: u32,
@@ -109,6 +123,7 @@ impl Interp {
     pub fn with_limits(limits: Limits) -> Self {
         Interp {
             globals: HashMap::new(),
+            last_map: None,
             limits,
             steps: 0,
             depth: 0,
@@ -151,10 +166,16 @@ impl Interp {
                 Stmt::Def(def) => self.define(def),
                 Stmt::Expr(e) => {
                     let empty = Env::new(Vec::new(), &[]);
+                    self.last_map = None;
                     self.eval(&e, &empty).map(|value| {
+                        let map = match (&value, self.last_map.take()) {
+                            (Value::Pol(p), Some((made, map))) if Rc::ptr_eq(p, &made) => Some(map),
+                            _ => None,
+                        };
                         run.shown.push(Shown {
                             span: e.span(),
                             value,
+                            map,
                         });
                     })
                 }
@@ -761,12 +782,20 @@ impl Interp {
             }
             points.extend(coords);
         }
-        Ok(Value::Pol(Rc::new(Complex {
+        let made = Rc::new(Complex {
             dim: dim.unwrap_or(pol.dim),
             points,
             order: pol.order,
             cells: pol.cells.clone(),
-        })))
+        });
+        self.last_map = Some((
+            made.clone(),
+            MapOf {
+                f,
+                domain: pol.clone(),
+            },
+        ));
+        Ok(Value::Pol(made))
     }
 
     #[inline(never)]

@@ -47,7 +47,7 @@ pub mod scripts;
 pub mod value;
 
 pub use complex::{Complex, ComplexError};
-pub use eval::{Interp, Run, Shown};
+pub use eval::{Interp, MapOf, Run, Shown};
 pub use parse::{Arith, Def};
 pub use value::{Fun, Prim, Value};
 

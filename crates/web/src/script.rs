@@ -80,6 +80,7 @@ pub fn run(script: &str) -> Drawing {
                 "column": column,
                 "text": s.value.to_string(),
                 "drawn": s.value.as_pol().is_some(),
+                "patch": is_surface_map(s),
             })
         }).collect::<Vec<_>>(),
         "complexes": complexes.len(),
@@ -208,6 +209,60 @@ pub fn export(script: &str, format: &str) -> Result<Vec<u8>, String> {
         return Err("the script draws no triangles (only curves or points): export OBJ".into());
     }
     crate::document::mesh_file(&g.mesh, format)
+}
+
+/// Whether a value is a surface made by `MAP` of a map of two parameters into at least three
+/// coordinates: one that may become a Bézier patch solid.
+fn is_surface_map(s: &bezsolid_plasm::Shown) -> bool {
+    matches!((s.value.as_pol(), &s.map), (Some(p), Some(m)) if p.order == 3 && p.dim >= 3 && m.domain.dim == 2)
+}
+
+/// The model file of a patch solid equal to the surface of the top-level value number `index` of
+/// `script` (see [`bezsolid_core::blend::fit_patch`]): its map over the box of its domain, with
+/// `(x, y, ξ)` its first three coordinates. A surface blended from Bézier curves thus becomes a
+/// net to edit point by point in the Bézier mode. Also gives the degree.
+///
+/// # Errors
+///
+/// The script's error, a value that is not such a surface, or a map that is no polynomial of
+/// degree at most 16 in each parameter.
+pub fn patch_model(script: &str, index: usize) -> Result<(String, (usize, usize)), String> {
+    let mut interp = Interp::new();
+    let run = interp.run(script);
+    if let Some(e) = run.error {
+        return Err(e.to_string());
+    }
+    let shown = run
+        .shown
+        .get(index)
+        .filter(|s| is_surface_map(s))
+        .ok_or("that value is not a surface made by MAP of a map of two parameters")?;
+    let map = shown.map.as_ref().ok_or("no map")?;
+    let d = &map.domain;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for i in 0..d.point_count() {
+        for k in 0..2 {
+            lo[k] = lo[k].min(d.point(i)[k]);
+            hi[k] = hi[k].max(d.point(i)[k]);
+        }
+    }
+    let mut failure = None;
+    let patch = bezsolid_core::blend::fit_patch(&mut |u, v| {
+        let at = [lo[0] + (hi[0] - lo[0]) * u, lo[1] + (hi[1] - lo[1]) * v];
+        match interp.call(&map.f, &at).map(|p| p.as_point()) {
+            Ok(Some(p)) if p.len() >= 3 => Some(DVec3::new(p[0], p[1], p[2])),
+            Ok(_) => None,
+            Err(e) => {
+                failure.get_or_insert(e.to_string());
+                None
+            }
+        }
+    })
+    .map_err(|e| failure.clone().unwrap_or_else(|| e.to_string()))?;
+    let degree = patch.degree();
+    let solid = bezsolid_core::Solid2::try_from_patch(patch).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(&ModelFile::from_solid2(&solid)).unwrap_or_default();
+    Ok((json, degree))
 }
 
 /// The script of a model file or link (`None` for one that is not a script, or unreadable).
@@ -410,6 +465,35 @@ mod tests {
             ))
             .is_none()
         );
+    }
+
+    #[test]
+    fn a_blended_surface_becomes_a_patch_solid() {
+        let src = default_script();
+        let d = run(&src);
+        let r = report(&d);
+        assert_eq!(r["values"][0]["patch"], true);
+        assert_eq!(r["values"][1]["patch"], false, "a curve is no surface");
+        let (json, degree) = patch_model(&src, 0).expect("a patch");
+        assert_eq!(degree, (3, 3));
+        let file: ModelFile = serde_json::from_str(&json).expect("a model file");
+        let bezsolid_core::model::ModelSolid::Patch(solid) = file.to_solid().expect("a solid")
+        else {
+            panic!("a patch");
+        };
+        // The net interpolates the boundary curves: its corners are the curves' ends.
+        let p = solid.patch();
+        assert!((p.point(0, 0) - DVec3::ZERO).length() < 1e-9);
+        assert!((p.point(3, 0) - DVec3::new(10.0, 0.0, 0.0)).length() < 1e-9);
+        assert!((p.point(0, 3) - DVec3::new(0.0, 6.0, 0.0)).length() < 1e-9);
+        assert!((p.point(3, 3) - DVec3::new(10.0, 6.0, -1.0)).length() < 1e-9);
+        // A plane grid has no third coordinate; a curve is not a surface.
+        let grids = scripts::example("4.8").expect("4.8").source();
+        assert!(patch_model(&grids, 0).is_err());
+        assert!(patch_model(&src, 1).is_err());
+        // Hermite surfaces are cubic too.
+        let hermite = scripts::example("4.6").expect("4.6").source();
+        assert_eq!(patch_model(&hermite, 0).expect("a patch").1, (3, 3));
     }
 
     #[test]

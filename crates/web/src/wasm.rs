@@ -1244,3 +1244,16 @@ pub fn plasm_examples() -> String {
         .collect();
     serde_json::Value::Array(list).to_string()
 }
+
+/// The model file of a patch solid equal to the surface of a script's top-level value `index`
+/// (`script::patch_model`), to edit in the Bézier mode.
+///
+/// # Errors
+///
+/// Why that value has no Bézier net.
+#[wasm_bindgen]
+pub fn script_patch_model(script: &str, index: usize) -> Result<String, JsError> {
+    crate::script::patch_model(script, index)
+        .map(|(json, _)| json)
+        .map_err(|e| JsError::new(&e))
+}
