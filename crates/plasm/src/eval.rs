@@ -67,7 +67,12 @@ pub struct Interp {
     limits: Limits,
     steps: u64,
     depth: u32,
+    /// Expressions under evaluation, nested (over all calls under way).
+    nesting: u32,
 }
+
+/// The most expressions nested in evaluation at once, over all calls under way.
+const MAX_EVAL_NESTING: u32 = 1000;
 
 impl Default for Interp {
     fn default() -> Self {
@@ -127,6 +132,7 @@ impl Interp {
             limits,
             steps: 0,
             depth: 0,
+            nesting: 0,
         }
     }
 
@@ -162,6 +168,7 @@ impl Interp {
         };
         for stmt in stmts {
             self.depth = 0;
+            self.nesting = 0;
             let r = match stmt {
                 Stmt::Def(def) => self.define(def),
                 Stmt::Expr(e) => {
@@ -197,14 +204,14 @@ impl Interp {
     }
 
     /// Applies a function value to a point, as `MAP` does: for tests and callers that sample a
-    /// script's maps. The step count restarts.
+    /// script's maps. The steps count against the budget of the last run, which goes on.
     ///
     /// # Errors
     ///
     /// As a run.
     pub fn call(&mut self, f: &Value, point: &[f64]) -> Result<Value, Error> {
-        self.steps = 0;
         self.depth = 0;
+        self.nesting = 0;
         let f = match f {
             Value::Seq(fs) => Value::fun(Fun::Cons(fs.to_vec())),
             other => other.clone(),
@@ -291,6 +298,9 @@ impl Interp {
     }
 
     fn nearest(&self, key: &str, env: &Env<'_>) -> Option<String> {
+        if key.len() > 64 {
+            return None;
+        }
         let mut names: Vec<String> = self.globals.values().map(|g| g.0.to_string()).collect();
         names.extend(NAMES.iter().map(|n| n.0.to_string()));
         names.extend(env.params.iter().map(|p| p.1.to_string()));
@@ -309,6 +319,29 @@ impl Interp {
         match e {
             Expr::Num(x, _) => Ok(Value::Num(*x)),
             Expr::Name(key, spelled, at) => self.lookup(key, spelled, *at, env),
+            _ => {
+                // Expressions nest inside calls: their depth, summed over the calls under way,
+                // is bounded too, so that neither can overflow the stack.
+                if self.nesting >= MAX_EVAL_NESTING {
+                    return Err(Error::new(
+                        ErrorKind::Limit,
+                        e.span(),
+                        format!(
+                            "expressions nested more than {MAX_EVAL_NESTING} deep across calls: \
+                             endless recursion?"
+                        ),
+                    ));
+                }
+                self.nesting += 1;
+                let r = self.eval_nested(e, env);
+                self.nesting -= 1;
+                r
+            }
+        }
+    }
+
+    fn eval_nested(&mut self, e: &Expr, env: &Env<'_>) -> R<Value> {
+        match e {
             Expr::Apply(f, x, at) => {
                 let fv = self.eval(f, env)?;
                 let xv = self.eval(x, env)?;
@@ -760,6 +793,15 @@ impl Interp {
                     Ok,
                 )?,
             };
+            if coords.is_empty() {
+                return type_error(
+                    at,
+                    format!(
+                        "MAP: the map gives an empty point at {}",
+                        Value::seq(u.iter().map(|&c| Value::Num(c)).collect())
+                    ),
+                );
+            }
             if coords.iter().any(|c| !c.is_finite()) {
                 return Err(Error::new(
                     ErrorKind::Math,

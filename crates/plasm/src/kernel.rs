@@ -56,6 +56,9 @@ impl Kernel {
         };
         let input = Shape::Vector((0..dim).map(|i| c.push(Op::Coord(i))).collect());
         let output = c.value(f, &input)?;
+        if output == Shape::Vector(Vec::new()) {
+            return None; // no coordinates: the interpreter says why
+        }
         Some(Kernel {
             ops: c.ops,
             args: c.args,

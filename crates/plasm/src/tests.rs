@@ -463,6 +463,20 @@ fn malformed_scripts_give_located_errors() {
             "in terms of itself",
         ),
         ("DEF x = 'text';", ErrorKind::Syntax, 1, 9, "strings"),
+        (
+            "MAP:(K:<>):(Domain:2);",
+            ErrorKind::Type,
+            1,
+            1,
+            "an empty point",
+        ),
+        (
+            "MAP:[]:(Domain:2);",
+            ErrorKind::Type,
+            1,
+            1,
+            "an empty point",
+        ),
     ];
     for &(src, kind, line, col, words) in cases {
         let e = error(src);
@@ -491,6 +505,9 @@ fn recursion_stops_within_a_small_stack() {
         "DEF f (n::IsReal) = f:(n + 1);\nf:0;",
         "DEF g (n::IsReal) = IF:<K:FALSE, ID, g ~ K:(n + 1)>:n;\ng:0;",
         "DEF h (x::IsReal) = (h ~ ID ~ ID ~ ID):x;\nh:1;",
+        // Deep expressions inside each call.
+        "DEF s (n::IsReal) = <<<<<<<<<<<<<<<<<<<<<<<<s:(n + 1)>>>>>>>>>>>>>>>>>>>>>>>>;\ns:0;",
+        "DEF p (n::IsReal) = 1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(p:(n+1)))))))))))))))));\np:0;",
         "DEF Pred = C:-:1;\nDEF Choose (n,k::IsNat) = IF:<OR ~ [C:EQ:0 ~ S2, EQ], K:1, Choose ~ AA:Pred * / >:<n,k>;\nChoose:<1000, 999>;",
     ];
     std::thread::Builder::new()
