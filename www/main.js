@@ -1087,14 +1087,21 @@ async function main() {
     }));
     document.body.dataset.scriptState = report.error ? 'error' : 'done';
     document.body.dataset.scriptMs = ms.toFixed(1);
+    document.body.dataset.scriptWorkerMs = workerMs === undefined ? '' : workerMs.toFixed(1);
     document.body.dataset.scriptCounts = `${report.triangles},${report.segments},${report.points}`;
   };
-  let scriptRunner = null;
-  try {
-    scriptRunner = surfaceRunner && runner();
-  } catch {
-    scriptRunner = null;
-  }
+  // The script worker starts with the first run (most visits never open this mode).
+  let scriptRunner;
+  const scriptWorker = () => {
+    if (scriptRunner === undefined) {
+      try {
+        scriptRunner = surfaceRunner && runner();
+      } catch {
+        scriptRunner = null;
+      }
+    }
+    return scriptRunner;
+  };
   let runSeq = 0;
   const runScript = async ({ refit = false } = {}) => {
     const script = editor.value;
@@ -1106,9 +1113,10 @@ async function main() {
     const t0 = performance.now();
     let result;
     try {
-      if (scriptRunner) {
-        scriptRunner.cancel();
-        result = await scriptRunner.run({ kind: 'plasm', script });
+      const work = scriptWorker();
+      if (work) {
+        work.cancel();
+        result = await work.run({ kind: 'plasm', script });
       } else {
         const run = headless_plasm(script);
         result = { report: run.report(), data: run.take_floats() };
