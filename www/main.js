@@ -1004,12 +1004,14 @@ async function main() {
     }, 300);
   });
   addEventListener('pagehide', () => storage.set(editor.value, SCRIPT_KEY));
-  // The place (line, column from 1) as an offset in the editor's text.
+  // The place (line, column from 1, in characters as the interpreter counts them) as an offset
+  // in the editor's text (in UTF-16 units, as the text area counts them).
   const offsetOf = (line, column) => {
     const lines = editor.value.split('\n');
     let offset = 0;
     for (let i = 0; i < Math.min(line - 1, lines.length); i++) offset += lines[i].length + 1;
-    return Math.min(offset + Math.max(column - 1, 0), editor.value.length);
+    const chars = Array.from(lines[line - 1] ?? '').slice(0, Math.max(column - 1, 0));
+    return Math.min(offset + chars.join('').length, editor.value.length);
   };
   const goTo = (line, column) => {
     const at = offsetOf(line, column);

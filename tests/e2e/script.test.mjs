@@ -114,6 +114,11 @@ test('errors show at their line, endless work stops, and the page stays responsi
   await page.click('#script-message button');
   const caret = await page.evaluate(() => document.getElementById('script').selectionStart);
   assert.equal(caret, 'DEF SQR = ID * ID;\nMAP:(CONS:< S1, SQR ~ S1 >):(Domain:8);\n<1, 2> '.length);
+  // Columns count characters; the editor counts UTF-16 units: Go to lands on the place.
+  assert.equal(await type('% 😀 % 1 +;'), 'error');
+  assert.match(await page.textContent('#script-message'), /Line 1, column 9: expected `;` after the expression, found `\+`/);
+  await page.click('#script-message button');
+  assert.equal(await page.evaluate(() => document.getElementById('script').selectionStart), '% 😀 % 1 '.length);
   // Unbalanced brackets, unknown names, wrong types, endless recursion, a MAP of 10⁸ cells.
   for (const [script, words] of [
     ['MAP:(CONS:<S1, S1>:(Domain:4);', /Line 1, column 30: expected `\)` closing the `\(` of line 1, column 5/],

@@ -138,6 +138,8 @@ test("PLaSM scripts: the paper's examples draw and export; endless recursion sto
   // Recursion as deep as the limit allows, in the module's own (1 MiB) stack: an error, not a trap.
   for (const script of [
     'DEF f (n::IsReal) = f:(n + 1);\nf:0;',
+    'DEF s (n::IsReal) = <<<<<<<<<<<<<<<<<<<<<<<<s:(n + 1)>>>>>>>>>>>>>>>>>>>>>>>>;\ns:0;',
+    `DEF p (n::IsReal) = ${'1+('.repeat(200)}p:(n+1)${')'.repeat(200)};\np:0;`,
     'DEF Pred = C:-:1;\nDEF Choose (n,k::IsNat) = IF:<OR ~ [C:EQ:0 ~ S2, EQ], K:1, Choose ~ AA:Pred * / >:<n,k>;\nChoose:<1000, 999>;',
   ]) {
     const run = headless_plasm(script);

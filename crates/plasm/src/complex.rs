@@ -137,14 +137,14 @@ impl Complex {
             return Err(ComplexError::Dimension(k + l));
         }
         let count = self.product_count(other);
-        let points = self.point_count() as u128 * other.point_count() as u128;
-        if count.max(points) > limit as u128 {
-            return Err(ComplexError::TooMany {
-                count: count.max(points),
-                limit,
-            });
-        }
         let dim = self.dim + other.dim;
+        let points = self.point_count() as u128 * other.point_count() as u128;
+        // Coordinates, too: a product of points of many coordinates is as large as many cells.
+        let coordinates = points * dim as u128 / 16;
+        let most = count.max(points).max(coordinates);
+        if most > limit as u128 {
+            return Err(ComplexError::TooMany { count: most, limit });
+        }
         let m = other.point_count();
         let mut pts = Vec::with_capacity(points as usize * dim);
         for i in 0..self.point_count() {

@@ -72,7 +72,7 @@ pub struct Interp {
 }
 
 /// The most expressions nested in evaluation at once, over all calls under way.
-const MAX_EVAL_NESTING: u32 = 1000;
+const MAX_EVAL_NESTING: u32 = 600;
 
 impl Default for Interp {
     fn default() -> Self {
@@ -150,7 +150,11 @@ impl Interp {
         if src.len() > self.limits.source {
             run.error = Some(Error::new(
                 ErrorKind::Limit,
-                Span::default(),
+                Span {
+                    line: 1,
+                    col: 1,
+                    ..Span::default()
+                },
                 format!(
                     "the script is {} bytes, past the limit of {}",
                     src.len(),
@@ -184,6 +188,27 @@ impl Interp {
                             value,
                             map,
                         });
+                    })
+                    .and_then(|()| {
+                        // What is drawn and exported is bounded, however often a result repeats.
+                        let cells: usize = run
+                            .shown
+                            .iter()
+                            .filter_map(|s| s.value.as_pol())
+                            .map(|c| c.points.len() + c.cells.len())
+                            .sum();
+                        if cells > self.limits.cells.saturating_mul(8) {
+                            return Err(Error::new(
+                                ErrorKind::Limit,
+                                e.span(),
+                                format!(
+                                    "the results so far hold {cells} numbers of points and cells, \
+                                     past the limit of {} for all results",
+                                    self.limits.cells.saturating_mul(8)
+                                ),
+                            ));
+                        }
+                        Ok(())
                     })
                 }
             };
@@ -316,6 +341,7 @@ impl Interp {
     }
 
     fn eval(&mut self, e: &Expr, env: &Env<'_>) -> R<Value> {
+        self.tick(1, e.span())?;
         match e {
             Expr::Num(x, _) => Ok(Value::Num(*x)),
             Expr::Name(key, spelled, at) => self.lookup(key, spelled, *at, env),
@@ -565,6 +591,7 @@ impl Interp {
     /// `op:<items>` on numbers, pointwise on functions, or the product of complexes.
     fn arith(&mut self, op: Arith, items: Vec<Value>, at: Span) -> R<Value> {
         let sym = op.symbol();
+        self.tick(items.len() as u64 / 4, at)?;
         if items.iter().all(|v| matches!(v, Value::Num(_))) {
             let x: Vec<f64> = items.iter().filter_map(Value::as_num).collect();
             let r = match (op, x.as_slice()) {
@@ -621,6 +648,7 @@ impl Interp {
                     _ => flat.push(v),
                 }
             }
+            self.items(flat.len() as u64, at)?;
             return Ok(Value::fun(Fun::Lift(op, flat)));
         }
         if op == Arith::Mul && items.len() >= 2 && items.iter().all(|v| v.as_pol().is_some()) {
@@ -757,13 +785,24 @@ impl Interp {
         // The fast path where the map compiles; the interpreter for the rest, and for any point
         // where the kernel meets a value that is not finite (to give the interpreter's error).
         let kernel = if self.limits.kernels {
-            Kernel::compile(&f, pol.dim)
+            let budget = self.limits.steps.saturating_sub(self.steps);
+            let k = Kernel::compile(&f, pol.dim, self.limits.depth, budget);
+            self.tick(k.as_ref().map_or(0, |k| k.len() as u64), at)?;
+            k
         } else {
             None
         };
+        let coordinates_cap = self.limits.cells.saturating_mul(16);
         let (mut slots, mut image) = (Vec::new(), Vec::new());
         for i in 0..pol.point_count() {
             let u: Vec<f64> = pol.point(i).to_vec();
+            if points.len() > coordinates_cap {
+                return Err(Error::new(
+                    ErrorKind::Limit,
+                    at,
+                    format!("MAP: the points have more than {coordinates_cap} coordinates in all"),
+                ));
+            }
             if let Some(k) = &kernel {
                 self.tick(1 + k.len() as u64 / 10, at)?;
                 if k.eval(&u, &mut slots, &mut image) {
@@ -845,7 +884,7 @@ impl Interp {
     fn plain(&mut self, p: Prim, mut args: Vec<Value>, at: Span) -> R<Value> {
         let name = p.name();
         let x = args.pop().expect("arity ≥ 1");
-        let seq = |v: &Value, what: &str| -> R<Rc<Vec<Value>>> {
+        let seq = |v: &Value, what: &str| -> R<Rc<crate::value::Items>> {
             match v {
                 Value::Seq(s) => Ok(s.clone()),
                 other => type_error(
@@ -927,6 +966,7 @@ impl Interp {
             Prim::K => Ok(args.pop().expect("arity 2")),
             Prim::Cons | Prim::Comp => {
                 let s = seq(&x, "a sequence of functions")?;
+                self.tick(s.len() as u64, at)?;
                 let fs = s
                     .iter()
                     .map(|f| function(f.clone(), at, &format!("an item of {name}")))
@@ -944,7 +984,7 @@ impl Interp {
                     .map(|r| seq(r, "a sequence of sequences"))
                     .collect::<R<Vec<_>>>()?;
                 let n = rows.iter().map(|r| r.len()).max().unwrap_or(0);
-                self.items((n * rows.len()) as u64, at)?;
+                self.items((n as u64).saturating_mul(rows.len() as u64), at)?;
                 Ok(Value::seq(
                     (0..n)
                         .map(|j| {
@@ -1000,20 +1040,24 @@ impl Interp {
                 if s.is_empty() {
                     return type_error(at, "TAIL of an empty sequence".into());
                 }
+                self.tick(s.len() as u64, at)?;
                 Ok(Value::seq(s[1..].to_vec()))
             }
             Prim::Reverse => {
                 let s = seq(&x, "a sequence")?;
+                self.tick(s.len() as u64, at)?;
                 Ok(Value::seq(s.iter().rev().cloned().collect()))
             }
             Prim::Cat => {
                 let s = seq(&x, "a sequence of sequences")?;
-                let mut out = Vec::new();
-                for r in s.iter() {
-                    out.extend(seq(r, "a sequence of sequences")?.iter().cloned());
-                }
-                self.items(out.len() as u64, at)?;
-                Ok(Value::seq(out))
+                let rows = s
+                    .iter()
+                    .map(|r| seq(r, "a sequence of sequences"))
+                    .collect::<R<Vec<_>>>()?;
+                self.items(rows.iter().map(|r| r.len() as u64).sum(), at)?;
+                Ok(Value::seq(
+                    rows.iter().flat_map(|r| r.iter().cloned()).collect(),
+                ))
             }
             Prim::Al | Prim::Ar => {
                 let (a, b) = pair(&x, "a pair")?;
@@ -1067,10 +1111,33 @@ impl Interp {
             }
             Prim::Eq => {
                 let s = seq(&x, "a sequence")?;
-                Ok(Value::Bool(s.windows(2).all(|w| w[0].same(&w[1]))))
+                let left = self.limits.steps.saturating_sub(self.steps);
+                let mut budget = left;
+                let mut all = true;
+                for w in s.windows(2) {
+                    match w[0].same(&w[1], &mut budget) {
+                        Some(true) => {}
+                        Some(false) => {
+                            all = false;
+                            break;
+                        }
+                        None => {
+                            return Err(Error::new(
+                                ErrorKind::Limit,
+                                at,
+                                "EQ: values too large or too deeply nested to compare within the \
+                                 limits"
+                                    .into(),
+                            ));
+                        }
+                    }
+                }
+                self.tick(left - budget, at)?;
+                Ok(Value::Bool(all))
             }
             Prim::Or | Prim::And => {
                 let s = seq(&x, "a sequence of truth values")?;
+                self.tick(s.len() as u64, at)?;
                 let v = s.iter().map(truth).collect::<R<Vec<_>>>()?;
                 Ok(Value::Bool(if p == Prim::Or {
                     v.iter().any(|b| *b)
@@ -1096,7 +1163,10 @@ impl Interp {
             Prim::IsBool => Ok(Value::Bool(matches!(x, Value::Bool(_)))),
             Prim::IsFun => Ok(Value::Bool(matches!(x, Value::Fun(_)))),
             Prim::IsSeq => Ok(Value::Bool(matches!(x, Value::Seq(_)))),
-            Prim::IsPoint | Prim::IsVect => Ok(Value::Bool(x.as_point().is_some())),
+            Prim::IsPoint | Prim::IsVect => {
+                self.tick(x.as_seq().map_or(0, <[Value]>::len) as u64, at)?;
+                Ok(Value::Bool(x.as_point().is_some()))
+            }
             Prim::IsPol => Ok(Value::Bool(matches!(x, Value::Pol(_)))),
             Prim::Quote => {
                 let s = seq(&x, "a sequence of lengths")?;
@@ -1148,6 +1218,7 @@ impl Interp {
                 let dim = cs.iter().fold(out.dim, |d, &c| d.max(c as usize));
                 if dim > out.dim {
                     let n = out.point_count();
+                    self.items((n as u64).saturating_mul(dim as u64), at)?;
                     let mut pts = Vec::with_capacity(n * dim);
                     for i in 0..n {
                         pts.extend_from_slice(out.point(i));

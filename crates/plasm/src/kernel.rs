@@ -41,21 +41,46 @@ pub(crate) struct Kernel {
 struct Compiler {
     ops: Vec<Op>,
     args: Vec<u32>,
-    memo: HashMap<(usize, Shape), Shape>,
+    /// Shapes by id, and ids by shape: a node's result is keyed by its input's id, so that a
+    /// wide input is hashed once, not at every use.
+    shapes: Vec<Shape>,
+    ids: HashMap<Shape, u32>,
+    memo: HashMap<(usize, u32), u32>,
     consts: HashMap<u64, u32>,
+    depth: u32,
+    max_depth: u32,
+    /// Work left (operations, and items of shapes made), from the run's step budget.
+    budget: u64,
 }
 
+/// The widest point a kernel takes.
+const MAX_DIM: usize = 4096;
+
 impl Kernel {
-    /// The kernel of `f` on points of `dim` coordinates, if `f` is made of what it compiles.
-    pub(crate) fn compile(f: &Value, dim: usize) -> Option<Kernel> {
+    /// The kernel of `f` on points of `dim` coordinates, if `f` is made of what it compiles,
+    /// nests at most `max_depth` deep (the interpreter's call limit) and compiles within `budget`
+    /// units of work.
+    pub(crate) fn compile(f: &Value, dim: usize, max_depth: u32, budget: u64) -> Option<Kernel> {
+        if dim > MAX_DIM {
+            return None;
+        }
         let mut c = Compiler {
             ops: Vec::new(),
             args: Vec::new(),
+            shapes: Vec::new(),
+            ids: HashMap::new(),
             memo: HashMap::new(),
             consts: HashMap::new(),
+            depth: 0,
+            max_depth,
+            budget,
         };
-        let input = Shape::Vector((0..dim).map(|i| c.push(Op::Coord(i))).collect());
-        let output = c.value(f, &input)?;
+        let coords = (0..dim)
+            .map(|i| c.push(Op::Coord(i)))
+            .collect::<Option<Vec<_>>>()?;
+        let input = c.intern(Shape::Vector(coords))?;
+        let output = c.value(f, input)?;
+        let output = c.shapes[output as usize].clone();
         if output == Shape::Vector(Vec::new()) {
             return None; // no coordinates: the interpreter says why
         }
@@ -154,66 +179,104 @@ fn is_math(p: Prim) -> bool {
 }
 
 impl Compiler {
-    fn push(&mut self, op: Op) -> u32 {
+    fn spend(&mut self, work: usize) -> Option<()> {
+        self.budget = self.budget.checked_sub(work as u64)?;
+        (self.ops.len() <= MAX_OPS).then_some(())
+    }
+
+    fn push(&mut self, op: Op) -> Option<u32> {
+        self.spend(1)?;
         self.ops.push(op);
-        (self.ops.len() - 1) as u32
+        Some((self.ops.len() - 1) as u32)
     }
 
-    fn constant(&mut self, c: f64) -> u32 {
-        if let Some(&s) = self.consts.get(&c.to_bits()) {
-            return s;
+    fn intern(&mut self, shape: Shape) -> Option<u32> {
+        if let Shape::Vector(v) = &shape {
+            self.spend(v.len())?;
         }
-        let s = self.push(Op::Const(c));
-        self.consts.insert(c.to_bits(), s);
-        s
+        if let Some(&id) = self.ids.get(&shape) {
+            return Some(id);
+        }
+        self.shapes.push(shape.clone());
+        let id = (self.shapes.len() - 1) as u32;
+        self.ids.insert(shape, id);
+        Some(id)
     }
 
-    fn fold(&mut self, op: Arith, slots: &[u32]) -> Option<Shape> {
+    fn scalar(&mut self, slot: u32) -> Option<u32> {
+        self.intern(Shape::Scalar(slot))
+    }
+
+    fn constant(&mut self, c: f64) -> Option<u32> {
+        if let Some(&s) = self.consts.get(&c.to_bits()) {
+            return Some(s);
+        }
+        let s = self.push(Op::Const(c))?;
+        self.consts.insert(c.to_bits(), s);
+        Some(s)
+    }
+
+    /// The interpreter's `op` of the slots, as a shape.
+    fn fold(&mut self, op: Arith, slots: &[u32]) -> Option<u32> {
         // The interpreter refuses `-`, `/` and `**` of nothing.
         if slots.is_empty() && !matches!(op, Arith::Add | Arith::Mul) {
             return None;
         }
+        self.spend(slots.len())?;
         let start = self.args.len() as u32;
         self.args.extend_from_slice(slots);
-        Some(Shape::Scalar(self.push(Op::Fold(
-            op,
-            start,
-            slots.len() as u32,
-        ))))
+        let slot = self.push(Op::Fold(op, start, slots.len() as u32))?;
+        self.scalar(slot)
     }
 
     /// A value standing for itself: a number, or a sequence of numbers.
-    fn data(&mut self, v: &Value) -> Option<Shape> {
+    fn data(&mut self, v: &Value) -> Option<u32> {
         match v {
-            Value::Num(c) => Some(Shape::Scalar(self.constant(*c))),
-            Value::Seq(items) => Some(Shape::Vector(
-                items
+            Value::Num(c) => {
+                let s = self.constant(*c)?;
+                self.scalar(s)
+            }
+            Value::Seq(items) => {
+                let slots = items
                     .iter()
-                    .map(|x| x.as_num().map(|c| self.constant(c)))
-                    .collect::<Option<_>>()?,
-            )),
+                    .map(|x| x.as_num().and_then(|c| self.constant(c)))
+                    .collect::<Option<_>>()?;
+                self.intern(Shape::Vector(slots))
+            }
             _ => None,
         }
     }
 
-    /// `f` applied to `input`.
-    fn value(&mut self, f: &Value, input: &Shape) -> Option<Shape> {
+    /// The slot of a scalar shape.
+    fn slot(&self, shape: u32) -> Option<u32> {
+        match self.shapes[shape as usize] {
+            Shape::Scalar(s) => Some(s),
+            Shape::Vector(_) => None,
+        }
+    }
+
+    /// `f` applied to the shape `input`.
+    fn value(&mut self, f: &Value, input: u32) -> Option<u32> {
         let Value::Fun(fun) = f else {
             return None;
         };
-        if self.ops.len() > MAX_OPS {
+        let key = (Rc::as_ptr(fun) as usize, input);
+        if let Some(&s) = self.memo.get(&key) {
+            return Some(s);
+        }
+        // As deep as the interpreter's calls may go, and no deeper.
+        if self.depth >= self.max_depth {
             return None;
         }
-        let key = (Rc::as_ptr(fun) as usize, input.clone());
-        if let Some(s) = self.memo.get(&key) {
-            return Some(s.clone());
-        }
-        let out = self.fun(fun, input)?;
-        self.memo.insert(key, out.clone());
+        self.depth += 1;
+        let out = self.fun(fun, input);
+        self.depth -= 1;
+        let out = out?;
+        self.memo.insert(key, out);
         Some(out)
     }
 
-    fn fun(&mut self, fun: &Fun, input: &Shape) -> Option<Shape> {
+    fn fun(&mut self, fun: &Fun, input: u32) -> Option<u32> {
         match fun {
             Fun::Prim(p) => self.prim(*p, input),
             Fun::Partial(Prim::K, args) => self.data(args.first()?),
@@ -226,56 +289,51 @@ impl Compiler {
                 let [f, a] = args.as_slice() else {
                     return None;
                 };
-                let Shape::Scalar(x) = input else {
-                    return None;
-                };
-                let Shape::Scalar(a) = self.data(a)? else {
-                    return None;
-                };
-                self.value(f, &Shape::Vector(vec![*x, a]))
+                let x = self.slot(input)?;
+                let a = self.data(a)?;
+                let a = self.slot(a)?;
+                let pair = self.intern(Shape::Vector(vec![x, a]))?;
+                self.value(f, pair)
             }
             Fun::Partial(Prim::AA, args) => {
-                let Shape::Vector(xs) = input else {
+                let Shape::Vector(xs) = self.shapes[input as usize].clone() else {
                     return None;
                 };
                 let f = args.first()?;
                 let mut out = Vec::with_capacity(xs.len());
-                for &x in xs {
-                    let Shape::Scalar(s) = self.value(f, &Shape::Scalar(x))? else {
-                        return None;
-                    };
-                    out.push(s);
+                for x in xs {
+                    let item = self.scalar(x)?;
+                    let r = self.value(f, item)?;
+                    out.push(self.slot(r)?);
                 }
-                Some(Shape::Vector(out))
+                self.intern(Shape::Vector(out))
             }
             Fun::Partial(..) | Fun::User(..) => None,
             Fun::Compose(fs) => {
-                let mut v = input.clone();
+                let mut v = input;
                 for f in fs.iter().rev() {
-                    v = self.value(f, &v)?;
+                    v = self.value(f, v)?;
                 }
                 Some(v)
             }
             Fun::Cons(fs) => {
                 let mut out = Vec::with_capacity(fs.len());
                 for f in fs {
-                    let Shape::Scalar(s) = self.value(f, input)? else {
-                        return None;
-                    };
-                    out.push(s);
+                    let r = self.value(f, input)?;
+                    out.push(self.slot(r)?);
                 }
-                Some(Shape::Vector(out))
+                self.intern(Shape::Vector(out))
             }
             Fun::Lift(op, items) => {
                 let mut slots = Vec::with_capacity(items.len());
                 for item in items {
-                    let shape = match item {
-                        Value::Fun(_) => self.value(item, input)?,
-                        Value::Num(c) => Shape::Scalar(self.constant(*c)),
+                    let s = match item {
+                        Value::Fun(_) => {
+                            let r = self.value(item, input)?;
+                            self.slot(r)?
+                        }
+                        Value::Num(c) => self.constant(*c)?,
                         _ => return None,
-                    };
-                    let Shape::Scalar(s) = shape else {
-                        return None;
                     };
                     slots.push(s);
                 }
@@ -284,31 +342,36 @@ impl Compiler {
         }
     }
 
-    fn select(&mut self, i: f64, input: &Shape) -> Option<Shape> {
-        let Shape::Vector(xs) = input else {
+    fn select(&mut self, i: f64, input: u32) -> Option<u32> {
+        let Shape::Vector(xs) = &self.shapes[input as usize] else {
             return None;
         };
         let k = i as usize;
-        (i.fract() == 0.0 && k >= 1)
-            .then(|| xs.get(k - 1).map(|&s| Shape::Scalar(s)))
-            .flatten()
+        let slot = (i.fract() == 0.0 && k >= 1)
+            .then(|| xs.get(k - 1).copied())
+            .flatten()?;
+        self.scalar(slot)
     }
 
-    fn prim(&mut self, p: Prim, input: &Shape) -> Option<Shape> {
-        match (p, input) {
-            (Prim::Id, _) => Some(input.clone()),
-            (Prim::Select(i), _) => self.select(f64::from(i), input),
-            (Prim::Arith(op), Shape::Vector(xs)) => {
-                let xs = xs.clone();
-                self.fold(op, &xs)
-            }
-            (Prim::Arith(Arith::Sub), Shape::Scalar(x)) => {
-                let x = *x;
-                self.fold(Arith::Sub, &[x])
-            }
-            (p, Shape::Scalar(x)) if is_math(p) => {
-                let x = *x;
-                Some(Shape::Scalar(self.push(Op::Math(p, x))))
+    fn prim(&mut self, p: Prim, input: u32) -> Option<u32> {
+        match p {
+            Prim::Id => Some(input),
+            Prim::Select(i) => self.select(f64::from(i), input),
+            Prim::Arith(op) => match &self.shapes[input as usize] {
+                Shape::Vector(xs) => {
+                    let xs = xs.clone();
+                    self.fold(op, &xs)
+                }
+                Shape::Scalar(x) if op == Arith::Sub => {
+                    let x = *x;
+                    self.fold(Arith::Sub, &[x])
+                }
+                Shape::Scalar(_) => None,
+            },
+            p if is_math(p) => {
+                let x = self.slot(input)?;
+                let slot = self.push(Op::Math(p, x))?;
+                self.scalar(slot)
             }
             _ => None,
         }

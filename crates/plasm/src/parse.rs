@@ -11,8 +11,9 @@ use std::rc::Rc;
 use crate::lex::{Tok, lex};
 use crate::{Error, ErrorKind, Span, Warning};
 
-/// The most brackets and operators nested in one expression.
-pub(crate) const MAX_NESTING: u32 = 96;
+/// The most brackets and operators nested in one expression: each operator of a chain
+/// (`a - b - c`, `f:x:y`, `f ~ g ~ h`) nests the expression one level deeper, as a bracket does.
+pub(crate) const MAX_NESTING: u32 = 256;
 
 /// An arithmetic operator, as a value or infix.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -392,24 +393,47 @@ impl Parser<'_> {
         })
     }
 
+    /// Runs `chain`, then gives back the nesting its links took.
+    fn chained<T>(
+        &mut self,
+        chain: impl FnOnce(&mut Self, &mut u32) -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        let mut links = 0;
+        let r = chain(self, &mut links);
+        self.depth -= links;
+        r
+    }
+
+    fn link(&mut self, links: &mut u32) -> Result<(), Error> {
+        self.nest()?;
+        *links += 1;
+        Ok(())
+    }
+
     fn additive(&mut self) -> Result<Expr, Error> {
-        let mut a = self.multiplicative()?;
-        while let Some(op) = self.binary_op(&[Arith::Add, Arith::Sub]) {
-            let at = self.bump().1;
-            let b = self.multiplicative()?;
-            a = Expr::Infix(op, Box::new(a), Box::new(b), at);
-        }
-        Ok(a)
+        self.chained(|p, links| {
+            let mut a = p.multiplicative()?;
+            while let Some(op) = p.binary_op(&[Arith::Add, Arith::Sub]) {
+                p.link(links)?;
+                let at = p.bump().1;
+                let b = p.multiplicative()?;
+                a = Expr::Infix(op, Box::new(a), Box::new(b), at);
+            }
+            Ok(a)
+        })
     }
 
     fn multiplicative(&mut self) -> Result<Expr, Error> {
-        let mut a = self.power()?;
-        while let Some(op) = self.binary_op(&[Arith::Mul, Arith::Div]) {
-            let at = self.bump().1;
-            let b = self.power()?;
-            a = Expr::Infix(op, Box::new(a), Box::new(b), at);
-        }
-        Ok(a)
+        self.chained(|p, links| {
+            let mut a = p.power()?;
+            while let Some(op) = p.binary_op(&[Arith::Mul, Arith::Div]) {
+                p.link(links)?;
+                let at = p.bump().1;
+                let b = p.power()?;
+                a = Expr::Infix(op, Box::new(a), Box::new(b), at);
+            }
+            Ok(a)
+        })
     }
 
     fn power(&mut self) -> Result<Expr, Error> {
@@ -440,6 +464,7 @@ impl Parser<'_> {
         } else {
             parts.push(self.term()?);
         }
+        // A composition is one node however long: its parts are a list, not nested.
         while self.peek() == &Tok::Tilde {
             self.bump();
             parts.push(self.term()?);
@@ -466,14 +491,17 @@ impl Parser<'_> {
     }
 
     fn application(&mut self) -> Result<Expr, Error> {
-        let mut f = self.primary()?;
-        while self.peek() == &Tok::Colon {
-            self.bump();
-            let x = self.argument()?;
-            let span = join(f.span(), x.span());
-            f = Expr::Apply(Box::new(f), Box::new(x), span);
-        }
-        Ok(f)
+        self.chained(|p, links| {
+            let mut f = p.primary()?;
+            while p.peek() == &Tok::Colon {
+                p.link(links)?;
+                p.bump();
+                let x = p.argument()?;
+                let span = join(f.span(), x.span());
+                f = Expr::Apply(Box::new(f), Box::new(x), span);
+            }
+            Ok(f)
+        })
     }
 
     fn argument(&mut self) -> Result<Expr, Error> {

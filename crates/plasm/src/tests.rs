@@ -489,17 +489,80 @@ fn malformed_scripts_give_located_errors() {
     }
 }
 
+/// Runs `f` on a thread with a 1 MiB stack, as small as a wasm module's default; unoptimised
+/// frames are several times larger, so the debug build gets 16 MiB. (The page's own module is
+/// checked the same way in node, tests/node.)
+fn in_small_stack(f: impl FnOnce() + Send + 'static) {
+    let stack = if cfg!(debug_assertions) {
+        16 << 20
+    } else {
+        1 << 20
+    };
+    std::thread::Builder::new()
+        .stack_size(stack)
+        .spawn(f)
+        .expect("a thread")
+        .join()
+        .expect("no overflow");
+}
+
 #[test]
 fn deep_nesting_is_refused_not_overflowed() {
-    let deep = "(".repeat(200) + "1" + &")".repeat(200) + ";";
+    in_small_stack(deep_nesting);
+}
+
+fn deep_nesting() {
+    let deep = "(".repeat(300) + "1" + &")".repeat(300) + ";";
     assert_eq!(error(&deep).kind, ErrorKind::Limit);
-    let seq = "<".repeat(200) + &">".repeat(200) + ";";
+    let seq = "<".repeat(300) + &">".repeat(300) + ";";
     assert_eq!(error(&seq).kind, ErrorKind::Limit);
+    // Long chains nest as deeply as brackets (and would be dropped as deeply).
+    for chain in [
+        "1".to_string() + &"-1".repeat(20_000) + ";",
+        "ID".to_string() + &":1".repeat(20_000) + ";",
+        "1".to_string() + &"*1".repeat(20_000) + ";",
+    ] {
+        let e = error(&chain);
+        assert_eq!((e.kind, e.span.line), (ErrorKind::Limit, 1), "{e}");
+    }
+    // A long composition is one node: fine.
+    assert!(
+        Interp::new()
+            .run(&("ID".to_string() + &" ~ ID".repeat(5_000) + ";"))
+            .error
+            .is_none()
+    );
+    // Values deepened statement after statement are dropped without recursion, and compared
+    // and shown within bounds.
+    let mut src = String::from("DEF a0 = S1;\n");
+    for i in 1..=60 {
+        src.push_str(&format!("DEF a{i} = a{} {};\n", i - 1, "- 1 ".repeat(200)));
+    }
+    src.push_str("a60;\nMAP:[a60]:(interval:<0,1>:1);\n");
+    let r = Interp::new().run(&src);
+    let e = r.error.expect("too deep to apply");
+    assert_eq!(e.kind, ErrorKind::Limit);
+    assert!(r.shown[0].value.to_string().len() < 1000);
+    let mut src = String::from("DEF s0 = 1;\nDEF r0 = 1;\n");
+    for i in 1..=200 {
+        for name in ["s", "r"] {
+            let (open, close) = ("<".repeat(50), ">".repeat(50));
+            src.push_str(&format!("DEF {name}{i} = {open}{name}{}{close};\n", i - 1));
+        }
+    }
+    src.push_str("EQ:<s200, s200>;\nEQ:<s200, r200>;\n");
+    let r = Interp::new().run(&src);
+    assert_eq!(
+        r.shown[0].value.to_string(),
+        "TRUE",
+        "the same sequence, at once"
+    );
+    assert_eq!(r.error.map(|e| e.kind), Some(ErrorKind::Limit));
 }
 
 #[test]
 fn recursion_stops_within_a_small_stack() {
-    // The depth limit must stop recursion before the stack does: run the worst recursions on a
+    // The depth limits must stop recursion before the stack does: run the worst recursions on a
     // thread with a 1 MiB stack, as small as a wasm module's default.
     let cases = [
         "DEF f (n::IsReal) = f:(n + 1);\nf:0;",
@@ -510,17 +573,12 @@ fn recursion_stops_within_a_small_stack() {
         "DEF p (n::IsReal) = 1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(1+(p:(n+1)))))))))))))))));\np:0;",
         "DEF Pred = C:-:1;\nDEF Choose (n,k::IsNat) = IF:<OR ~ [C:EQ:0 ~ S2, EQ], K:1, Choose ~ AA:Pred * / >:<n,k>;\nChoose:<1000, 999>;",
     ];
-    std::thread::Builder::new()
-        .stack_size(1 << 20)
-        .spawn(move || {
-            for src in cases {
-                let e = error(src);
-                assert_eq!(e.kind, ErrorKind::Limit, "{e}");
-            }
-        })
-        .expect("a thread")
-        .join()
-        .expect("no overflow");
+    in_small_stack(move || {
+        for src in cases {
+            let e = error(src);
+            assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+        }
+    });
 }
 
 #[test]
@@ -666,4 +724,49 @@ fn compiled_maps_give_the_interpreters_points_to_the_bit() {
         let e = Interp::new().run(src).error.expect("an error");
         assert!(e.message.contains(words), "{src}: {e}");
     }
+}
+
+#[test]
+fn work_and_memory_count_against_the_limits() {
+    // Each of these once ran long or asked for gigabytes without reaching a limit.
+    let doubling: String = std::iter::once("DEF f0 = ID;\n".to_string())
+        .chain((1..=30).map(|i| format!("DEF f{i} = f{} + f{};\n", i - 1, i - 1)))
+        .collect();
+    let repeated_results: String = std::iter::once("DEF c = interval:<0,1>:999999;\n".to_string())
+        .chain((0..30).map(|_| "c;\n".to_string()))
+        .collect();
+    let wide_cons = format!(
+        "DEF f (x::IsNum) = [{}];\nAA:(K:0 ~ f):(1..2000);",
+        vec!["ID"; 20_000].join(", ")
+    );
+    for src in [
+        doubling.as_str(),
+        "CAT:(#:1000000:(1..1000000));",
+        "TRANS:(#:65536:(1..65536));",
+        "MAP:(CONS:(#:1000:S1)):(interval:<0,1>:999999);",
+        "DEF s = 1..1000000;\nAA:(+ ~ K:s):(1..300);",
+        "DEF s = 1..1000000;\nAA:(TAIL ~ K:s):(1..300);",
+        "DEF s = 1..1000000;\nAA:(REVERSE ~ K:s):(1..300);",
+        "DEF a = #:1000:(1..1000);\nDEF b = #:1000:a;\nDEF c = #:1000:(1..1000);\nDEF d = #:1000:c;\nEQ:<b, d>;",
+        wide_cons.as_str(),
+        repeated_results.as_str(),
+    ] {
+        let e = Interp::new().run(src).error;
+        assert_eq!(
+            e.as_ref().map(|e| e.kind),
+            Some(ErrorKind::Limit),
+            "{}: {e:?}",
+            &src[..src.len().min(60)]
+        );
+    }
+    // Wide maps compile in linear time (or are interpreted), not quadratic.
+    let wide = "DEF f = CONS:(#:20000:S1);\nDEF d = MAP:f:(interval:<0,1>:1);\nMAP:f:d;\nMAP:f:d;";
+    assert!(Interp::new().run(wide).error.is_none());
+    // A long script's value is shown briefly.
+    let r = Interp::new().run("1..1000000;");
+    assert!(r.shown[0].value.to_string().chars().count() < 200);
+    // The source limit's error is at line 1.
+    let big = " ".repeat(Limits::default().source + 1);
+    let e = Interp::new().run(&big).error.expect("too long");
+    assert_eq!((e.kind, e.span.line, e.span.col), (ErrorKind::Limit, 1, 1));
 }

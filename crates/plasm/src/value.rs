@@ -14,11 +14,70 @@ pub enum Value {
     /// `TRUE` or `FALSE`, what predicates give.
     Bool(bool),
     /// `< a, b, … >`
-    Seq(Rc<Vec<Value>>),
+    Seq(Rc<Items>),
     /// A function.
     Fun(Rc<Fun>),
     /// A simplicial complex (a polyhedral complex in PLaSM's words).
     Pol(Rc<Complex>),
+}
+
+/// The items of a sequence. Dropping a deep value (a sequence of sequences of …, or functions
+/// built on functions, statement after statement) does not recurse: see [`drop_iteratively`].
+#[derive(Debug, Default)]
+pub struct Items(pub Vec<Value>);
+
+impl core::ops::Deref for Items {
+    type Target = Vec<Value>;
+    fn deref(&self) -> &Vec<Value> {
+        &self.0
+    }
+}
+
+impl Drop for Items {
+    fn drop(&mut self) {
+        drop_iteratively(core::mem::take(&mut self.0));
+    }
+}
+
+impl Drop for Fun {
+    fn drop(&mut self) {
+        let children = match self {
+            Fun::Prim(_) => return,
+            Fun::Partial(_, v)
+            | Fun::Compose(v)
+            | Fun::Cons(v)
+            | Fun::Lift(_, v)
+            | Fun::User(_, v) => core::mem::take(v),
+        };
+        drop_iteratively(children);
+    }
+}
+
+/// Drops values with a stack of our own rather than the call stack: each value whose last
+/// reference this is gives its children to the stack before it goes, childless.
+fn drop_iteratively(mut stack: Vec<Value>) {
+    while let Some(v) = stack.pop() {
+        match v {
+            Value::Seq(rc) => {
+                if let Ok(mut items) = Rc::try_unwrap(rc) {
+                    stack.append(&mut items.0);
+                }
+            }
+            Value::Fun(rc) => {
+                if let Ok(mut fun) = Rc::try_unwrap(rc) {
+                    match &mut fun {
+                        Fun::Prim(_) => {}
+                        Fun::Partial(_, v)
+                        | Fun::Compose(v)
+                        | Fun::Cons(v)
+                        | Fun::Lift(_, v)
+                        | Fun::User(_, v) => stack.append(v),
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 /// A function value. Functions are data, not closures, so that errors inside them can name what
@@ -138,7 +197,7 @@ prims! {
 impl Value {
     /// A sequence.
     pub fn seq(items: Vec<Value>) -> Value {
-        Value::Seq(Rc::new(items))
+        Value::Seq(Rc::new(Items(items)))
     }
 
     /// A function value.
@@ -187,18 +246,43 @@ impl Value {
     }
 
     /// Structural equality of numbers, truth values and sequences; functions and complexes are
-    /// equal only to themselves.
-    pub fn same(&self, other: &Value) -> bool {
-        match (self, other) {
+    /// equal only to themselves. `budget` is the most items it may visit (it is decreased by
+    /// those it does); `None` where it runs out or the values nest past 256 levels.
+    pub fn same(&self, other: &Value, budget: &mut u64) -> Option<bool> {
+        self.same_at(other, budget, 0)
+    }
+
+    fn same_at(&self, other: &Value, budget: &mut u64, depth: u32) -> Option<bool> {
+        *budget = budget.checked_sub(1)?;
+        Some(match (self, other) {
             (Value::Num(a), Value::Num(b)) => a == b,
             (Value::Bool(a), Value::Bool(b)) => a == b,
             (Value::Seq(a), Value::Seq(b)) => {
-                a.len() == b.len() && a.iter().zip(b.iter()).all(|(x, y)| x.same(y))
+                if Rc::ptr_eq(a, b) {
+                    return Some(true);
+                }
+                if depth >= 256 {
+                    return None;
+                }
+                if a.len() != b.len() {
+                    return Some(false);
+                }
+                for (x, y) in a.iter().zip(b.iter()) {
+                    if !x.same_at(y, budget, depth + 1)? {
+                        return Some(false);
+                    }
+                }
+                true
             }
             (Value::Fun(a), Value::Fun(b)) => Rc::ptr_eq(a, b),
-            (Value::Pol(a), Value::Pol(b)) => Rc::ptr_eq(a, b) || a == b,
+            (Value::Pol(a), Value::Pol(b)) => {
+                if !Rc::ptr_eq(a, b) {
+                    *budget = budget.checked_sub((a.points.len() + a.cells.len()) as u64)?;
+                }
+                Rc::ptr_eq(a, b) || a == b
+            }
             _ => false,
-        }
+        })
     }
 }
 
@@ -208,7 +292,7 @@ const SHOWN: usize = 160;
 impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let mut s = String::new();
-        write_value(&mut s, self);
+        write_value(&mut s, self, 0);
         if s.chars().count() > SHOWN {
             s = s.chars().take(SHOWN).collect::<String>() + "…";
         }
@@ -216,8 +300,9 @@ impl fmt::Display for Value {
     }
 }
 
-fn write_value(out: &mut String, v: &Value) {
-    if out.len() > SHOWN * 4 {
+fn write_value(out: &mut String, v: &Value, depth: u32) {
+    if out.len() > SHOWN * 4 || depth > 64 {
+        out.push('…');
         return;
     }
     match v {
@@ -228,14 +313,17 @@ fn write_value(out: &mut String, v: &Value) {
         Value::Seq(items) => {
             out.push('<');
             for (i, x) in items.iter().enumerate() {
+                if out.len() > SHOWN * 4 {
+                    break;
+                }
                 if i > 0 {
                     out.push_str(", ");
                 }
-                write_value(out, x);
+                write_value(out, x, depth + 1);
             }
             out.push('>');
         }
-        Value::Fun(fun) => write_fun(out, fun),
+        Value::Fun(fun) => write_fun(out, fun, depth + 1),
         Value::Pol(p) => {
             let cells = match p.order {
                 1 => "points",
@@ -254,34 +342,33 @@ fn write_value(out: &mut String, v: &Value) {
     }
 }
 
-fn write_fun(out: &mut String, fun: &Fun) {
+fn write_fun(out: &mut String, fun: &Fun, depth: u32) {
+    let list = |out: &mut String, items: &[Value], sep: &str| {
+        for (i, x) in items.iter().enumerate() {
+            if out.len() > SHOWN * 4 {
+                break;
+            }
+            if i > 0 {
+                out.push_str(sep);
+            }
+            write_value(out, x, depth);
+        }
+    };
     match fun {
         Fun::Prim(p) => out.push_str(&p.name()),
         Fun::Partial(p, args) => {
             out.push_str(&p.name());
-            for a in args {
-                out.push(':');
-                write_value(out, a);
-            }
+            out.push(':');
+            list(out, args, ":");
         }
         Fun::Compose(fs) => {
             out.push('(');
-            for (i, f) in fs.iter().enumerate() {
-                if i > 0 {
-                    out.push_str(" ~ ");
-                }
-                write_value(out, f);
-            }
+            list(out, fs, " ~ ");
             out.push(')');
         }
         Fun::Cons(fs) => {
             out.push('[');
-            for (i, f) in fs.iter().enumerate() {
-                if i > 0 {
-                    out.push_str(", ");
-                }
-                write_value(out, f);
-            }
+            list(out, fs, ", ");
             out.push(']');
         }
         Fun::Lift(op, items) => {
@@ -289,19 +376,14 @@ fn write_fun(out: &mut String, fun: &Fun) {
             if items.len() == 1 {
                 out.push_str(op.symbol());
             }
-            for (i, x) in items.iter().enumerate() {
-                if i > 0 {
-                    let _ = write!(out, " {} ", op.symbol());
-                }
-                write_value(out, x);
-            }
+            list(out, items, &format!(" {} ", op.symbol()));
             out.push(')');
         }
         Fun::User(def, args) => {
             out.push_str(&def.name);
             for a in args {
                 out.push(':');
-                write_value(out, a);
+                write_value(out, a, depth);
             }
         }
     }

@@ -622,7 +622,7 @@ pub fn tessellation_level(patches: usize, wanted: usize, budget: usize) -> usize
 }
 
 /// A small octahedron (a point of the point mesh).
-fn octahedron(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
+pub(crate) fn octahedron(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
     let axes = [DVec3::X, DVec3::Y, DVec3::Z];
     for sx in [-1.0, 1.0] {
         for sy in [-1.0, 1.0] {

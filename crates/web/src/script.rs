@@ -9,7 +9,8 @@ use glam::DVec3;
 use serde_json::json;
 
 use crate::app::Rgba;
-use crate::view3d::{MeshVertex, OrbitView, Scene, next_generation, prism, sphere};
+use crate::freeform::octahedron;
+use crate::view3d::{MeshVertex, OrbitView, Scene, next_generation, prism};
 
 /// Floats per vertex of a drawing: position, normal, straight RGBA.
 pub const FLOATS_PER_VERTEX: usize = 10;
@@ -20,8 +21,11 @@ pub const MAX_FACES: usize = 600_000;
 pub const MAX_EDGES: usize = 20_000;
 /// The most curve segments drawn as tubes (beyond, the rest is left out and the report says so).
 pub const MAX_SEGMENTS: usize = 100_000;
-/// Curves of at most this many vertices show them as dots.
+/// Curves of at most this many vertices show them as dots, and at most this many dots are drawn
+/// in all.
 pub const MAX_CURVE_DOTS: usize = 400;
+/// The most dots on curves drawn, over all results.
+pub const MAX_DOTS: usize = 4_000;
 /// The most points drawn as spheres.
 pub const MAX_POINTS: usize = 5_000;
 
@@ -124,7 +128,7 @@ pub fn draw(complexes: &[&Complex]) -> (Vec<f32>, [usize; 3], Option<String>) {
     }
     let mut out: Vec<MeshVertex> = Vec::new();
     let mut counts = [0usize; 3];
-    let (mut segments_left, mut points_left) = (MAX_SEGMENTS, MAX_POINTS);
+    let (mut segments_left, mut points_left, mut dots_left) = (MAX_SEGMENTS, MAX_POINTS, MAX_DOTS);
     for (k, g) in geometries.iter().enumerate() {
         let [r, gr, b] = PALETTE[k % PALETTE.len()];
         let light: Rgba = [r, gr, b, 1.0];
@@ -156,14 +160,15 @@ pub fn draw(complexes: &[&Complex]) -> (Vec<f32>, [usize; 3], Option<String>) {
         segments_left -= take;
         // A curve's vertices show its parametrization (Script 3.1's three maps of one arc).
         let c = complexes[k];
-        if c.order == 2 && c.point_count() <= MAX_CURVE_DOTS {
+        if c.order == 2 && c.point_count() <= MAX_CURVE_DOTS.min(dots_left) {
             for i in 0..c.point_count() {
-                sphere(&mut out, embed(c.point(i)), size * 0.006, dark);
+                octahedron(&mut out, embed(c.point(i)), size * 0.007, dark);
             }
+            dots_left -= c.point_count();
         }
         let take = g.points.len().min(points_left);
         for p in &g.points[..take] {
-            sphere(&mut out, *p, size * 0.008, dark);
+            octahedron(&mut out, *p, size * 0.009, dark);
         }
         counts[2] += take;
         points_left -= take;
