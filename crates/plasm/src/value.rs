@@ -22,7 +22,8 @@ pub enum Value {
 }
 
 /// The items of a sequence. Dropping a deep value (a sequence of sequences of …, or functions
-/// built on functions, statement after statement) does not recurse: see [`drop_iteratively`].
+/// built on functions, statement after statement) does not recurse: the children of each value
+/// whose last reference goes are moved to a stack of our own.
 #[derive(Debug, Default)]
 pub struct Items(pub Vec<Value>);
 
