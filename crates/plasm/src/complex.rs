@@ -158,12 +158,16 @@ impl Complex {
         staircase(k, l, &mut Vec::new(), &mut paths);
         let order = k + l + 1;
         let mut cells = Vec::with_capacity(count as usize * order);
-        for a in 0..self.cell_count() {
-            let mut ca = self.cell(a).to_vec();
-            ca.sort_unstable();
-            for b in 0..other.cell_count() {
-                let mut cb = other.cell(b).to_vec();
-                cb.sort_unstable();
+        let sorted = |c: &Complex| -> Vec<u32> {
+            let mut cells = c.cells.clone();
+            for cell in cells.chunks_mut(c.order) {
+                cell.sort_unstable();
+            }
+            cells
+        };
+        let (cells_a, cells_b) = (sorted(self), sorted(other));
+        for ca in cells_a.chunks(self.order) {
+            for cb in cells_b.chunks(other.order) {
                 for path in &paths {
                     for &(i, j) in path {
                         cells.push(ca[i] * m as u32 + cb[j]);
@@ -186,13 +190,11 @@ impl Complex {
         if self.order != self.dim + 1 || !(3..=4).contains(&self.order) {
             return;
         }
+        let dim = self.dim;
         for c in 0..self.cell_count() {
-            let v: Vec<&[f64]> = self
-                .cell(c)
-                .iter()
-                .map(|&i| self.point(i as usize))
-                .collect();
-            let e = |a: usize, d: usize| v[a][d] - v[0][d];
+            let cell = self.cell(c);
+            let at = |a: usize, d: usize| self.points[cell[a] as usize * dim + d];
+            let e = |a: usize, d: usize| at(a, d) - at(0, d);
             let det = if self.order == 3 {
                 e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0)
             } else {

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use crate::complex::Complex;
-use crate::kernel::Kernel;
+use crate::kernel::{Kernel, LANES};
 use crate::parse::{Arith, Def, Expr, Local, Stmt, parse};
 use crate::value::{Fun, NAMES, Prim, Value};
 use crate::{Error, ErrorKind, Limits, Span, Warning};
@@ -618,7 +618,7 @@ impl Interp {
                     .iter()
                     .rev()
                     .copied()
-                    .reduce(|e, b| b.powf(e))
+                    .reduce(|e, b| power(b, e))
                     .unwrap_or(1.0),
             };
             if !r.is_finite() {
@@ -793,75 +793,50 @@ impl Interp {
             None
         };
         let coordinates_cap = self.limits.cells.saturating_mul(16);
-        let (mut slots, mut image) = (Vec::new(), Vec::new());
-        for i in 0..pol.point_count() {
-            let u: Vec<f64> = pol.point(i).to_vec();
+        let too_many = || {
+            Err(Error::new(
+                ErrorKind::Limit,
+                at,
+                format!("MAP: the points have more than {coordinates_cap} coordinates in all"),
+            ))
+        };
+        let (n, d) = (pol.point_count(), pol.dim);
+        let (mut slots, mut image, mut bad) = (Vec::new(), Vec::new(), Vec::new());
+        let mut i = 0;
+        while i < n {
             if points.len() > coordinates_cap {
-                return Err(Error::new(
-                    ErrorKind::Limit,
-                    at,
-                    format!("MAP: the points have more than {coordinates_cap} coordinates in all"),
-                ));
+                return too_many();
             }
-            if let Some(k) = &kernel {
-                self.tick(1 + k.len() as u64 / 10, at)?;
-                if k.eval(&u, &mut slots, &mut image) {
-                    // A kernel's points all have its output's dimension.
-                    dim.get_or_insert(image.len());
-                    points.extend_from_slice(&image);
-                    continue;
-                }
-            }
-            let arg = Value::seq(u.iter().map(|&c| Value::Num(c)).collect());
-            let image = self.apply(&f, arg, at)?;
-            let coords = match &image {
-                Value::Num(c) => vec![*c],
-                other => other.as_point().map_or_else(
-                    || {
-                        type_error(
-                            at,
-                            format!(
-                                "MAP: the map gives {} ({other}) at {}, not a point \
-                                 (a function or sequence of functions where a number \
-                                 was wanted: use CONS or compose with S1)",
-                                other.kind(),
-                                Value::seq(u.iter().map(|&c| Value::Num(c)).collect())
-                            ),
-                        )
-                    },
-                    Ok,
-                )?,
+            let Some(k) = &kernel else {
+                self.map_point(&f, pol.point(i), at, &mut dim, &mut points)?;
+                i += 1;
+                continue;
             };
-            if coords.is_empty() {
-                return type_error(
-                    at,
-                    format!(
-                        "MAP: the map gives an empty point at {}",
-                        Value::seq(u.iter().map(|&c| Value::Num(c)).collect())
-                    ),
-                );
-            }
-            if coords.iter().any(|c| !c.is_finite()) {
-                return Err(Error::new(
-                    ErrorKind::Math,
-                    at,
-                    format!("MAP: the map is not finite at {image}"),
-                ));
-            }
-            match dim {
-                None => dim = Some(coords.len()),
-                Some(d) if d != coords.len() => {
-                    return type_error(
-                        at,
-                        format!(
-                            "MAP: the map gives points of {d} and of {} coordinates",
-                            coords.len()
-                        ),
-                    );
+            // A block of points at once through the kernel; a point where it met a value that is
+            // not finite goes to the interpreter, in its place.
+            let count = (n - i).min(LANES);
+            self.tick(count as u64 * (1 + k.len() as u64 / 10), at)?;
+            k.eval_block(
+                &pol.points[i * d..(i + count) * d],
+                d,
+                &mut slots,
+                &mut image,
+                &mut bad,
+            );
+            let od = k.out_dim();
+            for l in 0..count {
+                if bad[l] {
+                    self.map_point(&f, pol.point(i + l), at, &mut dim, &mut points)?;
+                } else {
+                    // A kernel's points all have its output's dimension.
+                    dim.get_or_insert(od);
+                    points.extend_from_slice(&image[l * od..(l + 1) * od]);
                 }
-                _ => {}
             }
-            points.extend(coords);
+            i += count;
+        }
+        if points.len() > coordinates_cap {
+            return too_many();
         }
         let made = Rc::new(Complex {
             dim: dim.unwrap_or(pol.dim),
@@ -877,6 +852,65 @@ impl Interp {
             },
         ));
         Ok(Value::Pol(made))
+    }
+
+    /// One point of `MAP`, interpreted: `f` at `u`, appended to `points`.
+    fn map_point(
+        &mut self,
+        f: &Value,
+        u: &[f64],
+        at: Span,
+        dim: &mut Option<usize>,
+        points: &mut Vec<f64>,
+    ) -> R<()> {
+        let here = || Value::seq(u.iter().map(|&c| Value::Num(c)).collect());
+        let image = self.apply(f, here(), at)?;
+        let coords = match &image {
+            Value::Num(c) => vec![*c],
+            other => other.as_point().map_or_else(
+                || {
+                    type_error(
+                        at,
+                        format!(
+                            "MAP: the map gives {} ({other}) at {}, not a point (a function or \
+                             sequence of functions where a number was wanted: use CONS or \
+                             compose with S1)",
+                            other.kind(),
+                            here()
+                        ),
+                    )
+                },
+                Ok,
+            )?,
+        };
+        if coords.is_empty() {
+            return type_error(
+                at,
+                format!("MAP: the map gives an empty point at {}", here()),
+            );
+        }
+        if coords.iter().any(|c| !c.is_finite()) {
+            return Err(Error::new(
+                ErrorKind::Math,
+                at,
+                format!("MAP: the map is not finite at {image}"),
+            ));
+        }
+        match *dim {
+            None => *dim = Some(coords.len()),
+            Some(d) if d != coords.len() => {
+                return type_error(
+                    at,
+                    format!(
+                        "MAP: the map gives points of {d} and of {} coordinates",
+                        coords.len()
+                    ),
+                );
+            }
+            _ => {}
+        }
+        points.extend(coords);
+        Ok(())
     }
 
     #[inline(never)]
@@ -1333,6 +1367,30 @@ fn function(v: Value, at: Span, what: &str) -> R<Value> {
             at,
             format!("{what} must be a function, not {} ({other})", other.kind()),
         ),
+    }
+}
+
+/// `b ** e`: by repeated multiplication for a whole exponent up to 64 (the Bernstein and Hermite
+/// bases' `u ** i`, several times faster than `powf`), else `powf`. The interpreter and `MAP`'s
+/// compiler both use this one, so they agree to the bit.
+#[inline]
+pub(crate) fn power(b: f64, e: f64) -> f64 {
+    if e.fract() == 0.0 && e.abs() <= 64.0 {
+        // Squaring and multiplying, inline (`powi` is a call into the runtime).
+        let (mut n, mut base, mut r) = (e.abs() as u32, b, 1.0);
+        loop {
+            if n & 1 == 1 {
+                r *= base;
+            }
+            n >>= 1;
+            if n == 0 {
+                break;
+            }
+            base *= base;
+        }
+        if e < 0.0 { 1.0 / r } else { r }
+    } else {
+        b.powf(e)
     }
 }
 

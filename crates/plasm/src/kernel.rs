@@ -12,6 +12,9 @@ use std::rc::Rc;
 use crate::parse::Arith;
 use crate::value::{Fun, Prim, Value};
 
+/// Points evaluated together, one operation at a time over all of them.
+pub(crate) const LANES: usize = 64;
+
 /// The most operations of a kernel; a larger map is interpreted.
 const MAX_OPS: usize = 100_000;
 
@@ -21,6 +24,8 @@ enum Op {
     Coord(usize),
     /// The interpreter's fold of `op` over slots `[start, start + len)` of `args`.
     Fold(Arith, u32, u32),
+    /// The same of two slots (most operations), without the indirection.
+    Two(Arith, u32, u32),
     Math(Prim, u32),
 }
 
@@ -96,30 +101,72 @@ impl Kernel {
         self.ops.len()
     }
 
-    /// The image of `point` into `out`; false where a value on the way is not finite (the caller
-    /// asks the interpreter, which says why).
-    pub(crate) fn eval(&self, point: &[f64], slots: &mut Vec<f64>, out: &mut Vec<f64>) -> bool {
+    /// Coordinates of each image.
+    pub(crate) fn out_dim(&self) -> usize {
+        match &self.output {
+            Shape::Scalar(_) => 1,
+            Shape::Vector(v) => v.len(),
+        }
+    }
+
+    /// The images of up to [`LANES`] points (`points`, `dim` coordinates each) into `out`
+    /// ([`Kernel::out_dim`] each), one operation at a time over all of them; `bad[l]` is set
+    /// where a value on the way for point `l` is not finite (the caller asks the interpreter,
+    /// which says why).
+    pub(crate) fn eval_block(
+        &self,
+        points: &[f64],
+        dim: usize,
+        slots: &mut Vec<f64>,
+        out: &mut Vec<f64>,
+        bad: &mut Vec<bool>,
+    ) {
+        let count = points.len().checked_div(dim).unwrap_or(0).min(LANES);
         slots.clear();
-        let mut finite = true;
-        for op in &self.ops {
-            let x = match *op {
-                Op::Const(c) => c,
-                Op::Coord(i) => point[i],
+        slots.resize(self.ops.len() * LANES, 0.0);
+        bad.clear();
+        bad.resize(count, false);
+        for (k, op) in self.ops.iter().enumerate() {
+            let (before, rest) = slots.split_at_mut(k * LANES);
+            let dst = &mut rest[..count];
+            let lane = |s: u32| &before[s as usize * LANES..s as usize * LANES + count];
+            match *op {
+                Op::Const(c) => dst.fill(c),
+                Op::Coord(i) => {
+                    for (l, x) in dst.iter_mut().enumerate() {
+                        *x = points[l * dim + i];
+                    }
+                }
+                Op::Two(op, a, b) => {
+                    let (xa, xb) = (lane(a), lane(b));
+                    for l in 0..count {
+                        dst[l] = fold(op, [xa[l], xb[l]].into_iter());
+                    }
+                }
                 Op::Fold(op, start, len) => {
                     let args = &self.args[start as usize..(start + len) as usize];
-                    fold(op, args.iter().map(|&a| slots[a as usize]))
+                    for (l, x) in dst.iter_mut().enumerate() {
+                        *x = fold(op, args.iter().map(|&a| before[a as usize * LANES + l]));
+                    }
                 }
-                Op::Math(p, a) => math(p, slots[a as usize]),
-            };
-            finite &= x.is_finite();
-            slots.push(x);
+                Op::Math(p, a) => {
+                    let xa = lane(a);
+                    for l in 0..count {
+                        dst[l] = math(p, xa[l]);
+                    }
+                }
+            }
+            for (b, x) in bad.iter_mut().zip(dst.iter()) {
+                *b |= !x.is_finite();
+            }
         }
         out.clear();
-        match &self.output {
-            Shape::Scalar(s) => out.push(slots[*s as usize]),
-            Shape::Vector(v) => out.extend(v.iter().map(|&s| slots[s as usize])),
+        for l in 0..count {
+            match &self.output {
+                Shape::Scalar(s) => out.push(slots[*s as usize * LANES + l]),
+                Shape::Vector(v) => out.extend(v.iter().map(|&s| slots[s as usize * LANES + l])),
+            }
         }
-        finite
     }
 }
 
@@ -142,7 +189,10 @@ fn fold(op: Arith, mut xs: impl DoubleEndedIterator<Item = f64> + Clone) -> f64 
                 Some(_) => xs.fold(a, |s, b| if b == 0.0 { f64::NAN } else { s / b }),
             }
         }
-        Arith::Pow => xs.rev().reduce(|e, b| b.powf(e)).unwrap_or(f64::NAN),
+        Arith::Pow => xs
+            .rev()
+            .reduce(|e, b| crate::eval::power(b, e))
+            .unwrap_or(f64::NAN),
     }
 }
 
@@ -223,9 +273,13 @@ impl Compiler {
             return None;
         }
         self.spend(slots.len())?;
-        let start = self.args.len() as u32;
-        self.args.extend_from_slice(slots);
-        let slot = self.push(Op::Fold(op, start, slots.len() as u32))?;
+        let slot = if let [a, b] = *slots {
+            self.push(Op::Two(op, a, b))?
+        } else {
+            let start = self.args.len() as u32;
+            self.args.extend_from_slice(slots);
+            self.push(Op::Fold(op, start, slots.len() as u32))?
+        };
         self.scalar(slot)
     }
 
