@@ -96,7 +96,6 @@ async function main() {
         scriptRan = false;
         setWorkspace('script');
         say('Opened the script from the link.');
-        opened = true;
         history.replaceState(null, '', location.pathname + location.search);
         return true;
       }

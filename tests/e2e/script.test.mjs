@@ -137,7 +137,19 @@ test('errors show at their line, endless work stops, and the page stays responsi
   const big = 'DEF big = #:1000000:1;\nDEF f (x::IsReal) = AA:ID:big;\nAA:f:big;';
   await page.fill('#script', big);
   await page.click('#script-run');
-  assert.equal(await page.evaluate(() => 1 + 1), 2);
+  // While the worker runs it, the page draws frames and orbits the view: the run is off this thread.
+  const during = await page.evaluate(() => new Promise((resolve) => {
+    const t0 = performance.now();
+    let frames = 0;
+    const tick = () => {
+      frames += 1;
+      if (frames < 10) requestAnimationFrame(tick);
+      else resolve({ state: document.body.dataset.scriptState, ms: performance.now() - t0 });
+    };
+    requestAnimationFrame(tick);
+  }));
+  assert.equal(during.state, 'running', 'ten frames came while the script was still running');
+  assert.ok(during.ms < 1000, `ten frames in ${during.ms} ms`);
   assert.equal(await finished(page), 'error');
   assert.match(await page.textContent('#script-message'), /stopped after 20000000 steps/);
   // Stop cancels a run under way.

@@ -170,6 +170,10 @@ impl Interp {
                 return run;
             }
         };
+        // Numbers of points and cells in the results so far: what is drawn and exported is
+        // bounded, however often a result repeats.
+        let mut held = 0usize;
+        let most = self.limits.cells.saturating_mul(8);
         for stmt in stmts {
             self.depth = 0;
             self.nesting = 0;
@@ -178,33 +182,26 @@ impl Interp {
                 Stmt::Expr(e) => {
                     let empty = Env::new(Vec::new(), &[]);
                     self.last_map = None;
-                    self.eval(&e, &empty).map(|value| {
+                    self.eval(&e, &empty).and_then(|value| {
                         let map = match (&value, self.last_map.take()) {
                             (Value::Pol(p), Some((made, map))) if Rc::ptr_eq(p, &made) => Some(map),
                             _ => None,
                         };
+                        if let Value::Pol(c) = &value {
+                            held = held.saturating_add(c.points.len() + c.cells.len());
+                        }
                         run.shown.push(Shown {
                             span: e.span(),
                             value,
                             map,
                         });
-                    })
-                    .and_then(|()| {
-                        // What is drawn and exported is bounded, however often a result repeats.
-                        let cells: usize = run
-                            .shown
-                            .iter()
-                            .filter_map(|s| s.value.as_pol())
-                            .map(|c| c.points.len() + c.cells.len())
-                            .sum();
-                        if cells > self.limits.cells.saturating_mul(8) {
+                        if held > most {
                             return Err(Error::new(
                                 ErrorKind::Limit,
                                 e.span(),
                                 format!(
-                                    "the results so far hold {cells} numbers of points and cells, \
-                                     past the limit of {} for all results",
-                                    self.limits.cells.saturating_mul(8)
+                                    "the results so far hold {held} numbers of points and cells, \
+                                     past the limit of {most} for all results"
                                 ),
                             ));
                         }
@@ -385,7 +382,10 @@ impl Interp {
     #[inline(never)]
     fn eval_other(&mut self, e: &Expr, env: &Env<'_>) -> R<Value> {
         match e {
-            Expr::Num(..) | Expr::Name(..) | Expr::Apply(..) => self.eval(e, env),
+            // `eval` and `eval_nested` take these first; here only for a complete match.
+            Expr::Num(x, _) => Ok(Value::Num(*x)),
+            Expr::Name(key, spelled, at) => self.lookup(key, spelled, *at, env),
+            Expr::Apply(..) => self.eval_nested(e, env),
             Expr::Seq(items, at) => {
                 self.tick(items.len() as u64, *at)?;
                 let v = items
@@ -1180,16 +1180,16 @@ impl Interp {
                 }))
             }
             Prim::Not => Ok(Value::Bool(!truth(&x)?)),
-            Prim::Sin => math(f64::sin, &x),
-            Prim::Cos => math(f64::cos, &x),
-            Prim::Tan => math(f64::tan, &x),
-            Prim::Asin => math(f64::asin, &x),
-            Prim::Acos => math(f64::acos, &x),
-            Prim::Atan => math(f64::atan, &x),
-            Prim::Sqrt => math(f64::sqrt, &x),
-            Prim::Exp => math(f64::exp, &x),
-            Prim::Ln => math(f64::ln, &x),
-            Prim::Abs => math(f64::abs, &x),
+            Prim::Sin
+            | Prim::Cos
+            | Prim::Tan
+            | Prim::Asin
+            | Prim::Acos
+            | Prim::Atan
+            | Prim::Sqrt
+            | Prim::Exp
+            | Prim::Ln
+            | Prim::Abs => math(p.unary_math().unwrap_or(f64::abs), &x),
             Prim::IsReal | Prim::IsNum => Ok(Value::Bool(matches!(x, Value::Num(_)))),
             Prim::IsInt => Ok(Value::Bool(is_whole(&x, i64::MIN))),
             Prim::IsIntPos => Ok(Value::Bool(is_whole(&x, 1))),

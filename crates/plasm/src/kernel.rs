@@ -26,7 +26,7 @@ enum Op {
     Fold(Arith, u32, u32),
     /// The same of two slots (most operations), without the indirection.
     Two(Arith, u32, u32),
-    Math(Prim, u32),
+    Math(fn(f64) -> f64, u32),
 }
 
 /// What a compiled node gives: one number (a slot) or a sequence of numbers.
@@ -149,10 +149,10 @@ impl Kernel {
                         *x = fold(op, args.iter().map(|&a| before[a as usize * LANES + l]));
                     }
                 }
-                Op::Math(p, a) => {
+                Op::Math(f, a) => {
                     let xa = lane(a);
                     for l in 0..count {
-                        dst[l] = math(p, xa[l]);
+                        dst[l] = f(xa[l]);
                     }
                 }
             }
@@ -194,38 +194,6 @@ fn fold(op: Arith, mut xs: impl DoubleEndedIterator<Item = f64> + Clone) -> f64 
             .reduce(|e, b| crate::eval::power(b, e))
             .unwrap_or(f64::NAN),
     }
-}
-
-fn math(p: Prim, x: f64) -> f64 {
-    match p {
-        Prim::Sin => x.sin(),
-        Prim::Cos => x.cos(),
-        Prim::Tan => x.tan(),
-        Prim::Asin => x.asin(),
-        Prim::Acos => x.acos(),
-        Prim::Atan => x.atan(),
-        Prim::Sqrt => x.sqrt(),
-        Prim::Exp => x.exp(),
-        Prim::Ln => x.ln(),
-        Prim::Abs => x.abs(),
-        _ => f64::NAN,
-    }
-}
-
-fn is_math(p: Prim) -> bool {
-    matches!(
-        p,
-        Prim::Sin
-            | Prim::Cos
-            | Prim::Tan
-            | Prim::Asin
-            | Prim::Acos
-            | Prim::Atan
-            | Prim::Sqrt
-            | Prim::Exp
-            | Prim::Ln
-            | Prim::Abs
-    )
 }
 
 impl Compiler {
@@ -422,12 +390,12 @@ impl Compiler {
                 }
                 Shape::Scalar(_) => None,
             },
-            p if is_math(p) => {
+            p => {
+                let f = p.unary_math()?;
                 let x = self.slot(input)?;
-                let slot = self.push(Op::Math(p, x))?;
+                let slot = self.push(Op::Math(f, x))?;
                 self.scalar(slot)
             }
-            _ => None,
         }
     }
 }

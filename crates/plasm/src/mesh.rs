@@ -72,14 +72,13 @@ impl Geometry {
                         .triangles
                         .extend(boundary_faces(c).into_iter().map(|t| t.map(|i| i + base)));
                 }
-                let mut seen = HashMap::new();
-                for t in &self.mesh.triangles[start..] {
-                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                        seen.entry((a.min(b), a.max(b))).or_insert(());
-                    }
-                }
-                let mut keys: Vec<_> = seen.into_keys().collect();
+                let mut keys: Vec<(u32, u32)> = self.mesh.triangles[start..]
+                    .iter()
+                    .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+                    .map(|(a, b)| (a.min(b), a.max(b)))
+                    .collect();
                 keys.sort_unstable();
+                keys.dedup();
                 let p = &self.mesh.positions;
                 self.edges
                     .extend(keys.iter().map(|&(a, b)| [p[a as usize], p[b as usize]]));

@@ -411,25 +411,25 @@ impl Parser<'_> {
     }
 
     fn additive(&mut self) -> Result<Expr, Error> {
-        self.chained(|p, links| {
-            let mut a = p.multiplicative()?;
-            while let Some(op) = p.binary_op(&[Arith::Add, Arith::Sub]) {
-                p.link(links)?;
-                let at = p.bump().1;
-                let b = p.multiplicative()?;
-                a = Expr::Infix(op, Box::new(a), Box::new(b), at);
-            }
-            Ok(a)
-        })
+        self.left_chain(&[Arith::Add, Arith::Sub], Self::multiplicative)
     }
 
     fn multiplicative(&mut self) -> Result<Expr, Error> {
+        self.left_chain(&[Arith::Mul, Arith::Div], Self::power)
+    }
+
+    /// `a op b op c …` for `ops`, to the left, with operands from `operand`.
+    fn left_chain(
+        &mut self,
+        ops: &[Arith],
+        operand: fn(&mut Self) -> Result<Expr, Error>,
+    ) -> Result<Expr, Error> {
         self.chained(|p, links| {
-            let mut a = p.power()?;
-            while let Some(op) = p.binary_op(&[Arith::Mul, Arith::Div]) {
+            let mut a = operand(p)?;
+            while let Some(op) = p.binary_op(ops) {
                 p.link(links)?;
                 let at = p.bump().1;
-                let b = p.power()?;
+                let b = operand(p)?;
                 a = Expr::Infix(op, Box::new(a), Box::new(b), at);
             }
             Ok(a)

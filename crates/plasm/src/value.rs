@@ -195,6 +195,26 @@ prims! {
     Domain "DOMAIN" 1 "`Domain:n`: `[0, 1]` in `n` segments.",
 }
 
+impl Prim {
+    /// The function of a math built-in (`SIN`, …, `ABS`): the one table the interpreter and
+    /// `MAP`'s compiler both use, so that they agree to the bit.
+    pub(crate) fn unary_math(self) -> Option<fn(f64) -> f64> {
+        Some(match self {
+            Prim::Sin => f64::sin,
+            Prim::Cos => f64::cos,
+            Prim::Tan => f64::tan,
+            Prim::Asin => f64::asin,
+            Prim::Acos => f64::acos,
+            Prim::Atan => f64::atan,
+            Prim::Sqrt => f64::sqrt,
+            Prim::Exp => f64::exp,
+            Prim::Ln => f64::ln,
+            Prim::Abs => f64::abs,
+            _ => return None,
+        })
+    }
+}
+
 impl Value {
     /// A sequence.
     pub fn seq(items: Vec<Value>) -> Value {

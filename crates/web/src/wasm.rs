@@ -839,6 +839,61 @@ impl Modeler {
     }
 }
 
+/// The methods of a view whose only interaction is its camera (`state` has `resize`, `scene`,
+/// `orbit` and `fit`): the free-form and script views.
+macro_rules! orbit_view {
+    ($view:ty) => {
+        #[wasm_bindgen]
+        impl $view {
+            /// Sizes the view on `viewer`'s canvas; returns the canvas size in device pixels.
+            pub fn resize(
+                &mut self,
+                viewer: &mut Viewer3,
+                width: f64,
+                height: f64,
+                dpr: f64,
+            ) -> Vec<u32> {
+                self.state.resize(width, height);
+                viewer.fit_canvas(width, height, dpr)
+            }
+
+            /// Draws on `viewer`.
+            pub fn render(&mut self, viewer: &mut Viewer3) {
+                let scene = self.state.scene();
+                viewer.present(&scene);
+            }
+
+            /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.
+            pub fn pointer_down(&mut self, x: f64, y: f64, pan: bool) {
+                self.state.orbit().pointer_down(DVec2::new(x, y), pan);
+            }
+
+            /// Pointer moved; returns whether the camera moved.
+            pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
+                self.state.orbit().pointer_move(DVec2::new(x, y))
+            }
+
+            /// Pointer released.
+            pub fn pointer_up(&mut self) {
+                self.state.orbit().pointer_up();
+            }
+
+            /// The wheel: zooms.
+            pub fn wheel(&mut self, delta_y: f64) {
+                self.state.orbit().wheel(delta_y);
+            }
+
+            /// Frames the scene again.
+            pub fn fit(&mut self) {
+                self.state.fit();
+            }
+        }
+    };
+}
+
+orbit_view!(FreeFormView);
+orbit_view!(ScriptViewer);
+
 /// The Free-form mode ([`crate::freeform`]) for the page: its scene draws on the 3D view's
 /// [`Viewer3`].
 #[wasm_bindgen]
@@ -861,43 +916,6 @@ impl FreeFormView {
         Self {
             state: FreeForm::new(),
         }
-    }
-
-    /// Sizes the view on `viewer`'s canvas; returns the canvas size in device pixels.
-    pub fn resize(&mut self, viewer: &mut Viewer3, width: f64, height: f64, dpr: f64) -> Vec<u32> {
-        self.state.resize(width, height);
-        viewer.fit_canvas(width, height, dpr)
-    }
-
-    /// Draws the scene on `viewer`.
-    pub fn render(&mut self, viewer: &mut Viewer3) {
-        let scene = self.state.scene();
-        viewer.present(&scene);
-    }
-
-    /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.
-    pub fn pointer_down(&mut self, x: f64, y: f64, pan: bool) {
-        self.state.orbit().pointer_down(DVec2::new(x, y), pan);
-    }
-
-    /// Pointer moved; returns whether the camera moved.
-    pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
-        self.state.orbit().pointer_move(DVec2::new(x, y))
-    }
-
-    /// Pointer released.
-    pub fn pointer_up(&mut self) {
-        self.state.orbit().pointer_up();
-    }
-
-    /// The wheel: zooms.
-    pub fn wheel(&mut self, delta_y: f64) {
-        self.state.orbit().wheel(delta_y);
-    }
-
-    /// Frames the scene again.
-    pub fn fit(&mut self) {
-        self.state.fit();
     }
 
     /// Operand `slot` (0: A, 1: B) becomes the built-in example `name`.
@@ -1112,18 +1130,6 @@ impl ScriptViewer {
         Self::default()
     }
 
-    /// Sizes the view on `viewer`'s canvas; returns the canvas size in device pixels.
-    pub fn resize(&mut self, viewer: &mut Viewer3, width: f64, height: f64, dpr: f64) -> Vec<u32> {
-        self.state.resize(width, height);
-        viewer.fit_canvas(width, height, dpr)
-    }
-
-    /// Draws on `viewer`.
-    pub fn render(&mut self, viewer: &mut Viewer3) {
-        let scene = self.state.scene();
-        viewer.present(&scene);
-    }
-
     /// Shows a drawing made by [`headless_plasm`]; frames it if `refit` or the camera was not
     /// moved.
     ///
@@ -1140,31 +1146,6 @@ impl ScriptViewer {
     #[must_use]
     pub fn triangle_count(&self) -> usize {
         self.state.triangle_count()
-    }
-
-    /// Pointer pressed at CSS pixel `(x, y)`: orbit, or pan with `pan`.
-    pub fn pointer_down(&mut self, x: f64, y: f64, pan: bool) {
-        self.state.orbit().pointer_down(DVec2::new(x, y), pan);
-    }
-
-    /// Pointer moved; returns whether the camera moved.
-    pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
-        self.state.orbit().pointer_move(DVec2::new(x, y))
-    }
-
-    /// Pointer released.
-    pub fn pointer_up(&mut self) {
-        self.state.orbit().pointer_up();
-    }
-
-    /// The wheel: zooms.
-    pub fn wheel(&mut self, delta_y: f64) {
-        self.state.orbit().wheel(delta_y);
-    }
-
-    /// Frames the drawing again.
-    pub fn fit(&mut self) {
-        self.state.fit();
     }
 }
 
