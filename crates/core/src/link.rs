@@ -2,8 +2,10 @@
 //!
 //! The fragment never reaches a server, and a `v1` link opens forever: the wire layout below is a
 //! contract, like the model file. Links are untrusted input, so [`decode`] caps the text
-//! ([`MAX_LINK_CHARS`]) and the inflated data ([`MAX_INFLATED_BYTES`]), rejects trailing bytes, and
-//! validates the model as a model file is validated; every failure is a [`LinkError`].
+//! ([`MAX_LINK_CHARS`]) and the inflated data ([`MAX_INFLATED_BYTES`]), rejects trailing bytes
+//! (after the deflate stream, [`LinkError::TrailingData`], and after the model in the inflated
+//! data, [`LinkError::Trailing`]), and validates the model as a model file is validated; every
+//! failure is a [`LinkError`].
 //!
 //! The postcard layout of `v1` (all integers as postcard varints, `f64` as 8 little-endian bytes):
 //!
@@ -106,8 +108,10 @@ pub enum LinkError {
     TooLarge,
     /// The inflated data is not a model in the `v1` layout.
     Decode,
-    /// The data goes on after the model.
+    /// The inflated data goes on after the model: how many bytes.
     Trailing(usize),
+    /// The packed data goes on after the end of its deflate stream: how many bytes.
+    TrailingData(usize),
     /// The model is invalid (as a model file would be).
     Model(ModelError),
 }
@@ -140,6 +144,10 @@ impl fmt::Display for LinkError {
             ),
             Self::Decode => write!(f, "the link is damaged: its data is not a bezsolid model"),
             Self::Trailing(n) => write!(f, "the link is damaged: {n} stray bytes follow the model"),
+            Self::TrailingData(n) => write!(
+                f,
+                "the link is damaged: {n} stray bytes follow the end of its packed data"
+            ),
             Self::Model(e) => write!(f, "the link's model is invalid: {e}"),
         }
     }
@@ -300,11 +308,7 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
         base64::DecodeError::InvalidByte(..) => LinkError::Base64,
         _ => LinkError::Inflate,
     })?;
-    let bytes = miniz_oxide::inflate::decompress_to_vec_with_limit(&packed, MAX_INFLATED_BYTES)
-        .map_err(|e| match e.status {
-            miniz_oxide::inflate::TINFLStatus::HasMoreOutput => LinkError::TooLarge,
-            _ => LinkError::Inflate,
-        })?;
+    let bytes = inflate(&packed)?;
     let (wire, rest) = postcard::take_from_bytes::<Wire>(&bytes).map_err(|_| LinkError::Decode)?;
     if !rest.is_empty() {
         return Err(LinkError::Trailing(rest.len()));
@@ -377,6 +381,38 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
         version: crate::model::VERSION,
         solid,
     })
+}
+
+/// The data of one raw deflate stream that is the whole of `packed`, at most [`MAX_INFLATED_BYTES`].
+///
+/// miniz's `decompress` reports the input it consumed up to the end of the stream (the byte that
+/// holds the final block's end code; bytes it read ahead are given back), so anything after that is
+/// bytes no encoder wrote. One call into a buffer of the cap's size decides exactly as
+/// `decompress_to_vec_with_limit` (which the first links were read with) does at its last size.
+fn inflate(packed: &[u8]) -> Result<Vec<u8>, LinkError> {
+    use miniz_oxide::inflate::TINFLStatus;
+    use miniz_oxide::inflate::core::inflate_flags::TINFL_FLAG_USING_NON_WRAPPING_OUTPUT_BUF;
+    use miniz_oxide::inflate::core::{DecompressorOxide, decompress};
+    let mut out = alloc::vec![0; MAX_INFLATED_BYTES];
+    // Kilobytes of Huffman tables: on the heap, not on a wasm stack.
+    let mut state = alloc::boxed::Box::<DecompressorOxide>::default();
+    let (status, consumed, written) = decompress(
+        &mut state,
+        packed,
+        &mut out,
+        0,
+        TINFL_FLAG_USING_NON_WRAPPING_OUTPUT_BUF,
+    );
+    match status {
+        TINFLStatus::Done => {}
+        TINFLStatus::HasMoreOutput => return Err(LinkError::TooLarge),
+        _ => return Err(LinkError::Inflate),
+    }
+    if let Some(extra) = packed.len().checked_sub(consumed).filter(|&n| n > 0) {
+        return Err(LinkError::TrailingData(extra));
+    }
+    out.truncate(written);
+    Ok(out)
 }
 
 /// The solid carried by a link (see [`decode_file`]), validated as a model file is.
@@ -714,6 +750,57 @@ mod tests {
             URL_SAFE_NO_PAD.encode_string(&bytes, &mut raw);
             let _ = decode(&raw);
         }
+    }
+
+    #[test]
+    fn links_with_bytes_after_the_deflate_stream_are_refused() {
+        let good = encode(&file(&Preset::ALL[0].solid())).unwrap();
+        let packed = URL_SAFE_NO_PAD.decode(&good[4..]).unwrap();
+        assert!(decode(&good).is_ok());
+        for extra in [&[0u8][..], &[0, 0], &[0xff; 7], &packed[..]] {
+            let mut longer = packed.clone();
+            longer.extend_from_slice(extra);
+            let mut link = String::from("#v1.");
+            URL_SAFE_NO_PAD.encode_string(&longer, &mut link);
+            assert_eq!(
+                decode(&link),
+                Err(LinkError::TrailingData(extra.len())),
+                "{extra:?}"
+            );
+            assert!(
+                LinkError::TrailingData(extra.len())
+                    .to_string()
+                    .contains("stray bytes follow the end of its packed data")
+            );
+        }
+    }
+
+    #[test]
+    fn links_inflate_exactly_what_the_encoder_packed() {
+        // Every stream miniz writes ends at its last byte: links made by any level and any data
+        // (runs, noise, empty) open, so refusing trailing bytes refuses no link ever written.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for len in [0usize, 1, 2, 100, 1000, 5000, MAX_INFLATED_BYTES] {
+            for runs in [false, true] {
+                let data: Vec<u8> = (0..len)
+                    .map(|k| {
+                        state ^= state << 13;
+                        state ^= state >> 7;
+                        state ^= state << 17;
+                        if runs { (k / 97) as u8 } else { state as u8 }
+                    })
+                    .collect();
+                for level in [0, 1, 6, LEVEL] {
+                    let packed = miniz_oxide::deflate::compress_to_vec(&data, level);
+                    assert_eq!(inflate(&packed), Ok(data.clone()), "{len} {runs} {level}");
+                }
+            }
+        }
+        let one_more = vec![7u8; MAX_INFLATED_BYTES + 1];
+        assert_eq!(
+            inflate(&miniz_oxide::deflate::compress_to_vec(&one_more, LEVEL)),
+            Err(LinkError::TooLarge)
+        );
     }
 
     #[test]
