@@ -1,6 +1,7 @@
 //! `bezsolid link MODEL [--base URL]`: the share link of a model (DESIGN §5).
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
+use bezsolid_core::model::SolidSpec;
 
 use crate::args::Args;
 
@@ -17,16 +18,11 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     let file = crate::load_file(model)?;
     // Validate as every reader will, so that a link printed here always opens.
     match file.solid {
-        bezsolid_core::model::SolidSpec::Esc { .. } => {
-            file.to_boolean()?;
-        }
-        bezsolid_core::model::SolidSpec::Plasm { .. } => {
-            file.to_script()?;
-        }
-        _ => {
-            file.to_solid()?;
-        }
+        SolidSpec::Esc { .. } => file.to_boolean().map(drop),
+        SolidSpec::Plasm { .. } => file.to_script().map(drop),
+        _ => file.to_solid().map(drop),
     }
+    .with_context(|| crate::describe(model))?;
     println!("{base}{}", bezsolid_core::link::encode(&file)?);
     Ok(())
 }

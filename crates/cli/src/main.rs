@@ -136,7 +136,8 @@ pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
         });
     }
     if is_link(arg) {
-        return bezsolid_core::link::decode_file(arg).context("cannot open the share link");
+        // Every link error says that it is about the link.
+        return Ok(bezsolid_core::link::decode_file(arg)?);
     }
     let path = Path::new(arg);
     let size = std::fs::metadata(path)

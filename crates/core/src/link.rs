@@ -87,6 +87,10 @@ struct WireOperand {
 const EXAMPLES: [&str; 3] = ["icosphere", "torus", "blob"];
 
 /// Why a link could not be made or opened.
+///
+/// Its message says the inner error's too (the page shows `to_string()` alone), so
+/// [`source`](core::error::Error::source) gives none: a chain printed link by link (`anyhow`'s
+/// `{:#}`) says each cause once, as the Rust API guidelines ask (C-GOOD-ERR: one or the other).
 #[derive(Clone, Debug, PartialEq)]
 pub enum LinkError {
     /// There is no fragment, or it is empty.
@@ -153,14 +157,7 @@ impl fmt::Display for LinkError {
     }
 }
 
-impl core::error::Error for LinkError {
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            Self::Model(e) => Some(e),
-            _ => None,
-        }
-    }
-}
+impl core::error::Error for LinkError {}
 
 impl From<ModelError> for LinkError {
     fn from(e: ModelError) -> Self {
@@ -800,6 +797,57 @@ mod tests {
         assert_eq!(
             inflate(&miniz_oxide::deflate::compress_to_vec(&one_more, LEVEL)),
             Err(LinkError::TooLarge)
+        );
+    }
+
+    /// The message of `e` and each of its sources, as `anyhow` prints a chain with `{:#}`.
+    fn chain(e: &dyn core::error::Error) -> String {
+        let mut out = e.to_string();
+        let mut next = e.source();
+        while let Some(cause) = next {
+            out.push_str(": ");
+            out.push_str(&cause.to_string());
+            next = cause.source();
+        }
+        out
+    }
+
+    #[test]
+    fn link_errors_say_each_cause_once() {
+        let deg17 = Wire::Patch {
+            degree: [17, 1],
+            x: vec![0.0; 36],
+            y: vec![0.0; 36],
+            xi: vec![0.0; 36],
+        };
+        let err = decode(&pack(&deg17, &[])).unwrap_err();
+        let said = chain(&err);
+        assert_eq!(
+            said,
+            "the link's model is invalid: invalid solid: invalid control net: degree 17 is outside 1..=16"
+        );
+        let mesh = ModelFile {
+            format: crate::model::FORMAT.into(),
+            version: crate::model::VERSION,
+            solid: SolidSpec::Esc {
+                operation: None,
+                operands: vec![EscOperand {
+                    example: None,
+                    mesh: Some(MeshSpec {
+                        positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                        triangles: vec![[0, 1, 2]],
+                    }),
+                    offset: [0.0; 3],
+                }],
+            },
+        };
+        let err = decode_file(&encode(&mesh).unwrap())
+            .unwrap()
+            .to_boolean()
+            .unwrap_err();
+        assert_eq!(
+            chain(&err),
+            "invalid free-form model: operand 1: the mesh is not a closed solid: 3 open edges"
         );
     }
 

@@ -133,6 +133,10 @@ pub enum ModelSolid {
 }
 
 /// Why a model file was refused.
+///
+/// Its message says the inner error's too (the page shows `to_string()` alone), so
+/// [`source`](core::error::Error::source) gives none: a chain printed link by link (`anyhow`'s
+/// `{:#}`) says each cause once, as the Rust API guidelines ask (C-GOOD-ERR: one or the other).
 #[derive(Clone, Debug, PartialEq)]
 pub enum ModelError {
     /// `format` is not [`FORMAT`].
@@ -173,14 +177,7 @@ impl fmt::Display for ModelError {
     }
 }
 
-impl core::error::Error for ModelError {
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            Self::Solid(e) => Some(e),
-            _ => None,
-        }
-    }
-}
+impl core::error::Error for ModelError {}
 
 impl From<SolidError> for ModelError {
     fn from(e: SolidError) -> Self {

@@ -14,6 +14,10 @@ use crate::tensor::{Axis, Patch, PatchError, Volume, other_axes};
 pub const INVERSE_ACCURACY: f64 = 1e-12;
 
 /// Why a solid could not be built or edited.
+///
+/// Its message says the inner error's too (the page shows `to_string()` alone), so
+/// [`source`](core::error::Error::source) gives none: a chain printed link by link (`anyhow`'s
+/// `{:#}`) says each cause once, as the Rust API guidelines ask (C-GOOD-ERR: one or the other).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SolidError {
     /// The control net is not a valid patch.
@@ -51,14 +55,7 @@ impl fmt::Display for SolidError {
     }
 }
 
-impl core::error::Error for SolidError {
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            Self::Patch(e) => Some(e),
-            _ => None,
-        }
-    }
-}
+impl core::error::Error for SolidError {}
 
 impl From<PatchError> for SolidError {
     fn from(e: PatchError) -> Self {
