@@ -79,13 +79,7 @@ fn load_solid(arg: &str) -> Result<Boolean> {
             .with_context(|| format!("no example `{name}`; the examples are {}", names.join(", ")))?
             .mesh()
     } else {
-        let size = std::fs::metadata(arg)
-            .with_context(|| format!("cannot read {arg}"))?
-            .len();
-        if size > MAX_FILE_BYTES as u64 {
-            bail!("{arg} is {size} bytes; a mesh file is at most {MAX_FILE_BYTES}");
-        }
-        let bytes = std::fs::read(arg).with_context(|| format!("cannot read {arg}"))?;
+        let bytes = crate::input::read_bytes(arg, MAX_FILE_BYTES as u64, "mesh file")?;
         read_mesh(&bytes).with_context(|| format!("{arg} is not a usable mesh"))?
     };
     let solid = EscSolid::new(&mesh).with_context(|| format!("{arg} does not bound a solid"))?;
@@ -96,7 +90,7 @@ fn load_solid(arg: &str) -> Result<Boolean> {
 }
 
 fn read_points(path: &str) -> Result<Vec<DVec3>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {path}"))?;
+    let text = crate::input::read_text(path, crate::input::MAX_POINTS_BYTES, "points file")?;
     let points = parse_points(&text, 3).with_context(|| path.to_string())?;
     Ok(points
         .into_iter()

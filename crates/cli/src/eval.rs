@@ -22,7 +22,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         ModelSolid::Patch(_) => 2,
         ModelSolid::Volume(_) => 3,
     };
-    let text = std::fs::read_to_string(points).with_context(|| format!("cannot read {points}"))?;
+    let text = crate::input::read_text(points, crate::input::MAX_POINTS_BYTES, "points file")?;
     let coords = parse_points(&text, dim).with_context(|| points.to_string())?;
     let csv = evaluate(&solid, &coords);
     match out {

@@ -13,6 +13,7 @@ mod contour;
 mod esc;
 mod eval;
 mod hf;
+mod input;
 mod link;
 mod mesh;
 mod plasm;
@@ -20,8 +21,8 @@ mod plasm;
 use std::path::Path;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result, bail};
-use bezsolid_core::model::{ModelFile, ModelSolid};
+use anyhow::{Context, Result};
+use bezsolid_core::model::{MAX_SCRIPT_BYTES, ModelFile, ModelSolid};
 use bezsolid_core::presets::Preset;
 
 const USAGE: &str = "usage: bezsolid <command> [options]
@@ -29,6 +30,8 @@ const USAGE: &str = "usage: bezsolid <command> [options]
 commands (DESIGN §5):
   eval MODEL --points FILE.csv [-o OUT.csv]
                                    f and the number of preimages per point: CSV x,y[,z],f,preimages
+                                   (FILE.csv: one point a line, at most 256 MiB and 10 million
+                                   points)
   contour MODEL [--res N] -o OUT.svg [--accuracy A]
                                    zero contours of a patch solid (N cells per side, default
                                    256; vertices refined to |f| <= A, default 1e-9)
@@ -59,13 +62,13 @@ links (`mesh` writes the surface of a free-form model's result). SCRIPT is a scr
 a model file or link holding one, or one of the paper's examples: example:3.1, example:3.3,
 example:4.1, example:4.4, example:4.6, example:4.7, example:4.8.
 
+Inputs are read up to a cap, whatever they are (files, pipes, devices): a model file 16 MiB, a
+script file 256 KiB, a mesh file 128 MiB, a points file 256 MiB.
+
 options:
   -h, --help       this text
   -V, --version    the version
 ";
-
-/// The largest model file read (a degree-16 volume with long decimals is well under 1 MiB).
-const MAX_MODEL_BYTES: u64 = 16 << 20;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -139,20 +142,16 @@ pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
         // Every link error says that it is about the link.
         return Ok(bezsolid_core::link::decode_file(arg)?);
     }
-    let path = Path::new(arg);
-    let size = std::fs::metadata(path)
-        .with_context(|| format!("cannot read {arg}"))?
-        .len();
-    if size > MAX_MODEL_BYTES {
-        bail!("{arg} is {size} bytes; a model file is at most {MAX_MODEL_BYTES}");
-    }
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {arg}"))?;
-    if path
+    if Path::new(arg)
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("psm"))
     {
-        return Ok(ModelFile::from_plasm(&text));
+        let cap = MAX_SCRIPT_BYTES as u64;
+        return Ok(ModelFile::from_plasm(&input::read_text(
+            arg, cap, "script",
+        )?));
     }
+    let text = input::read_text(arg, input::MAX_MODEL_BYTES, "model file")?;
     serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))
 }
 

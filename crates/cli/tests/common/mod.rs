@@ -65,3 +65,63 @@ pub(crate) fn repeated_phrase(text: &str, len: usize) -> Option<&str> {
         text[end..].contains(phrase).then_some(phrase)
     })
 }
+
+/// Runs the `bezsolid` binary with `args` under a 1 GiB address-space limit (`ulimit -v`, so that a
+/// reader that ignores its cap fails instead of taking the machine's memory), feeding its stdin
+/// with `feed` repeated until it exits (if given), and panics if it runs past `limit`.
+pub(crate) fn bezsolid_bounded(
+    args: &[&str],
+    feed: Option<&'static [u8]>,
+    limit: std::time::Duration,
+) -> Output {
+    use std::io::{Read, Write};
+    use std::process::Stdio;
+    let mut child = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 1048576 && exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_bezsolid"))
+        .args(args)
+        .stdin(if feed.is_some() {
+            Stdio::piped()
+        } else {
+            Stdio::null()
+        })
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let feeder = child.stdin.take().map(|mut stdin| {
+        let chunk = feed.unwrap_or_default();
+        // Until the reader is gone (a broken pipe).
+        std::thread::spawn(move || while stdin.write_all(chunk).is_ok() {})
+    });
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("bezsolid {args:?} still ran after {limit:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    if let Some(feeder) = feeder {
+        feeder.join().unwrap();
+    }
+    Output {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
