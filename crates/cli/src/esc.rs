@@ -3,8 +3,6 @@
 //! bounded by PN triangles over closed triangle meshes (the second paper), one `0` or `1` per point.
 //! A free-form model file or share link stands for its whole result wherever a mesh goes.
 
-use std::fmt::Write as _;
-
 use anyhow::{Context, Result, bail};
 use bezsolid_core::esc::bool::{Expr, Op};
 use bezsolid_core::esc::chain::{EscSolid, Stats};
@@ -14,7 +12,8 @@ use bezsolid_core::esc::import::{MAX_FILE_BYTES, read_mesh};
 use glam::DVec3;
 
 use crate::args::Args;
-use crate::eval::parse_points;
+use crate::eval::Points;
+use crate::output::Sink;
 
 pub(crate) const USAGE: &str = "bezsolid esc classify MESH --points FILE.csv [-o OUT] | \
      bezsolid esc bool A OP B --points FILE.csv [-o OUT] (OP: union, intersection, difference)";
@@ -32,10 +31,11 @@ fn classify(args: &[String]) -> Result<()> {
     let args = Args::parse("esc classify", args, &["--points", "--output"])?;
     let mesh = args.model(USAGE)?;
     let solid = load_solid(mesh)?;
-    let points = read_points(args.required("--points", "--points FILE.csv")?)?;
+    let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
     let mut stats = Stats::default();
-    let out = write_values(points.iter().map(|&q| solid.value(q, &mut stats)));
-    emit(args.value("--output"), &out)
+    write_values(points, args.value("--output"), |q| {
+        solid.value(q, &mut stats)
+    })
 }
 
 fn boolean(args: &[String]) -> Result<()> {
@@ -51,15 +51,12 @@ fn boolean(args: &[String]) -> Result<()> {
         bail!("esc bool: unexpected argument {extra}");
     }
     let solids = [load_solid(a)?, load_solid(b)?];
-    let points = read_points(args.required("--points", "--points FILE.csv")?)?;
+    let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
     let expr = Expr::binary(op, Expr::Solid(0), Expr::Solid(1));
     let mut stats = Stats::default();
-    let out = write_values(
-        points
-            .iter()
-            .map(|&q| expr.value(&mut |i| i32::from(solids[i].value(q, &mut stats) == 1))),
-    );
-    emit(args.value("--output"), &out)
+    write_values(points, args.value("--output"), |q| {
+        expr.value(&mut |i| i32::from(solids[i].value(q, &mut stats) == 1))
+    })
 }
 
 /// A mesh file (OBJ, or STL binary or ASCII), a built-in example (`example:NAME`), or a free-form
@@ -89,30 +86,17 @@ fn load_solid(arg: &str) -> Result<Boolean> {
     })
 }
 
-fn read_points(path: &str) -> Result<Vec<DVec3>> {
-    let text = crate::input::read_text(path, crate::input::MAX_POINTS_BYTES, "points file")?;
-    let points = parse_points(&text, 3).with_context(|| path.to_string())?;
-    Ok(points
-        .into_iter()
-        .map(|p| DVec3::new(p[0], p[1], p[2]))
-        .collect())
-}
-
-fn write_values(values: impl Iterator<Item = i32>) -> String {
-    let mut out = String::new();
-    for v in values {
+/// One `0` or `1` per point, written as each point is read: `value` is the chain's value there.
+fn write_values(
+    points: Points,
+    out: Option<&str>,
+    mut value: impl FnMut(DVec3) -> i32,
+) -> Result<()> {
+    let mut out = Sink::create(out)?;
+    for p in points {
         // A normal chain's value is 0 or 1; anything else would be a bug, reported as outside.
-        let _ = writeln!(out, "{}", i32::from(v == 1));
+        let v = value(DVec3::from_array(p?));
+        out.write(format_args!("{}\n", i32::from(v == 1)))?;
     }
-    out
-}
-
-fn emit(path: Option<&str>, text: &str) -> Result<()> {
-    match path {
-        Some(path) => std::fs::write(path, text).with_context(|| format!("cannot write {path}")),
-        None => {
-            print!("{text}");
-            Ok(())
-        }
-    }
+    out.finish()
 }

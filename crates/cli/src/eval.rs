@@ -1,10 +1,12 @@
-//! `bezsolid eval MODEL --points FILE.csv [-o OUT.csv]`.
+//! `bezsolid eval MODEL --points FILE.csv [-o OUT.csv]`: points are read, evaluated and written a
+//! line at a time, so that memory does not grow with their number. After a bad line the command
+//! stops with its number; the rows of the lines before it have been written.
 
-use std::fmt::Write as _;
-
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, anyhow, bail};
 
 use crate::args::Args;
+use crate::input::{Lines, MAX_POINTS_BYTES};
+use crate::output::Sink;
 use bezsolid_core::inverse::Method;
 use bezsolid_core::model::ModelSolid;
 use glam::{DVec2, DVec3};
@@ -16,95 +18,175 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     let args = Args::parse("eval", args, &["--points", "--output"])?;
     let model = args.model("bezsolid eval MODEL --points FILE.csv")?;
     let points = args.required("--points", "--points FILE.csv")?;
-    let out = args.value("--output");
     let solid = crate::load_model(model)?;
     let dim = match solid {
         ModelSolid::Patch(_) => 2,
         ModelSolid::Volume(_) => 3,
     };
-    let text = crate::input::read_text(points, crate::input::MAX_POINTS_BYTES, "points file")?;
-    let coords = parse_points(&text, dim).with_context(|| points.to_string())?;
-    let csv = evaluate(&solid, &coords);
-    match out {
-        Some(path) => std::fs::write(path, csv).with_context(|| format!("cannot write {path}"))?,
-        None => print!("{csv}"),
-    }
-    Ok(())
+    let points = Points::open(points, dim)?;
+    let mut out = Sink::create(args.value("--output"))?;
+    evaluate(&solid, points, &mut out)?;
+    out.finish()
 }
 
-/// Points of `dim` coordinates, one per line, comma-separated. Blank lines and `#` comments are
-/// skipped; a first line that is not numbers is taken as a header.
-pub(crate) fn parse_points(text: &str, dim: usize) -> Result<Vec<Vec<f64>>> {
-    let mut out = Vec::new();
-    let mut first = true;
-    for (no, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parsed: Result<Vec<f64>, _> = fields.iter().map(|f| f.parse::<f64>()).collect();
-        let Ok(values) = parsed else {
-            if first {
-                first = false;
+/// Points of `dim` (2 or 3) coordinates read from a file, one per line, comma-separated. Blank
+/// lines and `#` comments are skipped; a first line that is not numbers is taken as a header.
+/// Each point comes as `[x, y, z]` (`z` is 0 for two coordinates), or as the error of its line.
+pub(crate) struct Points {
+    lines: Lines,
+    path: String,
+    dim: usize,
+    line: Vec<u8>,
+    /// The number of the line last read (from 1).
+    no: usize,
+    /// Whether no line but blank ones and comments has come yet.
+    first: bool,
+    count: usize,
+}
+
+impl Points {
+    /// The points of the file `path`, read up to [`MAX_POINTS_BYTES`].
+    ///
+    /// # Errors
+    ///
+    /// When the file cannot be opened.
+    pub(crate) fn open(path: &str, dim: usize) -> Result<Self> {
+        Ok(Self {
+            lines: crate::input::open(path, MAX_POINTS_BYTES, "points file")?,
+            path: path.into(),
+            dim,
+            line: Vec::new(),
+            no: 0,
+            first: true,
+            count: 0,
+        })
+    }
+
+    /// The next point, `None` at the end of the file. Errors of a line start with the path.
+    fn next_point(&mut self) -> Result<Option<[f64; 3]>> {
+        let dim = self.dim;
+        loop {
+            if !self.lines.next_into(&mut self.line)? {
+                return Ok(None);
+            }
+            self.no += 1;
+            let (no, path) = (self.no, &self.path);
+            let line = std::str::from_utf8(&self.line)
+                .map_err(|_| anyhow!("cannot read {path}: stream did not contain valid UTF-8"))?
+                .trim();
+            if line.is_empty() || line.starts_with('#') {
                 continue;
             }
-            bail!("line {}: not {dim} numbers: {line:?}", no + 1);
-        };
-        first = false;
-        if values.len() != dim {
-            bail!(
-                "line {}: expected {dim} coordinates, found {}",
-                no + 1,
-                values.len()
-            );
+            let mut values = [0.0; 3];
+            let mut found = 0;
+            let mut numbers = true;
+            for field in line.split(',') {
+                let Ok(v) = field.trim().parse::<f64>() else {
+                    numbers = false;
+                    break;
+                };
+                if let Some(slot) = values.get_mut(found) {
+                    *slot = v;
+                }
+                found += 1;
+            }
+            let first = std::mem::replace(&mut self.first, false);
+            if !numbers {
+                if first {
+                    continue;
+                }
+                bail!("{path}: line {no}: not {dim} numbers: {line:?}");
+            }
+            if found != dim {
+                bail!("{path}: line {no}: expected {dim} coordinates, found {found}");
+            }
+            if !values.iter().all(|v| v.is_finite()) {
+                bail!("{path}: line {no}: coordinates must be finite numbers");
+            }
+            if self.count == MAX_POINTS {
+                bail!("{path}: more than {MAX_POINTS} points");
+            }
+            self.count += 1;
+            return Ok(Some(values));
         }
-        if !values.iter().all(|v| v.is_finite()) {
-            bail!("line {}: coordinates must be finite numbers", no + 1);
-        }
-        if out.len() == MAX_POINTS {
-            bail!("more than {MAX_POINTS} points");
-        }
-        out.push(values);
     }
-    Ok(out)
+}
+
+impl Iterator for Points {
+    type Item = Result<[f64; 3]>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_point().transpose()
+    }
 }
 
 /// The CSV: a header, then `x,y[,z],f,preimages` per point. On a regular grid the map is a scaling,
 /// so a point has one preimage inside the (closed) domain box and none outside; a space mapping
 /// counts the parameter points in the closed unit box that map to it (several where it folds).
-fn evaluate(solid: &ModelSolid, points: &[Vec<f64>]) -> String {
-    let mut csv = String::new();
+fn evaluate(solid: &ModelSolid, points: Points, out: &mut Sink) -> Result<()> {
     match solid {
         ModelSolid::Patch(s) => {
-            csv.push_str("x,y,f,preimages\n");
+            out.write(format_args!("x,y,f,preimages\n"))?;
             for p in points {
+                let p = p?;
                 let v = s.evaluate(DVec2::new(p[0], p[1]), Method::Fast);
-                let _ = writeln!(csv, "{},{},{},{}", p[0], p[1], v.f, v.preimages);
+                out.write(format_args!("{},{},{},{}\n", p[0], p[1], v.f, v.preimages))?;
             }
         }
         ModelSolid::Volume(s) => {
-            csv.push_str("x,y,z,f,preimages\n");
+            out.write(format_args!("x,y,z,f,preimages\n"))?;
             for p in points {
-                let v = s.evaluate(DVec3::new(p[0], p[1], p[2]), Method::Fast);
-                let _ = writeln!(csv, "{},{},{},{},{}", p[0], p[1], p[2], v.f, v.preimages);
+                let p = p?;
+                let v = s.evaluate(DVec3::from_array(p), Method::Fast);
+                out.write(format_args!(
+                    "{},{},{},{},{}\n",
+                    p[0], p[1], p[2], v.f, v.preimages
+                ))?;
             }
         }
     }
-    csv
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn parse(text: impl AsRef<[u8]>, dim: usize) -> Result<Vec<Vec<f64>>> {
+        static FILES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let path = std::env::temp_dir().join(format!(
+            "bezsolid-points-{}-{}",
+            std::process::id(),
+            FILES.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+        ));
+        std::fs::write(&path, text)?;
+        let points: Result<Vec<[f64; 3]>> =
+            Points::open(path.to_str().unwrap_or(""), dim)?.collect();
+        std::fs::remove_file(&path)?;
+        Ok(points?.into_iter().map(|p| p[..dim].to_vec()).collect())
+    }
+
     #[test]
     fn points_parse_with_header_comments_and_errors() {
-        let pts = parse_points("x,y\n# c\n0.5, 0.25\n\n1,2\n", 2).unwrap();
+        let pts = parse("x,y\n# c\n0.5, 0.25\n\n1,2\n", 2).unwrap();
         assert_eq!(pts, vec![vec![0.5, 0.25], vec![1.0, 2.0]]);
-        assert!(parse_points("1,2,3\n", 2).is_err());
-        assert!(parse_points("1,2\nx,y\n", 2).is_err());
-        assert!(parse_points("1,NaN\n", 2).is_err());
-        assert!(parse_points("1,inf\n", 2).is_err());
+        let pts = parse("\r\n  # c\r\n1,2,3\r\n-0,1e-300, 4 ", 3).unwrap();
+        assert_eq!(pts, vec![vec![1.0, 2.0, 3.0], vec![-0.0, 1e-300, 4.0]]);
+        for (text, dim, says) in [
+            ("1,2,3\n", 2, "line 1: expected 2 coordinates, found 3"),
+            ("1,2\nx,y\n", 2, "line 2: not 2 numbers: \"x,y\""),
+            ("# h\n\n1,NaN\n", 2, "line 3: coordinates must be finite"),
+            ("1,inf\n", 2, "line 1: coordinates must be finite"),
+            (
+                "x,y,z\n1,2,3,4\n",
+                3,
+                "line 2: expected 3 coordinates, found 4",
+            ),
+        ] {
+            let e = format!("{:#}", parse(text, dim).unwrap_err());
+            assert!(e.contains(says), "{text:?}: {e}");
+        }
+        let e = parse(b"1,2\n\xff,3\n", 2).unwrap_err().to_string();
+        assert!(e.ends_with(": stream did not contain valid UTF-8"), "{e}");
     }
 }

@@ -4,11 +4,11 @@
 //! holds for regular files only. Every reader here reads through [`Capped`] instead: at most
 //! `cap + 1` bytes ([`Read::take`]), and reading the byte past the cap is an error that says so
 //! ([`TooLarge`]). Whole files come from [`read_bytes`] and [`read_text`]; a file parsed line by line
-//! (points) from [`open`].
+//! (points) from [`open`], whose [`Lines`] hold one line at a time.
 
 use std::fmt;
 use std::fs::File;
-use std::io::{self, Read, Take};
+use std::io::{self, BufRead, BufReader, Read, Take};
 
 use anyhow::{Result, anyhow};
 
@@ -99,6 +99,52 @@ fn room(len: usize, cap: u64) -> usize {
     len.max(1 << 16).min(left).max(1)
 }
 
+/// The lines of a capped input, one at a time (see [`open`]).
+pub(crate) struct Lines {
+    reader: BufReader<Capped<File>>,
+    path: String,
+    cap: u64,
+}
+
+impl Lines {
+    /// The next line, with its `\n` if it has one, into `line` (whatever it held is dropped);
+    /// false at the end of the input. `line` grows as [`read_bytes`] does: a line as long as the
+    /// cap takes the cap in memory.
+    ///
+    /// # Errors
+    ///
+    /// When the input cannot be read, or goes past its cap.
+    pub(crate) fn next_into(&mut self, line: &mut Vec<u8>) -> Result<bool> {
+        line.clear();
+        loop {
+            let room = room(line.len(), self.cap);
+            line.reserve_exact(room);
+            let n = (&mut self.reader)
+                .take(room as u64)
+                .read_until(b'\n', line)
+                .map_err(|e| read_error(&self.path, e))?;
+            if n == 0 || line.last() == Some(&b'\n') {
+                return Ok(!line.is_empty());
+            }
+        }
+    }
+}
+
+/// `path` opened to be read a line at a time, at most `cap` bytes of it (`what` names it in the
+/// message).
+///
+/// # Errors
+///
+/// When the file cannot be opened.
+pub(crate) fn open(path: &str, cap: u64, what: &'static str) -> Result<Lines> {
+    let file = File::open(path).map_err(|e| read_error(path, e))?;
+    Ok(Lines {
+        reader: BufReader::new(Capped::new(file, path, what, cap)),
+        path: path.into(),
+        cap,
+    })
+}
+
 /// All bytes of `path`, refused past `cap` (`what` names it in the message).
 ///
 /// # Errors
@@ -164,6 +210,43 @@ mod tests {
             read_error("zero", e).to_string(),
             "zero is too large: a model file is at most 16 MiB"
         );
+    }
+
+    #[test]
+    fn lines_come_one_at_a_time_up_to_the_cap() {
+        let path = std::env::temp_dir().join(format!("bezsolid-lines-{}", std::process::id()));
+        std::fs::write(&path, "ab\n\nc\r\nlast").unwrap();
+        let path = path.to_str().unwrap();
+        let mut line = Vec::new();
+        let mut got = Vec::new();
+        let mut lines = open(path, 12, "test").unwrap();
+        while lines.next_into(&mut line).unwrap() {
+            got.push(String::from_utf8(line.clone()).unwrap());
+        }
+        assert_eq!(got, ["ab\n", "\n", "c\r\n", "last"]);
+        // Exactly the cap is read; one byte more is not.
+        let mut lines = open(path, 11, "test").unwrap();
+        for _ in 0..4 {
+            assert!(lines.next_into(&mut line).unwrap());
+        }
+        assert!(!lines.next_into(&mut line).unwrap());
+        // One byte short: refused when a read reaches the byte past the cap (through the buffer,
+        // before the last line comes).
+        let mut lines = open(path, 10, "test").unwrap();
+        let mut read = 0;
+        let e = loop {
+            match lines.next_into(&mut line) {
+                Ok(more) => assert!(more, "it ended without the error"),
+                Err(e) => break e,
+            }
+            read += 1;
+        };
+        assert!(read < 4);
+        assert_eq!(
+            e.to_string(),
+            format!("{path} is too large: a test is at most 10 bytes")
+        );
+        std::fs::remove_file(path).unwrap();
     }
 
     #[test]

@@ -16,6 +16,7 @@ mod hf;
 mod input;
 mod link;
 mod mesh;
+mod output;
 mod plasm;
 
 use std::path::Path;
@@ -31,7 +32,8 @@ commands (DESIGN §5):
   eval MODEL --points FILE.csv [-o OUT.csv]
                                    f and the number of preimages per point: CSV x,y[,z],f,preimages
                                    (FILE.csv: one point a line, at most 256 MiB and 10 million
-                                   points)
+                                   points; rows are written as points are read, and a bad line
+                                   stops the output there)
   contour MODEL [--res N] -o OUT.svg [--accuracy A]
                                    zero contours of a patch solid (N cells per side, default
                                    256; vertices refined to |f| <= A, default 1e-9)

@@ -6,13 +6,14 @@
 mod common;
 use std::time::Duration;
 
-use common::{bezsolid_bounded, one_line_error, out_path, scratch};
+use common::{Feed, bezsolid_bounded, one_line_error, out_path, scratch};
 
 /// Far more than reading a cap's worth of bytes takes, even on a busy machine.
 const LIMIT: Duration = Duration::from_secs(60);
 
-fn refused(args: &[&str], feed: Option<&'static [u8]>, says: &str) {
-    let out = bezsolid_bounded(args, feed, LIMIT);
+/// Runs `args` with 1 GiB of address space and expects the one-line refusal that `says`.
+fn refused(args: &[&str], feed: Feed, says: &str) {
+    let out = bezsolid_bounded(args, feed, 1024, LIMIT);
     assert_eq!(
         out.status.code(),
         Some(1),
@@ -57,7 +58,7 @@ fn endless_devices_are_refused_at_the_cap() {
             "/dev/urandom is too large: a model file is at most 16 MiB",
         ),
     ] {
-        refused(&args, None, says);
+        refused(&args, Feed::Nothing, says);
     }
 }
 
@@ -67,12 +68,12 @@ fn endless_pipes_are_refused_at_the_cap() {
     // that never closes for the model.
     refused(
         &["eval", "preset:fig9", "--points", "/dev/stdin"],
-        Some(b"# a comment line that is skipped\n"),
+        Feed::Endless(b"# a comment line that is skipped\n"),
         "/dev/stdin is too large: a points file is at most 256 MiB",
     );
     refused(
         &["link", "/dev/stdin"],
-        Some(b"{\"format\": \"bezsolid\", \"solid\": \"long"),
+        Feed::Endless(b"{\"format\": \"bezsolid\", \"solid\": \"long"),
         "/dev/stdin is too large: a model file is at most 16 MiB",
     );
 }
@@ -95,7 +96,7 @@ fn endless_fifos_are_refused_at_the_cap() {
     });
     refused(
         &["plasm", fifo.to_str().unwrap()],
-        None,
+        Feed::Nothing,
         "endless.psm is too large: a script is at most 256 KiB",
     );
     writer.join().unwrap();
@@ -118,7 +119,7 @@ fn regular_files_past_the_cap_are_refused() {
             "--points",
             pts.to_str().unwrap(),
         ],
-        None,
+        Feed::Nothing,
         "big.obj is too large: a mesh file is at most 128 MiB",
     );
     let model = out_path("big.bsolid.json");
@@ -128,7 +129,7 @@ fn regular_files_past_the_cap_are_refused() {
         .unwrap();
     refused(
         &["link", model.to_str().unwrap()],
-        None,
+        Feed::Nothing,
         "big.bsolid.json is too large: a model file is at most 16 MiB",
     );
 }

@@ -3,8 +3,9 @@
 
 #![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
 mod common;
-use common::{bezsolid, out_path, scratch};
+use common::{Feed, bezsolid, bezsolid_bounded, out_path, scratch};
 use std::process::Output;
+use std::time::Duration;
 
 fn binom(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64)
@@ -355,4 +356,130 @@ fn contour_svg_lies_on_the_zero_set() {
         svg_path.to_str().unwrap(),
     ]);
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("patch"));
+}
+
+/// The CSV that `eval` wrote when it held all points and all rows in memory: the same numbers,
+/// formatted the same way, made here from the core.
+fn csv_in_memory(preset: &str, points: &[[f64; 3]]) -> String {
+    use bezsolid_core::inverse::Method;
+    use bezsolid_core::model::ModelSolid;
+    use bezsolid_core::presets::Preset;
+    use std::fmt::Write as _;
+    let mut csv = String::new();
+    match Preset::from_name(preset).unwrap().solid() {
+        ModelSolid::Patch(s) => {
+            csv.push_str("x,y,f,preimages\n");
+            for p in points {
+                let v = s.evaluate(glam::DVec2::new(p[0], p[1]), Method::Fast);
+                writeln!(csv, "{},{},{},{}", p[0], p[1], v.f, v.preimages).unwrap();
+            }
+        }
+        ModelSolid::Volume(s) => {
+            csv.push_str("x,y,z,f,preimages\n");
+            for p in points {
+                let v = s.evaluate(glam::DVec3::from_array(*p), Method::Fast);
+                writeln!(csv, "{},{},{},{},{}", p[0], p[1], p[2], v.f, v.preimages).unwrap();
+            }
+        }
+    }
+    csv
+}
+
+#[test]
+fn eval_streams_points_from_a_pipe_as_it_wrote_them_from_memory() {
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 0.5
+    };
+    for (preset, dim, count) in [("fig9", 2, 100_000), ("ring", 3, 10_000)] {
+        let points: Vec<[f64; 3]> = (0..count)
+            .map(|_| [next(), next(), if dim == 3 { next() } else { 0.0 }])
+            .collect();
+        // A header, comments, blank lines and CRLF on the way, as a file may have them.
+        let mut text = String::from(if dim == 2 { "x,y\n" } else { "x,y,z\r\n" });
+        for (k, p) in points.iter().enumerate() {
+            if k % 1000 == 0 {
+                text.push_str("# a comment\n\n");
+            }
+            let line = if dim == 2 {
+                format!("{},{}", p[0], p[1])
+            } else {
+                format!("{}, {} ,{}", p[0], p[1], p[2])
+            };
+            text.push_str(&line);
+            text.push_str(if k % 2 == 0 { "\n" } else { "\r\n" });
+        }
+        let out = bezsolid_bounded(
+            &[
+                "eval",
+                &format!("preset:{preset}"),
+                "--points",
+                "/dev/stdin",
+            ],
+            Feed::Once(text.into_bytes()),
+            1024,
+            Duration::from_secs(300),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            String::from_utf8(out.stdout).unwrap() == csv_in_memory(preset, &points),
+            "{preset}: the rows differ"
+        );
+    }
+}
+
+#[test]
+fn eval_of_a_million_points_fits_in_48_mib() {
+    // Holding them took about 120 MB (points, text and rows); streaming takes about 15 MB of
+    // address space.
+    let out = bezsolid_bounded(
+        &["eval", "preset:fig9", "--points", "/dev/stdin"],
+        Feed::Once(b"0.25,0.75\n".repeat(1_000_000)),
+        48,
+        Duration::from_secs(300),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = String::from_utf8(out.stdout).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("x,y,f,preimages"));
+    let row = lines.next().unwrap();
+    assert!(
+        row.starts_with("0.25,0.75,") && row.ends_with(",1"),
+        "{row}"
+    );
+    assert_eq!(lines.clone().count(), 999_999);
+    assert!(lines.all(|l| l == row));
+}
+
+#[test]
+fn eval_stops_at_a_bad_line_and_names_it() {
+    let pts = scratch("bad-late.csv", "0.5,0.5\n0.25,0.25\n1\n0.75,0.75\n");
+    let out_file = out_path("bad-late-out.csv");
+    let out = bezsolid(&[
+        "eval",
+        "preset:fig9",
+        "--points",
+        pts.to_str().unwrap(),
+        "-o",
+        out_file.to_str().unwrap(),
+    ]);
+    let err = common::one_line_error(&out);
+    assert!(
+        err.ends_with("bad-late.csv: line 3: expected 2 coordinates, found 1"),
+        "{err}"
+    );
+    // The rows before the bad line were written; none after it.
+    let written = std::fs::read_to_string(out_file).unwrap();
+    assert_eq!(written.lines().count(), 3, "{written}");
 }

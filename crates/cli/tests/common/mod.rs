@@ -66,34 +66,54 @@ pub(crate) fn repeated_phrase(text: &str, len: usize) -> Option<&str> {
     })
 }
 
-/// Runs the `bezsolid` binary with `args` under a 1 GiB address-space limit (`ulimit -v`, so that a
-/// reader that ignores its cap fails instead of taking the machine's memory), feeding its stdin
-/// with `feed` repeated until it exits (if given), and panics if it runs past `limit`.
+/// What a bounded run gets on its stdin.
+pub(crate) enum Feed {
+    /// Nothing (stdin is `/dev/null`).
+    Nothing,
+    /// These bytes over and over, until it stops reading.
+    Endless(&'static [u8]),
+    /// These bytes, then the end.
+    Once(Vec<u8>),
+}
+
+/// Runs the `bezsolid` binary with `args` under an address-space limit of `memory_mib` MiB
+/// (`ulimit -v`: a reader that ignores its cap, or a command that holds what it should stream,
+/// fails instead of taking the machine's memory), with `feed` on its stdin, and panics if it runs
+/// past `limit`.
 pub(crate) fn bezsolid_bounded(
     args: &[&str],
-    feed: Option<&'static [u8]>,
+    feed: Feed,
+    memory_mib: u64,
     limit: std::time::Duration,
 ) -> Output {
     use std::io::{Read, Write};
     use std::process::Stdio;
     let mut child = Command::new("sh")
         .arg("-c")
-        .arg("ulimit -v 1048576 && exec \"$0\" \"$@\"")
+        .arg(format!(
+            "ulimit -v {} && exec \"$0\" \"$@\"",
+            memory_mib * 1024
+        ))
         .arg(env!("CARGO_BIN_EXE_bezsolid"))
         .args(args)
-        .stdin(if feed.is_some() {
-            Stdio::piped()
-        } else {
+        .stdin(if matches!(feed, Feed::Nothing) {
             Stdio::null()
+        } else {
+            Stdio::piped()
         })
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let feeder = child.stdin.take().map(|mut stdin| {
-        let chunk = feed.unwrap_or_default();
-        // Until the reader is gone (a broken pipe).
-        std::thread::spawn(move || while stdin.write_all(chunk).is_ok() {})
+        std::thread::spawn(move || match feed {
+            // Until the reader is gone (a broken pipe).
+            Feed::Endless(chunk) => while stdin.write_all(chunk).is_ok() {},
+            Feed::Once(bytes) => {
+                let _ = stdin.write_all(&bytes);
+            }
+            Feed::Nothing => {}
+        })
     });
     let drain = |mut r: Box<dyn Read + Send>| {
         std::thread::spawn(move || {
