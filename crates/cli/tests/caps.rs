@@ -133,3 +133,41 @@ fn regular_files_past_the_cap_are_refused() {
         "big.bsolid.json is too large: a model file is at most 16 MiB",
     );
 }
+
+#[test]
+fn free_form_models_are_refused_by_their_counts_in_little_memory() {
+    // A million triangles in a model file of 8 MB (under its 16 MiB cap): reading it whole took
+    // about 200 MB before the count was checked; now the list is refused at its 200001st
+    // triangle, within 48 MiB of address space.
+    let triangles = vec!["[0,1,2]"; 1_000_000].join(",");
+    let model = scratch(
+        "million.bsolid.json",
+        &format!(
+            r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "esc", "operands": [
+               {{"mesh": {{"positions": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [{triangles}]}}}}]}}}}"#
+        ),
+    );
+    let pts = scratch("r.csv", "0,0,0\n");
+    for args in [
+        vec![
+            "esc",
+            "classify",
+            model.to_str().unwrap(),
+            "--points",
+            pts.to_str().unwrap(),
+        ],
+        vec!["link", model.to_str().unwrap()],
+        vec!["mesh", model.to_str().unwrap(), "-o", "never.stl"],
+    ] {
+        let out = bezsolid_bounded(&args, Feed::Nothing, 48, LIMIT);
+        let line = one_line_error(&out);
+        assert!(
+            line.contains(
+                "is not a valid model file: a mesh has more than 200000 triangles (the most a \
+                 free-form model takes)"
+            ),
+            "{args:?}: {line}"
+        );
+    }
+    assert!(!std::path::Path::new("never.stl").exists());
+}

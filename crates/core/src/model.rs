@@ -10,6 +10,8 @@
 //! - `kind: "esc"` (free-form, issue 6): `operands`, one or two of `{ "example": "torus",
 //!   "offset": [x, y, z] }` or `{ "mesh": { "positions": [[x, y, z], …], "triangles": [[a, b, c],
 //!   …] }, "offset": … }`, and with two an `operation`: `union`, `intersection` or `difference`.
+//!   A mesh holds at most [`MAX_VERTICES`] positions and [`MAX_TRIANGLES`] triangles: a reader
+//!   refuses a longer list while reading it, before the rest of the file is read.
 //! - `kind: "plasm"` (scripts, issue 7): `script`, the text of a PLaSM script (at most
 //!   [`MAX_SCRIPT_BYTES`]); what it draws is what the script's top-level expressions give.
 //!
@@ -30,10 +32,13 @@ use crate::esc::bool::{Expr, Op};
 use crate::esc::chain::EscSolid;
 use crate::esc::draw::Boolean;
 use crate::esc::examples::Example;
-use crate::esc::import::{RawMesh, mesh_from_raw};
+use crate::esc::import::{MAX_TRIANGLES, MAX_VERTICES, RawMesh, mesh_from_raw};
 use crate::mesh::Mesh;
 use crate::solid::{Solid2, Solid3, SolidError};
 use crate::tensor::{Patch, Volume};
+
+#[cfg(feature = "serde")]
+mod de;
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "bezsolid";
@@ -55,8 +60,12 @@ pub struct ModelFile {
 }
 
 /// A solid as the file spells it.
+///
+/// It is read field by field, not through serde's derive (which copies the whole object first):
+/// a free-form model's meshes are counted while they are read and refused past [`MAX_TRIANGLES`]
+/// triangles or [`MAX_VERTICES`] positions.
 #[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "lowercase"))]
 pub enum SolidSpec {
     /// A 2D solid from a patch: points `[x, y, ξ]`.
@@ -113,13 +122,16 @@ pub struct EscOperand {
     pub offset: [f64; 3],
 }
 
-/// A triangle mesh in a model file.
+/// A triangle mesh in a model file: at most [`MAX_VERTICES`] positions and [`MAX_TRIANGLES`]
+/// triangles (a reader refuses a longer list at the first element past its cap).
 #[derive(Clone, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MeshSpec {
     /// Vertex positions.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::positions"))]
     pub positions: Vec<[f64; 3]>,
     /// Vertex indices, three per triangle, from 0.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "de::triangles"))]
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -151,6 +163,17 @@ pub enum ModelError {
     Esc(String),
     /// A script past [`MAX_SCRIPT_BYTES`]: its length.
     ScriptTooLong(usize),
+    /// A free-form model's mesh past a count cap, found before anything is built.
+    MeshTooLarge {
+        /// The operand, from 1.
+        operand: usize,
+        /// `"triangles"` ([`MAX_TRIANGLES`]) or `"vertices"` ([`MAX_VERTICES`]).
+        what: &'static str,
+        /// How many the mesh has.
+        count: usize,
+        /// The cap.
+        max: usize,
+    },
 }
 
 impl fmt::Display for ModelError {
@@ -172,6 +195,20 @@ impl fmt::Display for ModelError {
             Self::ScriptTooLong(len) => write!(
                 f,
                 "the script is {len} bytes; a model file holds at most {MAX_SCRIPT_BYTES}"
+            ),
+            Self::MeshTooLarge {
+                operand,
+                what,
+                count,
+                max,
+            } => write!(
+                f,
+                "invalid free-form model: operand {operand}: {}",
+                TooMany {
+                    what,
+                    count: *count,
+                    max: *max
+                }
             ),
         }
     }
@@ -348,6 +385,17 @@ impl ModelFile {
                 operation.as_deref().unwrap_or("no operation")
             )));
         }
+        // Every operand's counts before any operand is built.
+        for (i, o) in operands.iter().enumerate() {
+            if let Err(TooMany { what, count, max }) = o.check_counts() {
+                return Err(ModelError::MeshTooLarge {
+                    operand: i + 1,
+                    what,
+                    count,
+                    max,
+                });
+            }
+        }
         let solids = operands
             .iter()
             .enumerate()
@@ -364,6 +412,23 @@ impl ModelFile {
     }
 }
 
+/// A mesh's count past its cap.
+struct TooMany {
+    what: &'static str,
+    count: usize,
+    max: usize,
+}
+
+impl fmt::Display for TooMany {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Self { what, count, max } = self;
+        write!(
+            f,
+            "the mesh has {count} {what}, more than the {max} a free-form model takes"
+        )
+    }
+}
+
 impl EscOperand {
     /// A built-in example, moved by `offset`.
     #[must_use]
@@ -375,12 +440,31 @@ impl EscOperand {
         }
     }
 
+    /// Whether its mesh, if it has one, is within [`MAX_VERTICES`] positions and
+    /// [`MAX_TRIANGLES`] triangles.
+    fn check_counts(&self) -> Result<(), TooMany> {
+        let Some(mesh) = &self.mesh else {
+            return Ok(());
+        };
+        for (what, count, max) in [
+            ("triangles", mesh.triangles.len(), MAX_TRIANGLES),
+            ("vertices", mesh.positions.len(), MAX_VERTICES),
+        ] {
+            if count > max {
+                return Err(TooMany { what, count, max });
+            }
+        }
+        Ok(())
+    }
+
     /// The operand's mesh (the example's or its own), moved, welded, validated and with normals.
     ///
     /// # Errors
     ///
-    /// What is wrong with it, in words.
+    /// What is wrong with it, in words; a mesh past the count caps is refused before anything is
+    /// copied.
     pub fn to_mesh(&self) -> Result<Mesh, String> {
+        self.check_counts().map_err(|e| e.to_string())?;
         let offset = DVec3::from_array(self.offset);
         if !offset.is_finite() || offset.abs().max_element() > 1e9 {
             return Err("the offset must be finite numbers of at most 1e9".into());
@@ -444,6 +528,57 @@ mod tests {
             ModelFile::from_solid3(&s3).to_solid(),
             Ok(ModelSolid::Volume(s3))
         );
+    }
+
+    #[test]
+    fn free_form_meshes_past_the_count_caps_are_refused_before_anything_is_built() {
+        let mesh = |positions: usize, triangles: usize| EscOperand {
+            example: None,
+            mesh: Some(MeshSpec {
+                positions: alloc::vec![[0.0; 3]; positions],
+                triangles: alloc::vec![[0, 1, 2]; triangles],
+            }),
+            offset: [0.0; 3],
+        };
+        let one = ModelFile::from_esc(None, alloc::vec![mesh(3, MAX_TRIANGLES + 1)]);
+        let err = one.to_boolean().err();
+        assert_eq!(
+            err,
+            Some(ModelError::MeshTooLarge {
+                operand: 1,
+                what: "triangles",
+                count: MAX_TRIANGLES + 1,
+                max: MAX_TRIANGLES
+            })
+        );
+        assert_eq!(
+            err.map(|e| e.to_string()).unwrap_or_default(),
+            "invalid free-form model: operand 1: the mesh has 200001 triangles, more than the \
+             200000 a free-form model takes"
+        );
+        // The second operand's counts are checked before the first operand is built.
+        let two = ModelFile::from_esc(
+            Some(Op::Union),
+            alloc::vec![
+                EscOperand::example(Example::Torus, [0.0; 3]),
+                mesh(MAX_VERTICES + 1, 1),
+            ],
+        );
+        assert_eq!(
+            two.to_boolean().err(),
+            Some(ModelError::MeshTooLarge {
+                operand: 2,
+                what: "vertices",
+                count: MAX_VERTICES + 1,
+                max: MAX_VERTICES
+            })
+        );
+        // An operand on its own (the page builds them one at a time) says the same in words.
+        let err = mesh(3, MAX_TRIANGLES + 1).to_mesh().unwrap_err();
+        assert!(err.starts_with("the mesh has 200001 triangles"), "{err}");
+        // At the caps the counts pass, and the mesh is judged as a mesh.
+        let at_caps = ModelFile::from_esc(None, alloc::vec![mesh(MAX_VERTICES, 1)]);
+        assert!(matches!(at_caps.to_boolean(), Err(ModelError::Esc(_))));
     }
 
     #[test]
