@@ -60,6 +60,17 @@ fn errors_say_their_cause_once_on_one_line() {
     let pts = pts.to_str().unwrap();
     let pts3 = scratch("pts3.csv", "0,0,0\n");
     let pts3 = pts3.to_str().unwrap();
+    // A link with three zero bytes after its deflate stream: "AAAA" appends them to base64 whose
+    // length is a multiple of 4.
+    let stray = ["fig9", "blob", "ring", "fish"]
+        .iter()
+        .map(|p| {
+            let out = bezsolid(&["link", &format!("preset:{p}")]);
+            String::from_utf8(out.stdout).unwrap().trim().to_string()
+        })
+        .find(|link| link.split_once("#v1.").unwrap().1.len() % 4 == 0)
+        .unwrap()
+        + "AAAA";
     let svg = common::out_path("x.svg");
     let svg = svg.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
@@ -74,6 +85,10 @@ fn errors_say_their_cause_once_on_one_line() {
             "the share link's model: invalid solid: invalid control net: degree 17",
         ),
         (vec!["link", "#v1.AAAA"], "cut off"),
+        (
+            vec!["eval", &stray, "--points", pts],
+            "the link is damaged: 3 stray bytes follow the end of its packed data",
+        ),
         (vec!["link", "#v9.AAAA"], "version \"v9\""),
         (
             vec!["esc", "classify", open, "--points", pts3],
