@@ -841,3 +841,31 @@ fn memory_charged_by_a_run_is_all_given_back() {
         }
     }
 }
+
+#[test]
+fn maps_whose_kernel_outgrows_the_memory_budget_are_interpreted() {
+    // 501 operations, whose slots for a block of points take 256 KB: within a budget of 256 KiB
+    // the map is interpreted, to the same points.
+    let terms: Vec<String> = (1..=250).map(|i| format!("K:{i} + S1")).collect();
+    let src = format!("MAP:[{}]:(interval:<0, 1>:31);", terms.join(", "));
+    let tight = Limits {
+        memory: 256 << 10,
+        ..Limits::default()
+    };
+    let (fast, slow) = (
+        Interp::new().run(&src),
+        Interp::with_limits(tight).run(&src),
+    );
+    assert!(
+        fast.error.is_none() && slow.error.is_none(),
+        "{:?}",
+        slow.error
+    );
+    assert!(
+        slow.steps > 2 * fast.steps,
+        "interpreted: {} steps",
+        slow.steps
+    );
+    assert!(fast.memory > 256 << 10 && slow.memory < 256 << 10);
+    assert_eq!(pol(&fast.shown[0]), pol(&slow.shown[0]));
+}
