@@ -869,3 +869,22 @@ fn maps_whose_kernel_outgrows_the_memory_budget_are_interpreted() {
     assert!(fast.memory > 256 << 10 && slow.memory < 256 << 10);
     assert_eq!(pol(&fast.shown[0]), pol(&slow.shown[0]));
 }
+
+#[test]
+fn calls_under_way_count_against_the_memory_budget() {
+    // Each call of `f` holds a slot for each of its 5,000 locals (80 KB), used or not: a
+    // recursion 60 calls deep holds 5 MB, past a budget of 2 MiB before the call limit.
+    let locals: Vec<String> = (1..=5000).map(|i| format!("a{i} = {i}")).collect();
+    let src = format!(
+        "DEF f (n::IsNat) = IF:<C:EQ:0, K:0, f ~ C:-:1>:n WHERE {} END;\nf:60;",
+        locals.join(", ")
+    );
+    let tight = Limits {
+        memory: 2 << 20,
+        ..Limits::default()
+    };
+    let e = Interp::with_limits(tight).run(&src).error.expect("past");
+    assert_eq!((e.kind, e.span.line), (ErrorKind::Limit, 1), "{e}");
+    assert!(e.message.contains("memory"), "{e}");
+    assert!(Interp::new().run(&src).error.is_none());
+}
