@@ -2,9 +2,14 @@
 
 use std::fmt;
 
+use crate::meter::{Charge, buffer_bytes, rc_bytes};
+
 /// A simplicial complex: points of one dimension and cells of one order (1 vertex for points, 2
 /// for segments, 3 for triangles, 4 for tetrahedra), both flat.
-#[derive(Clone, Debug, PartialEq)]
+///
+/// Its bytes (as made by [`Complex::new`], or cloned) count against the memory budget of a run
+/// until it is dropped.
+#[derive(Debug)]
 pub struct Complex {
     /// Coordinates per point.
     pub dim: usize,
@@ -14,6 +19,27 @@ pub struct Complex {
     pub order: usize,
     /// `order` point indices per cell.
     pub cells: Vec<u32>,
+    /// Its bytes, as counted when it was made.
+    _held: Charge,
+}
+
+impl PartialEq for Complex {
+    fn eq(&self, other: &Complex) -> bool {
+        (self.dim, self.order) == (other.dim, other.order)
+            && self.points == other.points
+            && self.cells == other.cells
+    }
+}
+
+impl Clone for Complex {
+    fn clone(&self) -> Complex {
+        Complex::new(
+            self.dim,
+            self.points.clone(),
+            self.order,
+            self.cells.clone(),
+        )
+    }
 }
 
 /// Why a complex cannot be made.
@@ -47,6 +73,26 @@ impl fmt::Display for ComplexError {
 }
 
 impl Complex {
+    /// A complex of `points` (`dim` coordinates each) and `cells` (`order` point indices each).
+    pub fn new(dim: usize, points: Vec<f64>, order: usize, cells: Vec<u32>) -> Complex {
+        let held = Charge::new(Complex::bytes(points.capacity(), cells.capacity()));
+        Complex {
+            dim,
+            points,
+            order,
+            cells,
+            _held: held,
+        }
+    }
+
+    /// Bytes of a complex of `coordinates` numbers and `indices` point indices: its `Rc`, its
+    /// coordinates and its cells.
+    pub(crate) const fn bytes(coordinates: usize, indices: usize) -> usize {
+        rc_bytes::<Complex>()
+            .saturating_add(buffer_bytes::<f64>(coordinates))
+            .saturating_add(buffer_bytes::<u32>(indices))
+    }
+
     /// Points.
     pub fn point_count(&self) -> usize {
         self.points.len().checked_div(self.dim).unwrap_or(0)
@@ -90,36 +136,64 @@ impl Complex {
             }
             pos += d.abs();
         }
-        Complex {
-            dim: 1,
-            points,
-            order: 2,
-            cells,
-        }
+        Complex::new(1, points, 2, cells)
     }
 
     /// `[a, b]` in `n` equal segments.
     pub fn interval(a: f64, b: f64, n: usize) -> Complex {
-        Complex {
-            dim: 1,
-            points: (0..=n)
-                .map(|k| {
-                    if k == n {
-                        b
-                    } else {
-                        a + (b - a) * k as f64 / n as f64
-                    }
-                })
-                .collect(),
-            order: 2,
-            cells: (0..n as u32).flat_map(|k| [k, k + 1]).collect(),
-        }
+        let points = (0..=n)
+            .map(|k| {
+                if k == n {
+                    b
+                } else {
+                    a + (b - a) * k as f64 / n as f64
+                }
+            })
+            .collect();
+        Complex::new(
+            1,
+            points,
+            2,
+            (0..n as u32).flat_map(|k| [k, k + 1]).collect(),
+        )
     }
 
     /// The cells a product would have, without making it.
     pub fn product_count(&self, other: &Complex) -> u128 {
         let (k, l) = (self.order - 1, other.order - 1);
         self.cell_count() as u128 * other.cell_count() as u128 * binomial(k + l, k)
+    }
+
+    /// Whether [`Complex::product`] would make the product, without making it.
+    ///
+    /// # Errors
+    ///
+    /// As [`Complex::product`].
+    pub(crate) fn product_fits(&self, other: &Complex, limit: usize) -> Result<(), ComplexError> {
+        let (k, l) = (self.order - 1, other.order - 1);
+        if k + l > 3 {
+            return Err(ComplexError::Dimension(k + l));
+        }
+        let count = self.product_count(other);
+        let points = self.point_count() as u128 * other.point_count() as u128;
+        // Coordinates, too: a product of points of many coordinates is as large as many cells.
+        let coordinates = points * (self.dim + other.dim) as u128 / 16;
+        let most = count.max(points).max(coordinates);
+        if most > limit as u128 {
+            return Err(ComplexError::TooMany { count: most, limit });
+        }
+        Ok(())
+    }
+
+    /// The bytes that making the product takes at most: the product's, and a copy of the cells of
+    /// both.
+    pub(crate) fn product_bytes(&self, other: &Complex) -> u128 {
+        let (k, l) = (self.order - 1, other.order - 1);
+        let points = self.point_count() as u128 * other.point_count() as u128;
+        let coordinates = points * (self.dim + other.dim) as u128;
+        let indices = self.product_count(other) * (k + l + 1) as u128;
+        let copies = (self.cells.len() + other.cells.len()) as u128;
+        Complex::bytes(0, 0) as u128 + coordinates * 8 + (indices + copies) * 4
     }
 
     /// The product of two complexes (`A * B`): points are pairs (coordinates concatenated), and
@@ -132,19 +206,11 @@ impl Complex {
     /// [`ComplexError::TooMany`] past `limit` cells or points, [`ComplexError::Dimension`] past
     /// tetrahedra.
     pub fn product(&self, other: &Complex, limit: usize) -> Result<Complex, ComplexError> {
+        self.product_fits(other, limit)?;
         let (k, l) = (self.order - 1, other.order - 1);
-        if k + l > 3 {
-            return Err(ComplexError::Dimension(k + l));
-        }
         let count = self.product_count(other);
         let dim = self.dim + other.dim;
         let points = self.point_count() as u128 * other.point_count() as u128;
-        // Coordinates, too: a product of points of many coordinates is as large as many cells.
-        let coordinates = points * dim as u128 / 16;
-        let most = count.max(points).max(coordinates);
-        if most > limit as u128 {
-            return Err(ComplexError::TooMany { count: most, limit });
-        }
         let m = other.point_count();
         let mut pts = Vec::with_capacity(points as usize * dim);
         for i in 0..self.point_count() {
@@ -175,12 +241,7 @@ impl Complex {
                 }
             }
         }
-        let mut out = Complex {
-            dim,
-            points: pts,
-            order,
-            cells,
-        };
+        let mut out = Complex::new(dim, pts, order, cells);
         out.orient();
         Ok(out)
     }

@@ -6,8 +6,9 @@ use std::rc::Rc;
 
 use crate::complex::Complex;
 use crate::kernel::{Kernel, LANES};
+use crate::meter::{self, Charge, buffer_bytes};
 use crate::parse::{Arith, Def, Expr, Local, Stmt, parse};
-use crate::value::{Fun, NAMES, Prim, Value};
+use crate::value::{Fun, Items, NAMES, Prim, Value};
 use crate::{Error, ErrorKind, Limits, Span, Warning};
 
 /// The value of one top-level expression.
@@ -43,6 +44,9 @@ pub struct Run {
     pub error: Option<Error>,
     /// Steps taken.
     pub steps: u64,
+    /// The most bytes of values that the run held at once, as its memory budget counts them
+    /// ([`Limits::memory`]; measured at each step).
+    pub memory: u64,
 }
 
 impl Run {
@@ -66,6 +70,10 @@ pub struct Interp {
     last_map: Option<(Rc<Complex>, MapOf)>,
     limits: Limits,
     steps: u64,
+    /// What the thread's values held when the run began ([`meter::live`]), and the most the
+    /// run has held beyond that.
+    base: i64,
+    peak: i64,
     depth: u32,
     /// Expressions under evaluation, nested (over all calls under way).
     nesting: u32,
@@ -96,14 +104,20 @@ struct Env<'a> {
     params: Vec<Param>,
     locals: &'a [Local],
     slots: RefCell<Vec<Slot>>,
+    /// The bytes of the parameters and the slots, held while the call is under way.
+    _held: Charge,
 }
 
 impl<'a> Env<'a> {
     fn new(params: Vec<Param>, locals: &'a [Local]) -> Self {
+        let held = Charge::new(
+            buffer_bytes::<Param>(params.capacity()) + buffer_bytes::<Slot>(locals.len()),
+        );
         Env {
             params,
             locals,
             slots: RefCell::new(vec![Slot::Todo; locals.len()]),
+            _held: held,
         }
     }
 }
@@ -131,6 +145,8 @@ impl Interp {
             last_map: None,
             limits,
             steps: 0,
+            base: meter::live(),
+            peak: 0,
             depth: 0,
             nesting: 0,
         }
@@ -141,11 +157,14 @@ impl Interp {
     pub fn run(&mut self, src: &str) -> Run {
         self.steps = 0;
         self.depth = 0;
+        self.base = meter::live();
+        self.peak = 0;
         let mut run = Run {
             shown: Vec::new(),
             warnings: Vec::new(),
             error: None,
             steps: 0,
+            memory: 0,
         };
         if src.len() > self.limits.source {
             run.error = Some(Error::new(
@@ -215,6 +234,7 @@ impl Interp {
             }
         }
         run.steps = self.steps;
+        run.memory = self.peak.max(0) as u64;
         run
     }
 
@@ -267,7 +287,56 @@ impl Interp {
                 ),
             ));
         }
+        // What the run holds, at every step: whatever built it was counted as it was built.
+        let held = meter::live() - self.base;
+        self.peak = self.peak.max(held);
+        if held > self.limits.memory as i64 {
+            return Err(self.too_much_memory(at));
+        }
         Ok(())
+    }
+
+    /// Whether the run may build `bytes` more than it holds: checked before anything large is
+    /// built, so that the budget is not passed by one large value before the next step sees it.
+    fn room(&self, bytes: u128, at: Span) -> R<()> {
+        let held = (meter::live() - self.base).max(0) as u128;
+        if held.saturating_add(bytes) > self.limits.memory as u128 {
+            return Err(self.too_much_memory(at));
+        }
+        Ok(())
+    }
+
+    /// The bytes left to the run under its memory budget.
+    fn room_left(&self) -> u64 {
+        (self.limits.memory as i64 - (meter::live() - self.base)).max(0) as u64
+    }
+
+    /// A buffer of `n` values that the run fills while it evaluates more of the script, counted
+    /// against the memory budget while it is filled (the sequence or function it becomes is
+    /// counted in its turn).
+    fn buffer(&self, n: usize, at: Span) -> R<(Vec<Value>, Charge)> {
+        let bytes = buffer_bytes::<Value>(n);
+        self.room(bytes as u128, at)?;
+        Ok((Vec::with_capacity(n), Charge::new(bytes)))
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn too_much_memory(&self, at: Span) -> Error {
+        let most = self.limits.memory;
+        let most = if most.is_multiple_of(1 << 20) {
+            format!("{} MiB", most >> 20)
+        } else {
+            format!("{most} bytes")
+        };
+        Error::new(
+            ErrorKind::Limit,
+            at,
+            format!(
+                "the script builds more than {most} of values held at once (sequences, \
+                 functions, complexes): past the memory limit"
+            ),
+        )
     }
 
     /// A name's value. Names match case-insensitively, but a name written exactly as defined
@@ -388,14 +457,14 @@ impl Interp {
             Expr::Apply(..) => self.eval_nested(e, env),
             Expr::Seq(items, at) => {
                 self.tick(items.len() as u64, *at)?;
-                let v = items
-                    .iter()
-                    .map(|x| self.eval(x, env))
-                    .collect::<R<Vec<_>>>()?;
+                let (mut v, _held) = self.buffer(items.len(), *at)?;
+                for x in items {
+                    v.push(self.eval(x, env)?);
+                }
                 Ok(Value::seq(v))
             }
-            Expr::Cons(items, _) => {
-                let mut fs = Vec::with_capacity(items.len());
+            Expr::Cons(items, at) => {
+                let (mut fs, _held) = self.buffer(items.len(), *at)?;
                 for x in items {
                     let v = self.eval(x, env)?;
                     fs.push(function(v, x.span(), "an item of [ … ]")?);
@@ -409,12 +478,16 @@ impl Interp {
                 self.arith(*op, vec![av, bv], *at)
             }
             Expr::Compose(parts, at) => {
-                let mut fs = Vec::with_capacity(parts.len());
+                let (mut fs, mut held) = self.buffer(parts.len(), *at)?;
                 for p in parts {
                     let v = self.eval(p, env)?;
                     match function(v, p.span(), "an operand of `~`")? {
                         Value::Fun(f) => match &*f {
-                            Fun::Compose(inner) => fs.extend(inner.iter().cloned()),
+                            Fun::Compose(inner) => {
+                                self.room(buffer_bytes::<Value>(inner.len()) as u128, *at)?;
+                                fs.extend(inner.iter().cloned());
+                                held.set(buffer_bytes::<Value>(fs.capacity()));
+                            }
                             _ => fs.push(Value::Fun(f)),
                         },
                         v => fs.push(v),
@@ -447,6 +520,7 @@ impl Interp {
         }
     }
 
+    /// Checks, and counts as steps, the `n` items of a sequence about to be built.
     fn items(&mut self, n: u64, at: Span) -> R<()> {
         if n > self.limits.items as u64 {
             return Err(Error::new(
@@ -458,6 +532,7 @@ impl Interp {
                 ),
             ));
         }
+        self.room(Items::bytes(n as usize) as u128, at)?;
         self.tick(n, at)
     }
 
@@ -502,14 +577,14 @@ impl Interp {
                 Ok(v)
             }
             Fun::Cons(fs) => {
-                let mut out = Vec::with_capacity(fs.len());
+                let (mut out, _held) = self.buffer(fs.len(), at)?;
                 for f in fs {
                     out.push(self.apply(f, x.clone(), at)?);
                 }
                 Ok(Value::seq(out))
             }
             Fun::Lift(op, items) => {
-                let mut v = Vec::with_capacity(items.len());
+                let (mut v, _held) = self.buffer(items.len(), at)?;
                 for f in items {
                     v.push(match f {
                         Value::Fun(_) => self.apply(f, x.clone(), at)?,
@@ -638,29 +713,34 @@ impl Interp {
             .all(|v| matches!(v, Value::Num(_) | Value::Fun(_)))
         {
             // x ↦ op:<items(x)>; sums and products of sums and products are one node.
-            let mut flat = Vec::with_capacity(items.len());
-            for v in items {
-                match &v {
-                    Value::Fun(f) if matches!(op, Arith::Add | Arith::Mul) => match &**f {
-                        Fun::Lift(inner, xs) if *inner == op => flat.extend(xs.iter().cloned()),
-                        _ => flat.push(v),
-                    },
-                    _ => flat.push(v),
+            let n = items
+                .iter()
+                .map(|v| same_lift(op, v).map_or(1, <[Value]>::len) as u64)
+                .sum();
+            self.items(n, at)?;
+            let mut flat = Vec::with_capacity(n as usize);
+            for v in &items {
+                match same_lift(op, v) {
+                    Some(xs) => flat.extend(xs.iter().cloned()),
+                    None => flat.push(v.clone()),
                 }
             }
-            self.items(flat.len() as u64, at)?;
             return Ok(Value::fun(Fun::Lift(op, flat)));
         }
         if op == Arith::Mul && items.len() >= 2 && items.iter().all(|v| v.as_pol().is_some()) {
-            let mut acc = items[0].as_pol().expect("a complex").clone();
+            let limit = |e| Error::new(ErrorKind::Limit, at, format!("`*`: {e}"));
+            let Value::Pol(first) = &items[0] else {
+                unreachable!("all are complexes")
+            };
+            let mut acc = first.clone();
             for b in &items[1..] {
                 let b = b.as_pol().expect("a complex");
-                acc = acc
-                    .product(b, self.limits.cells)
-                    .map_err(|e| Error::new(ErrorKind::Limit, at, format!("`*`: {e}")))?;
+                acc.product_fits(b, self.limits.cells).map_err(limit)?;
+                self.room(acc.product_bytes(b), at)?;
+                acc = Rc::new(acc.product(b, self.limits.cells).map_err(limit)?);
                 self.tick(acc.cells.len() as u64 / 4, at)?;
             }
-            return Ok(Value::Pol(Rc::new(acc)));
+            return Ok(Value::Pol(acc));
         }
         let bad = items
             .iter()
@@ -704,7 +784,7 @@ impl Interp {
             );
         };
         self.items(s.len() as u64, at)?;
-        let mut out = Vec::with_capacity(s.len());
+        let (mut out, _held) = self.buffer(s.len(), at)?;
         for item in s.iter() {
             out.push(self.apply(&f, item.clone(), at)?);
         }
@@ -786,12 +866,13 @@ impl Interp {
         // where the kernel meets a value that is not finite (to give the interpreter's error).
         let kernel = if self.limits.kernels {
             let budget = self.limits.steps.saturating_sub(self.steps);
-            let k = Kernel::compile(&f, pol.dim, self.limits.depth, budget);
+            let k = Kernel::compile(&f, pol.dim, self.limits.depth, budget, self.room_left());
             self.tick(k.as_ref().map_or(0, |k| k.len() as u64), at)?;
             k
         } else {
             None
         };
+        let _kernel_held = Charge::new(kernel.as_ref().map_or(0, Kernel::bytes));
         let coordinates_cap = self.limits.cells.saturating_mul(16);
         let too_many = || {
             Err(Error::new(
@@ -802,10 +883,20 @@ impl Interp {
         };
         let (n, d) = (pol.point_count(), pol.dim);
         let (mut slots, mut image, mut bad) = (Vec::new(), Vec::new(), Vec::new());
+        // The points' buffer, counted while it is filled: once the first points tell their
+        // dimension, room for all of them is checked and reserved at once.
+        let (mut reserved, mut held) = (false, Charge::default());
         let mut i = 0;
         while i < n {
-            if points.len() > coordinates_cap {
-                return too_many();
+            if let (false, Some(dim)) = (reserved, dim) {
+                reserved = true;
+                let total = n.saturating_mul(dim);
+                if total > coordinates_cap {
+                    return too_many();
+                }
+                self.room(Complex::bytes(total, pol.cells.len()) as u128, at)?;
+                points.reserve_exact(total.saturating_sub(points.len()));
+                held.set(buffer_bytes::<f64>(points.capacity()));
             }
             let Some(k) = &kernel else {
                 self.map_point(&f, pol.point(i), at, &mut dim, &mut points)?;
@@ -838,12 +929,12 @@ impl Interp {
         if points.len() > coordinates_cap {
             return too_many();
         }
-        let made = Rc::new(Complex {
-            dim: dim.unwrap_or(pol.dim),
+        let made = Rc::new(Complex::new(
+            dim.unwrap_or(pol.dim),
             points,
-            order: pol.order,
-            cells: pol.cells.clone(),
-        });
+            pol.order,
+            pol.cells.clone(),
+        ));
         self.last_map = Some((
             made.clone(),
             MapOf {
@@ -1001,6 +1092,7 @@ impl Interp {
             Prim::Cons | Prim::Comp => {
                 let s = seq(&x, "a sequence of functions")?;
                 self.tick(s.len() as u64, at)?;
+                self.room(buffer_bytes::<Value>(s.len()) as u128, at)?;
                 let fs = s
                     .iter()
                     .map(|f| function(f.clone(), at, &format!("an item of {name}")))
@@ -1019,6 +1111,10 @@ impl Interp {
                     .collect::<R<Vec<_>>>()?;
                 let n = rows.iter().map(|r| r.len()).max().unwrap_or(0);
                 self.items((n as u64).saturating_mul(rows.len() as u64), at)?;
+                self.room(
+                    Items::bytes(n) as u128 + n as u128 * Items::bytes(rows.len()) as u128,
+                    at,
+                )?;
                 Ok(Value::seq(
                     (0..n)
                         .map(|j| {
@@ -1036,6 +1132,10 @@ impl Interp {
                 let (value, list) = if p == Prim::Distl { (a, b) } else { (b, a) };
                 let s = seq(&list, "a pair of a value and a sequence")?;
                 self.items(s.len() as u64, at)?;
+                self.room(
+                    Items::bytes(s.len()) as u128 + s.len() as u128 * Items::bytes(2) as u128,
+                    at,
+                )?;
                 Ok(Value::seq(
                     s.iter()
                         .map(|item| {
@@ -1075,11 +1175,13 @@ impl Interp {
                     return type_error(at, "TAIL of an empty sequence".into());
                 }
                 self.tick(s.len() as u64, at)?;
+                self.room(Items::bytes(s.len()) as u128, at)?;
                 Ok(Value::seq(s[1..].to_vec()))
             }
             Prim::Reverse => {
                 let s = seq(&x, "a sequence")?;
                 self.tick(s.len() as u64, at)?;
+                self.room(Items::bytes(s.len()) as u128, at)?;
                 Ok(Value::seq(s.iter().rev().cloned().collect()))
             }
             Prim::Cat => {
@@ -1095,15 +1197,20 @@ impl Interp {
             }
             Prim::Al | Prim::Ar => {
                 let (a, b) = pair(&x, "a pair")?;
-                let mut out = Vec::new();
-                if p == Prim::Al {
-                    out.push(a);
-                    out.extend(seq(&b, "a value and a sequence")?.iter().cloned());
+                let (one, s) = if p == Prim::Al {
+                    (a, seq(&b, "a value and a sequence")?)
                 } else {
-                    out.extend(seq(&a, "a sequence and a value")?.iter().cloned());
-                    out.push(b);
+                    (b, seq(&a, "a sequence and a value")?)
+                };
+                self.items(s.len() as u64 + 1, at)?;
+                let mut out = Vec::with_capacity(s.len() + 1);
+                if p == Prim::Al {
+                    out.push(one);
+                    out.extend(s.iter().cloned());
+                } else {
+                    out.extend(s.iter().cloned());
+                    out.push(one);
                 }
-                self.items(out.len() as u64, at)?;
                 Ok(Value::seq(out))
             }
             Prim::Intsto => {
@@ -1136,11 +1243,10 @@ impl Interp {
                         ),
                     );
                 }
-                let terms = a
-                    .iter()
-                    .zip(b.iter())
-                    .map(|(u, v)| self.arith(Arith::Mul, vec![u.clone(), v.clone()], at))
-                    .collect::<R<Vec<_>>>()?;
+                let (mut terms, _held) = self.buffer(a.len(), at)?;
+                for (u, v) in a.iter().zip(b.iter()) {
+                    terms.push(self.arith(Arith::Mul, vec![u.clone(), v.clone()], at)?);
+                }
                 self.arith(Arith::Add, terms, at)
             }
             Prim::Eq => {
@@ -1248,19 +1354,25 @@ impl Interp {
                         ),
                     );
                 }
-                let mut out = (**pol).clone();
-                let dim = cs.iter().fold(out.dim, |d, &c| d.max(c as usize));
-                if dim > out.dim {
-                    let n = out.point_count();
+                let dim = cs.iter().fold(pol.dim, |d, &c| d.max(c as usize));
+                let points = if dim > pol.dim {
+                    let n = pol.point_count();
                     self.items((n as u64).saturating_mul(dim as u64), at)?;
+                    self.room(Complex::bytes(n * dim, pol.cells.len()) as u128, at)?;
                     let mut pts = Vec::with_capacity(n * dim);
                     for i in 0..n {
-                        pts.extend_from_slice(out.point(i));
-                        pts.extend(std::iter::repeat_n(0.0, dim - out.dim));
+                        pts.extend_from_slice(pol.point(i));
+                        pts.extend(std::iter::repeat_n(0.0, dim - pol.dim));
                     }
-                    out.points = pts;
-                    out.dim = dim;
-                }
+                    pts
+                } else {
+                    self.room(
+                        Complex::bytes(pol.points.len(), pol.cells.len()) as u128,
+                        at,
+                    )?;
+                    pol.points.clone()
+                };
+                let mut out = Complex::new(dim, points, pol.order, pol.cells.clone());
                 self.tick(out.points.len() as u64 / 4, at)?;
                 for (&c, &d) in cs.iter().zip(&ds) {
                     let c = c as usize - 1;
@@ -1310,6 +1422,8 @@ impl Interp {
         }
     }
 
+    /// Checks, and counts as steps, the `n` segments of a complex about to be built (by
+    /// `QUOTE` or `interval`: at most two points and two indices each).
     fn cells(&mut self, n: u128, at: Span) -> R<()> {
         if n > self.limits.cells as u128 {
             return Err(Error::new(
@@ -1318,6 +1432,8 @@ impl Interp {
                 format!("{n} cells, past the limit of {}", self.limits.cells),
             ));
         }
+        let most = 2 * (n as usize + 1);
+        self.room(Complex::bytes(most, most) as u128, at)?;
         self.tick(n as u64 / 4, at)
     }
 }
@@ -1349,6 +1465,18 @@ fn not_applicable(at: Span, f: &Value, x: &Value) -> R<Value> {
             f.kind()
         ),
     )
+}
+
+/// The items of `v` where it is a sum and `op` is `+` (a product and `*`): they join the items of
+/// a sum (product) it is part of.
+fn same_lift(op: Arith, v: &Value) -> Option<&[Value]> {
+    match v {
+        Value::Fun(f) if matches!(op, Arith::Add | Arith::Mul) => match &**f {
+            Fun::Lift(inner, xs) if *inner == op => Some(xs),
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 /// `v` if it is a function; else a type error saying where it was wanted.

@@ -56,6 +56,9 @@ struct Compiler {
     max_depth: u32,
     /// Work left (operations, and items of shapes made), from the run's step budget.
     budget: u64,
+    /// Bytes left, from the run's memory budget: for the compiler's tables and the kernel's
+    /// slots (an operation's slot holds [`LANES`] numbers).
+    room: u64,
 }
 
 /// The widest point a kernel takes.
@@ -64,8 +67,14 @@ const MAX_DIM: usize = 4096;
 impl Kernel {
     /// The kernel of `f` on points of `dim` coordinates, if `f` is made of what it compiles,
     /// nests at most `max_depth` deep (the interpreter's call limit) and compiles within `budget`
-    /// units of work.
-    pub(crate) fn compile(f: &Value, dim: usize, max_depth: u32, budget: u64) -> Option<Kernel> {
+    /// units of work and `room` bytes (its tables, and the kernel with its slots).
+    pub(crate) fn compile(
+        f: &Value,
+        dim: usize,
+        max_depth: u32,
+        budget: u64,
+        room: u64,
+    ) -> Option<Kernel> {
         if dim > MAX_DIM {
             return None;
         }
@@ -79,6 +88,7 @@ impl Kernel {
             depth: 0,
             max_depth,
             budget,
+            room,
         };
         let coords = (0..dim)
             .map(|i| c.push(Op::Coord(i)))
@@ -99,6 +109,19 @@ impl Kernel {
     /// Operations per point.
     pub(crate) fn len(&self) -> usize {
         self.ops.len()
+    }
+
+    /// Bytes that the kernel holds while `MAP` runs it: its operations and their arguments, its
+    /// output, and the slots and images of a block of points.
+    pub(crate) fn bytes(&self) -> usize {
+        let output = match &self.output {
+            Shape::Scalar(_) => 0,
+            Shape::Vector(v) => v.capacity(),
+        };
+        (self.ops.capacity() * size_of::<Op>())
+            + (self.args.capacity() + output) * size_of::<u32>()
+            + (self.ops.len() + self.out_dim()) * LANES * size_of::<f64>()
+            + LANES
     }
 
     /// Coordinates of each image.
@@ -196,14 +219,28 @@ fn fold(op: Arith, mut xs: impl DoubleEndedIterator<Item = f64> + Clone) -> f64 
     }
 }
 
+/// Bytes of an entry of a hash table of `K` to `V`, with room for the table's spare capacity
+/// (a table grows by doubling, to at most 8/7 of its entries when full).
+const fn entry_bytes<K, V>() -> u64 {
+    (2 * (size_of::<K>() + size_of::<V>()) + 2) as u64
+}
+
 impl Compiler {
     fn spend(&mut self, work: usize) -> Option<()> {
         self.budget = self.budget.checked_sub(work as u64)?;
         (self.ops.len() <= MAX_OPS).then_some(())
     }
 
+    /// Counts `bytes` more against the room left; `None` past it.
+    fn hold(&mut self, bytes: u64) -> Option<()> {
+        self.room = self.room.checked_sub(bytes)?;
+        Some(())
+    }
+
     fn push(&mut self, op: Op) -> Option<u32> {
         self.spend(1)?;
+        // The operation (twice, for the vector's spare capacity) and its slot in a block.
+        self.hold((2 * size_of::<Op>() + LANES * size_of::<f64>()) as u64)?;
         self.ops.push(op);
         Some((self.ops.len() - 1) as u32)
     }
@@ -215,6 +252,16 @@ impl Compiler {
         if let Some(&id) = self.ids.get(&shape) {
             return Some(id);
         }
+        // Held twice, in `shapes` and as a key of `ids`.
+        let items = match &shape {
+            Shape::Scalar(_) => 0,
+            Shape::Vector(v) => v.len(),
+        };
+        self.hold(
+            2 * (items * size_of::<u32>()) as u64
+                + 2 * size_of::<Shape>() as u64
+                + entry_bytes::<Shape, u32>(),
+        )?;
         self.shapes.push(shape.clone());
         let id = (self.shapes.len() - 1) as u32;
         self.ids.insert(shape, id);
@@ -230,6 +277,7 @@ impl Compiler {
             return Some(s);
         }
         let s = self.push(Op::Const(c))?;
+        self.hold(entry_bytes::<u64, u32>())?;
         self.consts.insert(c.to_bits(), s);
         Some(s)
     }
@@ -245,6 +293,7 @@ impl Compiler {
             self.push(Op::Two(op, a, b))?
         } else {
             let start = self.args.len() as u32;
+            self.hold(2 * size_of_val(slots) as u64)?;
             self.args.extend_from_slice(slots);
             self.push(Op::Fold(op, start, slots.len() as u32))?
         };
@@ -294,6 +343,7 @@ impl Compiler {
         let out = self.fun(fun, input);
         self.depth -= 1;
         let out = out?;
+        self.hold(entry_bytes::<(usize, u32), u32>())?;
         self.memo.insert(key, out);
         Some(out)
     }

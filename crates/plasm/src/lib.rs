@@ -32,8 +32,32 @@
 //! predecessor that its `Choose` recursion needs.
 //!
 //! Scripts are untrusted: every error has a line and column, and [`Limits`] bound the steps, the
-//! depth of calls, the length of sequences and the cells of complexes, so a script ends with an
-//! error rather than a hang, an overflow of the stack or a panic.
+//! depth of calls, the length of sequences, the cells of complexes and the memory that a run's
+//! values hold, so a script ends with an error rather than a hang, an overflow of the stack, a
+//! panic or an exhausted memory.
+//!
+//! The memory budget counts bytes as values are built and gives them back as they are dropped:
+//! what is held at once counts, not what was ever built. A sequence counts its items (16 bytes
+//! each), a function its arguments, a complex its coordinates and cells, each with its `Rc` and
+//! what the allocator adds to a block; the interpreter adds the buffers it fills while a script
+//! runs (the results of `AA` or `CONS` on their way, the frames of calls, `MAP`'s points). It
+//! is checked at every step and before anything large is built, and [`Run::memory`] says the
+//! most a run held:
+//!
+//! ```
+//! use bezsolid_plasm::{ErrorKind, Interp, Limits};
+//!
+//! let small = Limits { memory: 1 << 20, ..Limits::default() };
+//! // A range of 50,000 numbers holds 800 KB: twenty are built, one at a time.
+//! let run = Interp::with_limits(small).run("DEF n (i::IsNat) = LEN:(1..50000); +:(AA:n:(1..20));");
+//! assert_eq!(run.shown[0].value.as_num(), Some(1e6));
+//! assert!(run.memory > 800_000 && run.memory < 1 << 20);
+//! // Two are not held at once.
+//! let run = Interp::with_limits(small).run("DEF a = 1..50000;\nDEF b = 1..50000;");
+//! let e = run.error.unwrap();
+//! assert_eq!((e.kind, e.span.line, e.span.col), (ErrorKind::Limit, 2, 10));
+//! assert!(e.message.starts_with("the script builds more than 1 MiB"));
+//! ```
 
 use std::fmt;
 
@@ -42,6 +66,7 @@ mod eval;
 mod kernel;
 mod lex;
 pub mod mesh;
+mod meter;
 mod parse;
 pub mod scripts;
 pub mod value;
@@ -144,6 +169,11 @@ pub struct Limits {
     pub items: usize,
     /// Cells (and points) of one complex.
     pub cells: usize,
+    /// Bytes of values held at once by a run: its sequences, functions and complexes, and the
+    /// buffers it fills while it runs, counted as they are built and given back as they are
+    /// dropped (so a script that builds and drops large values over and over is not refused),
+    /// from what was held when the run began.
+    pub memory: usize,
     /// Bytes of source.
     pub source: usize,
     /// Whether `MAP` compiles maps made of built-ins to straight-line arithmetic (the same
@@ -152,13 +182,20 @@ pub struct Limits {
 }
 
 impl Default for Limits {
-    /// 20 M steps (about a second), 200 nested calls, 1 M items, 1 M cells, 256 KiB of source.
+    /// 20 M steps (about a second), 200 nested calls, 1 M items, 1 M cells, 256 MiB of values
+    /// held at once, 256 KiB of source.
+    ///
+    /// The memory budget is a sixteenth of the 4 GiB that a page's WebAssembly memory may grow
+    /// to (and never gives back), and 1,800 times what the largest of the paper's examples holds
+    /// at once (Fig. 1's, Scripts 4.2 to 4.4: 145 KiB). Within it a run may hold, say, 16
+    /// sequences of a million numbers, or a complex of a million points in 16 dimensions.
     fn default() -> Self {
         Limits {
             steps: 20_000_000,
             depth: 200,
             items: 1_000_000,
             cells: 1_000_000,
+            memory: 256 << 20,
             source: 256 * 1024,
             kernels: true,
         }

@@ -770,3 +770,121 @@ fn work_and_memory_count_against_the_limits() {
     let e = Interp::new().run(&big).error.expect("too long");
     assert_eq!((e.kind, e.span.line, e.span.col), (ErrorKind::Limit, 1, 1));
 }
+
+#[test]
+fn memory_limit_stops_a_run_at_its_place() {
+    // A range of 30,000 numbers holds 480 KB: two fit in 1 MiB, not three.
+    let small = Limits {
+        memory: 1 << 20,
+        ..Limits::default()
+    };
+    let src = "DEF a = 1..30000;\nDEF b = 1..30000;\nDEF c = 1..30000;\nDEF d = 1..30000;";
+    let r = Interp::with_limits(small).run(src);
+    let e = r.error.expect("past the budget");
+    assert_eq!((e.kind, e.span.line, e.span.col), (ErrorKind::Limit, 3, 10));
+    assert_eq!(
+        e.message,
+        "the script builds more than 1 MiB of values held at once (sequences, functions, \
+         complexes): past the memory limit"
+    );
+    assert!(r.memory > 960_000 && r.memory <= 1 << 20, "{}", r.memory);
+}
+
+#[test]
+fn memory_is_given_back_as_values_are_dropped() {
+    // A hundred ranges of 1.6 MB each, 160 MB in all, within 4 MiB: each is dropped once its
+    // length is taken.
+    let small = Limits {
+        memory: 4 << 20,
+        ..Limits::default()
+    };
+    let src = "DEF big (n::IsNat) = LEN:(1..100000);\n+:(AA:big:(1..100));";
+    let r = Interp::with_limits(small).run(src);
+    assert!(r.error.is_none(), "{:?}", r.error);
+    assert_eq!(r.shown[0].value.as_num(), Some(1e7));
+    assert!(r.memory > 1_600_000 && r.memory < 4 << 20, "{}", r.memory);
+}
+
+#[test]
+fn memory_charged_by_a_run_is_all_given_back() {
+    // Every byte counted as built is credited as dropped, whether the run ends well or not,
+    // halfway through filling a buffer, or in a call after the run.
+    let start = crate::meter::live();
+    let mut sources: Vec<String> = scripts::EXAMPLES.iter().map(|e| e.source()).collect();
+    sources.extend(
+        [
+            "DEF h (x::IsReal) = g:x;\nDEF g = CONS:(AL:<h, #:9999:ID>);\ng:0;",
+            "DEF h (x::IsReal) = g:x;\nDEF g = +:(AL:<h, #:9999:ID>);\ng:0;",
+            "DEF a = T:3:0:(interval:<0,1>:50);\nDEF p = a * a * interval:<0,1>:3;\nMAP:[S1, S6]:p;",
+            "MAP:(CONS:(#:40:S1)):(interval:<0,1>:9999);",
+            "DEF f (n::IsNat) = <n, k> WHERE k = n * 2, j = k END;\nAA:f:(1..100);",
+            "TRANS:<1..100, DISTL:<0, 1..300>>; TAIL:(1..10); REVERSE:(1..10); QUOTE:<1,-1,2>;",
+            "S:2:3:(T:<1, 2>:<1, 1>:(Domain:4 * Domain:5)); InnerProd:<<ID, K:2>, <S1, S2>>;",
+            "[ID, ID ~ SIN, ID ~ (COS ~ ID)]:1; AA:(1 / ID):<1, 0>;",
+        ]
+        .map(String::from),
+    );
+    for src in &sources {
+        let memory = Limits {
+            memory: 8 << 20,
+            ..Limits::default()
+        };
+        for limits in [Limits::default(), memory] {
+            let mut p = Interp::with_limits(limits);
+            let r = p.run(src);
+            if let Some(f) = p.global("Surf1").cloned() {
+                let _ = p.call(&f, &[0.5, 0.5]);
+            }
+            drop(r);
+            drop(p);
+            assert_eq!(crate::meter::live(), start, "{}", &src[..src.len().min(60)]);
+        }
+    }
+}
+
+#[test]
+fn maps_whose_kernel_outgrows_the_memory_budget_are_interpreted() {
+    // 501 operations, whose slots for a block of points take 256 KB: within a budget of 256 KiB
+    // the map is interpreted, to the same points.
+    let terms: Vec<String> = (1..=250).map(|i| format!("K:{i} + S1")).collect();
+    let src = format!("MAP:[{}]:(interval:<0, 1>:31);", terms.join(", "));
+    let tight = Limits {
+        memory: 256 << 10,
+        ..Limits::default()
+    };
+    let (fast, slow) = (
+        Interp::new().run(&src),
+        Interp::with_limits(tight).run(&src),
+    );
+    assert!(
+        fast.error.is_none() && slow.error.is_none(),
+        "{:?}",
+        slow.error
+    );
+    assert!(
+        slow.steps > 2 * fast.steps,
+        "interpreted: {} steps",
+        slow.steps
+    );
+    assert!(fast.memory > 256 << 10 && slow.memory < 256 << 10);
+    assert_eq!(pol(&fast.shown[0]), pol(&slow.shown[0]));
+}
+
+#[test]
+fn calls_under_way_count_against_the_memory_budget() {
+    // Each call of `f` holds a slot for each of its 5,000 locals (80 KB), used or not: a
+    // recursion 60 calls deep holds 5 MB, past a budget of 2 MiB before the call limit.
+    let locals: Vec<String> = (1..=5000).map(|i| format!("a{i} = {i}")).collect();
+    let src = format!(
+        "DEF f (n::IsNat) = IF:<C:EQ:0, K:0, f ~ C:-:1>:n WHERE {} END;\nf:60;",
+        locals.join(", ")
+    );
+    let tight = Limits {
+        memory: 2 << 20,
+        ..Limits::default()
+    };
+    let e = Interp::with_limits(tight).run(&src).error.expect("past");
+    assert_eq!((e.kind, e.span.line), (ErrorKind::Limit, 1), "{e}");
+    assert!(e.message.contains("memory"), "{e}");
+    assert!(Interp::new().run(&src).error.is_none());
+}

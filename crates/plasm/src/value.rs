@@ -4,6 +4,7 @@ use std::fmt::{self, Write as _};
 use std::rc::Rc;
 
 use crate::complex::Complex;
+use crate::meter::{self, buffer_bytes, rc_bytes};
 use crate::parse::{Arith, Def};
 
 /// A value of the language.
@@ -24,8 +25,18 @@ pub enum Value {
 /// The items of a sequence. Dropping a deep value (a sequence of sequences of …, or functions
 /// built on functions, statement after statement) does not recurse: the children of each value
 /// whose last reference goes are moved to a stack of our own.
-#[derive(Debug, Default)]
-pub struct Items(pub Vec<Value>);
+///
+/// A sequence is made by [`Value::seq`], which counts its bytes against the memory budget of a
+/// run; they are given back when it is dropped.
+#[derive(Debug)]
+pub struct Items(Vec<Value>);
+
+impl Items {
+    /// Bytes of a sequence of `capacity` items: its `Rc` and its buffer.
+    pub(crate) const fn bytes(capacity: usize) -> usize {
+        rc_bytes::<Items>() + buffer_bytes::<Value>(capacity)
+    }
+}
 
 impl core::ops::Deref for Items {
     type Target = Vec<Value>;
@@ -36,12 +47,14 @@ impl core::ops::Deref for Items {
 
 impl Drop for Items {
     fn drop(&mut self) {
+        meter::credit(Items::bytes(self.0.capacity()));
         drop_iteratively(core::mem::take(&mut self.0));
     }
 }
 
 impl Drop for Fun {
     fn drop(&mut self) {
+        meter::credit(self.bytes());
         let children = match self {
             Fun::Prim(_) => return,
             Fun::Partial(_, v)
@@ -99,6 +112,21 @@ pub enum Fun {
     Lift(Arith, Vec<Value>),
     /// A `DEF` with parameters and the argument groups given so far.
     User(Rc<Def>, Vec<Value>),
+}
+
+impl Fun {
+    /// Bytes of a function: its `Rc` and the buffer of its arguments.
+    fn bytes(&self) -> usize {
+        let args = match self {
+            Fun::Prim(_) => 0,
+            Fun::Partial(_, v)
+            | Fun::Compose(v)
+            | Fun::Cons(v)
+            | Fun::Lift(_, v)
+            | Fun::User(_, v) => v.capacity(),
+        };
+        rc_bytes::<Fun>() + buffer_bytes::<Value>(args)
+    }
 }
 
 macro_rules! prims {
@@ -216,13 +244,16 @@ impl Prim {
 }
 
 impl Value {
-    /// A sequence.
+    /// A sequence. Its bytes count against the memory budget of a run until it is dropped.
     pub fn seq(items: Vec<Value>) -> Value {
+        meter::charge(Items::bytes(items.capacity()));
         Value::Seq(Rc::new(Items(items)))
     }
 
-    /// A function value.
+    /// A function value. Its bytes count against the memory budget of a run until it is
+    /// dropped. A [`Fun`] gives its bytes back when it is dropped: make one only to pass it here.
     pub fn fun(f: Fun) -> Value {
+        meter::charge(f.bytes());
         Value::Fun(Rc::new(f))
     }
 
