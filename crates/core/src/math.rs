@@ -31,9 +31,14 @@ pub(crate) fn sqrt(x: f64) -> f64 {
     }
 }
 
-/// A zero of `g` on `[0, 1]`, where `g(0) = f0` and `g(1) = f1` have opposite signs, by Illinois
-/// regula falsi: the best `t` found, once `|g(t)| ≤ accuracy`, the bracket has closed, or after 100
-/// steps (a `g` that is not continuous cannot loop forever).
+/// The most evaluations [`illinois`] makes.
+pub(crate) const ROOT_STEPS: u32 = 60;
+
+/// A zero of `g` on `[0, 1]`, where `g(0) = f0` and `g(1) = f1` have opposite signs: Illinois
+/// regula falsi, safeguarded by bisection so that the bracket at least halves every two steps, in
+/// at most [`ROOT_STEPS`] evaluations of `g`. The best `t` found once `|g(t)| ≤ accuracy`; where
+/// `g` jumps across zero instead (`f` where a space mapping folds), the bracket closes on the jump
+/// (to `1e-12`) and its middle is returned: the vertex lies on the fold.
 pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy: f64) -> f64 {
     let (mut t0, mut t1, mut f0, mut f1) = (0.0, 1.0, f0, f1);
     let mut best = if f0.abs() <= f1.abs() {
@@ -42,17 +47,20 @@ pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy
         (t1, f1)
     };
     let mut side = 0i8;
-    for _ in 0..100 {
-        if best.1.abs() <= accuracy {
+    // The bracket's width two steps ago, and the steps since it halved.
+    let (mut reference, mut since) = (1.0f64, 0u32);
+    for _ in 0..ROOT_STEPS {
+        if best.1.abs() <= accuracy || t1 - t0 <= 1e-12 {
             break;
         }
+        let bisect = since >= 2;
         let denom = f1 - f0;
-        let mut t = if denom != 0.0 {
+        let mut t = if denom != 0.0 && !bisect {
             (t0 * f1 - t1 * f0) / denom
         } else {
             0.5 * (t0 + t1)
         };
-        if !(t > t0.min(t1) && t < t0.max(t1)) {
+        if !(t > t0 && t < t1) {
             t = 0.5 * (t0 + t1);
         }
         let ft = g(t);
@@ -74,9 +82,15 @@ pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy
             }
             side = -1;
         }
-        if (t1 - t0).abs() < 1e-15 {
-            break;
+        since += 1;
+        if t1 - t0 <= 0.5 * reference || bisect {
+            reference = t1 - t0;
+            since = 0;
         }
     }
-    best.0
+    if best.1.abs() <= accuracy {
+        best.0
+    } else {
+        0.5 * (t0 + t1)
+    }
 }

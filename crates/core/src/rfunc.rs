@@ -70,11 +70,21 @@ pub fn unit_square(u: f64, v: f64) -> f64 {
     intersect(strip(u), strip(v))
 }
 
-/// Functional clipping of a patch value `s = S_ξ(u, v)` to the unit square: `s & F_s(u, v)`.
+/// A clipped value that overflowed to infinity or NaN, saturated: far outside the unit box, where
+/// the polynomial's terms or the parameters themselves pass `f64::MAX`, the value is negative (the
+/// clipping function is), and `−f64::MAX` is the nearest finite value of the right sign. Inside
+/// the box nothing overflows (control values are at most 1e12).
+#[inline]
+fn saturate(f: f64) -> f64 {
+    if f.is_finite() { f } else { -f64::MAX }
+}
+
+/// Functional clipping of a patch value `s = S_ξ(u, v)` to the unit square: `s & F_s(u, v)`;
+/// finite for any input (see `saturate`).
 #[must_use]
 #[inline]
 pub fn clip2(s: f64, u: f64, v: f64) -> f64 {
-    intersect(s, unit_square(u, v))
+    saturate(intersect(s, unit_square(u, v)))
 }
 
 /// The unit cube `F_s(u, v, w) = F_b(u) & F_b(v) & F_b(w)`, taken left to right as the paper writes it
@@ -85,11 +95,22 @@ pub fn unit_cube(u: f64, v: f64, w: f64) -> f64 {
     intersect(intersect(strip(u), strip(v)), strip(w))
 }
 
-/// Functional clipping of a volume value `s = S_ξ(u, v, w)` to the unit cube: `s & F_s(u, v, w)`.
+/// Functional clipping of a volume value `s = S_ξ(u, v, w)` to the unit cube: `s & F_s(u, v, w)`;
+/// finite for any input.
 #[must_use]
 #[inline]
 pub fn clip3(s: f64, u: f64, v: f64, w: f64) -> f64 {
-    intersect(s, unit_cube(u, v, w))
+    saturate(intersect(s, unit_cube(u, v, w)))
+}
+
+/// A gradient with a component that overflowed, as none: where the value saturated there is no
+/// useful direction.
+fn finite_or_zero<const D: usize>(g: [f64; D]) -> [f64; D] {
+    if g.iter().all(|x| x.is_finite()) {
+        g
+    } else {
+        [0.0; D]
+    }
 }
 
 /// [`clip2`] with its gradient in `(u, v)`, given `s` and its gradient `ds`: the chain rule through
@@ -99,11 +120,11 @@ pub fn clip2_with_gradient(s: f64, ds: [f64; 2], u: f64, v: f64) -> (f64, [f64; 
     let (c, cu, cv) = intersect_with_partials(strip(u), strip(v));
     let (f, fs, fc) = intersect_with_partials(s, c);
     (
-        f,
-        [
+        saturate(f),
+        finite_or_zero([
             fs * ds[0] + fc * cu * (1.0 - 2.0 * u),
             fs * ds[1] + fc * cv * (1.0 - 2.0 * v),
-        ],
+        ]),
     )
 }
 
@@ -114,12 +135,12 @@ pub fn clip3_with_gradient(s: f64, ds: [f64; 3], u: f64, v: f64, w: f64) -> (f64
     let (c, cc1, cw) = intersect_with_partials(c1, strip(w));
     let (f, fs, fc) = intersect_with_partials(s, c);
     (
-        f,
-        [
+        saturate(f),
+        finite_or_zero([
             fs * ds[0] + fc * cc1 * c1u * (1.0 - 2.0 * u),
             fs * ds[1] + fc * cc1 * c1v * (1.0 - 2.0 * v),
             fs * ds[2] + fc * cw * (1.0 - 2.0 * w),
-        ],
+        ]),
     )
 }
 

@@ -133,6 +133,18 @@ fn point_bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
         })
 }
 
+/// A gradient with its overflowed components saturated (a tiny box's scaling can pass `f64::MAX`)
+/// and its undefined ones zero.
+fn saturated<const D: usize>(g: [f64; D]) -> [f64; D] {
+    g.map(|x| {
+        if x.is_nan() {
+            0.0
+        } else {
+            x.clamp(-f64::MAX, f64::MAX)
+        }
+    })
+}
+
 /// The gradient in space from the gradient in parameters: `∇_p f = J^{-T} ∇_u f` (zero where `J` is
 /// singular).
 fn to_space_gradient<const D: usize>(jac: &[[f64; D]; D], g: [f64; D]) -> [f64; D] {
@@ -382,7 +394,7 @@ impl Solid2 {
             None => DVec2::from_array(g) / (self.max - self.min),
             Some(_) => DVec2::from_array(to_space_gradient(&e.jac, g)),
         };
-        (f, g)
+        (f, DVec2::from_array(saturated(g.to_array())))
     }
 
     /// Function mapping on a whole row: ξ of every `P_ij` with `i = index` (`axis` [`Axis::U`]) or
@@ -676,7 +688,7 @@ impl Solid3 {
             None => DVec3::from_array(g) / (self.max - self.min),
             Some(_) => DVec3::from_array(to_space_gradient(&e.jac, g)),
         };
-        (f, g)
+        (f, DVec3::from_array(saturated(g.to_array())))
     }
 
     /// ξ of control point `P_ijk`, `None` past the end of the net.
@@ -999,6 +1011,112 @@ mod tests {
                     let want = s.evaluate(DVec3::new(x, y, z), Method::Clipping).f;
                     assert!((grid[k] - want).abs() < 1e-9);
                     k += 1;
+                }
+            }
+        }
+    }
+
+    /// Points far and near, of every magnitude up to `f64::MAX`, around a box at `lo` of size
+    /// `size` (per axis).
+    fn extreme_points<const D: usize>(
+        rng: &mut Rng,
+        lo: [f64; D],
+        size: [f64; D],
+    ) -> Vec<[f64; D]> {
+        let mut out = Vec::new();
+        for _ in 0..12 {
+            // Inside or near the box.
+            out.push(core::array::from_fn(|c| {
+                lo[c] + size[c] * rng.range(-0.5, 1.5)
+            }));
+            // Anywhere, at any scale.
+            out.push(core::array::from_fn(|_| {
+                let e = rng.range(-300.0, 308.0);
+                let sign = if rng.range(0.0, 1.0) < 0.5 { -1.0 } else { 1.0 };
+                sign * 10f64.powf(e).min(f64::MAX)
+            }));
+        }
+        out.push([f64::MAX; D]);
+        out.push([-f64::MAX; D]);
+        out.push(core::array::from_fn(|c| if c == 0 { 1e20 } else { 0.0 }));
+        out
+    }
+
+    #[test]
+    fn f_is_finite_for_every_finite_point_and_negative_outside() {
+        let mut rng = Rng::new(35);
+        for trial in 0..40 {
+            let extent = 10f64.powf(rng.range(-300.0, 11.0));
+            let offset = if trial % 3 == 0 {
+                0.0
+            } else {
+                extent * rng.range(-2.0, 2.0)
+            };
+            let degree = (rng.int(1, 16), rng.int(1, 16));
+            let size = [extent, extent * rng.range(0.5, 2.0)];
+            let lo = [offset, -offset];
+            let mut patch = Solid2::regular(
+                degree,
+                DVec2::from_array(lo),
+                DVec2::from_array(lo) + DVec2::from_array(size),
+                |_, _| rng.range(-1.0, 1.0),
+            )
+            .unwrap()
+            .patch()
+            .clone();
+            // Every other net is space-mapped: one inner point moved by a fraction of the box.
+            let moved = trial % 2 == 1 && degree.0 <= 6 && degree.1 <= 6;
+            if moved {
+                let p = patch.point_mut(degree.0 / 2, degree.1 / 2);
+                p.x += size[0] * 0.3;
+            }
+            let solid = Solid2::try_from_patch(patch).unwrap();
+            let (min, max) = solid.domain();
+            for p in extreme_points(&mut rng, lo, size) {
+                let p = DVec2::from_array(p);
+                let v = solid.evaluate(p, Method::Fast);
+                assert!(
+                    v.f.is_finite(),
+                    "f = {} at {p} (box {min}..{max}, {degree:?})",
+                    v.f
+                );
+                let (f, g) = solid.f_with_gradient(p);
+                assert!(f.is_finite() && g.is_finite(), "{f} {g} at {p}");
+                let outside = p.cmplt(min).any() || p.cmpgt(max).any();
+                if outside {
+                    assert!(v.f < 0.0, "f = {} ≥ 0 at {p}, outside {min}..{max}", v.f);
+                }
+            }
+            let grid = solid.f_grid(&[min.x, -f64::MAX, 1e300], &[max.y, f64::MAX]);
+            assert!(grid.iter().all(|f| f.is_finite()));
+        }
+        for trial in 0..12 {
+            let extent = 10f64.powf(rng.range(-300.0, 11.0));
+            let degree = (rng.int(1, 16), rng.int(1, 4), rng.int(1, 3));
+            let lo = [extent * rng.range(-2.0, 2.0); 3];
+            let size = [extent; 3];
+            let mut volume = Solid3::regular(
+                degree,
+                DVec3::from_array(lo),
+                DVec3::from_array(lo) + extent,
+                |_, _, _| rng.range(-1.0, 1.0),
+            )
+            .unwrap()
+            .volume()
+            .clone();
+            if trial % 2 == 1 {
+                volume.point_mut(0, 0, 0).x -= extent * 0.4;
+            }
+            let solid = Solid3::try_from_volume(volume).unwrap();
+            let (min, max) = solid.domain();
+            for p in extreme_points(&mut rng, lo, size) {
+                let p = DVec3::from_array(p);
+                let v = solid.evaluate(p, Method::Fast);
+                assert!(v.f.is_finite(), "f = {} at {p} ({degree:?})", v.f);
+                let (f, g) = solid.f_with_gradient(p);
+                assert!(f.is_finite() && g.is_finite(), "{f} {g} at {p}");
+                if p.cmplt(min).any() || p.cmpgt(max).any() {
+                    assert!(v.f < 0.0, "f = {} ≥ 0 at {p}, outside {min}..{max}", v.f);
                 }
             }
         }

@@ -61,7 +61,7 @@ impl<const D: usize, const E: usize> Tensor<D, E> {
     }
 
     /// The split halves `[0, 1/2]` and `[1/2, 1]` along `axis`.
-    fn halves(&self, axis: usize, line: &mut Vec<[f64; E]>) -> (Self, Self) {
+    pub(crate) fn halves(&self, axis: usize, line: &mut Vec<[f64; E]>) -> (Self, Self) {
         let mut left = self.clone();
         let mut right = self.clone();
         left.restrict(axis, 0.0, 0.5, line);
@@ -70,8 +70,9 @@ impl<const D: usize, const E: usize> Tensor<D, E> {
     }
 
     /// The interval of `[0, 1]` along `axis` where the convex hulls of every equation's control
-    /// points meet zero; `None` when some hull misses it (no root in the box).
-    fn clip_interval(&self, axis: usize) -> Option<(f64, f64)> {
+    /// points, each widened by its `band` up and down, meet zero; `None` when some hull misses it
+    /// (no point of the box is within the bands of a root).
+    fn clip_interval(&self, axis: usize, band: [f64; E]) -> Option<(f64, f64)> {
         let n = self.dims[axis];
         let stride = self.stride(axis);
         let mut lo = [[f64::INFINITY; E]; crate::bernstein::MAX_DEGREE + 1];
@@ -85,7 +86,7 @@ impl<const D: usize, const E: usize> Tensor<D, E> {
         }
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
         for e in 0..E {
-            let column = |i: usize| (lo[i][e], hi[i][e]);
+            let column = |i: usize| (lo[i][e] - band[e], hi[i][e] + band[e]);
             let (a, b) = hull_zero_interval(n, column)?;
             t0 = t0.max(a);
             t1 = t1.min(b);
@@ -203,31 +204,70 @@ pub(crate) fn clip_roots<const D: usize>(
     limits: ClipLimits,
     stats: &mut ClipStats,
 ) -> Vec<[f64; D]> {
+    let noise = system.max_abs().max(f64::MIN_POSITIVE) * 1e-14;
+    search(system, lo, hi, [0.0; D], [noise; D], false, limits, stats)
+}
+
+/// Seeds for the roots of a system known only to within `band` per equation (an approximation of
+/// the true system, the true one within `band[e]` of equation `e` everywhere on the unit box): the
+/// centres of the boxes, at most `accuracy` wide, where every equation's hull comes within its band
+/// of zero. No true root is lost: the true system is zero only where the approximation is within
+/// the bands. When the pass cap stops the search, the boxes still open are given as seeds too, so
+/// that the work is bounded and no region is dropped unseen.
+pub(crate) fn clip_seeds<const D: usize>(
+    system: &Tensor<D, D>,
+    band: [f64; D],
+    limits: ClipLimits,
+    stats: &mut ClipStats,
+) -> Vec<[f64; D]> {
+    search(system, [0.0; D], [1.0; D], band, band, true, limits, stats)
+}
+
+/// The clipping search over `[lo, hi]`: hulls widened by `band`, a box whose coefficients are all
+/// within `flat` of zero taken as a root, open boxes kept as seeds at the pass cap if `keep_open`.
+#[allow(clippy::too_many_arguments)]
+fn search<const D: usize>(
+    system: &Tensor<D, D>,
+    lo: [f64; D],
+    hi: [f64; D],
+    band: [f64; D],
+    flat: [f64; D],
+    keep_open: bool,
+    limits: ClipLimits,
+    stats: &mut ClipStats,
+) -> Vec<[f64; D]> {
     let mut line = Vec::with_capacity(crate::bernstein::MAX_DEGREE + 1);
-    let scale = system.max_abs().max(f64::MIN_POSITIVE);
-    let noise = scale * 1e-14;
     let mut start = system.clone();
     for a in 0..D {
         if lo[a] > 0.0 || hi[a] < 1.0 {
             start.restrict(a, lo[a], hi[a], &mut line);
         }
     }
+    let within_band = |t: &Tensor<D, D>| {
+        t.coefs
+            .iter()
+            .all(|c| (0..D).all(|e| c[e].abs() <= flat[e]))
+    };
     let mut roots = Vec::new();
     let mut stack = vec![(start, lo, hi)];
     'boxes: while let Some((mut t, mut lo, mut hi)) = stack.pop() {
         loop {
             if stats.passes >= limits.max_passes {
                 stats.capped = true;
+                if keep_open {
+                    roots.push(centre(lo, hi));
+                    roots.extend(stack.iter().map(|(_, lo, hi)| centre(*lo, *hi)));
+                }
                 break 'boxes;
             }
             stats.passes += 1;
-            if t.max_abs() <= noise {
+            if within_band(&t) {
                 roots.push(centre(lo, hi));
                 continue 'boxes;
             }
             let before: [f64; D] = core::array::from_fn(|a| hi[a] - lo[a]);
             for a in 0..D {
-                let Some((s0, s1)) = t.clip_interval(a) else {
+                let Some((s0, s1)) = t.clip_interval(a, band) else {
                     continue 'boxes;
                 };
                 // A margin against rounding in the hull: never lose a root on the interval's end.

@@ -20,22 +20,37 @@
 // Coordinates index several fixed-size arrays at once; iterator chains would hide the algebra.
 #![allow(clippy::needless_range_loop)]
 
+pub(crate) mod atlas;
 pub mod clip;
 pub mod tps;
 
+use alloc::boxed::Box;
 use alloc::vec::Vec;
+
+use once_cell::race::OnceBox;
 
 use glam::{DVec3, DVec4};
 
 use crate::bernstein::binomial;
 use crate::rfunc::{clip2, clip3};
 use crate::tensor::{Patch, Volume};
+use atlas::{Atlas, AtlasBudget};
 use clip::{ClipLimits, ClipStats, Tensor, clip_roots};
 use tps::{Kernel, Spline};
 
 /// Candidate roots closer than this (in parameters) are one root: the seam between split boxes, or
 /// the cluster of boxes around a tangential root.
 const MERGE: f64 = 1e-6;
+
+/// The most Newton solves one query through the atlas makes (a net that folds many times over a
+/// point has that many preimages at most within the budget).
+const MAX_ATLAS_SOLVES: u32 = 96;
+
+/// The most seeds one atlas piece gives a query.
+const MAX_PIECE_SEEDS: usize = 8;
+
+/// The most clipping passes one query through the atlas spends on its pieces' seeds.
+const MAX_ATLAS_PASSES: u32 = 4096;
 
 /// How the preimages of a point are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -62,6 +77,8 @@ pub struct QueryStats {
     pub clip: ClipStats,
     /// Whether the query fell back from its method's first attempt.
     pub fallback: bool,
+    /// Newton solves started from the atlas's seeds (a map that may fold).
+    pub atlas_solves: u32,
 }
 
 /// `S(u)` with its Jacobian and `S_ξ` with its gradient, at one parameter point.
@@ -200,7 +217,7 @@ pub enum GuessFit {
 /// The inverse map of one control net: its spline guess, injectivity certificate and seed table.
 ///
 /// It keeps no reference to the net; every query takes the net it was built from.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct InverseMap<const D: usize> {
     tensor: Tensor<D, D>,
     guess: Spline<D>,
@@ -208,6 +225,19 @@ pub struct InverseMap<const D: usize> {
     seeds: SeedTable<D>,
     /// The largest extent or coordinate magnitude of the control net, for spatial tolerances.
     scale: f64,
+    /// The atlas of a map that may fold, built on its first query.
+    atlas: OnceBox<Atlas<D>>,
+}
+
+impl<const D: usize> PartialEq for InverseMap<D> {
+    /// The same net gives the same map: the atlas, a cache, is left out.
+    fn eq(&self, other: &Self) -> bool {
+        self.tensor == other.tensor
+            && self.guess == other.guess
+            && self.injective == other.injective
+            && self.seeds == other.seeds
+            && self.scale == other.scale
+    }
 }
 
 impl<const D: usize> InverseMap<D> {
@@ -249,7 +279,121 @@ impl<const D: usize> InverseMap<D> {
             injective,
             seeds,
             scale,
+            atlas: OnceBox::new(),
         }
+    }
+
+    /// The atlas of the map (see [`atlas`]), built on first use.
+    fn atlas(&self) -> &Atlas<D> {
+        self.atlas.get_or_init(|| {
+            let budget = AtlasBudget::default_for(D, self.tensor.coefs.len());
+            Box::new(Atlas::build(&self.tensor, budget))
+        })
+    }
+
+    /// The number of pieces of the map's atlas and how many of them are certified injective
+    /// (building the atlas if it was not yet).
+    #[must_use]
+    pub fn atlas_pieces(&self) -> (usize, usize) {
+        let atlas = self.atlas();
+        (atlas.len(), atlas.certified())
+    }
+
+    /// Every preimage of `p` through the atlas, in bounded work, with `S_ξ` there: the seeds of
+    /// the pieces whose image holds `p`, each polished by Newton's method on the net.
+    fn atlas_roots<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        stats: &mut QueryStats,
+    ) -> Vec<([f64; D], f64)> {
+        let mut roots: Vec<([f64; D], f64)> = Vec::new();
+        self.atlas().pieces_at(p, |piece| {
+            if stats.clip.passes >= MAX_ATLAS_PASSES {
+                stats.clip.capped = true;
+                return;
+            }
+            for seed in piece.seeds(p, MAX_PIECE_SEEDS, &mut stats.clip) {
+                // A seed at a preimage already found (a neighbour's, across their seam) is it.
+                if roots.iter().any(|(r, _)| max_abs_diff(*r, seed) <= 1e-9) {
+                    continue;
+                }
+                if stats.atlas_solves >= MAX_ATLAS_SOLVES {
+                    stats.clip.capped = true;
+                    return;
+                }
+                stats.atlas_solves += 1;
+                let Some((u, e)) = self.polish(net, p, seed, (piece.lo, piece.hi), stats) else {
+                    continue;
+                };
+                if roots.iter().all(|(r, _)| max_abs_diff(*r, u) > MERGE) {
+                    roots.push((u, e.xi));
+                }
+                // A certified piece holds one preimage at most: once found there, done.
+                let tol = 1e-9;
+                let here = (0..D).all(|a| u[a] >= piece.lo[a] - tol && u[a] <= piece.hi[a] + tol);
+                if piece.certified && here {
+                    return;
+                }
+            }
+        });
+        roots
+    }
+
+    /// Newton's method for `S(u) = p` from an atlas seed in the piece `[lo, hi]`: the root in the
+    /// closed unit box with the evaluation there, or `None` when it diverges, stalls (its residual
+    /// grows again), or wanders more than a piece's width away (a root there is its own piece's to
+    /// find).
+    fn polish<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        mut u: [f64; D],
+        (lo, hi): ([f64; D], [f64; D]),
+        stats: &mut QueryStats,
+    ) -> Option<([f64; D], Eval<D>)> {
+        let tight = self.scale.max(f64::MIN_POSITIVE) * 1e-15;
+        let mut last = f64::INFINITY;
+        let mut before = f64::INFINITY;
+        for step in 0..12 {
+            let e = net.forward(u);
+            let r: [f64; D] = core::array::from_fn(|c| e.x[c] - p[c]);
+            let res = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            // Near a root Newton's residual shrinks step by step (by a quarter at a fold's double
+            // root, far more at a simple one); one that grows again is lost and given up early.
+            if step >= 3 && res > before {
+                return None;
+            }
+            before = res;
+            if res <= tight || (last <= 1e-13 && res <= self.scale * 1e-9) {
+                return inside_closed(u, 1e-12).then(|| {
+                    let clamped = clamp_unit(u);
+                    let e = if clamped == u {
+                        e
+                    } else {
+                        net.forward(clamped)
+                    };
+                    (clamped, e)
+                });
+            }
+            if last <= 1e-13 {
+                return None;
+            }
+            let delta = solve_jac(&e.jac, r)?;
+            stats.newton_steps += 1;
+            for c in 0..D {
+                u[c] -= delta[c];
+            }
+            last = delta.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+            let away = (0..D).any(|c| {
+                let w = hi[c] - lo[c];
+                !(u[c] >= lo[c] - w && u[c] <= hi[c] + w)
+            });
+            if away {
+                return None;
+            }
+        }
+        None
     }
 
     /// Whether the map is certified injective (at most one preimage per point).
@@ -291,7 +435,11 @@ impl<const D: usize> InverseMap<D> {
         stats: &mut QueryStats,
     ) -> Vec<[f64; D]> {
         if !self.injective {
-            return self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats);
+            return self
+                .atlas_roots(net, p, stats)
+                .into_iter()
+                .map(|(u, _)| u)
+                .collect();
         }
         match self.fast_root(net, p, seed, stats) {
             Some((u, _)) => alloc::vec![u],
@@ -447,9 +595,15 @@ impl<const D: usize> InverseMap<D> {
 
     /// The parameter used for `f` where `p` has no preimage: the root of the polynomial map extended
     /// past the box near it (Newton from the guess), else the spline guess itself.
+    ///
+    /// Newton gets 30 steps where the map is certified injective, 8 where it may fold (where
+    /// most points of a grid can have no preimage and the guess be far from any root).
     pub fn outside<F: Forward<D>>(&self, net: &F, p: [f64; D], stats: &mut QueryStats) -> [f64; D] {
-        let g = self.guess(p);
-        self.newton(net, p, g, 30, stats).unwrap_or(g)
+        // A point so far away that the spline overflows gets the box's centre: f is negative
+        // there all the same (see below).
+        let g = self.guess(p).map(|t| if t.is_finite() { t } else { 0.5 });
+        let steps = if self.injective { 30 } else { 8 };
+        self.newton(net, p, g, steps, stats).unwrap_or(g)
     }
 
     /// `f(p)`: the largest clipped `S_ξ` over the preimages, or the negative continuation outside
@@ -476,7 +630,11 @@ impl<const D: usize> InverseMap<D> {
         accuracy: f64,
         stats: &mut QueryStats,
     ) -> Value<D> {
-        if method == Method::Fast && self.injective {
+        if method == Method::Fast && !self.injective {
+            let roots = self.atlas_roots(net, p, stats);
+            return self.value_of(net, p, &roots, stats);
+        }
+        if method == Method::Fast {
             match self.fast_root(net, p, seed, stats) {
                 Some((u, e)) => {
                     return Value {
@@ -507,9 +665,21 @@ impl<const D: usize> InverseMap<D> {
         roots: &[[f64; D]],
         stats: &mut QueryStats,
     ) -> Value<D> {
+        let with_xi: Vec<([f64; D], f64)> = roots.iter().map(|&u| (u, net.forward(u).xi)).collect();
+        self.value_of(net, p, &with_xi, stats)
+    }
+
+    /// [`InverseMap::value`] of preimages whose `S_ξ` is known.
+    fn value_of<F: Forward<D>>(
+        &self,
+        net: &F,
+        p: [f64; D],
+        roots: &[([f64; D], f64)],
+        stats: &mut QueryStats,
+    ) -> Value<D> {
         let best = roots
             .iter()
-            .map(|&u| (clipped(net.forward(u).xi, u), u))
+            .map(|&(u, xi)| (clipped(xi, u), u))
             .max_by(|a, b| a.0.total_cmp(&b.0));
         if let Some((f, u)) = best {
             return Value {

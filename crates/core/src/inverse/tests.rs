@@ -391,3 +391,158 @@ fn far_from_the_origin_the_fast_path_still_converges() {
     }
     assert_eq!(fallbacks, 0);
 }
+
+/// The regular grid over the unit box with the control points' positions shuffled among them (ξ
+/// random): a net that folds over itself everywhere, the worst a user can drag into being.
+pub(crate) fn shuffled_patch(rng: &mut Rng, degree: (usize, usize)) -> Patch<DVec3> {
+    let (n, m) = degree;
+    let mut spots: Vec<(f64, f64)> = (0..=n)
+        .flat_map(|i| (0..=m).map(move |j| (i as f64 / n as f64, j as f64 / m as f64)))
+        .collect();
+    for k in (1..spots.len()).rev() {
+        spots.swap(k, rng.int(0, k));
+    }
+    Patch::from_fn(degree, |i, j| {
+        let (x, y) = spots[i * (m + 1) + j];
+        DVec3::new(x, y, rng.range(-1.0, 1.0))
+    })
+    .unwrap()
+}
+
+/// [`shuffled_patch`] for volumes.
+pub(crate) fn shuffled_volume(rng: &mut Rng, degree: (usize, usize, usize)) -> Volume<DVec4> {
+    let (n, m, l) = degree;
+    let mut spots: Vec<[f64; 3]> = (0..(n + 1) * (m + 1) * (l + 1))
+        .map(|index| {
+            let idx = multi_index([n + 1, m + 1, l + 1], index);
+            [
+                idx[0] as f64 / n as f64,
+                idx[1] as f64 / m as f64,
+                idx[2] as f64 / l as f64,
+            ]
+        })
+        .collect();
+    for k in (1..spots.len()).rev() {
+        spots.swap(k, rng.int(0, k));
+    }
+    Volume::from_fn(degree, |i, j, k| {
+        let [x, y, z] = spots[(i * (m + 1) + j) * (l + 1) + k];
+        DVec4::new(x, y, z, rng.range(-1.0, 1.0))
+    })
+    .unwrap()
+}
+
+/// The ratio of the smallest to the largest singular value bound of `J` at `u`: small near a fold.
+fn conditioning<const D: usize, F: Forward<D>>(net: &F, u: [f64; D]) -> f64 {
+    let e = net.forward(u);
+    let size = e.jac.iter().flatten().map(|v| v * v).sum::<f64>().sqrt();
+    let mut inv = 0.0;
+    for c in 0..D {
+        let mut unit = [0.0; D];
+        unit[c] = 1.0;
+        match solve_jac(&e.jac, unit) {
+            Some(x) => inv += x.iter().map(|v| v * v).sum::<f64>(),
+            None => return 0.0,
+        }
+    }
+    1.0 / (size * inv.sqrt())
+}
+
+/// The atlas path against whole-domain clipping: every preimage it gives is one, and it misses
+/// none that clipping finds away from folds (where the Jacobian is well conditioned); the few it
+/// may miss sit where two preimages merge, and `f` jumps there anyway.
+fn atlas_agrees_with_clipping<const D: usize, F: Forward<D>>(
+    net: &F,
+    rng: &mut Rng,
+    queries: usize,
+) -> (usize, usize) {
+    let map = InverseMap::new(net);
+    assert!(!map.injective());
+    let (lo, hi) = bounds(&net.spatial());
+    let (mut found, mut near_folds) = (0, 0);
+    for q in 0..queries {
+        // Points of the image (from parameters) and points of its bounds, alternately.
+        let p: [f64; D] = if q % 2 == 0 {
+            net.forward(random_u(rng)).x
+        } else {
+            core::array::from_fn(|c| rng.range(lo[c], hi[c]))
+        };
+        let mut stats = QueryStats::default();
+        let fast = map.preimages(net, p, Method::Fast, 1e-12, &mut stats);
+        assert!(stats.atlas_solves <= MAX_ATLAS_SOLVES);
+        let reference = map.preimages(net, p, Method::Clipping, 1e-12, &mut QueryStats::default());
+        for r in &fast {
+            assert!(inside_closed(*r, 0.0));
+            assert!(
+                dist(net.forward(*r).x, p) < 1e-9,
+                "{r:?} is no preimage of {p:?}"
+            );
+        }
+        for r in &reference {
+            if fast.iter().any(|f| dist(*f, *r) < 1e-7) {
+                found += 1;
+            } else if conditioning(net, *r) < 1e-2 {
+                near_folds += 1;
+            } else {
+                panic!(
+                    "{r:?} (conditioning {}) missed at {p:?}: {fast:?} ({stats:?})",
+                    conditioning(net, *r)
+                );
+            }
+        }
+    }
+    (found, near_folds)
+}
+
+#[test]
+fn the_atlas_finds_the_preimages_of_nets_that_fold_everywhere() {
+    let mut rng = Rng::new(111);
+    let (mut found, mut near_folds) = (0, 0);
+    for degree in [(3, 3), (6, 6), (9, 4)] {
+        for _ in 0..3 {
+            let net = shuffled_patch(&mut rng, degree);
+            let (f, n) = atlas_agrees_with_clipping(&net, &mut rng, 150);
+            found += f;
+            near_folds += n;
+        }
+    }
+    for _ in 0..2 {
+        let net = shuffled_volume(&mut rng, (2, 2, 2));
+        let (f, n) = atlas_agrees_with_clipping(&net, &mut rng, 60);
+        found += f;
+        near_folds += n;
+        let net = warped_volume(&mut rng, (3, 3, 3), 0.3);
+        let (f, n) = atlas_agrees_with_clipping(&net, &mut rng, 60);
+        found += f;
+        near_folds += n;
+    }
+    std::println!("atlas: {found} preimages found, {near_folds} near folds missed");
+    assert!(
+        found > 500 && near_folds * 100 < found,
+        "{found} {near_folds}"
+    );
+}
+
+#[test]
+fn queries_through_the_atlas_are_bounded_however_the_net_folds() {
+    let mut rng = Rng::new(112);
+    let net = shuffled_patch(&mut rng, (16, 16));
+    let map = InverseMap::new(&net);
+    let (pieces, _) = map.atlas_pieces();
+    assert!(pieces <= AtlasBudget::default_for(2, 17 * 17).max_pieces);
+    let mut most = QueryStats::default();
+    for _ in 0..300 {
+        let p = net.forward(random_u(&mut rng)).x;
+        let mut stats = QueryStats::default();
+        let v = map.f(&net, p, Method::Fast, 1e-12, &mut stats);
+        assert!(v.f.is_finite());
+        most.atlas_solves = most.atlas_solves.max(stats.atlas_solves);
+        most.newton_steps = most.newton_steps.max(stats.newton_steps);
+        most.clip.passes = most.clip.passes.max(stats.clip.passes);
+    }
+    std::println!("the most work of one query: {most:?}");
+    assert!(most.atlas_solves <= MAX_ATLAS_SOLVES);
+    // Each solve takes at most 12 steps, the continuation 8.
+    assert!(most.newton_steps <= MAX_ATLAS_SOLVES * 12 + 8);
+    assert!(most.clip.passes <= MAX_ATLAS_PASSES + 24);
+}
