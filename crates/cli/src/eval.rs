@@ -23,6 +23,16 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         ModelSolid::Patch(_) => 2,
         ModelSolid::Volume(_) => 3,
     };
+    // A map that may fold cuts its atlas for the work to come: about one point per 24 bytes of
+    // a file, many where the size is unknown (a pipe).
+    let expected = match std::fs::metadata(points).map(|m| m.len()) {
+        Ok(len) if len > 0 => usize::try_from(len / 24).unwrap_or(usize::MAX),
+        _ => 1 << 16,
+    };
+    match &solid {
+        ModelSolid::Patch(s) => s.plan(expected),
+        ModelSolid::Volume(s) => s.plan(expected),
+    }
     let points = Points::open(points, dim)?;
     let mut out = Sink::create(args.value("--output"))?;
     evaluate(&solid, points, &mut out)?;
@@ -124,12 +134,14 @@ impl Iterator for Points {
 /// so a point has one preimage inside the (closed) domain box and none outside; a space mapping
 /// counts the parameter points in the closed unit box that map to it (several where it folds).
 fn evaluate(solid: &ModelSolid, points: Points, out: &mut Sink) -> Result<()> {
+    let (mut count, mut exhausted) = (0usize, 0usize);
     match solid {
         ModelSolid::Patch(s) => {
             out.write(format_args!("x,y,f,preimages\n"))?;
             for p in points {
                 let p = p?;
                 let v = s.evaluate(DVec2::new(p[0], p[1]), Method::Fast);
+                (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
                 out.write(format_args!("{},{},{},{}\n", p[0], p[1], v.f, v.preimages))?;
             }
         }
@@ -138,12 +150,19 @@ fn evaluate(solid: &ModelSolid, points: Points, out: &mut Sink) -> Result<()> {
             for p in points {
                 let p = p?;
                 let v = s.evaluate(DVec3::from_array(p), Method::Fast);
+                (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
                 out.write(format_args!(
                     "{},{},{},{},{}\n",
                     p[0], p[1], p[2], v.f, v.preimages
                 ))?;
             }
         }
+    }
+    if exhausted > 0 {
+        eprintln!(
+            "bezsolid: warning: the net folds over itself so often that {exhausted} of {count} points \
+             reached the work limit of a query; their preimages may be incomplete"
+        );
     }
     Ok(())
 }

@@ -34,11 +34,15 @@ pub(crate) fn sqrt(x: f64) -> f64 {
 /// The most evaluations [`illinois`] makes.
 pub(crate) const ROOT_STEPS: u32 = 60;
 
+/// Where [`illinois`] stops closing in on a jump (of the unit interval).
+const JUMP_WIDTH: f64 = 1e-9;
+
 /// A zero of `g` on `[0, 1]`, where `g(0) = f0` and `g(1) = f1` have opposite signs: Illinois
 /// regula falsi, safeguarded by bisection so that the bracket at least halves every two steps, in
-/// at most [`ROOT_STEPS`] evaluations of `g`. The best `t` found once `|g(t)| ≤ accuracy`; where
-/// `g` jumps across zero instead (`f` where a space mapping folds), the bracket closes on the jump
-/// (to `1e-12`) and its middle is returned: the vertex lies on the fold.
+/// at most [`ROOT_STEPS`] evaluations of `g`. The best `t` found once `|g(t)| ≤ accuracy`. Where
+/// `g` jumps across zero instead (`f` where a space mapping folds), `|g|` stops shrinking: after
+/// three such steps only bisection is used, the bracket closes on the jump (to `1e-9`), and its
+/// middle is returned: the vertex lies on the fold.
 pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy: f64) -> f64 {
     let (mut t0, mut t1, mut f0, mut f1) = (0.0, 1.0, f0, f1);
     let mut best = if f0.abs() <= f1.abs() {
@@ -47,13 +51,15 @@ pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy
         (t1, f1)
     };
     let mut side = 0i8;
-    // The bracket's width two steps ago, and the steps since it halved.
-    let (mut reference, mut since) = (1.0f64, 0u32);
+    // The bracket's width two steps ago, and the steps since it halved; the steps in a row that
+    // did not halve the best |g|.
+    let (mut reference, mut since, mut stalled) = (1.0f64, 0u32, 0u32);
     for _ in 0..ROOT_STEPS {
-        if best.1.abs() <= accuracy || t1 - t0 <= 1e-12 {
+        let jump = stalled >= 3;
+        if best.1.abs() <= accuracy || t1 - t0 <= if jump { JUMP_WIDTH } else { 1e-12 } {
             break;
         }
-        let bisect = since >= 2;
+        let bisect = since >= 2 || jump;
         let denom = f1 - f0;
         let mut t = if denom != 0.0 && !bisect {
             (t0 * f1 - t1 * f0) / denom
@@ -64,6 +70,11 @@ pub(crate) fn illinois(mut g: impl FnMut(f64) -> f64, f0: f64, f1: f64, accuracy
             t = 0.5 * (t0 + t1);
         }
         let ft = g(t);
+        if ft.abs() <= 0.5 * best.1.abs() {
+            stalled = 0;
+        } else {
+            stalled += 1;
+        }
         if ft.abs() < best.1.abs() {
             best = (t, ft);
         }

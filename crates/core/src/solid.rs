@@ -213,6 +213,14 @@ impl Solid2 {
         self.map.as_deref()
     }
 
+    /// Says that about `queries` evaluations of `f` are coming, before the first (see
+    /// [`InverseMap::plan`]); nothing for a regular grid.
+    pub fn plan(&self, queries: usize) {
+        if let Some(map) = &self.map {
+            map.plan(queries);
+        }
+    }
+
     /// The solid of the same `S_ξ` on the regular grid over the unit square: the solid in parameter
     /// space.
     #[must_use]
@@ -239,6 +247,7 @@ impl Solid2 {
                     f: clip2(self.patch.eval(uv.x, uv.y).z, uv.x, uv.y),
                     preimages: usize::from(inside),
                     u: uv.to_array(),
+                    exhausted: false,
                 }
             }
             Some(map) => map.f_seeded(
@@ -433,6 +442,7 @@ impl Solid2 {
     #[must_use]
     pub fn f_grid(&self, xs: &[f64], ys: &[f64]) -> Vec<f64> {
         if self.map.is_some() {
+            self.plan(xs.len() * ys.len());
             let mut out = Vec::with_capacity(xs.len() * ys.len());
             let mut row_seed = None;
             for &y in ys {
@@ -540,6 +550,14 @@ impl Solid3 {
         self.map.as_deref()
     }
 
+    /// Says that about `queries` evaluations of `f` are coming, before the first (see
+    /// [`InverseMap::plan`]); nothing for a regular grid.
+    pub fn plan(&self, queries: usize) {
+        if let Some(map) = &self.map {
+            map.plan(queries);
+        }
+    }
+
     /// `f(p)` with the number of preimages of `p` and the parameters `f` was taken at, by `method`
     /// (the regular grid's scaling ignores it).
     #[must_use]
@@ -556,6 +574,7 @@ impl Solid3 {
                     f: clip3(self.volume.eval(t.x, t.y, t.z).w, t.x, t.y, t.z),
                     preimages: usize::from(inside),
                     u: t.to_array(),
+                    exhausted: false,
                 }
             }
             Some(map) => map.f_seeded(
@@ -748,6 +767,7 @@ impl Solid3 {
     #[must_use]
     pub fn f_grid(&self, xs: &[f64], ys: &[f64], zs: &[f64]) -> Vec<f64> {
         if self.map.is_some() {
+            self.plan(xs.len() * ys.len() * zs.len());
             let mut out = Vec::with_capacity(xs.len() * ys.len() * zs.len());
             let mut seed = None;
             for &z in zs {

@@ -53,12 +53,42 @@ pub(crate) struct AtlasBudget {
     pub(crate) max_pieces: usize,
 }
 
+/// The work all the queries of a plan may spend together, in evaluations of one control point
+/// (one such unit is about a dozen floating-point operations): about ten seconds of one core.
+const PLAN_WORK: u64 = 1 << 31;
+
+/// The least work one query may spend, however many are planned: a few evaluations of the largest
+/// net.
+const MIN_QUERY_WORK: u64 = 1 << 15;
+
+/// The most work one query may spend: tens of milliseconds.
+const MAX_QUERY_WORK: u64 = 1 << 23;
+
 impl AtlasBudget {
-    /// The default for a net of dimension `D` with `points` control points: a patch may have
-    /// thousands of pieces; a volume, whose pieces cost more to cut, fewer where its net is large.
-    pub(crate) fn default_for(dim: usize, points: usize) -> Self {
-        let max_pieces = if dim == 2 || points <= 125 { 4096 } else { 1024 };
-        Self { max_pieces }
+    /// The work one of `queries` planned queries may spend: an equal share of [`PLAN_WORK`], within
+    /// [`MIN_QUERY_WORK`] and [`MAX_QUERY_WORK`] (the most where nothing was planned).
+    pub(crate) fn query_work(queries: usize) -> u64 {
+        if queries == 0 {
+            return MAX_QUERY_WORK;
+        }
+        (PLAN_WORK / queries as u64).clamp(MIN_QUERY_WORK, MAX_QUERY_WORK)
+    }
+
+    /// The budget for about `queries` queries on a net of dimension `dim` with `points` control
+    /// points. Cutting a piece costs about as much as 16 queries, and both cost more the more
+    /// points the net has: about one piece per 16 queries, and at least as many as a fixed cost
+    /// allows (`2¹⁸ / points`, so a small net always gets a fine atlas), between 64 and 4096 (a
+    /// patch, or a small volume) or 1024 (a volume whose pieces cost more to cut).
+    pub(crate) fn for_queries(dim: usize, points: usize, queries: usize) -> Self {
+        let most = if dim == 2 || points <= 125 {
+            4096
+        } else {
+            1024
+        };
+        let cheap = (1 << 18) / points.max(1);
+        Self {
+            max_pieces: (queries / 16).max(cheap).clamp(64, most),
+        }
     }
 }
 
@@ -211,7 +241,17 @@ impl<const D: usize> Piece<D> {
     /// Newton's method on `Q`, which costs a few dozen operations where the net's own evaluation
     /// costs thousands; a root of `Q` outside the piece by more than a tenth of it is dropped (a
     /// preimage there belongs to a neighbour, whose image bounds hold `p` too).
-    pub(crate) fn seeds(&self, p: [f64; D], max: usize, stats: &mut ClipStats) -> Vec<[f64; D]> {
+    ///
+    /// `work` grows by what this costs, in evaluations of one control point: a clipping pass or a
+    /// Newton step on the approximation costs one per coefficient and coordinate.
+    pub(crate) fn seeds(
+        &self,
+        p: [f64; D],
+        max: usize,
+        stats: &mut ClipStats,
+        work: &mut u64,
+    ) -> Vec<[f64; D]> {
+        let unit = (self.approx.coefs.len() * D) as u64;
         let starts = if self.certified {
             alloc::vec![[0.5; D]]
         } else {
@@ -226,6 +266,7 @@ impl<const D: usize> Piece<D> {
             stats.passes += own.passes;
             stats.splits += own.splits;
             stats.capped |= own.capped;
+            *work += u64::from(own.passes) * unit;
             let mut kept: Vec<[f64; D]> = Vec::new();
             for s in found {
                 if kept.len() == max {
@@ -243,7 +284,7 @@ impl<const D: usize> Piece<D> {
             seeds.iter().all(|k| super::max_abs_diff(*k, t) > apart)
         };
         for start in starts {
-            let t = match newton_on(&self.approx, p, start) {
+            let t = match newton_on(&self.approx, p, start, &mut || *work += unit) {
                 Some(t) if t.iter().all(|&x| (-0.1..=1.1).contains(&x)) => t,
                 Some(_) => continue,
                 // Singular: near a fold, where the net's own Newton may still get there.
@@ -266,8 +307,14 @@ impl<const D: usize> Piece<D> {
 
 /// Newton's method for `Q(t) = p` on a low-degree net from `t`: the root once a step is below
 /// `1e-10`, `None` where the Jacobian is singular or the iteration runs away or stalls.
-fn newton_on<const D: usize>(q: &Tensor<D, D>, p: [f64; D], mut t: [f64; D]) -> Option<[f64; D]> {
+fn newton_on<const D: usize>(
+    q: &Tensor<D, D>,
+    p: [f64; D],
+    mut t: [f64; D],
+    step: &mut impl FnMut(),
+) -> Option<[f64; D]> {
     for _ in 0..10 {
+        step();
         let (x, jac) = eval_with_jacobian(q, t);
         let r: [f64; D] = core::array::from_fn(|e| x[e] - p[e]);
         let delta = super::solve_jac(&jac, r)?;

@@ -26,6 +26,7 @@ pub mod tps;
 
 use alloc::boxed::Box;
 use alloc::vec::Vec;
+use core::sync::atomic::{AtomicUsize, Ordering};
 
 use once_cell::race::OnceBox;
 
@@ -42,15 +43,8 @@ use tps::{Kernel, Spline};
 /// the cluster of boxes around a tangential root.
 const MERGE: f64 = 1e-6;
 
-/// The most Newton solves one query through the atlas makes (a net that folds many times over a
-/// point has that many preimages at most within the budget).
-const MAX_ATLAS_SOLVES: u32 = 96;
-
 /// The most seeds one atlas piece gives a query.
 const MAX_PIECE_SEEDS: usize = 8;
-
-/// The most clipping passes one query through the atlas spends on its pieces' seeds.
-const MAX_ATLAS_PASSES: u32 = 4096;
 
 /// How the preimages of a point are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -77,8 +71,15 @@ pub struct QueryStats {
     pub clip: ClipStats,
     /// Whether the query fell back from its method's first attempt.
     pub fallback: bool,
-    /// Newton solves started from the atlas's seeds (a map that may fold).
+    /// Atlas pieces whose image bounds held the point (a map that may fold).
+    pub atlas_pieces: u32,
+    /// Newton solves started from the atlas's seeds.
     pub atlas_solves: u32,
+    /// The work spent through the atlas, in evaluations of one control point.
+    pub work: u64,
+    /// Whether the query's work budget ran out before every piece was searched: preimages may be
+    /// missing (see [`InverseMap::plan`]).
+    pub exhausted: bool,
 }
 
 /// `S(u)` with its Jacobian and `S_ξ` with its gradient, at one parameter point.
@@ -217,7 +218,7 @@ pub enum GuessFit {
 /// The inverse map of one control net: its spline guess, injectivity certificate and seed table.
 ///
 /// It keeps no reference to the net; every query takes the net it was built from.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct InverseMap<const D: usize> {
     tensor: Tensor<D, D>,
     guess: Spline<D>,
@@ -227,6 +228,22 @@ pub struct InverseMap<const D: usize> {
     scale: f64,
     /// The atlas of a map that may fold, built on its first query.
     atlas: OnceBox<Atlas<D>>,
+    /// The queries the atlas is built for (see [`InverseMap::plan`]).
+    planned: AtomicUsize,
+}
+
+impl<const D: usize> Clone for InverseMap<D> {
+    fn clone(&self) -> Self {
+        Self {
+            tensor: self.tensor.clone(),
+            guess: self.guess.clone(),
+            injective: self.injective,
+            seeds: self.seeds.clone(),
+            scale: self.scale,
+            atlas: self.atlas.clone(),
+            planned: AtomicUsize::new(self.planned.load(Ordering::Relaxed)),
+        }
+    }
 }
 
 impl<const D: usize> PartialEq for InverseMap<D> {
@@ -280,13 +297,25 @@ impl<const D: usize> InverseMap<D> {
             seeds,
             scale,
             atlas: OnceBox::new(),
+            planned: AtomicUsize::new(0),
         }
+    }
+
+    /// Says that about `queries` queries are coming (a grid, a file of points), before the first:
+    /// a map that may fold cuts its atlas for that much work, finer for more (see
+    /// [`atlas`](self)), and bounds each query's work so that all of them together stay within
+    /// about ten seconds however the net folds ([`QueryStats::exhausted`] says where a query ran
+    /// out). The largest plan before the first query sets the atlas; the largest at a query sets
+    /// its work.
+    pub fn plan(&self, queries: usize) {
+        self.planned.fetch_max(queries, Ordering::Relaxed);
     }
 
     /// The atlas of the map (see [`atlas`]), built on first use.
     fn atlas(&self) -> &Atlas<D> {
         self.atlas.get_or_init(|| {
-            let budget = AtlasBudget::default_for(D, self.tensor.coefs.len());
+            let queries = self.planned.load(Ordering::Relaxed);
+            let budget = AtlasBudget::for_queries(D, self.tensor.coefs.len(), queries);
             Box::new(Atlas::build(&self.tensor, budget))
         })
     }
@@ -308,22 +337,29 @@ impl<const D: usize> InverseMap<D> {
         stats: &mut QueryStats,
     ) -> Vec<([f64; D], f64)> {
         let mut roots: Vec<([f64; D], f64)> = Vec::new();
+        let cap = AtlasBudget::query_work(self.planned.load(Ordering::Relaxed));
+        let points = self.tensor.coefs.len() as u64;
         self.atlas().pieces_at(p, |piece| {
-            if stats.clip.passes >= MAX_ATLAS_PASSES {
-                stats.clip.capped = true;
+            stats.atlas_pieces += 1;
+            if stats.work >= cap {
+                stats.exhausted = true;
                 return;
             }
-            for seed in piece.seeds(p, MAX_PIECE_SEEDS, &mut stats.clip) {
+            let seeds = piece.seeds(p, MAX_PIECE_SEEDS, &mut stats.clip, &mut stats.work);
+            for seed in seeds {
                 // A seed at a preimage already found (a neighbour's, across their seam) is it.
                 if roots.iter().any(|(r, _)| max_abs_diff(*r, seed) <= 1e-9) {
                     continue;
                 }
-                if stats.atlas_solves >= MAX_ATLAS_SOLVES {
-                    stats.clip.capped = true;
+                if stats.work >= cap {
+                    stats.exhausted = true;
                     return;
                 }
                 stats.atlas_solves += 1;
-                let Some((u, e)) = self.polish(net, p, seed, (piece.lo, piece.hi), stats) else {
+                let before = stats.newton_steps;
+                let found = self.polish(net, p, seed, (piece.lo, piece.hi), stats);
+                stats.work += u64::from(stats.newton_steps - before + 1) * points;
+                let Some((u, e)) = found else {
                     continue;
                 };
                 if roots.iter().all(|(r, _)| max_abs_diff(*r, u) > MERGE) {
@@ -641,6 +677,7 @@ impl<const D: usize> InverseMap<D> {
                         f: clipped(e.xi, u),
                         preimages: 1,
                         u,
+                        exhausted: false,
                     };
                 }
                 None => {
@@ -686,6 +723,7 @@ impl<const D: usize> InverseMap<D> {
                 f,
                 preimages: roots.len(),
                 u,
+                exhausted: stats.exhausted,
             };
         }
         let u = self.outside(net, p, stats);
@@ -693,7 +731,12 @@ impl<const D: usize> InverseMap<D> {
         // Outside the image f is negative by definition; the continuation is negative wherever
         // its parameter leaves the box, and forced so where the guess fell back inside it.
         let f = if f < 0.0 { f } else { -f - f64::MIN_POSITIVE };
-        Value { f, preimages: 0, u }
+        Value {
+            f,
+            preimages: 0,
+            u,
+            exhausted: stats.exhausted,
+        }
     }
 }
 
@@ -706,6 +749,9 @@ pub struct Value<const D: usize> {
     pub preimages: usize,
     /// The parameters `f` was taken at: the best preimage, or the continuation's parameter.
     pub u: [f64; D],
+    /// Whether the query's work budget ran out (a net that folds very many times): preimages, and
+    /// so the largest value, may be missing.
+    pub exhausted: bool,
 }
 
 fn bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
