@@ -31,5 +31,6 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     std::fs::write(out, contours_svg(&lines, lo - cell, hi + cell))
         .with_context(|| format!("cannot write {out}"))?;
     eprintln!("bezsolid: {} contour pieces written to {out}", lines.len());
+    crate::warn_exhausted(solid.exhausted());
     Ok(())
 }

@@ -117,6 +117,17 @@ fn report(result: Result<()>) -> ExitCode {
     }
 }
 
+/// Says on stderr that `count` evaluations of `f` ran out of their work budget (a net that folds
+/// over itself very many times), so that a drawing made of them may miss pieces.
+pub(crate) fn warn_exhausted(count: usize) {
+    if count > 0 {
+        eprintln!(
+            "bezsolid: warning: the net folds over itself so often that {count} evaluations \
+             reached the work limit of a query; pieces of the drawing may be missing"
+        );
+    }
+}
+
 /// Reads and validates a model file, a share link, or a preset (`preset:NAME`).
 pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
     load_file(arg)?.to_solid().with_context(|| describe(arg))

@@ -42,7 +42,9 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         let ModelSolid::Volume(solid) = solid else {
             bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
         };
-        solid.polygonize(res, accuracy)?
+        let mesh = solid.polygonize(res, accuracy)?;
+        crate::warn_exhausted(solid.exhausted());
+        mesh
     };
     let bytes = match ext {
         "stl" => stl::write_stl(&mesh),

@@ -221,6 +221,13 @@ impl Solid2 {
         }
     }
 
+    /// How many evaluations of `f` so far ran out of their work budget where the net folds very
+    /// many times over ([`InverseMap::exhausted`]); 0 for a regular grid.
+    #[must_use]
+    pub fn exhausted(&self) -> usize {
+        self.map.as_ref().map_or(0, |map| map.exhausted())
+    }
+
     /// The solid of the same `S_ξ` on the regular grid over the unit square: the solid in parameter
     /// space.
     #[must_use]
@@ -556,6 +563,13 @@ impl Solid3 {
         if let Some(map) = &self.map {
             map.plan(queries);
         }
+    }
+
+    /// How many evaluations of `f` so far ran out of their work budget where the net folds very
+    /// many times over ([`InverseMap::exhausted`]); 0 for a regular grid.
+    #[must_use]
+    pub fn exhausted(&self) -> usize {
+        self.map.as_ref().map_or(0, |map| map.exhausted())
     }
 
     /// `f(p)` with the number of preimages of `p` and the parameters `f` was taken at, by `method`

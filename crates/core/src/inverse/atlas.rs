@@ -59,7 +59,7 @@ const PLAN_WORK: u64 = 1 << 31;
 
 /// The least work one query may spend, however many are planned: a few evaluations of the largest
 /// net.
-const MIN_QUERY_WORK: u64 = 1 << 15;
+const MIN_QUERY_WORK: u64 = 1 << 14;
 
 /// The most work one query may spend: tens of milliseconds.
 const MAX_QUERY_WORK: u64 = 1 << 23;

@@ -230,6 +230,8 @@ pub struct InverseMap<const D: usize> {
     atlas: OnceBox<Atlas<D>>,
     /// The queries the atlas is built for (see [`InverseMap::plan`]).
     planned: AtomicUsize,
+    /// The queries whose work budget ran out so far.
+    exhausted: AtomicUsize,
 }
 
 impl<const D: usize> Clone for InverseMap<D> {
@@ -242,6 +244,7 @@ impl<const D: usize> Clone for InverseMap<D> {
             scale: self.scale,
             atlas: self.atlas.clone(),
             planned: AtomicUsize::new(self.planned.load(Ordering::Relaxed)),
+            exhausted: AtomicUsize::new(self.exhausted.load(Ordering::Relaxed)),
         }
     }
 }
@@ -298,6 +301,7 @@ impl<const D: usize> InverseMap<D> {
             scale,
             atlas: OnceBox::new(),
             planned: AtomicUsize::new(0),
+            exhausted: AtomicUsize::new(0),
         }
     }
 
@@ -309,6 +313,13 @@ impl<const D: usize> InverseMap<D> {
     /// its work.
     pub fn plan(&self, queries: usize) {
         self.planned.fetch_max(queries, Ordering::Relaxed);
+    }
+
+    /// How many queries so far ran out of their work budget (see [`QueryStats::exhausted`]): a
+    /// drawing made of them may miss pieces where the net folds very many times over.
+    #[must_use]
+    pub fn exhausted(&self) -> usize {
+        self.exhausted.load(Ordering::Relaxed)
     }
 
     /// The atlas of the map (see [`atlas`]), built on first use.
@@ -373,6 +384,9 @@ impl<const D: usize> InverseMap<D> {
                 }
             }
         });
+        if stats.exhausted {
+            self.exhausted.fetch_add(1, Ordering::Relaxed);
+        }
         roots
     }
 
@@ -633,12 +647,22 @@ impl<const D: usize> InverseMap<D> {
     /// past the box near it (Newton from the guess), else the spline guess itself.
     ///
     /// Newton gets 30 steps where the map is certified injective, 8 where it may fold (where
-    /// most points of a grid can have no preimage and the guess be far from any root).
+    /// most points of a grid can have no preimage and the guess be far from any root), fewer when
+    /// the query's work budget runs low.
     pub fn outside<F: Forward<D>>(&self, net: &F, p: [f64; D], stats: &mut QueryStats) -> [f64; D] {
         // A point so far away that the spline overflows gets the box's centre: f is negative
         // there all the same (see below).
         let g = self.guess(p).map(|t| if t.is_finite() { t } else { 0.5 });
-        let steps = if self.injective { 30 } else { 8 };
+        let steps = if self.injective {
+            30
+        } else {
+            // Within what is left of the query's work budget.
+            let cap = AtlasBudget::query_work(self.planned.load(Ordering::Relaxed));
+            let left = cap.saturating_sub(stats.work) / self.tensor.coefs.len() as u64;
+            let steps = left.min(8) as u32;
+            stats.work += u64::from(steps) * self.tensor.coefs.len() as u64;
+            steps
+        };
         self.newton(net, p, g, steps, stats).unwrap_or(g)
     }
 
