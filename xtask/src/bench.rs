@@ -133,8 +133,8 @@ fn machine() -> String {
     format!("{cpu}, {cores} cores; one thread is used. Node {node} for wasm.")
 }
 
-/// The targets of issue 4 (space mapping), from the rows of `bezsolid_bench::inverse`.
-fn issue4_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
+/// The space-mapping targets, from the rows of `bezsolid_bench::inverse`.
+fn space_mapping_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     let get = |rows: &[Row], case: &str, who: &str, n: Option<u64>| {
         rows.iter()
             .find(|r| r.case == case && r.who.starts_with(who) && n.is_none_or(|n| r.n == n))
@@ -142,7 +142,7 @@ fn issue4_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     };
     let _ = writeln!(
         s,
-        "## Against the targets of issue 4 (space mapping, one thread)\n\n| target | measured |\n|---|---|"
+        "## Against the space-mapping targets (one thread)\n\n| target | measured |\n|---|---|"
     );
     let patch = "inverse map: random points in a warped bicubic patch";
     let volume = "inverse map: random points in a warped degree-(4,4,4) volume";
@@ -195,16 +195,67 @@ fn issue4_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     let _ = writeln!(s);
 }
 
-/// The targets of issue 6 (point-in-solid by extended simplicial chains), from the rows of
-/// `bezsolid_bench::esc`.
-/// Issue 7 (PLaSM): the paper's examples run whole, and the interpreter's cost against the same
-/// map compiled.
-fn issue7(s: &mut String, native: &[Row], wasm: &[Row]) {
+/// Nets that fold over themselves everywhere: the budgets every input is held to.
+fn folded_targets(s: &mut String, native: &[Row]) {
+    let get = |case: &str, who: &str, n: u64| {
+        native
+            .iter()
+            .find(|r| r.case == case && r.who.starts_with(who) && r.n == n)
+            .map(|r| (r.ms, r.extra))
+    };
     let _ = writeln!(
         s,
-        "## PLaSM scripts (issue 7, one thread)\n\n\
+        "## Against the budgets for nets that fold over themselves (one thread)\n\n| budget | measured |\n|---|---|"
+    );
+    let points = "inverse map: random points of a patch that folds over itself (shuffled 6×6 net)";
+    if let (Some((_, atlas)), Some((_, clip))) = (
+        native
+            .iter()
+            .find(|r| r.case == points && r.who.contains("atlas"))
+            .map(|r| (r.ms, r.extra)),
+        native
+            .iter()
+            .find(|r| r.case == points && r.who.contains("clipping"))
+            .map(|r| (r.ms, r.extra)),
+    ) {
+        let _ = writeln!(
+            s,
+            "| eval ≥ 20 000 points/s on any net | {atlas:.0} points/s through the atlas, {clip:.0} by whole-domain clipping ({:.0}×) |",
+            atlas / clip
+        );
+    }
+    let contour = "contour of a patch that folds over itself (shuffled net)";
+    for degree in [6, 16] {
+        if let Some((ms, _)) = get(
+            contour,
+            &format!("bezsolid: the atlas at every sample, {degree}×"),
+            256,
+        ) {
+            let _ = writeln!(
+                s,
+                "| contour at the default resolution (256) ≤ 2 s | {ms:.0} ms, shuffled degree {degree}×{degree}, the atlas built each run |"
+            );
+        }
+    }
+    let mesh = "polygonize a volume that folds over itself (shuffled (6,6,1) net)";
+    if let Some((ms, _)) = get(mesh, "bezsolid", 64) {
+        let _ = writeln!(
+            s,
+            "| mesh at resolution 64 ≤ 30 s | {:.2} s, shuffled degree (6,6,1) |",
+            ms / 1000.0
+        );
+    }
+    let _ = writeln!(s);
+}
+
+/// PLaSM: the paper's examples run whole, and the interpreter's cost against the same map
+/// compiled.
+fn plasm_section(s: &mut String, native: &[Row], wasm: &[Row]) {
+    let _ = writeln!(
+        s,
+        "## PLaSM scripts (one thread)\n\n\
          Each example as the page runs it: parse, evaluate, MAP (the drawing and the transfer to the \
-         page are not included; the page's times, to the drawing, are in the notes of issue 7).\n\n\
+         page are not included; the page's times, to the drawing, are measured by the browser suite).\n\n\
          | example | cells made | steps | native ms | wasm ms |\n|---|---:|---:|---:|---:|"
     );
     for r in native.iter().filter(|r| r.case.starts_with("plasm: run")) {
@@ -255,10 +306,12 @@ fn issue7(s: &mut String, native: &[Row], wasm: &[Row]) {
     let _ = writeln!(s);
 }
 
-fn issue6_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
+/// The targets of point-in-solid by extended simplicial chains, from the rows of
+/// `bezsolid_bench::esc`.
+fn free_form_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     let _ = writeln!(
         s,
-        "## Against the targets of issue 6 (one thread)\n\n\
+        "## Against the free-form targets (one thread)\n\n\
          Uniform random points in each solid's box enlarged by 10%. ESC and ray parity classify the \
          same points against the same PN surface with the same uniform grid over the patches; ESC \
          also indexes its tetrahedra by direction from the apex (a cube map).\n"
@@ -335,7 +388,7 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
     if !quick {
         let _ = writeln!(
             s,
-            "## Against the targets of issue 3 (one thread)
+            "## Against the meshing targets (one thread)
 "
         );
         let _ = writeln!(
@@ -372,9 +425,10 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
             );
         }
         let _ = writeln!(s);
-        issue4_targets(&mut s, native, wasm);
-        issue6_targets(&mut s, native, wasm);
-        issue7(&mut s, native, wasm);
+        space_mapping_targets(&mut s, native, wasm);
+        folded_targets(&mut s, native);
+        free_form_targets(&mut s, native, wasm);
+        plasm_section(&mut s, native, wasm);
     }
     let mut cases: Vec<&str> = Vec::new();
     for r in native {

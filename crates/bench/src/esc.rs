@@ -1,4 +1,4 @@
-//! The cases of issue 6: point-in-solid on the solids bounded by PN triangles, the extended
+//! The free-form cases: point-in-solid on the solids bounded by PN triangles, the extended
 //! simplicial chain against Jordan ray parity on the same PN surface and the same grid (the paper's
 //! Fig. 20 claim, as queries per second and patch intersections per query).
 

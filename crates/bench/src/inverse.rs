@@ -1,5 +1,6 @@
-//! The space-mapping cases of issue 4: random points through the inverse map by each method, a
-//! warped 16 × 16-point patch contoured, and a warped volume polygonized.
+//! The space-mapping cases: random points through the inverse map by each method, a warped 16 ×
+//! 16-point patch contoured, and a warped volume polygonized; and nets that fold over themselves
+//! everywhere (their control points shuffled), through the atlas.
 
 use bezsolid_core::contour::{forward_contour, sampled_contour};
 use bezsolid_core::inverse::{InverseMap, Method, QueryStats};
@@ -163,7 +164,109 @@ fn points_case<const D: usize, F: bezsolid_core::inverse::Forward<D>>(
     rows
 }
 
-/// The cases of issue 4.
+/// The regular grid over the unit box with the positions of its control points shuffled among them
+/// (and ξ random): a net that folds over itself everywhere, the worst a user can drag into being.
+#[must_use]
+pub fn shuffled_patch(degree: (usize, usize), seed: u64) -> Solid2 {
+    let (n, m) = degree;
+    let mut rng = Rng(seed);
+    let mut spots: Vec<(f64, f64)> = (0..=n)
+        .flat_map(|i| (0..=m).map(move |j| (i as f64 / n as f64, j as f64 / m as f64)))
+        .collect();
+    for k in (1..spots.len()).rev() {
+        spots.swap(k, ((rng.unit() * (k + 1) as f64) as usize).min(k));
+    }
+    let patch = Patch::from_fn(degree, |i, j| {
+        let (x, y) = spots[i * (m + 1) + j];
+        DVec3::new(x, y, rng.unit() * 2.0 - 1.0)
+    })
+    .unwrap_or_else(|_| unreachable!("a valid degree"));
+    Solid2::try_from_patch(patch).unwrap_or_else(|_| unreachable!("finite values"))
+}
+
+/// [`shuffled_patch`] for volumes.
+#[must_use]
+pub fn shuffled_volume(degree: (usize, usize, usize), seed: u64) -> Solid3 {
+    let (n, m, l) = degree;
+    let mut rng = Rng(seed);
+    let mut spots: Vec<[f64; 3]> = Vec::new();
+    for i in 0..=n {
+        for j in 0..=m {
+            for k in 0..=l {
+                spots.push([
+                    i as f64 / n as f64,
+                    j as f64 / m as f64,
+                    k as f64 / l as f64,
+                ]);
+            }
+        }
+    }
+    for k in (1..spots.len()).rev() {
+        spots.swap(k, ((rng.unit() * (k + 1) as f64) as usize).min(k));
+    }
+    let volume = Volume::from_fn(degree, |i, j, k| {
+        let [x, y, z] = spots[(i * (m + 1) + j) * (l + 1) + k];
+        DVec4::new(x, y, z, rng.unit() * 2.0 - 1.0)
+    })
+    .unwrap_or_else(|_| unreachable!("a valid degree"));
+    Solid3::try_from_volume(volume).unwrap_or_else(|_| unreachable!("finite values"))
+}
+
+/// Nets that fold over themselves everywhere: points through the atlas against whole-domain
+/// clipping, a contour and a mesh, each within its budget.
+fn folded(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let mut rows = Vec::new();
+    let patch = shuffled_patch((6, 6), 0x2545_F491_4F6C_DD1D);
+    let map = patch
+        .inverse()
+        .unwrap_or_else(|| unreachable!("a shuffled net"));
+    let count = if quick { 300 } else { 5_000 };
+    map.plan(count);
+    let case = "inverse map: random points of a patch that folds over itself (shuffled 6×6 net)";
+    rows.extend(
+        points_case(clock, case, patch.patch(), map, count)
+            .into_iter()
+            .filter(|r| !r.who.starts_with("bezsolid: the paper's hybrid")),
+    );
+    for r in rows.iter_mut().filter(|r| r.who.contains("fast path")) {
+        r.who = "bezsolid: the atlas (pieces certified or clipped, Newton on the net)".into();
+    }
+    let res = if quick { 64 } else { 256 };
+    for (degree, seed) in [(6, 0x9E37_79B9_7F4A_7C15u64), (16, 0xD1B5_4A32_D192_ED03)] {
+        let (ms, runs, lines) = time(clock, budget, || {
+            // A fresh net each run: the atlas is part of the cost.
+            sampled_contour(&shuffled_patch((degree, degree), seed), res, 1e-9)
+        });
+        rows.push(Row {
+            case: "contour of a patch that folds over itself (shuffled net)".into(),
+            who: format!("bezsolid: the atlas at every sample, {degree}×{degree} degree"),
+            n: res,
+            ms,
+            runs,
+            extra: lines.iter().map(|l| l.points.len()).sum::<usize>() as f64,
+            note: String::new(),
+        });
+    }
+    let res = if quick { 16 } else { 64 };
+    let (ms, runs, mesh) = time(clock, budget, || {
+        shuffled_volume((6, 6, 1), 0x94D0_49BB_1331_11EB)
+            .polygonize(res, 1e-9)
+            .unwrap_or_else(|_| unreachable!("valid arguments"))
+    });
+    rows.push(Row {
+        case: "polygonize a volume that folds over itself (shuffled (6,6,1) net)".into(),
+        who: "bezsolid: the atlas at every sample".into(),
+        n: res,
+        ms,
+        runs,
+        extra: mesh.triangle_count() as f64,
+        note: String::new(),
+    });
+    rows
+}
+
+/// The space-mapping cases.
 pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     let budget = if quick { 50.0 } else { 1000.0 };
     let mut rows = Vec::new();
@@ -262,5 +365,6 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
     }
+    rows.extend(folded(clock, quick));
     rows
 }

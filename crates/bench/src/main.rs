@@ -16,9 +16,15 @@ impl Clock for Wall {
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let mut clock = Wall(Instant::now());
-    // `--esc`: only the point-in-solid cases of issue 6 (for working on them).
+    // `--esc`: only the point-in-solid cases (for working on them).
     if std::env::args().any(|a| a == "--esc") {
         let rows = bezsolid_bench::esc::suite(&mut clock, quick);
+        println!("{}", serde_json::to_string(&rows).unwrap_or_default());
+        return;
+    }
+    // `--inverse`: only the space-mapping cases, folded nets included.
+    if std::env::args().any(|a| a == "--inverse") {
+        let rows = bezsolid_bench::inverse::suite(&mut clock, quick);
         println!("{}", serde_json::to_string(&rows).unwrap_or_default());
         return;
     }

@@ -1,4 +1,4 @@
-//! The PLaSM cases of issue 7: each of the paper's examples run whole (parse, evaluate, MAP), and
+//! The PLaSM cases: each of the paper's examples run whole (parse, evaluate, MAP), and
 //! Script 4.4's surface sampled on a grid three ways: by the interpreter's `MAP`, by `core::blend`'s
 //! closures (the same transfinite blend, compiled), and as the equal tensor-product patch.
 
