@@ -117,6 +117,8 @@ pub fn solid_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Po
 #[must_use]
 pub fn sampled_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
     let (lo, hi) = solid.domain();
+    let (lo, hi) = crate::math::sampling_box(lo.to_array(), hi.to_array());
+    let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
     let resolution = resolution.max(1);
     // One cell of margin: f is negative outside the domain, so every contour closes inside the grid.
     let cell = (hi - lo) / resolution as f64;
@@ -328,6 +330,8 @@ pub fn cross_section(
     let (b, d) = crate::tensor::other_axes(a);
     let (min, max) = solid.domain();
     let in_box = (min[a]..=max[a]).contains(&at);
+    let (min, max) = crate::math::sampling_box(min.to_array(), max.to_array());
+    let (min, max) = (DVec3::from_array(min), DVec3::from_array(max));
     if resolution < 2 || !accuracy.is_finite() || accuracy <= 0.0 || !in_box {
         return Vec::new();
     }
@@ -531,6 +535,27 @@ mod tests {
         assert!(cross_section(&ring, Axis::W, f64::NAN, 64, accuracy).is_empty());
         assert!(cross_section(&ring, Axis::W, 0.0, 1, accuracy).is_empty());
         assert!(cross_section(&ring, Axis::W, 0.0, 64, f64::NAN).is_empty());
+    }
+
+    #[test]
+    fn a_net_whose_points_share_one_x_has_closed_contours() {
+        // The box is 2.2e-308 wide beside x = 3.9e-11: below rounding, so a grid over it alone has
+        // no width and its margin cannot close the contour.
+        let patch = crate::Patch::from_fn((2, 2), |i, j| {
+            DVec3::new(
+                3.9e-11 + 1.1e-308 * i as f64,
+                j as f64 / 2.0,
+                1.0 - (j as f64 - 1.0).abs(),
+            )
+        })
+        .unwrap();
+        let solid = Solid2::try_from_patch(patch).unwrap();
+        for res in [2, 7, 16, 64] {
+            for line in solid_contour(&solid, res, 1e-9) {
+                assert!(line.closed, "{res}: {line:?}");
+                assert!(line.points.iter().all(|p| p.is_finite()));
+            }
+        }
     }
 
     /// Distance from `p` to the nearest segment of any line.

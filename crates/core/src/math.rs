@@ -31,6 +31,27 @@ pub(crate) fn sqrt(x: f64) -> f64 {
     }
 }
 
+/// The box `[lo, hi]` widened, around its middle, along every side too thin to hold distinct
+/// samples: each side is at least a millionth of the largest coordinate magnitude or side (and at
+/// least 1e-300), so that a grid over it has cells wider than rounding and a margin outside it. A
+/// net whose points share a coordinate (to within rounding) has such a side.
+pub(crate) fn sampling_box<const D: usize>(
+    mut lo: [f64; D],
+    mut hi: [f64; D],
+) -> ([f64; D], [f64; D]) {
+    let size = (0..D)
+        .map(|a| lo[a].abs().max(hi[a].abs()).max(hi[a] - lo[a]))
+        .fold(0.0f64, f64::max);
+    let least = (size * 1e-6).max(1e-300);
+    for a in 0..D {
+        if hi[a] - lo[a] < least {
+            let middle = 0.5 * lo[a] + 0.5 * hi[a];
+            (lo[a], hi[a]) = (middle - 0.5 * least, middle + 0.5 * least);
+        }
+    }
+    (lo, hi)
+}
+
 /// The most evaluations [`illinois`] makes.
 pub(crate) const ROOT_STEPS: u32 = 60;
 

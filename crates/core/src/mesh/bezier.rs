@@ -60,6 +60,8 @@ impl Solid3 {
             return Err(MeshError::Resolution { got: resolution });
         }
         let (min, max) = self.domain();
+        let (min, max) = crate::math::sampling_box(min.to_array(), max.to_array());
+        let (min, max) = (DVec3::from_array(min), DVec3::from_array(max));
         let size = max - min;
         let cell = size.max_element() / resolution as f64;
         let cells = (size / cell)
@@ -439,6 +441,21 @@ mod tests {
     fn ball(r: f64, min: DVec3, max: DVec3) -> Solid3 {
         let c = [0.25, -0.25, 0.25];
         Solid3::regular((2, 2, 2), min, max, |i, j, k| r * r - c[i] - c[j] - c[k]).unwrap()
+    }
+
+    #[test]
+    fn a_net_whose_points_share_one_x_meshes_closed() {
+        // The box is 2.2e-308 wide beside x = 7.8e-12: below rounding.
+        let volume = Volume::from_fn((1, 1, 1), |i, j, k| {
+            DVec4::new(7.8e-12 + 2.2e-308 * i as f64, j as f64, k as f64, 1.0)
+        })
+        .unwrap();
+        let solid = Solid3::try_from_volume(volume).unwrap();
+        for res in [1, 2, 6, 12] {
+            let mesh = solid.polygonize(res, 1e-9).unwrap();
+            assert!(mesh.check_closed_manifold().is_ok(), "{res}");
+            assert!(mesh.positions.iter().all(|p| p.is_finite()));
+        }
     }
 
     #[test]
