@@ -348,25 +348,35 @@ fn eval_with_jacobian<const D: usize>(
     }
     let mut x = [0.0; D];
     let mut jac = [[0.0; D]; D];
-    for (index, c) in net.coefs.iter().enumerate() {
-        let idx = super::multi_index(net.dims, index);
-        let w: f64 = (0..D).map(|a| basis[a][idx[a]]).product();
+    // The coefficients in storage order, their multi-index counted along (the last axis fastest).
+    let mut idx = [0usize; D];
+    for c in &net.coefs {
+        let mut w = 1.0;
+        for a in 0..D {
+            w *= basis[a][idx[a]];
+        }
         for e in 0..D {
             x[e] += w * c[e];
         }
         for d in 0..D {
-            let wd: f64 = (0..D)
-                .map(|a| {
-                    if a == d {
-                        slope[a][idx[a]]
-                    } else {
-                        basis[a][idx[a]]
-                    }
-                })
-                .product();
+            let mut wd = slope[d][idx[d]];
+            for a in 0..D {
+                if a != d {
+                    wd *= basis[a][idx[a]];
+                }
+            }
             for e in 0..D {
                 jac[d][e] += wd * c[e];
             }
+        }
+        let mut a = D;
+        while a > 0 {
+            a -= 1;
+            idx[a] += 1;
+            if idx[a] < net.dims[a] {
+                break;
+            }
+            idx[a] = 0;
         }
     }
     (x, jac)

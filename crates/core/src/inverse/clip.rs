@@ -75,13 +75,19 @@ impl<const D: usize, const E: usize> Tensor<D, E> {
     fn clip_interval(&self, axis: usize, band: [f64; E]) -> Option<(f64, f64)> {
         let n = self.dims[axis];
         let stride = self.stride(axis);
+        let outer = self.coefs.len() / (n * stride);
         let mut lo = [[f64::INFINITY; E]; crate::bernstein::MAX_DEGREE + 1];
         let mut hi = [[f64::NEG_INFINITY; E]; crate::bernstein::MAX_DEGREE + 1];
-        for (index, c) in self.coefs.iter().enumerate() {
-            let i = (index / stride) % n;
-            for e in 0..E {
-                lo[i][e] = lo[i][e].min(c[e]);
-                hi[i][e] = hi[i][e].max(c[e]);
+        // Walked in storage order, slab by slab: no division per coefficient.
+        for o in 0..outer {
+            for i in 0..n {
+                let base = (o * n + i) * stride;
+                for c in &self.coefs[base..base + stride] {
+                    for e in 0..E {
+                        lo[i][e] = lo[i][e].min(c[e]);
+                        hi[i][e] = hi[i][e].max(c[e]);
+                    }
+                }
             }
         }
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
