@@ -6,9 +6,12 @@
 //! - `cargo xtask test [--update-screenshot]`: fmt, clippy, native tests, docs, the `no_std` build, the
 //!   wasm tests in node, the web build, the page's module headless in node, and the browser suite in
 //!   headless chromium on both backends.
+//! - `cargo xtask fuzz [--seconds N] [TARGET…]`: the fuzz campaigns of `fuzz/` (installs the nightly
+//!   toolchain and cargo-fuzz when missing), N seconds per target, with a report per target.
 
 mod bench;
 mod build;
+mod fuzz;
 mod recipe;
 mod serve;
 mod setup;
@@ -27,6 +30,9 @@ commands:
   serve [--port N]             set up, build the page and serve it (port also from BEZSOLID_PORT)
   test [--update-screenshot]   every check, in order, stopping at the first failure
   bench [--quick]              benchmarks, native (with peers) and wasm in node; writes BENCHMARKS.md
+  fuzz [--seconds N] [TARGET...]
+                               fuzz campaigns (nightly, cargo-fuzz), N seconds per target (default 60),
+                               every target when none is named; see FUZZING.md
 ";
 
 fn workspace() -> PathBuf {
@@ -68,6 +74,25 @@ fn real_main() -> Result<()> {
                 }
             }
             bench::all(&ws, quick)
+        }
+        Some("fuzz") => {
+            let mut seconds = fuzz::DEFAULT_SECONDS;
+            let mut targets = Vec::new();
+            let mut it = args[1..].iter();
+            while let Some(a) = it.next() {
+                match a.as_str() {
+                    "--seconds" => {
+                        let n = it.next().context("--seconds needs a number")?;
+                        seconds =
+                            n.parse().ok().filter(|&s| s > 0).with_context(|| {
+                                format!("--seconds {n} is not a positive number")
+                            })?;
+                    }
+                    other if other.starts_with('-') => bail!("unknown option {other}\n\n{USAGE}"),
+                    target => targets.push(target.to_owned()),
+                }
+            }
+            fuzz::all(&ws, seconds, &targets)
         }
         Some("-h" | "--help" | "help") => {
             print!("{USAGE}");
