@@ -285,10 +285,10 @@ impl<const D: usize> Piece<D> {
         };
         for start in starts {
             let t = match newton_on(&self.approx, p, start, &mut || *work += unit) {
-                Some(t) if t.iter().all(|&x| (-0.1..=1.1).contains(&x)) => t,
-                Some(_) => continue,
-                // Singular: near a fold, where the net's own Newton may still get there.
-                None => start,
+                Approach::Root(t) if t.iter().all(|&x| (-0.1..=1.1).contains(&x)) => t,
+                Approach::Root(_) | Approach::Away => continue,
+                // Singular or slow: near a fold, where the net's own Newton may still get there.
+                Approach::Unsure => start,
             };
             if fresh(&seeds, t, 1e-6) {
                 seeds.push(t);
@@ -305,30 +305,42 @@ impl<const D: usize> Piece<D> {
     }
 }
 
+/// Where Newton's method on an approximation went.
+enum Approach<const D: usize> {
+    /// To a root (which may lie outside the piece).
+    Root([f64; D]),
+    /// Far from the piece: no root of its own there.
+    Away,
+    /// Nowhere certain: a singular Jacobian, or slow convergence (a fold).
+    Unsure,
+}
+
 /// Newton's method for `Q(t) = p` on a low-degree net from `t`: the root once a step is below
-/// `1e-10`, `None` where the Jacobian is singular or the iteration runs away or stalls.
+/// `1e-10`; calls `step` before each step.
 fn newton_on<const D: usize>(
     q: &Tensor<D, D>,
     p: [f64; D],
     mut t: [f64; D],
     step: &mut impl FnMut(),
-) -> Option<[f64; D]> {
+) -> Approach<D> {
     for _ in 0..10 {
         step();
         let (x, jac) = eval_with_jacobian(q, t);
         let r: [f64; D] = core::array::from_fn(|e| x[e] - p[e]);
-        let delta = super::solve_jac(&jac, r)?;
+        let Some(delta) = super::solve_jac(&jac, r) else {
+            return Approach::Unsure;
+        };
         for a in 0..D {
             t[a] -= delta[a];
         }
         if !t.iter().all(|x| x.abs() < 4.0) {
-            return None;
+            return Approach::Away;
         }
         if delta.iter().all(|d| d.abs() < 1e-10) {
-            return Some(t);
+            return Approach::Root(t);
         }
     }
-    None
+    Approach::Unsure
 }
 
 /// The value of a low-degree net at local parameters `t` and its Jacobian by columns.
