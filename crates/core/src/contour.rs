@@ -116,15 +116,22 @@ pub fn solid_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Po
 /// inverse map at every sample: the reference the forward path is tested against).
 #[must_use]
 pub fn sampled_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
+    let grid = sample_grid(solid, resolution);
+    let values = solid.f_grid(&grid.xs(), &grid.ys());
+    contour(&grid, &values, |p: DVec2| solid.f(p), accuracy)
+}
+
+/// The grid [`sampled_contour`] samples `f` on: `resolution` cells per side of the solid's domain
+/// (widened where a side is too thin for distinct samples) with one cell of margin all round, where
+/// `f` is negative, so that every contour closes inside it.
+#[must_use]
+pub fn sample_grid(solid: &Solid2, resolution: usize) -> Grid2 {
     let (lo, hi) = solid.domain();
     let (lo, hi) = crate::math::sampling_box(lo.to_array(), hi.to_array());
     let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
     let resolution = resolution.max(1);
-    // One cell of margin: f is negative outside the domain, so every contour closes inside the grid.
     let cell = (hi - lo) / resolution as f64;
-    let grid = Grid2::new(lo - cell, hi + cell, resolution + 3, resolution + 3);
-    let values = solid.f_grid(&grid.xs(), &grid.ys());
-    contour(&grid, &values, |p: DVec2| solid.f(p), accuracy)
+    Grid2::new(lo - cell, hi + cell, resolution + 3, resolution + 3)
 }
 
 /// The zero contour of a space mapping certified injective, traced in parameter space (the solid of

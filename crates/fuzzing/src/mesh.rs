@@ -37,8 +37,14 @@ pub fn mesh(data: &[u8]) {
         mesh.positions.len(),
         "one normal per vertex"
     );
-    let (lo, hi) = solid.domain();
-    let cell = (hi - lo).max_element() / resolution as f64;
+    // The sample grid (half a cell past the box, widened where a side is too thin); the
+    // forward-mapped path's vertices lie in the domain, inside it.
+    let grid = solid
+        .mesh_grid(resolution)
+        .unwrap_or_else(|e| panic!("resolution {resolution} is refused: {e}"));
+    let [nx, ny, nz] = grid.dims;
+    let (lo, hi) = (grid.origin, grid.point(nx - 1, ny - 1, nz - 1));
+    let cell = grid.step.max_element();
     let slack = cell * 1e-9 + hi.abs().max(lo.abs()).max_element() * 1e-12;
     for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
         assert!(
@@ -46,7 +52,7 @@ pub fn mesh(data: &[u8]) {
             "a vertex {p} with normal {n}"
         );
         assert!(
-            p.cmpge(lo - cell - slack).all() && p.cmple(hi + cell + slack).all(),
+            p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
             "a vertex {p} outside the grid over {lo} .. {hi} at {resolution} cells"
         );
     }

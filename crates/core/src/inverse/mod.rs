@@ -46,6 +46,10 @@ const MERGE: f64 = 1e-6;
 /// The most seeds one atlas piece gives a query.
 const MAX_PIECE_SEEDS: usize = 8;
 
+/// The most preimages one query through the atlas gathers (a net collapsed to a point has a
+/// continuum of them); past it the query is exhausted.
+const MAX_ATLAS_ROOTS: usize = 256;
+
 /// How the preimages of a point are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Method {
@@ -359,10 +363,11 @@ impl<const D: usize> InverseMap<D> {
             let seeds = piece.seeds(p, MAX_PIECE_SEEDS, &mut stats.clip, &mut stats.work);
             for seed in seeds {
                 // A seed at a preimage already found (a neighbour's, across their seam) is it.
+                stats.work += roots.len() as u64;
                 if roots.iter().any(|(r, _)| max_abs_diff(*r, seed) <= 1e-9) {
                     continue;
                 }
-                if stats.work >= cap {
+                if stats.work >= cap || roots.len() >= MAX_ATLAS_ROOTS {
                     stats.exhausted = true;
                     return;
                 }
