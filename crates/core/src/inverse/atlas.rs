@@ -61,8 +61,9 @@ const PLAN_WORK: u64 = 1 << 31;
 /// net.
 const MIN_QUERY_WORK: u64 = 1 << 14;
 
-/// The most work one query may spend: tens of milliseconds.
-const MAX_QUERY_WORK: u64 = 1 << 23;
+/// The most work one query may spend: about ten milliseconds (a probe of `f` under the pointer
+/// runs on the page's thread).
+const MAX_QUERY_WORK: u64 = 1 << 21;
 
 impl AtlasBudget {
     /// The work one of `queries` planned queries may spend: an equal share of [`PLAN_WORK`], within
