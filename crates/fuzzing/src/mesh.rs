@@ -58,6 +58,7 @@ pub fn mesh(data: &[u8]) {
     }
     let volume = mesh.volume();
     let size = (hi - lo).max_element().powi(3);
+
     assert!(
         volume >= -1e-9 * size || !volume.is_finite(),
         "the mesh bounds a negative volume {volume}"

@@ -100,9 +100,20 @@ impl Mesh {
     /// mesh oriented outward.
     #[must_use]
     pub fn volume(&self) -> f64 {
+        // Taken about the middle of the bounds: the same for a closed mesh, without the
+        // cancellation of large products for a small mesh far from the origin.
+        let (lo, hi) = self.positions.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let o = if lo.is_finite() && hi.is_finite() {
+            (lo + hi) * 0.5
+        } else {
+            DVec3::ZERO
+        };
         (0..self.triangles.len())
             .map(|t| {
-                let [a, b, c] = self.corners(t);
+                let [a, b, c] = self.corners(t).map(|p| p - o);
                 a.dot(b.cross(c))
             })
             .sum::<f64>()
