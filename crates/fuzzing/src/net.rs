@@ -191,7 +191,9 @@ pub(crate) fn query<const S: usize>(
         _ => core::array::from_fn(|c| lo[c] + (hi[c] - lo[c]) * input.unit()),
     };
     let outside = (0..S).any(|c| {
-        let margin = (hi[c] - lo[c]) * 1e-6 + hi[c].abs().max(lo[c].abs()) * 1e-9;
+        // Relative to the box, and absolute below the normal numbers: the solvers' tolerances
+        // have a floor there (a box of subnormal size is a point).
+        let margin = (hi[c] - lo[c]) * 1e-6 + hi[c].abs().max(lo[c].abs()) * 1e-9 + 1e-300;
         p[c] < lo[c] - margin || p[c] > hi[c] + margin
     });
     (p, outside)
