@@ -39,8 +39,9 @@ struct Report {
     runs: u64,
     per_second: u64,
     seconds: f64,
-    corpus_files: usize,
-    corpus_bytes: u64,
+    /// The corpus as libFuzzer last printed it: inputs and size (`1989/443Kb`), or the files left
+    /// in the corpus folder (which also keeps inputs that smaller ones replaced).
+    corpus: String,
     findings: Vec<PathBuf>,
     log: PathBuf,
 }
@@ -156,6 +157,7 @@ pub(crate) fn all(workspace: &Path, seconds: u64, wanted: &[String]) -> Result<(
 
 fn campaign(fuzz: &Path, target: &str, seconds: u64) -> Result<Report> {
     let corpus = fuzz.join("corpus").join(target);
+    // Where `cargo fuzz run` has libFuzzer write crashes and timeouts.
     let artifacts = fuzz.join("artifacts").join(target);
     std::fs::create_dir_all(&corpus).context("creating the corpus folder")?;
     std::fs::create_dir_all(&artifacts).context("creating the artifacts folder")?;
@@ -174,8 +176,7 @@ fn campaign(fuzz: &Path, target: &str, seconds: u64) -> Result<Report> {
         .arg(format!("-max_total_time={seconds}"))
         .arg(format!("-timeout={}", timeout(target)))
         .arg("-rss_limit_mb=2048")
-        .arg("-print_final_stats=1")
-        .arg(format!("-artifact_prefix={}/", artifacts.display()));
+        .arg("-print_final_stats=1");
     let dict = fuzz.join("dicts").join(format!("{target}.dict"));
     if dict.exists() {
         cmd.arg(format!("-dict={}", dict.display()));
@@ -203,21 +204,36 @@ fn campaign(fuzz: &Path, target: &str, seconds: u64) -> Result<Report> {
             tail.join("\n")
         );
     }
-    let corpus_files = files(&corpus);
+    let corpus = last_corpus(&text).unwrap_or_else(|| {
+        let left = files(&corpus);
+        let bytes: u64 = left
+            .iter()
+            .filter_map(|p| p.metadata().ok())
+            .map(|m| m.len())
+            .sum();
+        format!("{} files, {} KiB", left.len(), bytes.div_ceil(1024))
+    });
     Ok(Report {
         target: target.to_owned(),
         runs: runs.unwrap_or(0),
         per_second: stat(&text, "average_exec_per_sec").unwrap_or(0),
         seconds: took.as_secs_f64(),
-        corpus_bytes: corpus_files
-            .iter()
-            .filter_map(|p| p.metadata().ok())
-            .map(|m| m.len())
-            .sum(),
-        corpus_files: corpus_files.len(),
+        corpus,
         findings,
         log,
     })
+}
+
+/// The last corpus libFuzzer reported (`corp: 1989/443Kb`), as "1989 inputs, 443 KB".
+fn last_corpus(log: &str) -> Option<String> {
+    let line = log.lines().rev().find(|l| l.contains(" corp: "))?;
+    let (_, rest) = line.split_once(" corp: ")?;
+    let (count, size) = rest.split_whitespace().next()?.split_once('/')?;
+    let size = size.replace("Kb", " KB").replace("Mb", " MB");
+    let size = size
+        .strip_suffix('b')
+        .map_or(size.clone(), |b| format!("{b} bytes"));
+    Some(format!("{count} inputs, {size}"))
 }
 
 /// The panic message of a finding, from the log: the line after `panicked at` and the one after.
@@ -262,13 +278,12 @@ fn summary(reports: &[Report], workspace: &Path) -> String {
     for r in reports {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} files, {} KiB | {} |",
+            "| {} | {} | {} | {} | {} | {} |",
             r.target,
             r.runs,
             r.per_second,
             human(std::time::Duration::from_secs_f64(r.seconds)),
-            r.corpus_files,
-            r.corpus_bytes.div_ceil(1024),
+            r.corpus,
             if r.findings.is_empty() {
                 "none".to_owned()
             } else {
