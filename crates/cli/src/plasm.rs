@@ -1,4 +1,4 @@
-//! `bezsolid plasm SCRIPT [-o OUT.{obj,stl,ply}]`: runs a PLaSM script (issue 7) and writes what
+//! `bezsolid plasm SCRIPT [-o OUT.{obj,stl,ply}]`: runs a PLaSM script (the third paper's language) and writes what
 //! its top-level expressions draw.
 
 use anyhow::{Context, Result, bail};

@@ -794,8 +794,8 @@ mod tests {
 
 /// The tensor-product Bézier patch equal to a polynomial map of the unit square, such as any
 /// transfinite Bézier or Hermite blend of Bézier or Hermite curves: a patch, or a solid's net, can
-/// be built by blending boundary curves and then edited point by point (issue 7's tie to the
-/// modeler). `f` is sampled only.
+/// be built by blending boundary curves and then edited point by point (the script console's tie
+/// to the modeler). `f` is sampled only.
 ///
 /// The degree in each parameter is the least `d` whose `(d + 1)`-th finite differences vanish
 /// (to rounding) along three lines; the control points interpolate `f` on the uniform

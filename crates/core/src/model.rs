@@ -7,12 +7,12 @@
 //!
 //! - `kind: "patch"`: `degree [n, m]`, points `[x, y, ξ]`, `P_ij` at `i·(m + 1) + j`.
 //! - `kind: "volume"`: `degree [n, m, l]`, points `[x, y, z, ξ]`, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
-//! - `kind: "esc"` (free-form, issue 6): `operands`, one or two of `{ "example": "torus",
+//! - `kind: "esc"` (free-form): `operands`, one or two of `{ "example": "torus",
 //!   "offset": [x, y, z] }` or `{ "mesh": { "positions": [[x, y, z], …], "triangles": [[a, b, c],
 //!   …] }, "offset": … }`, and with two an `operation`: `union`, `intersection` or `difference`.
 //!   A mesh holds at most [`MAX_VERTICES`] positions and [`MAX_TRIANGLES`] triangles: a reader
 //!   refuses a longer list while reading it, before the rest of the file is read.
-//! - `kind: "plasm"` (scripts, issue 7): `script`, the text of a PLaSM script (at most
+//! - `kind: "plasm"` (scripts): `script`, the text of a PLaSM script (at most
 //!   [`MAX_SCRIPT_BYTES`]); what it draws is what the script's top-level expressions give.
 //!
 //! There is no separate box: a regular grid is recognised from the points. Readers ignore fields they
@@ -82,7 +82,7 @@ pub enum SolidSpec {
         /// `(n + 1)(m + 1)(l + 1)` points, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
         points: Vec<[f64; 4]>,
     },
-    /// A free-form solid (issue 6): one or two solids bounded by the PN triangles of closed
+    /// A free-form solid: one or two solids bounded by the PN triangles of closed
     /// triangle meshes, combined by `operation` when there are two.
     Esc {
         /// `union`, `intersection` or `difference`; absent for one operand.
@@ -94,7 +94,7 @@ pub enum SolidSpec {
         /// The solids, in order (`A`, then `B`).
         operands: Vec<EscOperand>,
     },
-    /// A PLaSM script (issue 7), run by `bezsolid-plasm`.
+    /// A PLaSM script, run by `bezsolid-plasm`.
     Plasm {
         /// The script's text.
         script: String,
