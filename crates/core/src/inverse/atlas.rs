@@ -54,11 +54,11 @@ pub(crate) struct AtlasBudget {
 }
 
 /// The work all the queries of a plan may spend together, in evaluations of one control point
-/// (one such unit is about a dozen floating-point operations): about ten seconds of one core.
-const PLAN_WORK: u64 = 1 << 31;
+/// (one such unit is about a dozen floating-point operations): about two seconds of one core.
+const PLAN_WORK: u64 = 1 << 29;
 
-/// The least work one query may spend, however many are planned: a few evaluations of the largest
-/// net.
+/// The least work one query may spend, however many are planned or spent: a few evaluations of
+/// the largest net.
 const MIN_QUERY_WORK: u64 = 1 << 14;
 
 /// The most work one query may spend: about ten milliseconds (a probe of `f` under the pointer
@@ -66,9 +66,14 @@ const MIN_QUERY_WORK: u64 = 1 << 14;
 const MAX_QUERY_WORK: u64 = 1 << 21;
 
 impl AtlasBudget {
-    /// The work one of `queries` planned queries may spend: an equal share of [`PLAN_WORK`], within
-    /// [`MIN_QUERY_WORK`] and [`MAX_QUERY_WORK`] (the most where nothing was planned).
-    pub(crate) fn query_work(queries: usize) -> u64 {
+    /// The work one of `queries` planned queries may spend when `spent` has been spent since the
+    /// map was made: an equal share of [`PLAN_WORK`] while it lasts, within [`MIN_QUERY_WORK`] and
+    /// [`MAX_QUERY_WORK`] (the most where nothing was planned); the least once it is spent, so
+    /// that queries past the plan (a contour's vertices after its grid) add little.
+    pub(crate) fn query_work(queries: usize, spent: u64) -> u64 {
+        if spent >= PLAN_WORK {
+            return MIN_QUERY_WORK;
+        }
         if queries == 0 {
             return MAX_QUERY_WORK;
         }
@@ -243,8 +248,9 @@ impl<const D: usize> Piece<D> {
     /// costs thousands; a root of `Q` outside the piece by more than a tenth of it is dropped (a
     /// preimage there belongs to a neighbour, whose image bounds hold `p` too).
     ///
-    /// `work` grows by what this costs, in evaluations of one control point: a clipping pass or a
-    /// Newton step on the approximation costs one per coefficient and coordinate.
+    /// `work` grows by what this costs, in evaluations of one control point: a Newton step on the
+    /// approximation about one per coefficient and coordinate, a clipping pass (two restrictions
+    /// and two hulls per axis) about four.
     pub(crate) fn seeds(
         &self,
         p: [f64; D],
@@ -267,7 +273,7 @@ impl<const D: usize> Piece<D> {
             stats.passes += own.passes;
             stats.splits += own.splits;
             stats.capped |= own.capped;
-            *work += u64::from(own.passes) * unit;
+            *work += u64::from(own.passes) * unit * 4;
             let mut kept: Vec<[f64; D]> = Vec::new();
             for s in found {
                 if kept.len() == max {

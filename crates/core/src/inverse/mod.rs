@@ -7,8 +7,9 @@
 //!   preimage, the reference.
 //! - [`Method::Hybrid`]: the paper's procedure: a spline guess ([`tps`]), clipping in a box around it,
 //!   and whole-domain clipping when that box holds no root (or when the map may fold).
-//! - [`Method::Fast`]: Newton's method from a seed table of the forward map, verified, with the
-//!   hybrid as the fallback. Only where the map is certified injective; elsewhere it is clipping.
+//! - [`Method::Fast`]: where the map is certified injective, Newton's method from a seed table of
+//!   the forward map, verified; elsewhere, and where those seeds miss, the [`atlas`]: pieces cut
+//!   once, seeded from cheap approximations and polished on the net, in bounded work per query.
 //!
 //! The map is *certified injective* when `det J` is one-signed on the parameter box (its Bernstein
 //! coefficients, refined by subdivision) and the image of the box's boundary is simple (non-adjacent
@@ -26,7 +27,7 @@ pub mod tps;
 
 use alloc::boxed::Box;
 use alloc::vec::Vec;
-use core::sync::atomic::{AtomicUsize, Ordering};
+use core::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use once_cell::race::OnceBox;
 
@@ -236,6 +237,8 @@ pub struct InverseMap<const D: usize> {
     planned: AtomicUsize,
     /// The queries whose work budget ran out so far.
     exhausted: AtomicUsize,
+    /// The work spent through the atlas so far (see [`AtlasBudget::query_work`]).
+    spent: AtomicU64,
 }
 
 impl<const D: usize> Clone for InverseMap<D> {
@@ -249,6 +252,7 @@ impl<const D: usize> Clone for InverseMap<D> {
             atlas: self.atlas.clone(),
             planned: AtomicUsize::new(self.planned.load(Ordering::Relaxed)),
             exhausted: AtomicUsize::new(self.exhausted.load(Ordering::Relaxed)),
+            spent: AtomicU64::new(self.spent.load(Ordering::Relaxed)),
         }
     }
 }
@@ -306,15 +310,16 @@ impl<const D: usize> InverseMap<D> {
             atlas: OnceBox::new(),
             planned: AtomicUsize::new(0),
             exhausted: AtomicUsize::new(0),
+            spent: AtomicU64::new(0),
         }
     }
 
     /// Says that about `queries` queries are coming (a grid, a file of points), before the first:
     /// a map that may fold cuts its atlas for that much work, finer for more (see
     /// [`atlas`](self)), and bounds each query's work so that all of them together stay within
-    /// about ten seconds however the net folds ([`QueryStats::exhausted`] says where a query ran
-    /// out). The largest plan before the first query sets the atlas; the largest at a query sets
-    /// its work.
+    /// about two seconds however the net folds, and queries past the plan add little
+    /// ([`QueryStats::exhausted`] says where a query ran out). The largest plan before the first
+    /// query sets the atlas; the largest at a query sets its work.
     pub fn plan(&self, queries: usize) {
         self.planned.fetch_max(queries, Ordering::Relaxed);
     }
@@ -352,7 +357,7 @@ impl<const D: usize> InverseMap<D> {
         stats: &mut QueryStats,
     ) -> Vec<([f64; D], f64)> {
         let mut roots: Vec<([f64; D], f64)> = Vec::new();
-        let cap = AtlasBudget::query_work(self.planned.load(Ordering::Relaxed));
+        let cap = self.query_work();
         let points = self.tensor.coefs.len() as u64;
         self.atlas().pieces_at(p, |piece| {
             stats.atlas_pieces += 1;
@@ -392,7 +397,16 @@ impl<const D: usize> InverseMap<D> {
         if stats.exhausted {
             self.exhausted.fetch_add(1, Ordering::Relaxed);
         }
+        self.spent.fetch_add(stats.work, Ordering::Relaxed);
         roots
+    }
+
+    /// The work the next query through the atlas may spend (see [`AtlasBudget::query_work`]).
+    fn query_work(&self) -> u64 {
+        AtlasBudget::query_work(
+            self.planned.load(Ordering::Relaxed),
+            self.spent.load(Ordering::Relaxed),
+        )
     }
 
     /// Newton's method for `S(u) = p` from an atlas seed in the piece `[lo, hi]`: the root in the
@@ -481,12 +495,14 @@ impl<const D: usize> InverseMap<D> {
     }
 
     /// [`Method::Fast`] with an explicit Newton seed (a grid neighbour's parameters) tried first.
+    /// Its roots are polished to rounding whatever `_accuracy` says (the parameter of the other
+    /// methods, kept so that every method is called alike).
     pub fn seeded<F: Forward<D>>(
         &self,
         net: &F,
         p: [f64; D],
         seed: Option<[f64; D]>,
-        accuracy: f64,
+        _accuracy: f64,
         stats: &mut QueryStats,
     ) -> Vec<[f64; D]> {
         if !self.injective {
@@ -499,8 +515,13 @@ impl<const D: usize> InverseMap<D> {
         match self.fast_root(net, p, seed, stats) {
             Some((u, _)) => alloc::vec![u],
             None => {
+                // The seeds missed or landed outside: the atlas says, in bounded work, whether a
+                // root lies inside.
                 stats.fallback = true;
-                self.hybrid(net, p, accuracy, stats)
+                self.atlas_roots(net, p, stats)
+                    .into_iter()
+                    .map(|(u, _)| u)
+                    .collect()
             }
         }
     }
@@ -662,8 +683,8 @@ impl<const D: usize> InverseMap<D> {
             30
         } else {
             // Within what is left of the query's work budget.
-            let cap = AtlasBudget::query_work(self.planned.load(Ordering::Relaxed));
-            let left = cap.saturating_sub(stats.work) / self.tensor.coefs.len() as u64;
+            let left =
+                self.query_work().saturating_sub(stats.work) / self.tensor.coefs.len() as u64;
             let steps = left.min(8) as u32;
             stats.work += u64::from(steps) * self.tensor.coefs.len() as u64;
             steps
@@ -710,11 +731,11 @@ impl<const D: usize> InverseMap<D> {
                     };
                 }
                 None => {
-                    // The seeds missed or landed outside: only whole-domain clipping can say
+                    // The seeds missed or landed outside: the atlas says, in bounded work,
                     // whether a root lies inside.
                     stats.fallback = true;
-                    let roots = self.clip(net, p, [0.0; D], [1.0; D], accuracy, stats);
-                    return self.value(net, p, &roots, stats);
+                    let roots = self.atlas_roots(net, p, stats);
+                    return self.value_of(net, p, &roots, stats);
                 }
             }
         }
