@@ -3,7 +3,7 @@
 import init, {
   start, start_3d, FreeFormView, is_free_form, headless_esc_mesh, headless_esc_surface,
   ScriptViewer, headless_plasm, headless_plasm_mesh, script_of, script_model_json, script_link,
-  plasm_examples, script_patch_model,
+  plasm_examples, script_patch_model, gpu_objects,
 } from './pkg/bezsolid_web.js';
 import { runner, workList } from './work.js';
 
@@ -37,7 +37,7 @@ async function bringUp(canvas, requested) {
 }
 
 async function main() {
-  await init();
+  const wasm = await init();
   const params = new URLSearchParams(location.search);
   let requested = params.get('backend') ?? 'auto';
   if (!['auto', 'webgpu', 'webgl2'].includes(requested)) {
@@ -431,12 +431,14 @@ async function main() {
   let lastEdit = 0;
   const updateDebug = () => {
     if (debug.hidden) return;
+    const gpu = gpu_objects();
     debug.textContent = `2D frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
       + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
       + `worker mesh: ${mesher ? mesher.lastMs().toFixed(1) : '–'} ms\n`
       + `worker contour stack: ${stacker ? stacker.lastMs().toFixed(1) : '–'} ms\n`
       + `worker free-form surface: ${ffMesher ? ffMesher.lastMs().toFixed(1) : '–'} ms\n`
-      + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
+      + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms\n`
+      + `GPU: ${gpu[0]} buffers, ${gpu[1]} textures (${gpu[2]} made); wasm memory ${(wasm.memory.buffer.byteLength / 2 ** 20).toFixed(1)} MiB`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
     if (lastEdit) document.body.dataset.latencyMs = (performance.now() - lastEdit).toFixed(2);
     document.body.dataset.render3Ms = lastRender3.toFixed(2);
@@ -1210,7 +1212,13 @@ async function main() {
   editor.addEventListener('focus', () => { tabEscapes = false; });
   renderGutter(true);
 
-  window.bezsolid = { modeler, ff, sv, canvas, canvas3, viewer, redraw, saveNow, setWorkspace, runScript };
+  // Hooks for tests and tools: the objects, and what the page holds (GPU objects the renderers
+  // hold and made, `[buffers, textures, made]`; the wasm memory in bytes).
+  window.bezsolid = {
+    modeler, ff, sv, canvas, canvas3, viewer, redraw, saveNow, setWorkspace, runScript,
+    gpuObjects: () => [...gpu_objects()],
+    wasmMemory: () => wasm.memory.buffer.byteLength,
+  };
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();

@@ -218,6 +218,14 @@ pub fn headless_stack(
     .map_err(|e| JsError::new(&e))
 }
 
+/// The GPU objects the renderers hold now and have made: `[buffers, textures, made in all]` (a
+/// texture view that keeps its texture counts as a texture). The soak test watches them level off.
+#[wasm_bindgen]
+#[must_use]
+pub fn gpu_objects() -> Vec<u32> {
+    crate::render::live_objects().map(|n| n as u32).to_vec()
+}
+
 /// The zero contours of a patch model (a model file or link) as SVG; no page or GPU needed.
 ///
 /// # Errors
