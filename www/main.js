@@ -178,7 +178,10 @@ async function main() {
         declined = key;
         inFlight?.cancel();
       });
-      const running = worker().run(message, (done, total) => task.progress(done, total, unit));
+      const running = worker().run(message, {
+        onProgress: (done, total) => task.progress(done, total, unit),
+        onStart: () => task.started(),
+      });
       inFlight = running;
       try {
         const reply = await running;
@@ -873,7 +876,10 @@ async function main() {
       download(name, new Blob([here()], { type }));
       return;
     }
-    const running = exportRunner.run(message, (done, total) => task.progress(done, total));
+    const running = exportRunner.run(message, {
+      onProgress: (done, total) => task.progress(done, total),
+      onStart: () => task.started(),
+    });
     const task = work.start('export', label, () => running.cancel());
     try {
       const { data } = await running;
@@ -942,6 +948,7 @@ async function main() {
     // Reading, checking and indexing a large mesh takes a moment on this thread: say so first.
     say(`Importing ${file.name} (${bytes.length.toLocaleString('en')} bytes)…`);
     const task = work.start('import', `Importing ${file.name}`);
+    task.started();
     await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
     const imported = attempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes));
     task.end();
@@ -1090,7 +1097,7 @@ async function main() {
           const worker = scriptWorker();
           let json;
           const task = worker && work.start('script', 'Finding the Bézier net', () => running.cancel());
-          const running = worker?.run({ kind: 'plasm-patch', script: ran, index });
+          const running = worker?.run({ kind: 'plasm-patch', script: ran, index }, { onStart: () => task.started() });
           try {
             json = worker ? new TextDecoder().decode((await running).data) : script_patch_model(ran, index);
             modeler.load_model(json);
@@ -1137,15 +1144,17 @@ async function main() {
     $('script-stop').disabled = false;
     document.body.dataset.scriptState = 'running';
     scriptTask?.end();
-    scriptTask = work.start('script', 'Running the script', stopScript);
+    const task = work.start('script', 'Running the script', stopScript);
+    scriptTask = task;
     const t0 = performance.now();
     let result;
     try {
       const worker = scriptWorker();
       if (worker) {
         worker.cancelAll();
-        result = await worker.run({ kind: 'plasm', script });
+        result = await worker.run({ kind: 'plasm', script }, { onStart: () => task.started() });
       } else {
+        task.started();
         const run = headless_plasm(script);
         result = { report: run.report(), data: run.take_floats() };
         run.free();

