@@ -163,15 +163,18 @@ async function main() {
   // Work that follows the model: `request()` says what is wanted now (an array whose first entry
   // is the model's revision, or undefined), `job(request)` the worker's message for it, and
   // `accept(request, reply)` hands the result in (false when the model moved on). A newer request
-  // cancels the job under way; one the user cancelled is not asked again until the model changes.
-  const background = ({ work: worker, request, job, accept, label, unit, failed }) => {
+  // cancels the job under way, and so does any change of the model (`revision()`: its result would
+  // be dropped); one the user cancelled is not asked again until the model changes.
+  const background = ({ work: worker, request, revision, job, accept, label, unit, failed }) => {
     let busy = ''; // the request in flight, as a key
+    let busyRevision = null;
     let declined = '';
     let lastMs = 0;
     let inFlight = null;
     const send = async (wanted) => {
       const key = wanted.join(',');
       busy = key;
+      busyRevision = wanted[0];
       inFlight?.cancel();
       const message = job(wanted);
       const task = work.start(message.kind, label(wanted), () => {
@@ -194,7 +197,10 @@ async function main() {
       } finally {
         task.end();
         if (busy === key) busy = '';
-        if (inFlight === running) inFlight = null;
+        if (inFlight === running) {
+          inFlight = null;
+          busyRevision = null;
+        }
       }
     };
     return {
@@ -205,12 +211,17 @@ async function main() {
         if (key === busy || key === declined) return;
         send(wanted);
       },
+      /** Cancels the job under way if the model has changed since it was asked for. */
+      prune() {
+        if (inFlight && busyRevision !== revision()) inFlight.cancel();
+      },
       lastMs: () => lastMs,
     };
   };
   const mesher = surfaceRunner && background({
     work: () => surfaceRunner,
     request: () => modeler.surface_request(),
+    revision: () => modeler.revision(),
     job: ([, resolution]) => ({ kind: 'surface', model: modeler.model_json(), resolution }),
     accept: ([revision, resolution], { data }) => modeler.set_surface(revision, resolution, data),
     label: ([, resolution]) => `Meshing the surface at ${resolution}`,
@@ -220,6 +231,7 @@ async function main() {
   const stacker = surfaceRunner && background({
     work: stackRunner,
     request: () => modeler.stack_request(),
+    revision: () => modeler.revision(),
     job: ([, axis]) => ({ kind: 'stack', model: modeler.model_json(), axis }),
     accept: ([revision, axis], { data }) => modeler.set_stack(revision, axis, data),
     label: ([, axis]) => `Contour stack across ${'uvw'[axis]}`,
@@ -231,6 +243,7 @@ async function main() {
   const ffMesher = surfaceRunner && background({
     work: ffRunner,
     request: () => ff.surface_request(),
+    revision: () => ff.revision(),
     job: ([, resolution]) => ({ kind: 'esc-surface', model: ff.model_json(), resolution }),
     accept: ([revision, resolution], { data }) => ff.set_surface(revision, resolution, data),
     label: ([, resolution]) => `Meshing the result at ${resolution}`,
@@ -281,6 +294,7 @@ async function main() {
         $('xi-min').textContent = fmt(-xi);
         $('xi-max').textContent = fmt(xi);
       }
+      for (const b of [mesher, stacker, ffMesher]) b?.prune();
       updatePanel();
       updateDebug();
     });

@@ -758,6 +758,12 @@ impl Modeler {
         self.view3.set_external_surface(external);
     }
 
+    /// A number that changes whenever the model does (what the worker's requests are keyed by).
+    #[must_use]
+    pub fn revision(&self) -> f64 {
+        self.view.revision() as f64
+    }
+
     /// The contour stack wanted since the last call, `[revision, axis]` (axis 0 = u, 1 = v,
     /// 2 = w), or `undefined`; asked for at rest only.
     pub fn stack_request(&mut self) -> Option<Vec<f64>> {
