@@ -371,6 +371,7 @@ struct GeometryKey {
     selected: Option<(usize, usize)>,
     slice: Option<(Axis, usize)>,
     surface: Option<(u64, usize)>,
+    stack: Option<(u64, Axis)>,
     height: u64,
 }
 
@@ -782,6 +783,7 @@ impl View3 {
             selected: editor.selected(),
             slice: editor.slice(),
             surface: self.surface.as_ref().map(|c| (c.revision, c.resolution)),
+            stack: self.stack.as_ref().map(|c| (c.revision, c.axis)),
             height: self.height.to_bits(),
         };
         if self.geometry.as_ref().is_none_or(|g| g.key != key) {
@@ -1454,9 +1456,16 @@ mod tests {
             !there.set_stack(&editor, revision, Axis::U, &data),
             "another axis"
         );
+        let before = there.scene(&editor).opaque.len();
+        assert_eq!(
+            there.take_stack_request(),
+            Some((revision, axis)),
+            "asked for while it is not there"
+        );
         assert!(there.set_stack(&editor, revision, axis, &data));
         assert_eq!(there.stack.as_ref().unwrap().stack, local, "the same rods");
-        let _ = there.scene(&editor);
+        // It is drawn as soon as it comes (nothing else changed: the scene is built again).
+        assert_eq!(there.scene(&editor).opaque.len(), before + local.len());
         assert!(
             there.take_stack_request().is_none(),
             "nothing more to ask for"
