@@ -63,7 +63,7 @@ async function main() {
     }
     modeler.forget_history();
   }
-  // The Free-form mode (issue 6): solids over triangle meshes and their Booleans, drawn in the 3D
+  // The Free-form mode: solids over triangle meshes and their Booleans, drawn in the 3D
   // view; its model autosaves beside the Bézier one.
   const ff = new FreeFormView();
   const ffSaved = storage.get(FF_KEY);
@@ -79,7 +79,7 @@ async function main() {
   let workspace = WORKSPACES.includes(storage.get(WORKSPACE_KEY)) ? storage.get(WORKSPACE_KEY) : 'bezier';
   const freeform = () => workspace === 'freeform';
   const scripting = () => workspace === 'script';
-  // The Script mode (issue 7): a PLaSM script in the editor, run in a worker, drawn in the 3D view.
+  // The Script mode: a PLaSM script in the editor, run in a worker, drawn in the 3D view.
   const sv = new ScriptViewer();
   const editor = $('script');
   const examples = JSON.parse(plasm_examples());
@@ -238,7 +238,7 @@ async function main() {
     unit: 'slices',
     failed: 'The contour stack could not be made',
   });
-  // The Free-form mode (issue 6) has its own worker for its result's surface.
+  // The Free-form mode has its own worker for its result's surface (made on first use).
   const ffRunner = lazyRunner();
   const ffMesher = surfaceRunner && background({
     work: ffRunner,
