@@ -220,6 +220,28 @@ test('the stack from the worker is the stack the page made; the previous one sta
   await page.close();
 });
 
+test('a volume drawn with its stack and surface from the worker is the picture the page drew making them itself', async () => {
+  const shots = [];
+  for (const worker of [true, false]) {
+    const { page, errors } = await open(browser);
+    if (!worker) await page.evaluate(() => window.bezsolid.modeler.set_external_surface(false));
+    await page.selectOption('#preset', 'ring');
+    await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1') && window.bezsolid.modeler.surface_resolution() === 64, null, { timeout: 30_000 });
+    // Closer: the outer slices' contours show around the ring.
+    await page.evaluate(() => {
+      window.bezsolid.modeler.wheel_3d(-400);
+      window.bezsolid.redraw();
+    });
+    await settle(page);
+    const png = await page.locator('#view3d').screenshot({ mask: [page.locator('#fit-3d')] });
+    writeFileSync(join(ARTIFACTS, `work-ring-${worker ? 'worker' : 'page'}.png`), png);
+    shots.push(png);
+    assert.deepEqual(errors, []);
+    await page.close();
+  }
+  assert.ok(shots[0].equals(shots[1]), 'the same picture (work-ring-worker.png, work-ring-page.png)');
+});
+
 test('the SVG of a folded patch is made in the worker with a Cancel; a regular one is the SVG made before', async () => {
   const { page, errors } = await open(browser);
   // A regular patch: the worker's SVG is the page's own.
