@@ -1,8 +1,9 @@
 // The full soak (cargo xtask serve, then: cd tests && node soak.mjs [webgl2|webgpu] [fraction]):
-// 2,000 drags on a 16 × 16 patch, 200 links opened one after another, 50 switches between the
-// modes and 50 script runs in one page (e2e/soak.mjs), then the checks of the suite's short soak.
+// 2,000 drags on a 16 × 16 patch, 200 links opened one after another (100 models of every kind,
+// twice), 50 switches between the modes and 50 script runs in one page (e2e/soak.mjs), then the
+// checks of the suite's short soak.
 // Prints the JS heap, the wasm memory and the GPU objects at the start, the middle and the end,
-// and the time each kind of action took. `fraction` scales the counts (0.1 is the suite's soak).
+// and the time each kind of action took. `fraction` scales the counts.
 import assert from 'node:assert/strict';
 import { chromium } from 'playwright-core';
 import { FULL, soak, check } from './e2e/soak.mjs';
