@@ -3,8 +3,9 @@
 import init, {
   start, start_3d, FreeFormView, is_free_form, headless_esc_mesh, headless_esc_surface,
   ScriptViewer, headless_plasm, headless_plasm_mesh, script_of, script_model_json, script_link,
-  plasm_examples, script_patch_model,
+  plasm_examples, script_patch_model, gpu_objects,
 } from './pkg/bezsolid_web.js';
+import { runner, workList } from './work.js';
 
 const $ = (id) => document.getElementById(id);
 const statusLine = $('status');
@@ -36,7 +37,7 @@ async function bringUp(canvas, requested) {
 }
 
 async function main() {
-  await init();
+  const wasm = await init();
   const params = new URLSearchParams(location.search);
   let requested = params.get('backend') ?? 'auto';
   if (!['auto', 'webgpu', 'webgl2'].includes(requested)) {
@@ -62,7 +63,7 @@ async function main() {
     }
     modeler.forget_history();
   }
-  // The Free-form mode (issue 6): solids over triangle meshes and their Booleans, drawn in the 3D
+  // The Free-form mode: solids over triangle meshes and their Booleans, drawn in the 3D
   // view; its model autosaves beside the Bézier one.
   const ff = new FreeFormView();
   const ffSaved = storage.get(FF_KEY);
@@ -78,7 +79,7 @@ async function main() {
   let workspace = WORKSPACES.includes(storage.get(WORKSPACE_KEY)) ? storage.get(WORKSPACE_KEY) : 'bezier';
   const freeform = () => workspace === 'freeform';
   const scripting = () => workspace === 'script';
-  // The Script mode (issue 7): a PLaSM script in the editor, run in a worker, drawn in the 3D view.
+  // The Script mode: a PLaSM script in the editor, run in a worker, drawn in the 3D view.
   const sv = new ScriptViewer();
   const editor = $('script');
   const examples = JSON.parse(plasm_examples());
@@ -131,45 +132,11 @@ async function main() {
     console.warn(`bezsolid: no 3D view (${err?.message ?? err})`);
   }
 
-  // Long work runs in Web Workers (the same module): a volume's or free-form result's fine surface
-  // (the view draws a coarse one meanwhile; a newer request cancels the job under way by
-  // restarting its worker) and the exports of meshes (a badge while they run).
-  const runner = () => {
-    let worker = null;
-    const jobs = new Map(); // id → { resolve, reject }: replies are matched to their requests
-    let next = 0;
-    const failAll = (error) => {
-      for (const job of jobs.values()) job.reject(error);
-      jobs.clear();
-    };
-    const start = () => {
-      worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
-      worker.onmessage = ({ data }) => {
-        const job = jobs.get(data.id);
-        jobs.delete(data.id);
-        if (data.error) job?.reject(new Error(data.error));
-        else job?.resolve(data);
-      };
-      worker.onerror = (e) => failAll(new Error(e.message || 'the worker failed'));
-    };
-    start();
-    return {
-      run(message) {
-        return new Promise((resolve, reject) => {
-          next += 1;
-          jobs.set(next, { resolve, reject });
-          worker.postMessage({ ...message, id: next });
-        });
-      },
-      busy: () => jobs.size > 0,
-      cancel() {
-        if (!jobs.size) return;
-        worker.terminate();
-        failAll(Object.assign(new Error('cancelled'), { cancelled: true }));
-        start();
-      },
-    };
-  };
+  // Long work runs in Web Workers (the same module, work.js): a volume's or free-form result's fine
+  // surface and a volume's contour stack (the view draws a coarse surface and the previous stack
+  // meanwhile; a newer request cancels the job under way), the exports of meshes and contours, and
+  // scripts. Each shows in the work list with its time, its progress and a Cancel.
+  const work = workList($('work'));
   let surfaceRunner = null;
   let exportRunner = null;
   try {
@@ -179,56 +146,109 @@ async function main() {
   } catch (err) {
     console.warn(`bezsolid: no Web Worker (${err?.message ?? err}); long work runs on the page`);
   }
-  const workBadge = $('meshing');
-  const showBadge = (text) => {
-    workBadge.textContent = text;
-    workBadge.hidden = !text;
-    document.body.dataset.meshing = text ? 'true' : 'false';
+  // A worker made on first use (most visits never open a volume or a script).
+  const lazyRunner = () => {
+    let made;
+    return () => {
+      if (made === undefined) {
+        try {
+          made = surfaceRunner && runner();
+        } catch {
+          made = null;
+        }
+      }
+      return made;
+    };
   };
-  let exporting = '';
-  // A fine surface made in a worker for `target` (the Bézier modeler's volume or the free-form
-  // result): `target.surface_request()` says what is wanted, and a newer request cancels the job
-  // under way by restarting the worker.
-  const backgroundMesher = (work, target, kind, what) => {
-    let busy = null; // [revision, resolution] in flight
+  // Work that follows the model: `request()` says what is wanted now (an array whose first entry
+  // is the model's revision, or undefined), `job(request)` the worker's message for it, and
+  // `accept(request, reply)` hands the result in (false when the model moved on). A newer request
+  // cancels the job under way, and so does any change of the model (`revision()`: its result would
+  // be dropped); one the user cancelled is not asked again until the model changes.
+  const background = ({ work: worker, request, revision, job, accept, label, unit, failed }) => {
+    let busy = ''; // the request in flight, as a key
+    let busyRevision = null;
+    let declined = '';
     let lastMs = 0;
-    const send = async ([revision, resolution]) => {
-      busy = [revision, resolution];
-      showBadge(`Meshing the ${what} at ${resolution}…`);
+    let inFlight = null;
+    const send = async (wanted) => {
+      const key = wanted.join(',');
+      busy = key;
+      busyRevision = wanted[0];
+      inFlight?.cancel();
+      const message = job(wanted);
+      const task = work.start(message.kind, label(wanted), () => {
+        declined = key;
+        inFlight?.cancel();
+      });
+      const running = worker().run(message, {
+        onProgress: (done, total) => task.progress(done, total, unit),
+        onStart: () => task.started(),
+      });
+      inFlight = running;
       try {
-        const { data, ms } = await work.run({ kind, model: target.model_json(), resolution });
-        if (target.set_surface(revision, resolution, data)) {
-          lastMs = ms;
+        const reply = await running;
+        if (accept(wanted, reply)) {
+          lastMs = reply.ms;
           redraw(VIEW3);
         }
       } catch (err) {
-        if (!err.cancelled) say(`The ${what} could not be meshed: ${err.message}`, 'error');
-      }
-      if (busy && busy[0] === revision && busy[1] === resolution) {
-        busy = null;
-        showBadge(exporting);
+        if (!err.cancelled) say(`${failed}: ${err.message}`, 'error');
+      } finally {
+        task.end();
+        if (busy === key) busy = '';
+        if (inFlight === running) {
+          inFlight = null;
+          busyRevision = null;
+        }
       }
     };
     return {
       check() {
-        const request = target.surface_request();
-        if (!request) return;
-        if (busy && busy[0] === request[0] && busy[1] === request[1]) return;
-        work.cancel();
-        send(request);
+        const wanted = request();
+        if (!wanted) return;
+        const key = wanted.join(',');
+        if (key === busy || key === declined) return;
+        send(wanted);
+      },
+      /** Cancels the job under way if the model has changed since it was asked for. */
+      prune() {
+        if (inFlight && busyRevision !== revision()) inFlight.cancel();
       },
       lastMs: () => lastMs,
     };
   };
-  const mesher = surfaceRunner && backgroundMesher(surfaceRunner, modeler, 'surface', 'surface');
-  // The Free-form mode (issue 6) has its own worker for its result's surface.
-  let ffRunner = null;
-  try {
-    ffRunner = surfaceRunner && runner();
-  } catch {
-    ffRunner = null;
-  }
-  const ffMesher = ffRunner && backgroundMesher(ffRunner, ff, 'esc-surface', 'result');
+  const mesher = surfaceRunner && background({
+    work: () => surfaceRunner,
+    request: () => modeler.surface_request(),
+    revision: () => modeler.revision(),
+    job: ([, resolution]) => ({ kind: 'surface', model: modeler.model_json(), resolution }),
+    accept: ([revision, resolution], { data }) => modeler.set_surface(revision, resolution, data),
+    label: ([, resolution]) => `Meshing the surface at ${resolution}`,
+    failed: 'The surface could not be meshed',
+  });
+  const stackRunner = lazyRunner();
+  const stacker = surfaceRunner && background({
+    work: stackRunner,
+    request: () => modeler.stack_request(),
+    revision: () => modeler.revision(),
+    job: ([, axis]) => ({ kind: 'stack', model: modeler.model_json(), axis }),
+    accept: ([revision, axis], { data }) => modeler.set_stack(revision, axis, data),
+    label: ([, axis]) => `Contour stack across ${'uvw'[axis]}`,
+    unit: 'slices',
+    failed: 'The contour stack could not be made',
+  });
+  // The Free-form mode has its own worker for its result's surface (made on first use).
+  const ffRunner = lazyRunner();
+  const ffMesher = surfaceRunner && background({
+    work: ffRunner,
+    request: () => ff.surface_request(),
+    revision: () => ff.revision(),
+    job: ([, resolution]) => ({ kind: 'esc-surface', model: ff.model_json(), resolution }),
+    accept: ([revision, resolution], { data }) => ff.set_surface(revision, resolution, data),
+    label: ([, resolution]) => `Meshing the result at ${resolution}`,
+    failed: 'The result could not be meshed',
+  });
 
   let pending = 0;
   let lastRender = 0;
@@ -269,10 +289,12 @@ async function main() {
         modeler.render_3d(viewer);
         lastRender3 = performance.now() - t0;
         mesher?.check();
+        stacker?.check();
         const xi = modeler.xi_extent();
         $('xi-min').textContent = fmt(-xi);
         $('xi-max').textContent = fmt(xi);
       }
+      for (const b of [mesher, stacker, ffMesher]) b?.prune();
       updatePanel();
       updateDebug();
     });
@@ -400,7 +422,10 @@ async function main() {
       if (document.activeElement !== slider) slider.value = String(index);
       $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
       const t = modeler.surface_triangles();
-      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${modeler.surface_resolution()}`;
+      const stack = modeler.stack_info();
+      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${modeler.surface_resolution()}; `
+        + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
+      document.body.dataset.stack = stack ? `${stack[0]},${stack[1]}` : '';
     } else {
       $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
       $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
@@ -423,11 +448,14 @@ async function main() {
   let lastEdit = 0;
   const updateDebug = () => {
     if (debug.hidden) return;
+    const gpu = gpu_objects();
     debug.textContent = `2D frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
       + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
       + `worker mesh: ${mesher ? mesher.lastMs().toFixed(1) : '–'} ms\n`
+      + `worker contour stack: ${stacker ? stacker.lastMs().toFixed(1) : '–'} ms\n`
       + `worker free-form surface: ${ffMesher ? ffMesher.lastMs().toFixed(1) : '–'} ms\n`
-      + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms`;
+      + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms\n`
+      + `GPU: ${gpu[0]} buffers, ${gpu[1]} textures (${gpu[2]} made); wasm memory ${(wasm.memory.buffer.byteLength / 2 ** 20).toFixed(1)} MiB`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
     if (lastEdit) document.body.dataset.latencyMs = (performance.now() - lastEdit).toFixed(2);
     document.body.dataset.render3Ms = lastRender3.toFixed(2);
@@ -840,7 +868,8 @@ async function main() {
   };
   const exporters = {
     model: () => download('bezsolid.bsolid.json', new Blob([freeform() ? ff.model_json() : modeler.model_json()], { type: 'application/json' })),
-    svg: () => download('bezsolid-contours.svg', new Blob([modeler.svg()], { type: 'image/svg+xml' })),
+    // The exact contour: on a folded net, the inverse map at every sample (seconds).
+    svg: () => exportJob('bezsolid-contours.svg', 'image/svg+xml', 'Exporting SVG', { kind: 'svg', model: modeler.patch_json() }, () => modeler.svg()),
     hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
     stl: () => exportMesh('bezsolid.stl', 'mesh', 'stl', modeler.model_json(), modeler.resolution(), () => modeler.mesh_file('stl')),
     obj: () => exportMesh('bezsolid.obj', 'mesh', 'obj', modeler.model_json(), modeler.resolution(), () => modeler.mesh_file('obj')),
@@ -854,24 +883,31 @@ async function main() {
       }, 'image/png');
     },
   };
-  // A mesh file made in the export worker (a badge while it runs), or on the page without one.
-  const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream' };
-  const exportMesh = async (name, kind, format, model, resolution, here) => {
+  // A file made in the export worker (in the work list while it runs, with a Cancel), or on the
+  // page without one (`here`).
+  const exportJob = async (name, type, label, message, here) => {
     if (!exportRunner) {
-      download(name, new Blob([here()], { type: MESH_TYPES[format] }));
+      download(name, new Blob([here()], { type }));
       return;
     }
-    exporting = `Exporting ${format.toUpperCase()}…`;
-    showBadge(exporting);
+    const running = exportRunner.run(message, {
+      onProgress: (done, total) => task.progress(done, total),
+      onStart: () => task.started(),
+    });
+    const task = work.start('export', label, () => running.cancel());
     try {
-      const { data } = await exportRunner.run({ kind, model, format, resolution });
-      download(name, new Blob([data], { type: MESH_TYPES[format] }));
+      const { data } = await running;
+      download(name, new Blob([data], { type }));
     } catch (err) {
-      if (!err.cancelled) say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');
+      if (err.cancelled) say(`${label} was cancelled; nothing was saved.`);
+      else say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');
+    } finally {
+      task.end();
     }
-    exporting = '';
-    showBadge('');
   };
+  const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream' };
+  const exportMesh = (name, kind, format, model, resolution, here) => exportJob(
+    name, MESH_TYPES[format], `Exporting ${format.toUpperCase()}`, { kind, model, format, resolution }, here);
   // Free-form: the result's closed mesh at the chosen resolution.
   const exportResult = (format) => {
     const model = ff.model_json();
@@ -925,10 +961,12 @@ async function main() {
     const bytes = new Uint8Array(await file.arrayBuffer());
     // Reading, checking and indexing a large mesh takes a moment on this thread: say so first.
     say(`Importing ${file.name} (${bytes.length.toLocaleString('en')} bytes)…`);
-    showBadge(`Importing ${file.name}…`);
+    const task = work.start('import', `Importing ${file.name}`);
+    task.started();
     await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
-    showBadge(exporting);
-    if (attempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes))) {
+    const imported = attempt(`${file.name} could not be imported, so the scene was kept`, () => ff.import_mesh(slot, file.name, bytes));
+    task.end();
+    if (imported) {
       setWorkspace('freeform');
       resize3();
       say(`Imported ${file.name} as solid ${slot === 0 ? 'A' : 'B'}.`);
@@ -1068,12 +1106,21 @@ async function main() {
         edit.className = 'edit-patch';
         edit.textContent = 'Edit as a Bézier patch';
         edit.title = 'Open this surface in the Bézier mode as a patch solid (x, y, ξ = z): its control net, found from the map';
-        edit.addEventListener('click', () => {
+        edit.addEventListener('click', async () => {
+          // The script runs again to find the net: in the worker, cancellable.
+          const worker = scriptWorker();
+          let json;
+          const task = worker && work.start('script', 'Finding the Bézier net', () => running.cancel());
+          const running = worker?.run({ kind: 'plasm-patch', script: ran, index }, { onStart: () => task.started() });
           try {
-            modeler.load_model(script_patch_model(ran, index));
+            json = worker ? new TextDecoder().decode((await running).data) : script_patch_model(ran, index);
+            modeler.load_model(json);
           } catch (err) {
-            say(`This surface has no Bézier net: ${err.message ?? err}`, 'error');
+            if (err.cancelled) say('Finding the Bézier net was cancelled; the model was kept.');
+            else say(`This surface has no Bézier net: ${err.message ?? err}`, 'error');
             return;
+          } finally {
+            task?.end();
           }
           setWorkspace('bezier');
           resize();
@@ -1092,33 +1139,36 @@ async function main() {
     document.body.dataset.scriptCounts = `${report.triangles},${report.segments},${report.points}`;
   };
   // The script worker starts with the first run (most visits never open this mode).
-  let scriptRunner;
-  const scriptWorker = () => {
-    if (scriptRunner === undefined) {
-      try {
-        scriptRunner = surfaceRunner && runner();
-      } catch {
-        scriptRunner = null;
-      }
-    }
-    return scriptRunner;
-  };
+  const scriptWorker = lazyRunner();
   let runSeq = 0;
+  let scriptTask = null; // the run under way in the work list
+  const stopScript = () => {
+    runSeq += 1;
+    scriptWorker()?.cancelAll();
+    scriptTask?.end();
+    scriptTask = null;
+    $('script-stop').disabled = true;
+    document.body.dataset.scriptState = 'stopped';
+    $('script-info').textContent = 'Stopped; the drawing is from the last run.';
+  };
   const runScript = async ({ refit = false } = {}) => {
     const script = editor.value;
     const seq = ++runSeq;
     scriptRan = true;
     $('script-stop').disabled = false;
     document.body.dataset.scriptState = 'running';
-    showBadge('Running the script…');
+    scriptTask?.end();
+    const task = work.start('script', 'Running the script', stopScript);
+    scriptTask = task;
     const t0 = performance.now();
     let result;
     try {
-      const work = scriptWorker();
-      if (work) {
-        work.cancel();
-        result = await work.run({ kind: 'plasm', script });
+      const worker = scriptWorker();
+      if (worker) {
+        worker.cancelAll();
+        result = await worker.run({ kind: 'plasm', script }, { onStart: () => task.started() });
       } else {
+        task.started();
         const run = headless_plasm(script);
         result = { report: run.report(), data: run.take_floats() };
         run.free();
@@ -1131,7 +1181,8 @@ async function main() {
     }
     if (seq !== runSeq) return;
     $('script-stop').disabled = true;
-    showBadge(exporting);
+    scriptTask?.end();
+    scriptTask = null;
     if (!result) return;
     const report = JSON.parse(result.report);
     // A run that fails before drawing anything keeps the last drawing on screen.
@@ -1161,14 +1212,7 @@ async function main() {
     if (example) openScript(example.source, `Opened the paper's Script ${example.id}.`);
   });
   $('script-run').addEventListener('click', () => runScript());
-  $('script-stop').addEventListener('click', () => {
-    runSeq += 1;
-    scriptRunner?.cancel();
-    $('script-stop').disabled = true;
-    showBadge(exporting);
-    document.body.dataset.scriptState = 'stopped';
-    $('script-info').textContent = 'Stopped; the drawing is from the last run.';
-  });
+  $('script-stop').addEventListener('click', stopScript);
   // Tab indents; after Esc it leaves the editor (the usual way out of a code editor's Tab).
   let tabEscapes = false;
   editor.addEventListener('keydown', (e) => {
@@ -1191,7 +1235,13 @@ async function main() {
   editor.addEventListener('focus', () => { tabEscapes = false; });
   renderGutter(true);
 
-  window.bezsolid = { modeler, ff, sv, canvas, canvas3, viewer, redraw, saveNow, setWorkspace, runScript };
+  // Hooks for tests and tools: the objects, and what the page holds (GPU objects the renderers
+  // hold and made, `[buffers, textures, made]`; the wasm memory in bytes).
+  window.bezsolid = {
+    modeler, ff, sv, canvas, canvas3, viewer, redraw, saveNow, setWorkspace, runScript,
+    gpuObjects: () => [...gpu_objects()],
+    wasmMemory: () => wasm.memory.buffer.byteLength,
+  };
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();

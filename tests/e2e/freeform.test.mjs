@@ -149,7 +149,7 @@ test('a mesh imports by the picker and by a drop, bad ones keep the scene, and t
   page.on('download', (d) => both.push(d));
   await page.selectOption('#export', 'stl');
   await page.selectOption('#export', 'obj');
-  await page.waitForFunction(() => !document.getElementById('meshing').textContent, null, { timeout: 60_000 });
+  await page.waitForFunction(() => !document.body.dataset.working, null, { timeout: 60_000 });
   await expect(() => both.length === 2);
   const byName = Object.fromEntries(await Promise.all(both.map(async (d) => [d.suggestedFilename(), readFileSync(await d.path())])));
   assert.equal(byName['bezsolid-result.stl'].readUInt32LE(80), triangles);

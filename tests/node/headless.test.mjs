@@ -62,6 +62,28 @@ test('the surface for the worker and the contour SVG of a patch', () => {
   assert.throws(() => headless_svg(MODEL), /volume/);
 });
 
+test("the worker's contour stack of a volume: the slices reported as they are done", () => {
+  const { headless_stack } = glue;
+  const reports = [];
+  const stack = headless_stack(MODEL, 2, (done, total) => reports.push([done, total]));
+  assert.ok(stack instanceof Float64Array);
+  assert.deepEqual(reports, [[1, 3], [2, 3], [3, 3]]);
+  // Segments of six numbers: both ends on the slice's plane (w = 0, 1/2, 1 → z = -1, 0, 1 here,
+  // the slice's mean z) and inside the net's box; the middle slice (ξ = 1 at its centre) has a
+  // contour, the outer ones (ξ ≤ 0.25) may not.
+  assert.ok(stack.length > 0 && stack.length % 6 === 0);
+  const zs = new Set();
+  for (let k = 0; k < stack.length; k += 3) {
+    assert.ok([0, 1].every((a) => Math.abs(stack[k + a]) <= 1 + 1e-9));
+    zs.add(stack[k + 2]);
+  }
+  assert.ok([...zs].every((z) => [-1, 0, 1].includes(z)), [...zs].join(' '));
+  assert.ok(zs.has(0));
+  // A progress report that throws changes nothing.
+  assert.deepEqual(headless_stack(MODEL, 2, () => { throw new Error('ignored'); }), stack);
+  assert.throws(() => headless_stack(MODEL, 3, () => {}), /axes are 0/);
+});
+
 test('bad input throws a clear error and never kills the module', () => {
   assert.throws(() => headless_model('#v1.AAAA'), /damaged/);
   assert.throws(() => headless_model('{"format": "bezsolid"'), /not a bezsolid model file/);

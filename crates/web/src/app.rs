@@ -165,6 +165,12 @@ pub fn axis_number(axis: Axis) -> usize {
     }
 }
 
+/// The parameter axis of a number: 0 for u, 1 for v, 2 for w.
+#[must_use]
+pub fn axis_of(number: usize) -> Option<Axis> {
+    [Axis::U, Axis::V, Axis::W].get(number).copied()
+}
+
 /// The indices `[i, j, k]` of the `k`-th control point of a volume of `degree` (model file order).
 #[must_use]
 pub fn volume_ijk(degree: (usize, usize, usize), k: usize) -> [usize; 3] {

@@ -95,6 +95,13 @@ pub fn open_link(text: &str) -> Result<ModelSolid, String> {
     link::decode(text).map_err(|e| e.to_string())
 }
 
+/// The model file (JSON) of the patch the 2D view edits: the model itself, or the selected slice
+/// of a volume (what [`svg`] draws).
+#[must_use]
+pub fn patch_json(editor: &ContourView) -> String {
+    serde_json::to_string(&ModelFile::from_solid2(editor.solid())).unwrap_or_default()
+}
+
 /// The zero contours as SVG, in the domain's box with a one-cell margin.
 #[must_use]
 pub fn svg(solid: &Solid2) -> String {
@@ -209,6 +216,26 @@ pub mod headless {
         ))
     }
 
+    /// The contour stack of a volume model across `axis` (0 = u, 1 = v, 2 = w), as
+    /// [`crate::view3d::stack_segments`] makes it; `progress(done, total)` after each slice.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input, a patch model, or another axis.
+    pub fn stack(
+        text: &str,
+        axis: usize,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<Vec<f64>, String> {
+        let axis = crate::app::axis_of(axis).ok_or("axes are 0 (u), 1 (v) and 2 (w)")?;
+        match read_any(text)? {
+            ModelSolid::Volume(v) => Ok(crate::view3d::stack_segments(&v, axis, progress)),
+            ModelSolid::Patch(_) => {
+                Err("a contour stack is of volume (3D) models; this is a patch".into())
+            }
+        }
+    }
+
     /// The zero contours of a patch model as SVG.
     ///
     /// # Errors
@@ -321,6 +348,14 @@ mod tests {
                 .unwrap_err()
                 .contains("patch")
         );
+        let mut calls = Vec::new();
+        let stack = headless::stack(&link, 2, |done, total| calls.push((done, total))).unwrap();
+        assert_eq!(calls, [(1, 3), (2, 3), (3, 3)]);
+        assert_eq!(
+            stack,
+            crate::view3d::stack_segments(e.volume().unwrap(), bezsolid_core::Axis::W, |_, _| {})
+        );
+        assert!(headless::stack(&link, 3, |_, _| {}).is_err());
         assert!(headless::model("#v1.garbage").is_err());
         assert!(headless::model("{ not json").is_err());
     }
@@ -349,6 +384,11 @@ mod tests {
         let e = moved();
         let svg = svg(e.solid());
         assert!(svg.contains("<path"));
+        assert_eq!(
+            headless::svg(&patch_json(&e)).unwrap(),
+            svg,
+            "the worker's SVG is the same"
+        );
         assert!(hyperfun(&e).unwrap_err().contains("regular grid"));
         assert!(
             hyperfun(&ContourView::new(Solid2::fig9()))

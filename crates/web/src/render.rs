@@ -1,7 +1,61 @@
 //! The wgpu renderer of the contour view. It draws a [`Frame`] into any texture view, so the page's
 //! surface and an offscreen texture share one path.
 
+use core::ops::Deref;
+use core::sync::atomic::{AtomicUsize, Ordering};
+
 use crate::app::{Frame, ShapeVertex};
+
+static BUFFERS: AtomicUsize = AtomicUsize::new(0);
+static TEXTURES: AtomicUsize = AtomicUsize::new(0);
+static MADE: AtomicUsize = AtomicUsize::new(0);
+
+/// A GPU buffer or texture (or a view that keeps its texture) that the renderers made, counted
+/// while it lives: [`live_objects`] tells whether they level off however long the page runs.
+pub(crate) struct Counted<T> {
+    inner: T,
+    count: &'static AtomicUsize,
+}
+
+impl<T> Counted<T> {
+    fn new(inner: T, count: &'static AtomicUsize) -> Self {
+        count.fetch_add(1, Ordering::Relaxed);
+        MADE.fetch_add(1, Ordering::Relaxed);
+        Self { inner, count }
+    }
+
+    /// A buffer, counted.
+    pub(crate) fn buffer(inner: T) -> Self {
+        Self::new(inner, &BUFFERS)
+    }
+
+    /// A texture or a view of one, counted.
+    pub(crate) fn texture(inner: T) -> Self {
+        Self::new(inner, &TEXTURES)
+    }
+}
+
+impl<T> Deref for Counted<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.inner
+    }
+}
+
+impl<T> Drop for Counted<T> {
+    fn drop(&mut self) {
+        self.count.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
+/// `[buffers, textures]` the renderers hold now, and how many of either they have made in all.
+pub(crate) fn live_objects() -> [usize; 3] {
+    [
+        BUFFERS.load(Ordering::Relaxed),
+        TEXTURES.load(Ordering::Relaxed),
+        MADE.load(Ordering::Relaxed),
+    ]
+}
 
 /// GPU state for drawing frames into targets of one format.
 pub(crate) struct Renderer {
@@ -14,11 +68,11 @@ pub(crate) struct Renderer {
     field_layout: wgpu::BindGroupLayout,
     sampler: wgpu::Sampler,
     /// The field texture, its size and its bind group; remade when the size changes.
-    field: Option<(wgpu::Texture, (u32, u32), wgpu::BindGroup)>,
+    field: Option<(Counted<wgpu::Texture>, (u32, u32), wgpu::BindGroup)>,
     /// The vertex buffer and its capacity in bytes.
-    shapes: Option<(wgpu::Buffer, u64)>,
+    shapes: Option<(Counted<wgpu::Buffer>, u64)>,
     /// The multisampled colour target and its size.
-    msaa: Option<(wgpu::TextureView, (u32, u32))>,
+    msaa: Option<(Counted<wgpu::TextureView>, (u32, u32))>,
     bytes: Vec<u8>,
 }
 
@@ -234,7 +288,7 @@ impl Renderer {
                     },
                 ],
             });
-            self.field = Some((texture, size, bind_group));
+            self.field = Some((Counted::texture(texture), size, bind_group));
         }
         if let Some((texture, _, _)) = &self.field {
             self.queue.write_texture(
@@ -277,7 +331,7 @@ impl Renderer {
                 usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            self.shapes = Some((buffer, capacity));
+            self.shapes = Some((Counted::buffer(buffer), capacity));
         }
         if let Some((buffer, _)) = &self.shapes {
             self.queue.write_buffer(buffer, 0, &self.bytes);
@@ -291,9 +345,9 @@ impl Renderer {
         }
         if self.msaa.as_ref().is_none_or(|(_, s)| *s != size) {
             let view = attachment(&self.device, "msaa", size, self.format, self.samples);
-            self.msaa = Some((view, size));
+            self.msaa = Some((Counted::texture(view), size));
         }
-        self.msaa.as_ref().map(|(v, _)| v.clone())
+        self.msaa.as_ref().map(|(v, _)| (**v).clone())
     }
 }
 

@@ -1,7 +1,7 @@
 //! The wgpu renderer of the 3D view: a [`Scene`]'s opaque triangles with depth, then its translucent
 //! ones blended over them, 4× multisampled where the adapter can.
 
-use crate::render::{attachment, sample_count};
+use crate::render::{Counted, attachment, sample_count};
 use crate::view3d::{MeshVertex, Scene};
 
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
@@ -12,6 +12,13 @@ const BACKGROUND: wgpu::Color = wgpu::Color {
     a: 1.0,
 };
 
+/// The multisampled colour target (when multisampling), the depth target, and their size.
+type Targets = (
+    Option<Counted<wgpu::TextureView>>,
+    Counted<wgpu::TextureView>,
+    (u32, u32),
+);
+
 /// GPU state for drawing scenes into targets of one format.
 pub(crate) struct Renderer3 {
     device: wgpu::Device,
@@ -20,15 +27,15 @@ pub(crate) struct Renderer3 {
     samples: u32,
     pipeline: wgpu::RenderPipeline,
     translucent: wgpu::RenderPipeline,
-    globals: wgpu::Buffer,
+    globals: Counted<wgpu::Buffer>,
     bind_group: wgpu::BindGroup,
     /// The vertex buffer and its capacity in bytes.
-    vertices: Option<(wgpu::Buffer, u64)>,
+    vertices: Option<(Counted<wgpu::Buffer>, u64)>,
     /// The generation of the scene triangles in the buffer: a frame that only moves the camera
     /// uploads nothing but the matrix.
     uploaded: Option<u64>,
     /// The multisampled colour target (when multisampling), the depth target, and their size.
-    targets: Option<(Option<wgpu::TextureView>, wgpu::TextureView, (u32, u32))>,
+    targets: Option<Targets>,
     bytes: Vec<u8>,
 }
 
@@ -57,12 +64,12 @@ impl Renderer3 {
                 count: None,
             }],
         });
-        let globals = device.create_buffer(&wgpu::BufferDescriptor {
+        let globals = Counted::buffer(device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("globals"),
             size: 80,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
-        });
+        }));
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
             layout: &layout,
@@ -176,7 +183,7 @@ impl Renderer3 {
             });
         {
             let (view, resolve_target) = match msaa {
-                Some(m) => (m, Some(target)),
+                Some(m) => (&**m, Some(target)),
                 None => (target, None),
             };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -231,7 +238,7 @@ impl Renderer3 {
                 usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            self.vertices = Some((buffer, capacity));
+            self.vertices = Some((Counted::buffer(buffer), capacity));
         }
         if let (Some((buffer, _)), true) = (&self.vertices, needed > 0) {
             self.queue.write_buffer(buffer, 0, &self.bytes);
@@ -243,9 +250,22 @@ impl Renderer3 {
         if self.targets.as_ref().is_some_and(|(_, _, s)| *s == size) {
             return;
         }
-        let msaa = (self.samples > 1)
-            .then(|| attachment(&self.device, "3d msaa", size, self.format, self.samples));
-        let depth = attachment(&self.device, "3d depth", size, DEPTH, self.samples);
+        let msaa = (self.samples > 1).then(|| {
+            Counted::texture(attachment(
+                &self.device,
+                "3d msaa",
+                size,
+                self.format,
+                self.samples,
+            ))
+        });
+        let depth = Counted::texture(attachment(
+            &self.device,
+            "3d depth",
+            size,
+            DEPTH,
+            self.samples,
+        ));
         self.targets = Some((msaa, depth, size));
     }
 }

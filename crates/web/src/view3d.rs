@@ -361,6 +361,7 @@ struct StackCache {
     revision: u64,
     axis: Axis,
     stack: Vec<MeshVertex>,
+    segments: usize,
 }
 
 /// What a scene's triangles depend on (everything but the camera).
@@ -370,6 +371,7 @@ struct GeometryKey {
     selected: Option<(usize, usize)>,
     slice: Option<(Axis, usize)>,
     surface: Option<(u64, usize)>,
+    stack: Option<(u64, Axis)>,
     height: u64,
 }
 
@@ -399,11 +401,14 @@ pub struct View3 {
     coarse: bool,
     surface: Option<SurfaceCache>,
     stack: Option<StackCache>,
-    /// The fine surface is made elsewhere (a Web Worker) and handed in with [`Self::set_surface`];
-    /// until it comes the coarse one is drawn.
+    /// The fine surface and the contour stack are made elsewhere (a Web Worker) and handed in with
+    /// [`Self::set_surface`] and [`Self::set_stack`]; until they come, a coarse surface and the
+    /// previous stack are drawn.
     external: bool,
     /// The fine surface wanted from elsewhere: `(revision, resolution)`.
     request: Option<(u64, usize)>,
+    /// The contour stack wanted from elsewhere: `(revision, axis)`.
+    stack_request: Option<(u64, Axis)>,
     geometry: Option<Geometry>,
 }
 
@@ -423,6 +428,7 @@ impl View3 {
             stack: None,
             external: false,
             request: None,
+            stack_request: None,
             geometry: None,
         };
         v.fit(editor);
@@ -683,9 +689,55 @@ impl View3 {
         self.surface.as_ref().map(|c| (c.triangles, c.resolution))
     }
 
-    /// Whether the fine surface is made elsewhere (see [`Self::set_surface`]).
+    /// Whether the fine surface and the contour stack are made elsewhere (see
+    /// [`Self::set_surface`] and [`Self::set_stack`]).
     pub fn set_external_surface(&mut self, external: bool) {
         self.external = external;
+    }
+
+    /// The contour stack wanted from elsewhere since the last call: `(revision, axis)`. It is
+    /// asked for at rest only (not while a point is being dragged).
+    pub fn take_stack_request(&mut self) -> Option<(u64, Axis)> {
+        self.stack_request.take()
+    }
+
+    /// Hands in a contour stack made elsewhere ([`stack_segments`]) for model `revision` across
+    /// `axis`: six `f64` per segment (its two ends). A stack for an older revision or another axis
+    /// is dropped (a newer edit supersedes it); returns whether it was taken.
+    pub fn set_stack(
+        &mut self,
+        editor: &ContourView,
+        revision: u64,
+        axis: Axis,
+        data: &[f64],
+    ) -> bool {
+        let Some(volume) = editor.volume() else {
+            return false;
+        };
+        let current = editor.slice().map_or(Axis::W, |(a, _)| a);
+        if revision != editor.revision() || axis != current || !data.len().is_multiple_of(6) {
+            return false;
+        }
+        self.stack = Some(StackCache {
+            revision,
+            axis,
+            stack: stack_vertices(volume, data),
+            segments: data.len() / 6,
+        });
+        true
+    }
+
+    /// The contour stack drawn now: its segments, and whether it is of the model as it is (not
+    /// the previous one, drawn while the new one is being made); `None` when none is drawn.
+    #[must_use]
+    pub fn stack_info(&self, editor: &ContourView) -> Option<(usize, bool)> {
+        self.stack.as_ref().map(|c| {
+            let axis = editor.slice().map_or(Axis::W, |(a, _)| a);
+            (
+                c.segments,
+                c.revision == editor.revision() && c.axis == axis,
+            )
+        })
     }
 
     /// The fine surface wanted from elsewhere since the last call: `(revision, resolution)`.
@@ -731,6 +783,7 @@ impl View3 {
             selected: editor.selected(),
             slice: editor.slice(),
             surface: self.surface.as_ref().map(|c| (c.revision, c.resolution)),
+            stack: self.stack.as_ref().map(|c| (c.revision, c.axis)),
             height: self.height.to_bits(),
         };
         if self.geometry.as_ref().is_none_or(|g| g.key != key) {
@@ -808,10 +861,11 @@ impl View3 {
         let r = Self::radius(editor);
         let (du, dv) = solid.degree();
         let selected = editor.selected().map(|(i, j)| i * (dv + 1) + j);
+        let detail = sphere_detail(patch.points().len());
         for (k, p) in patch.points().iter().enumerate() {
             let c = self.world(*p);
             if selected == Some(k) {
-                sphere(&mut opaque, c, r * 1.3, SELECT_COLOR);
+                sphere(&mut opaque, c, r * 1.3, SELECT_COLOR, detail);
                 prism(
                     &mut opaque,
                     DVec3::new(c.x, c.y, 0.0),
@@ -820,7 +874,7 @@ impl View3 {
                     GUIDE_COLOR,
                 );
             } else {
-                sphere(&mut opaque, c, r, diverging(p.z / scale));
+                sphere(&mut opaque, c, r, diverging(p.z / scale), detail);
             }
         }
         net_rods(
@@ -851,7 +905,9 @@ impl View3 {
     /// surface made elsewhere is asked for, with a coarse one drawn meanwhile) and its contour
     /// stack up to date.
     fn update_volume_caches(&mut self, editor: &ContourView, volume: &Solid3) {
-        let resolution = if self.coarse {
+        // A point moving in either view: the coarse surface, and nothing asked of the worker.
+        let moving = self.coarse || editor.dragging();
+        let resolution = if moving {
             COARSE_RESOLUTION.min(self.resolution)
         } else {
             self.resolution
@@ -863,7 +919,7 @@ impl View3 {
                 .is_some_and(|c| c.revision == revision && c.resolution == res)
         };
         if !have(&self.surface, resolution) {
-            let local = if self.external && !self.coarse {
+            let local = if self.external && !moving {
                 self.request = Some((revision, resolution));
                 COARSE_RESOLUTION.min(resolution)
             } else {
@@ -884,11 +940,24 @@ impl View3 {
             .as_ref()
             .is_some_and(|c| c.revision == revision && c.axis == axis)
         {
-            self.stack = Some(StackCache {
-                revision,
-                axis,
-                stack: contour_stack(volume, axis),
-            });
+            if self.external {
+                // The previous stack across this axis stays drawn until the new one comes (a
+                // folded net's slices cost seconds); one across another axis would mislead.
+                if self.stack.as_ref().is_some_and(|c| c.axis != axis) {
+                    self.stack = None;
+                }
+                if !moving {
+                    self.stack_request = Some((revision, axis));
+                }
+            } else if !moving || self.stack.as_ref().is_none_or(|c| c.axis != axis) {
+                let data = stack_segments(volume, axis, |_, _| {});
+                self.stack = Some(StackCache {
+                    revision,
+                    axis,
+                    stack: stack_vertices(volume, &data),
+                    segments: data.len() / 6,
+                });
+            }
         }
     }
 
@@ -915,6 +984,7 @@ impl View3 {
             let (i, j, k) = slice_point(axis, index, p, q);
             volume_index(d, [i, j, k])
         });
+        let detail = sphere_detail(net.points().len());
         for (k, p) in net.points().iter().enumerate() {
             let (radius, color) = if selected == Some(k) {
                 (r * 1.3, SELECT_COLOR)
@@ -923,7 +993,7 @@ impl View3 {
             } else {
                 (r * 0.7, diverging(p.w / scale))
             };
-            sphere(&mut opaque, p.truncate(), radius, color);
+            sphere(&mut opaque, p.truncate(), radius, color, detail);
         }
         let mut translucent = Vec::new();
         if let Some(patch) = slice_patch(net, axis, index) {
@@ -1027,41 +1097,58 @@ fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usi
 }
 
 /// The zero contour of each slice of the volume across `axis`, placed at the slice's mean position
-/// along it, as thin rods.
-fn contour_stack(volume: &Solid3, axis: Axis) -> Vec<MeshVertex> {
+/// along it, as segments: six `f64` each (its two ends). `progress(done, total)` is called after
+/// each slice. A slice whose net may fold costs the inverse map at every sample (seconds at high
+/// degree): the page runs this in its worker.
+pub fn stack_segments(
+    volume: &Solid3,
+    axis: Axis,
+    mut progress: impl FnMut(usize, usize),
+) -> Vec<f64> {
     let net = volume.volume();
     let d = volume.degree();
     let a = axis_number(axis);
     let (lo, hi) = plane_coordinates(axis);
-    let (min, max) = volume.domain();
-    let r = (max - min).max_element() * SPHERE_RADIUS * 0.14;
-    let mut stack = Vec::new();
-    for index in 0..=[d.0, d.1, d.2][a] {
-        let Some(patch) = slice_patch(net, axis, index) else {
-            continue;
-        };
-        let along = patch_mean_along(net, axis, index);
-        let Ok(solid) = Solid2::try_from_patch(patch) else {
-            continue;
-        };
-        for line in solid_contour(&solid, STACK_CELLS, 1e-7) {
+    let slices = [d.0, d.1, d.2][a] + 1;
+    let mut out = Vec::new();
+    for index in 0..slices {
+        let solid = slice_patch(net, axis, index).and_then(|p| Solid2::try_from_patch(p).ok());
+        if let Some(solid) = solid {
+            let along = patch_mean_along(net, axis, index);
             let to3 = |p: DVec2| {
-                let mut v = DVec3::ZERO;
+                let mut v = [0.0; 3];
                 v[lo] = p.x;
                 v[hi] = p.y;
                 v[a] = along;
                 v
             };
-            let count = if line.closed {
-                line.points.len()
-            } else {
-                line.points.len().saturating_sub(1)
-            };
-            for k in 0..count {
-                let (p, q) = (line.points[k], line.points[(k + 1) % line.points.len()]);
-                prism(&mut stack, to3(p), to3(q), r, CONTOUR_COLOR);
+            for line in solid_contour(&solid, STACK_CELLS, 1e-7) {
+                let count = if line.closed {
+                    line.points.len()
+                } else {
+                    line.points.len().saturating_sub(1)
+                };
+                for k in 0..count {
+                    let (p, q) = (line.points[k], line.points[(k + 1) % line.points.len()]);
+                    out.extend(to3(p));
+                    out.extend(to3(q));
+                }
             }
         }
+        progress(index + 1, slices);
+    }
+    out
+}
+
+/// The rods that draw a contour stack's segments ([`stack_segments`]) for `volume`.
+#[must_use]
+pub fn stack_vertices(volume: &Solid3, segments: &[f64]) -> Vec<MeshVertex> {
+    let (min, max) = volume.domain();
+    let r = (max - min).max_element() * SPHERE_RADIUS * 0.14;
+    let mut stack = Vec::with_capacity(segments.len() / 6 * 24);
+    for s in segments.chunks_exact(6) {
+        let (p, q) = (DVec3::new(s[0], s[1], s[2]), DVec3::new(s[3], s[4], s[5]));
+        prism(&mut stack, p, q, r, CONTOUR_COLOR);
     }
     stack
 }
@@ -1101,13 +1188,33 @@ fn xi_range(editor: &ContourView) -> (f64, f64) {
         .fold((0.0f64, 0.0f64), |(lo, hi), p| (lo.min(p.z), hi.max(p.z)))
 }
 
-/// A UV sphere of 8 × 12 quads.
-pub(crate) fn sphere(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
-    const RINGS: usize = 8;
-    const SEGMENTS: usize = 12;
+/// The most triangles the control points' spheres of one scene may take: past it they are drawn
+/// coarser. A degree-16 volume has 4,913 points; at 192 triangles each (943 k triangles, 113 MB
+/// of vertices) building its scene took 0.6 s on the page's thread, at every edit.
+const SPHERE_TRIANGLES: usize = 200_000;
+
+/// Rings and segments of a sphere, finest first: 192, 96, 48 and 24 triangles.
+const SPHERE_DETAIL: [(usize, usize); 4] = [(8, 12), (6, 8), (4, 6), (3, 4)];
+
+/// The finest sphere of which `count` fit in [`SPHERE_TRIANGLES`] (the coarsest past that).
+fn sphere_detail(count: usize) -> (usize, usize) {
+    SPHERE_DETAIL
+        .into_iter()
+        .find(|(r, s)| count * r * s * 2 <= SPHERE_TRIANGLES)
+        .unwrap_or(SPHERE_DETAIL[SPHERE_DETAIL.len() - 1])
+}
+
+/// A UV sphere of `rings × segments` quads.
+pub(crate) fn sphere(
+    out: &mut Vec<MeshVertex>,
+    c: DVec3,
+    r: f64,
+    color: Rgba,
+    (rings, segments): (usize, usize),
+) {
     let at = |i: usize, j: usize| {
-        let theta = core::f64::consts::PI * i as f64 / RINGS as f64;
-        let phi = core::f64::consts::TAU * j as f64 / SEGMENTS as f64;
+        let theta = core::f64::consts::PI * i as f64 / rings as f64;
+        let phi = core::f64::consts::TAU * j as f64 / segments as f64;
         let n = DVec3::new(
             theta.sin() * phi.cos(),
             theta.sin() * phi.sin(),
@@ -1119,8 +1226,8 @@ pub(crate) fn sphere(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgba) {
             color,
         }
     };
-    for i in 0..RINGS {
-        for j in 0..SEGMENTS {
+    for i in 0..rings {
+        for j in 0..segments {
             out.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
             out.extend([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
@@ -1332,5 +1439,125 @@ mod tests {
         editor.set_selected_xi(0.7).unwrap();
         let _ = view.scene(&editor);
         assert_eq!(view.surface_info().unwrap().1, DEFAULT_RESOLUTION);
+    }
+
+    #[test]
+    fn a_stack_made_elsewhere_is_the_stack_made_here_and_only_for_its_revision() {
+        use bezsolid_core::model::ModelSolid;
+        use bezsolid_core::presets::Preset;
+        let ModelSolid::Volume(fish) = Preset::Fish.solid() else {
+            unreachable!()
+        };
+        // Here: the stack is made while the scene is built.
+        let (mut editor, mut here) = setup();
+        editor.set_volume(fish.clone());
+        let _ = here.scene(&editor);
+        let (segments, current) = here.stack_info(&editor).unwrap();
+        assert!(segments > 50 && current, "{segments}");
+        let local = here.stack.clone().unwrap().stack;
+        // Elsewhere: asked for at rest, once, and drawn when handed in for this revision.
+        let mut there = View3::new(&editor);
+        there.resize(&editor, 800.0, 600.0);
+        there.set_external_surface(true);
+        let _ = there.scene(&editor);
+        assert!(
+            there.stack_info(&editor).is_none(),
+            "nothing drawn before it comes"
+        );
+        let (revision, axis) = there.take_stack_request().unwrap();
+        assert_eq!((revision, axis), (editor.revision(), Axis::W));
+        let mut calls = Vec::new();
+        let data = stack_segments(&fish, axis, |done, total| calls.push((done, total)));
+        assert_eq!(
+            calls,
+            (1..=3).map(|k| (k, 3)).collect::<Vec<_>>(),
+            "one call a slice"
+        );
+        assert!(!there.set_stack(&editor, revision.wrapping_sub(1), axis, &data));
+        assert!(
+            !there.set_stack(&editor, revision, Axis::U, &data),
+            "another axis"
+        );
+        let before = there.scene(&editor).opaque.len();
+        assert_eq!(
+            there.take_stack_request(),
+            Some((revision, axis)),
+            "asked for while it is not there"
+        );
+        assert!(there.set_stack(&editor, revision, axis, &data));
+        assert_eq!(there.stack.as_ref().unwrap().stack, local, "the same rods");
+        // It is drawn as soon as it comes (nothing else changed: the scene is built again).
+        assert_eq!(there.scene(&editor).opaque.len(), before + local.len());
+        assert!(
+            there.take_stack_request().is_none(),
+            "nothing more to ask for"
+        );
+        // An edit: the previous stack stays drawn, and the new one is asked for at rest only.
+        editor.select(Some((1, 1)));
+        editor.set_selected_xi(0.9).unwrap();
+        there.set_coarse(true);
+        let _ = there.scene(&editor);
+        assert_eq!(there.stack_info(&editor), Some((segments, false)));
+        assert!(
+            there.take_stack_request().is_none(),
+            "not while a point moves"
+        );
+        there.set_coarse(false);
+        let _ = there.scene(&editor);
+        assert_eq!(
+            there.take_stack_request(),
+            Some((editor.revision(), Axis::W))
+        );
+        // A drag of a slice's point in the 2D view: nothing is asked of the worker until it ends.
+        let _ = there.take_request();
+        editor.begin_drag(4, Mode::Function);
+        assert!(editor.drag_to(None, Some(0.3)));
+        let _ = there.scene(&editor);
+        assert!(there.take_stack_request().is_none() && there.take_request().is_none());
+        assert_eq!(there.surface_info().unwrap().1, COARSE_RESOLUTION);
+        editor.pointer_up();
+        let _ = there.scene(&editor);
+        assert_eq!(
+            there.take_stack_request(),
+            Some((editor.revision(), Axis::W))
+        );
+        assert_eq!(
+            there.take_request(),
+            Some((editor.revision(), DEFAULT_RESOLUTION))
+        );
+        // Another axis: the stack across the old one is no longer drawn.
+        editor.set_slice(Axis::U, 0).unwrap();
+        let _ = there.scene(&editor);
+        assert!(there.stack_info(&editor).is_none());
+    }
+
+    #[test]
+    fn many_control_points_are_drawn_with_coarser_spheres_within_the_budget() {
+        assert_eq!(
+            sphere_detail(16 * 16),
+            (8, 12),
+            "a patch keeps round spheres"
+        );
+        assert_eq!(sphere_detail(7 * 7 * 3), (8, 12));
+        let (rings, segments) = sphere_detail(17 * 17 * 17);
+        assert!(17 * 17 * 17 * rings * segments * 2 <= SPHERE_TRIANGLES);
+        let mut out = Vec::new();
+        sphere(&mut out, DVec3::ZERO, 1.0, SELECT_COLOR, (rings, segments));
+        assert_eq!(out.len(), rings * segments * 6);
+        assert!(out.iter().all(|v| {
+            let p = glam::Vec3::from_array(v.position);
+            (p.length() - 1.0).abs() < 1e-6 && p.dot(glam::Vec3::from_array(v.normal)) > 0.99
+        }));
+        // A degree-16 volume's scene: the spheres within the budget.
+        let (mut editor, mut view) = setup();
+        editor.set_volume(
+            Solid3::regular((16, 16, 16), DVec3::ZERO, DVec3::ONE, |_, _, _| 0.25).unwrap(),
+        );
+        let scene = view.scene(&editor);
+        assert!(
+            scene.opaque.len() < SPHERE_TRIANGLES * 3 + 200_000,
+            "{}",
+            scene.opaque.len()
+        );
     }
 }

@@ -198,6 +198,34 @@ pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError
     document::headless::surface(text, resolution as usize).map_err(|e| JsError::new(&e))
 }
 
+/// The contour stack of a volume model (a model file or link) across `axis` (0 = u, 1 = v, 2 = w):
+/// the zero contour of each slice, six `f64` per segment, for `Modeler::set_stack`. `progress` is
+/// called with `(done, total)` slices after each slice (the page's worker reports it).
+///
+/// # Errors
+///
+/// What is wrong with the input, a patch model, or another axis.
+#[wasm_bindgen]
+pub fn headless_stack(
+    text: &str,
+    axis: u32,
+    progress: &js_sys::Function,
+) -> Result<Vec<f64>, JsError> {
+    document::headless::stack(text, axis as usize, |done, total| {
+        // A progress report that throws changes nothing in the work.
+        let _ = progress.call2(&JsValue::NULL, &done.into(), &total.into());
+    })
+    .map_err(|e| JsError::new(&e))
+}
+
+/// The GPU objects the renderers hold now and have made: `[buffers, textures, made in all]` (a
+/// texture view that keeps its texture counts as a texture). The soak test watches them level off.
+#[wasm_bindgen]
+#[must_use]
+pub fn gpu_objects() -> Vec<u32> {
+    crate::render::live_objects().map(|n| n as u32).to_vec()
+}
+
 /// The zero contours of a patch model (a model file or link) as SVG; no page or GPU needed.
 ///
 /// # Errors
@@ -723,10 +751,50 @@ impl Modeler {
         self.view3.surface_info().map_or(0, |(_, r)| r)
     }
 
-    /// Has the fine volume surface made elsewhere (a Web Worker): the view then draws a coarse one
-    /// and asks for it through `surface_request`.
+    /// Has the fine volume surface and the contour stack made elsewhere (a Web Worker): the view
+    /// then draws a coarse surface and the previous stack, and asks for them through
+    /// `surface_request` and `stack_request`.
     pub fn set_external_surface(&mut self, external: bool) {
         self.view3.set_external_surface(external);
+    }
+
+    /// A number that changes whenever the model does (what the worker's requests are keyed by).
+    #[must_use]
+    pub fn revision(&self) -> f64 {
+        self.view.revision() as f64
+    }
+
+    /// The contour stack wanted since the last call, `[revision, axis]` (axis 0 = u, 1 = v,
+    /// 2 = w), or `undefined`; asked for at rest only.
+    pub fn stack_request(&mut self) -> Option<Vec<f64>> {
+        self.view3
+            .take_stack_request()
+            .map(|(r, axis)| vec![r as f64, crate::app::axis_number(axis) as f64])
+    }
+
+    /// A contour stack made elsewhere ([`headless_stack`]) for model `revision` across `axis`;
+    /// returns whether it was taken (not when the model or the axis has changed since).
+    pub fn set_stack(&mut self, revision: f64, axis: u32, data: &[f64]) -> bool {
+        crate::app::axis_of(axis as usize).is_some_and(|axis| {
+            self.view3
+                .set_stack(&self.view, revision as u64, axis, data)
+        })
+    }
+
+    /// The contour stack drawn now: `[segments, 1]` when it is of the model as it is, `[segments,
+    /// 0]` for the previous one (drawn while the new one is made), `undefined` when none is drawn.
+    #[must_use]
+    pub fn stack_info(&self) -> Option<Vec<u32>> {
+        self.view3
+            .stack_info(&self.view)
+            .map(|(segments, current)| vec![segments as u32, u32::from(current)])
+    }
+
+    /// The model file (JSON) of the patch the 2D view edits (the patch, or the volume's selected
+    /// slice): what the worker makes the SVG export of.
+    #[must_use]
+    pub fn patch_json(&self) -> String {
+        document::patch_json(&self.view)
     }
 
     /// The fine surface wanted since the last call, `[revision, resolution]`, or `undefined`.

@@ -1,0 +1,274 @@
+// Long work never blocks the page, on the backend under test: the contour stack of a folded volume
+// and the exports of a folded net run in the worker while the page keeps drawing and answering
+// clicks; the work list shows them with their time, progress and a Cancel that stops them; a newer
+// edit supersedes the stack under way; and what the worker makes is what the page made before.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+const model = (solid) => JSON.stringify({ format: 'bezsolid', version: 1, solid });
+
+/** A seeded generator (mulberry32). */
+function random(seed) {
+  let a = seed >>> 0;
+  return () => {
+    a = (a + 0x6d2b79f5) >>> 0;
+    let t = a;
+    t = Math.imul(t ^ (t >>> 15), t | 1);
+    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+  };
+}
+
+/**
+ * A net of `degree` whose control points are those of a regular grid over the unit square or cube
+ * in shuffled order, with random ξ: folded everywhere, so an exact contour needs the inverse map
+ * at every sample. Measured (node, 2 cores): the contour stack of the (6, 6, 1) net of seed 1 takes
+ * 30 s, the SVG of the degree-3 patch of seed 1 25 s; a test that finds them fast has to pick
+ * heavier ones, or it measures nothing.
+ */
+function shuffledNet(degree, seed) {
+  const rnd = random(seed);
+  const sides = degree.map((d) => d + 1);
+  const count = sides.reduce((a, b) => a * b, 1);
+  const at = [];
+  for (let k = 0; k < count; k++) {
+    const index = [];
+    let rest = k;
+    for (let a = sides.length - 1; a >= 0; a--) {
+      index[a] = rest % sides[a];
+      rest = Math.floor(rest / sides[a]);
+    }
+    at.push(index.map((i, a) => i / degree[a]));
+  }
+  for (let k = count - 1; k > 0; k--) {
+    const j = Math.floor(rnd() * (k + 1));
+    [at[k], at[j]] = [at[j], at[k]];
+  }
+  const kind = degree.length === 2 ? 'patch' : 'volume';
+  return model({ kind, degree, points: at.map((p) => [...p, rnd() * 2 - 1]) });
+}
+
+const working = (page) => page.evaluate(() => document.body.dataset.working ?? '');
+
+/**
+ * What the page does for `ms` while work runs: how late its thread ran a timer set every 10 ms at
+ * worst (the longest it was held), the longest task on it (as the browser reports long tasks), the
+ * animation frames it drew (their count and the largest gap between two), and how long a click in
+ * the middle took to be handled.
+ */
+async function responsiveness(page, ms) {
+  const watched = page.evaluate((span) => new Promise((resolve) => {
+    const frames = [];
+    const tasks = [];
+    let beat = performance.now();
+    let held = 0;
+    const observer = new PerformanceObserver((list) => {
+      for (const e of list.getEntries()) tasks.push(e.duration);
+    });
+    observer.observe({ type: 'longtask' });
+    const t0 = performance.now();
+    const tick = () => {
+      const now = performance.now();
+      held = Math.max(held, now - beat);
+      beat = now;
+      if (now - t0 < span) setTimeout(tick, 10);
+    };
+    setTimeout(tick, 10);
+    const step = (t) => {
+      frames.push(t);
+      if (t - t0 < span) {
+        requestAnimationFrame(step);
+        return;
+      }
+      observer.disconnect();
+      const gaps = frames.slice(1).map((x, k) => x - frames[k]);
+      resolve({ held, task: Math.max(0, ...tasks), frames: frames.length, gap: Math.max(0, ...gaps) });
+    };
+    requestAnimationFrame(step);
+  }), ms);
+  await page.waitForTimeout(ms / 3);
+  const t0 = Date.now();
+  await page.click('#debug-toggle');
+  await page.waitForSelector('#debug:not([hidden])', { timeout: 5_000 });
+  const click = Date.now() - t0;
+  await page.click('#debug-toggle');
+  return { ...(await watched), click };
+}
+
+/** How long the page is watched while work runs, in milliseconds. */
+const WINDOW = 2000;
+
+/**
+ * The page answered while the work ran: its thread was never held long, it drew frames, and a
+ * click was handled. The work measured here takes tens of seconds: on the page's thread it would
+ * hold it for the whole window, with no frame and no click. The bounds are loose because the
+ * suite runs on two cores with software rendering: with a worker busy, the browser's drawing (its
+ * GPU process) starves, so frames came from every 16 ms (idle) down to 7 in 2 s, with tasks of up to
+ * 900 ms waiting on the GPU process (none of it the page's code) and clicks of a second or two.
+ */
+function answered(r, when) {
+  assert.ok(r.held < 1500, `the page's thread was held ${r.held.toFixed(0)} ms at most ${when}`);
+  assert.ok(r.task < 1500, `the longest task on the page's thread ${when}: ${r.task.toFixed(0)} ms`);
+  assert.ok(r.frames >= 3, `${r.frames} frames in ${WINDOW} ms ${when}`);
+  assert.ok(r.click < 2500, `a click answered in ${r.click} ms ${when}`);
+}
+
+const measured = {};
+/** Keeps what was measured, for the artifacts (work-frames.json). */
+function record(what, r) {
+  measured[what] = r;
+  writeFileSync(join(ARTIFACTS, 'work-frames.json'), JSON.stringify(measured, null, 2));
+}
+
+/** The Cancel button of the work under way of `kind`. */
+const cancelOf = (page, kind) => page.locator(`#work .task[data-kind="${kind}"] button`);
+
+test('a folded volume: its contour stack runs in the worker, the page keeps drawing; Cancel, newer edits and another model stop it', async () => {
+  const { page, errors } = await open(browser);
+  await page.evaluate((text) => {
+    window.bezsolid.modeler.load_model(text);
+    window.bezsolid.redraw();
+  }, shuffledNet([6, 6, 1], 1));
+  const line = page.locator('#work .task[data-kind="stack"]');
+  await page.waitForSelector('#work .task[data-kind="stack"][data-state="running"]', { timeout: 30_000 });
+  assert.match(await line.textContent(), /Contour stack across w…/);
+  const r = await responsiveness(page, WINDOW);
+  record('stack', r);
+  assert.equal(await line.getAttribute('data-state'), 'running', 'the stack was still being made: the measure holds');
+  answered(r, 'while the stack is made');
+  assert.match(await line.textContent(), /\d+\.\d s/, 'the time it has run');
+  assert.equal(await page.evaluate(() => window.bezsolid.modeler.stack_info()), undefined, 'no stack drawn yet');
+  assert.match(await page.textContent('#surface-info'), /contour stack: not made yet/);
+  await page.locator('#view3d').screenshot({ path: join(ARTIFACTS, 'work-stack.png') });
+  await page.locator('#work').screenshot({ path: join(ARTIFACTS, 'work-list.png') });
+
+  // Cancel: the job stops and is not asked for again until the model changes.
+  await cancelOf(page, 'stack').click();
+  await page.waitForFunction(() => !(document.body.dataset.working ?? '').includes('stack'));
+  await page.waitForTimeout(500);
+  await settle(page);
+  assert.ok(!(await working(page)).includes('stack'), 'a cancelled stack is not started again');
+
+  // An edit asks for the stack of the new model; a second edit supersedes it: one job under way.
+  await page.focus('#view');
+  await page.keyboard.press('Tab');
+  await page.keyboard.press('PageUp');
+  await page.waitForFunction(() => (document.body.dataset.working ?? '').includes('stack'));
+  await page.keyboard.press('PageUp');
+  await settle(page);
+  await page.waitForTimeout(300);
+  assert.equal(await page.locator('#work .task[data-kind="stack"]').count(), 1, 'the newer request replaced the older');
+  // A mesh export of the folded volume is asked for beside it: the jobs under way leave the page a
+  // core (on two cores the export waits for the stack); it is cancelled too, and nothing is saved.
+  let downloaded = false;
+  page.on('download', () => { downloaded = true; });
+  await page.selectOption('#export', 'stl');
+  await page.waitForSelector('#work .task[data-kind="export"]');
+  await page.locator('#work').screenshot({ path: join(ARTIFACTS, 'work-list-two.png') });
+  const during = await responsiveness(page, WINDOW);
+  record('stack and STL export', during);
+  answered(during, 'while a stack and an export are asked for');
+  const [running, cores] = await page.evaluate(() => [
+    document.querySelectorAll('#work .task[data-state="running"]').length,
+    Math.max(1, (navigator.hardwareConcurrency || 2) - 1),
+  ]);
+  assert.ok(running >= 1 && running <= cores, `${running} jobs under way for ${cores} free cores`);
+  await cancelOf(page, 'export').click();
+  await page.waitForFunction(() => /Exporting STL was cancelled; nothing was saved/.test(document.getElementById('status').textContent));
+  // Another model: the stack of the folded one is no longer wanted, and stops without a Cancel.
+  assert.ok((await working(page)).includes('stack'));
+  await page.selectOption('#preset', 'fig9');
+  await page.waitForFunction(() => !document.body.dataset.working);
+  assert.equal(downloaded, false);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('the stack from the worker is the stack the page made; the previous one stays drawn until it comes', async () => {
+  const { page, errors } = await open(browser);
+  await page.selectOption('#preset', 'fish');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1'), null, { timeout: 30_000 });
+  const [segments] = await page.evaluate(() => window.bezsolid.modeler.stack_info());
+  // The same segments, made here by the function the page used to call on its own thread.
+  const here = await page.evaluate(async () => {
+    const m = await import(new URL('pkg/bezsolid_web.js', location.href).href);
+    return m.headless_stack(window.bezsolid.modeler.model_json(), 2, () => {}).length / 6;
+  });
+  assert.equal(segments, here);
+  assert.ok(segments > 50, `${segments} segments`);
+  assert.match(await page.textContent('#surface-info'), new RegExp(`contour stack: ${segments.toLocaleString('en')} segments$`));
+  // An edit: the stack of the model before it is drawn (marked so) until the new one comes.
+  await page.focus('#view');
+  await page.keyboard.press('Tab');
+  const info = await page.evaluate(() => {
+    window.bezsolid.modeler.set_selected_xi(-2);
+    const stack = [...window.bezsolid.modeler.stack_info()];
+    window.bezsolid.redraw();
+    return stack;
+  });
+  assert.deepEqual(info, [segments, 0]);
+  await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1'), null, { timeout: 30_000 });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a volume drawn with its stack and surface from the worker is the picture the page drew making them itself', async () => {
+  const shots = [];
+  for (const worker of [true, false]) {
+    const { page, errors } = await open(browser);
+    if (!worker) await page.evaluate(() => window.bezsolid.modeler.set_external_surface(false));
+    await page.selectOption('#preset', 'ring');
+    await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1') && window.bezsolid.modeler.surface_resolution() === 64, null, { timeout: 30_000 });
+    // Closer: the outer slices' contours show around the ring.
+    await page.evaluate(() => {
+      window.bezsolid.modeler.wheel_3d(-400);
+      window.bezsolid.redraw();
+    });
+    await settle(page);
+    const png = await page.locator('#view3d').screenshot({ mask: [page.locator('#fit-3d')] });
+    writeFileSync(join(ARTIFACTS, `work-ring-${worker ? 'worker' : 'page'}.png`), png);
+    shots.push(png);
+    assert.deepEqual(errors, []);
+    await page.close();
+  }
+  assert.ok(shots[0].equals(shots[1]), 'the same picture (work-ring-worker.png, work-ring-page.png)');
+});
+
+test('the SVG of a folded patch is made in the worker with a Cancel; a regular one is the SVG made before', async () => {
+  const { page, errors } = await open(browser);
+  // A regular patch: the worker's SVG is the page's own.
+  const same = await page.evaluate(() => window.bezsolid.modeler.svg());
+  const [download] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', 'svg')]);
+  const path = join(ARTIFACTS, 'work-contours.svg');
+  await download.saveAs(path);
+  assert.equal(readFileSync(path, 'utf8'), same);
+
+  await page.evaluate((text) => {
+    window.bezsolid.modeler.load_model(text);
+    window.bezsolid.redraw();
+  }, shuffledNet([3, 3], 1));
+  await settle(page);
+  let downloaded = false;
+  page.on('download', () => { downloaded = true; });
+  await page.selectOption('#export', 'svg');
+  await page.waitForSelector('#work .task[data-kind="export"][data-state="running"]');
+  const r = await responsiveness(page, WINDOW);
+  record('SVG export', r);
+  assert.equal(await page.getAttribute('#work .task[data-kind="export"]', 'data-state'), 'running', 'the export was still running: the measure holds');
+  answered(r, 'while the SVG is made');
+  writeFileSync(join(ARTIFACTS, 'work-svg.png'), await page.screenshot());
+  await cancelOf(page, 'export').click();
+  await page.waitForFunction(() => /Exporting SVG was cancelled; nothing was saved/.test(document.getElementById('status').textContent));
+  assert.equal(await working(page), '');
+  assert.equal(downloaded, false);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

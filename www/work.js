@@ -1,0 +1,191 @@
+// Long work off the page's thread, and what the page shows of it.
+//
+// A runner is one Web Worker (worker.js, the page's own module) that runs one job at a time, in the
+// order asked; replies are matched to their jobs by id, and a job may report progress on the way.
+// Cancelling a job that has not started drops it; cancelling the one under way terminates the
+// worker (a wasm computation cannot be interrupted otherwise) and starts a fresh one for the rest.
+//
+// The work list shows every job the user waits for: what it is, how far it got (a fraction where
+// the work comes in steps), how long it has run, and a Cancel button.
+
+const cancelled = () => Object.assign(new Error('cancelled'), { cancelled: true });
+
+// Jobs under way in all workers at once: one core is left to the page (its thread, and the
+// browser's drawing, which is software on some machines), so the page keeps drawing however many
+// jobs are asked for; the others wait their turn.
+const cores = { free: Math.max(1, (navigator.hardwareConcurrency || 2) - 1), waiting: [] };
+const acquire = () => new Promise((resolve) => {
+  if (cores.free > 0) {
+    cores.free -= 1;
+    resolve();
+  } else {
+    cores.waiting.push(resolve);
+  }
+});
+const release = () => {
+  const next = cores.waiting.shift();
+  if (next) next();
+  else cores.free += 1;
+};
+
+/** A worker and its queue; throws where the browser has no module workers. */
+export function runner() {
+  let worker = null;
+  const queue = []; // { id, message, resolve, reject, onProgress, onStart }
+  let current = null; // waiting for a core, or under way (`running`)
+  let next = 0;
+  const pump = async () => {
+    if (current || !queue.length) return;
+    const job = queue.shift();
+    current = job;
+    await acquire();
+    if (current !== job) {
+      release(); // cancelled while it waited
+      return;
+    }
+    job.running = true;
+    job.onStart?.();
+    worker.postMessage({ ...job.message, id: job.id });
+  };
+  const finish = (job) => {
+    if (current === job) current = null;
+    if (job.running) release();
+    job.running = false;
+  };
+  const start = () => {
+    worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+    worker.onmessage = ({ data }) => {
+      const job = current;
+      if (!job?.running || data.id !== job.id) return;
+      if (data.progress) {
+        job.onProgress?.(...data.progress);
+        return;
+      }
+      finish(job);
+      if (data.fatal) restart(); // a trap may leave the module's state broken: a fresh one
+      else pump();
+      if (data.error) job.reject(new Error(data.error));
+      else job.resolve(data);
+    };
+    worker.onerror = (e) => {
+      e.preventDefault();
+      const job = current?.running ? current : null;
+      if (job) finish(job);
+      restart();
+      job?.reject(new Error(e.message || 'the worker failed'));
+    };
+  };
+  const restart = () => {
+    worker.terminate();
+    start();
+    pump();
+  };
+  start();
+  const cancel = (id) => {
+    const k = queue.findIndex((j) => j.id === id);
+    if (k >= 0) {
+      queue.splice(k, 1)[0].reject(cancelled());
+    } else if (current?.id === id) {
+      const job = current;
+      const wasRunning = job.running;
+      finish(job);
+      if (wasRunning) restart();
+      else pump();
+      job.reject(cancelled());
+    }
+  };
+  return {
+    /**
+     * Runs `message` (`{ kind, ... }`, see worker.js); `onProgress(done, total)` on the way and
+     * `onStart()` when it leaves the queue for a core. The promise has `cancel()`.
+     */
+    run(message, { onProgress, onStart } = {}) {
+      next += 1;
+      const id = next;
+      const promise = new Promise((resolve, reject) => {
+        queue.push({ id, message, resolve, reject, onProgress, onStart });
+      });
+      pump();
+      promise.cancel = () => cancel(id);
+      return promise;
+    },
+    /** Cancels every job, waiting or under way. */
+    cancelAll() {
+      for (const job of queue.splice(0)) job.reject(cancelled());
+      if (current) cancel(current.id);
+    },
+  };
+}
+
+const seconds = (ms) => `${(ms / 1000).toFixed(1)} s`;
+
+/**
+ * The list of work under way in `container`: `start(kind, label, cancel)` adds a line with a Cancel
+ * button that calls `cancel` (none without it: work on the page's thread cannot be stopped), and
+ * returns `{ started(), progress(done, total, unit), end() }`. A line says "waiting" until
+ * `started()` (a job waits for a free core), then how long it has run and how far it got. The
+ * body's `data-working` names the kinds under way or waiting (empty when idle), for tests and styles.
+ */
+export function workList(container) {
+  const tasks = new Set();
+  let timer = 0;
+  const tick = () => {
+    const now = performance.now();
+    for (const t of tasks) {
+      const fraction = t.total ? `${t.done} of ${t.total} ${t.unit}, ` : '';
+      t.how.textContent = t.t0 === null ? 'waiting' : `${fraction}${seconds(now - t.t0)}`;
+    }
+  };
+  const update = () => {
+    container.hidden = tasks.size === 0;
+    document.body.dataset.working = [...tasks].map((t) => t.kind).join(' ');
+    if (tasks.size && !timer) timer = setInterval(tick, 200);
+    if (!tasks.size && timer) {
+      clearInterval(timer);
+      timer = 0;
+    }
+    tick();
+  };
+  update();
+  return {
+    start(kind, label, cancel) {
+      const line = document.createElement('div');
+      line.className = 'task';
+      line.dataset.kind = kind;
+      const what = document.createElement('span');
+      what.textContent = `${label}…`;
+      const how = document.createElement('span');
+      how.className = 'how';
+      how.setAttribute('aria-hidden', 'true'); // the time ticks: not read out five times a second
+      line.append(what, how);
+      if (cancel) {
+        const button = document.createElement('button');
+        button.type = 'button';
+        button.textContent = 'Cancel';
+        button.title = `Cancel ${label[0].toLowerCase()}${label.slice(1)}`;
+        button.addEventListener('click', () => cancel());
+        line.append(button);
+      }
+      const task = { kind, how, t0: null, done: 0, total: 0, unit: '' };
+      container.append(line);
+      tasks.add(task);
+      update();
+      return {
+        started() {
+          task.t0 = performance.now();
+          line.dataset.state = 'running';
+          tick();
+        },
+        progress(done, total, unit = '') {
+          Object.assign(task, { done, total, unit });
+          tick();
+        },
+        end() {
+          if (!tasks.delete(task)) return;
+          line.remove();
+          update();
+        },
+      };
+    },
+  };
+}
