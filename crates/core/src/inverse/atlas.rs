@@ -55,11 +55,11 @@ pub(crate) struct AtlasBudget {
 
 /// The work all the queries of a plan may spend together, in evaluations of one control point
 /// (one such unit is about a dozen floating-point operations): about two seconds of one core.
-const PLAN_WORK: u64 = 1 << 29;
+const PLAN_WORK: u64 = 1 << 30;
 
 /// The least work one query may spend, however many are planned or spent: a few evaluations of
 /// the largest net.
-const MIN_QUERY_WORK: u64 = 1 << 14;
+const MIN_QUERY_WORK: u64 = 1 << 15;
 
 /// The most work one query may spend: about ten milliseconds (a probe of `f` under the pointer
 /// runs on the page's thread).
