@@ -54,7 +54,7 @@ pub(crate) struct AtlasBudget {
 }
 
 /// The work all the queries of a plan may spend together, in evaluations of one control point
-/// (one such unit is about a dozen floating-point operations): about two seconds of one core.
+/// (one such unit is a few instructions): about a second of one core.
 const PLAN_WORK: u64 = 1 << 30;
 
 /// The least work one query may spend, however many are planned or spent: a few evaluations of

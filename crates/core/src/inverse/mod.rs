@@ -317,7 +317,7 @@ impl<const D: usize> InverseMap<D> {
     /// Says that about `queries` queries are coming (a grid, a file of points), before the first:
     /// a map that may fold cuts its atlas for that much work, finer for more (see
     /// [`atlas`](self)), and bounds each query's work so that all of them together stay within
-    /// about two seconds however the net folds, and queries past the plan add little
+    /// about a second however the net folds, and queries past the plan add little
     /// ([`QueryStats::exhausted`] says where a query ran out). The largest plan before the first
     /// query sets the atlas; the largest at a query sets its work.
     pub fn plan(&self, queries: usize) {
