@@ -8,8 +8,11 @@
 //! - [`Method::Hybrid`]: the paper's procedure: a spline guess ([`tps`]), clipping in a box around it,
 //!   and whole-domain clipping when that box holds no root (or when the map may fold).
 //! - [`Method::Fast`]: where the map is certified injective, Newton's method from a seed table of
-//!   the forward map, verified; elsewhere, and where those seeds miss, the [`atlas`]: pieces cut
-//!   once, seeded from cheap approximations and polished on the net, in bounded work per query.
+//!   the forward map, verified; elsewhere, and where those seeds miss, the map's *atlas*: the
+//!   parameter box cut once into pieces, each with the bounds of its image, an injectivity
+//!   certificate where it has one and a low-degree approximation with a sound error bound; a query
+//!   walks to the pieces whose image holds the point, seeds from the approximations and polishes
+//!   on the net, in bounded work ([`InverseMap::plan`]).
 //!
 //! The map is *certified injective* when `det J` is one-signed on the parameter box (its Bernstein
 //! coefficients, refined by subdivision) and the image of the box's boundary is simple (non-adjacent
@@ -315,8 +318,8 @@ impl<const D: usize> InverseMap<D> {
     }
 
     /// Says that about `queries` queries are coming (a grid, a file of points), before the first:
-    /// a map that may fold cuts its atlas for that much work, finer for more (see
-    /// [`atlas`](self)), and bounds each query's work so that all of them together stay within
+    /// a map that may fold cuts its atlas (see the module documentation) for that much work,
+    /// finer for more, and bounds each query's work so that all of them together stay within
     /// about a second however the net folds, and queries past the plan add little
     /// ([`QueryStats::exhausted`] says where a query ran out). The largest plan before the first
     /// query sets the atlas; the largest at a query sets its work.
