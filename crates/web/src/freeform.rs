@@ -1,4 +1,4 @@
-//! The Free-form mode (issue 6) as plain Rust: one or two solids bounded by PN triangles over
+//! The Free-form mode as plain Rust: one or two solids bounded by PN triangles over
 //! triangle meshes (built-in examples or imported files), a Boolean operation, and what the 3D view
 //! shows of them: the result's surface, the paper's point mesh with the points the last term of the
 //! chain removes marked red (Figs. 12–17), or the operands' PN surfaces.

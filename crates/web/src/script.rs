@@ -1,4 +1,4 @@
-//! The Script mode (issue 7): a PLaSM script runs (in the page's worker), and what its top-level
+//! The Script mode: a PLaSM script runs (in the page's worker), and what its top-level
 //! expressions give is drawn in the 3D view: surfaces shaded with their triangles' edges, curves
 //! as thin tubes, points as small spheres, one colour per result.
 

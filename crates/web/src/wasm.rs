@@ -1182,7 +1182,7 @@ pub fn headless_esc_mesh(text: &str, format: &str, resolution: u32) -> Result<Ve
     crate::freeform::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
 }
 
-/// The Script mode's view (issue 7): the drawing of a script's run and an orbit camera.
+/// The Script mode's view: the drawing of a script's run and an orbit camera.
 #[wasm_bindgen]
 #[derive(Default)]
 pub struct ScriptViewer {
