@@ -896,8 +896,12 @@ async function main() {
     });
     const task = work.start('export', label, () => running.cancel());
     try {
-      const { data } = await running;
+      const { data, approximate } = await running;
       download(name, new Blob([data], { type }));
+      if (approximate) {
+        say(`Saved ${name}, approximate where the net folds over itself very many times: `
+          + `${approximate} ${approximate === 1 ? 'evaluation' : 'evaluations'} ran out of their work budget.`, 'warn');
+      }
     } catch (err) {
       if (err.cancelled) say(`${label} was cancelled; nothing was saved.`);
       else say(`Export failed, nothing was changed: ${err.message ?? err}`, 'error');

@@ -269,3 +269,36 @@ test('the SVG of a folded patch is made in the worker with a Cancel; a regular o
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('an export of a volume that folds over itself everywhere says it is approximate; a regular one does not', async () => {
+  const { page, errors } = await open(browser);
+  const exportStl = async () => {
+    const [download] = await Promise.all([page.waitForEvent('download', { timeout: 120_000 }), page.selectOption('#export', 'stl')]);
+    await download.path();
+    return page.evaluate(() => {
+      const status = document.getElementById('status');
+      return [status.textContent, status.dataset.kind];
+    });
+  };
+  await page.selectOption('#preset', 'fish');
+  await page.waitForSelector('body[data-kind="volume"]');
+  const [regular, regularKind] = await exportStl();
+  assert.match(regular, /^Saved bezsolid\.stl\.$/);
+  assert.notEqual(regularKind, 'warn');
+
+  // The degree-16 net in shuffled order, meshed at 16 cells: within the work budget, many of its
+  // evaluations cannot find every preimage, and the page says so where it says the file is saved.
+  await page.evaluate((text) => {
+    window.bezsolid.modeler.load_model(text);
+    window.bezsolid.redraw();
+  }, shuffledNet([16, 16, 16], 2));
+  await page.fill('#resolution', '16');
+  await page.dispatchEvent('#resolution', 'change');
+  const [folded, foldedKind] = await exportStl();
+  assert.match(folded, /^Saved bezsolid\.stl, approximate where the net folds over itself very many times: \d+ evaluations? ran out of their work budget\.$/);
+  assert.equal(foldedKind, 'warn');
+  await page.selectOption('#preset', 'fig9');
+  await page.waitForFunction(() => !document.body.dataset.working);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

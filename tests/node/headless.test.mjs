@@ -8,7 +8,7 @@ import { fileURLToPath } from 'node:url';
 const pkg = new URL('../../www/pkg/', import.meta.url);
 const glue = await import(new URL('bezsolid_web.js', pkg));
 await glue.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_web_bg.wasm', pkg))) });
-const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface } = glue;
+const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface, headless_approximate } = glue;
 
 // A degree-(2, 2, 2) volume: a blob whose centre is raised (as the blob preset).
 const points = [];
@@ -53,6 +53,7 @@ test('the surface for the worker and the contour SVG of a patch', () => {
   const surface = headless_surface(MODEL, 24);
   assert.ok(surface instanceof Float32Array);
   const stl = Buffer.from(headless_mesh(MODEL, 'stl', 24));
+  assert.equal(headless_approximate(), 0, 'a regular net is exact');
   assert.equal(surface.length, 18 * stl.readUInt32LE(80), 'six floats per vertex, three per triangle');
   const patch = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'patch', degree: [2, 2], points: [
     [0, 0, -1], [0, 0.5, 0.25], [0, 1, -1], [0.5, 0, 0.25], [0.5, 0.5, 1], [0.5, 1, 0.25], [1, 0, -1], [1, 0.5, 0.25], [1, 1, -1]] } });

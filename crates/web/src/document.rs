@@ -152,6 +152,17 @@ pub mod headless {
     /// The largest resolution a headless mesh is made at.
     pub const MAX_RESOLUTION: usize = 512;
 
+    /// What a headless job made, and how many evaluations of `f` in it ran out of their work
+    /// budget (where a net folds over itself very many times): where they did, `data` is
+    /// approximate.
+    #[derive(Debug)]
+    pub struct Made<T> {
+        /// The file, surface or stack.
+        pub data: T,
+        /// Evaluations that ran out of their work budget; 0 where `data` is exact.
+        pub approximate: usize,
+    }
+
     fn volume(text: &str, resolution: usize) -> Result<bezsolid_core::Solid3, String> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
             return Err(format!(
@@ -196,11 +207,15 @@ pub mod headless {
     ///
     /// What is wrong with the input, a patch model, a resolution outside 2 to 512, or another
     /// format.
-    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, String> {
-        let m = volume(text, resolution)?
+    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Made<Vec<u8>>, String> {
+        let v = volume(text, resolution)?;
+        let m = v
             .polygonize(resolution, MESH_ACCURACY)
             .map_err(|e| e.to_string())?;
-        mesh_file(&m, format)
+        Ok(Made {
+            data: mesh_file(&m, format)?,
+            approximate: v.exhausted(),
+        })
     }
 
     /// The surface the page draws for a volume model at `resolution`, as six `f32` per vertex
@@ -209,11 +224,12 @@ pub mod headless {
     /// # Errors
     ///
     /// As [`mesh`].
-    pub fn surface(text: &str, resolution: usize) -> Result<Vec<f32>, String> {
-        Ok(crate::view3d::surface_floats(
-            &volume(text, resolution)?,
-            resolution,
-        ))
+    pub fn surface(text: &str, resolution: usize) -> Result<Made<Vec<f32>>, String> {
+        let v = volume(text, resolution)?;
+        Ok(Made {
+            data: crate::view3d::surface_floats(&v, resolution),
+            approximate: v.exhausted(),
+        })
     }
 
     /// The contour stack of a volume model across `axis` (0 = u, 1 = v, 2 = w), as
@@ -226,10 +242,13 @@ pub mod headless {
         text: &str,
         axis: usize,
         progress: impl FnMut(usize, usize),
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Made<Vec<f64>>, String> {
         let axis = crate::app::axis_of(axis).ok_or("axes are 0 (u), 1 (v) and 2 (w)")?;
         match read_any(text)? {
-            ModelSolid::Volume(v) => Ok(crate::view3d::stack_segments(&v, axis, progress)),
+            ModelSolid::Volume(v) => {
+                let (data, approximate) = crate::view3d::stack_segments(&v, axis, progress);
+                Ok(Made { data, approximate })
+            }
             ModelSolid::Patch(_) => {
                 Err("a contour stack is of volume (3D) models; this is a patch".into())
             }
@@ -241,9 +260,12 @@ pub mod headless {
     /// # Errors
     ///
     /// What is wrong with the input, or a volume model.
-    pub fn svg(text: &str) -> Result<String, String> {
+    pub fn svg(text: &str) -> Result<Made<String>, String> {
         match read_any(text)? {
-            ModelSolid::Patch(s) => Ok(super::svg(&s)),
+            ModelSolid::Patch(s) => Ok(Made {
+                data: super::svg(&s),
+                approximate: s.exhausted(),
+            }),
             ModelSolid::Volume(_) => Err("contour SVG is of patch models; this is a volume".into()),
         }
     }
@@ -340,7 +362,8 @@ mod tests {
         assert_eq!(headless::link(&json).unwrap(), link);
         let stl = headless::mesh(&format!("http://x/{link}"), "stl", 20).unwrap();
         let m = mesh(&e, 20).unwrap();
-        assert_eq!(stl, mesh_file(&m, "stl").unwrap());
+        assert_eq!(stl.data, mesh_file(&m, "stl").unwrap());
+        assert_eq!(stl.approximate, 0, "a regular net is exact");
         assert!(headless::mesh(&link, "stl", 1).is_err());
         assert!(headless::mesh(&link, "stl", 100_000).is_err());
         assert!(
@@ -352,7 +375,7 @@ mod tests {
         let stack = headless::stack(&link, 2, |done, total| calls.push((done, total))).unwrap();
         assert_eq!(calls, [(1, 3), (2, 3), (3, 3)]);
         assert_eq!(
-            stack,
+            (stack.data, stack.approximate),
             crate::view3d::stack_segments(e.volume().unwrap(), bezsolid_core::Axis::W, |_, _| {})
         );
         assert!(headless::stack(&link, 3, |_, _| {}).is_err());
@@ -379,16 +402,55 @@ mod tests {
         assert!(preset("whale").is_err());
     }
 
+    /// A degree-16 volume whose control points are those of the regular grid in shuffled order:
+    /// it folds over itself everywhere.
+    fn shuffled_volume() -> String {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut at: Vec<[usize; 3]> = (0..17 * 17 * 17)
+            .map(|k| [k / 289, k / 17 % 17, k % 17])
+            .collect();
+        for k in (1..at.len()).rev() {
+            at.swap(k, (next() % (k as u64 + 1)) as usize);
+        }
+        let points: Vec<String> = at
+            .iter()
+            .map(|[i, j, l]| {
+                let xi = (next() % 2001) as f64 / 1000.0 - 1.0;
+                format!(
+                    "[{},{},{},{xi}]",
+                    *i as f64 / 16.0,
+                    *j as f64 / 16.0,
+                    *l as f64 / 16.0
+                )
+            })
+            .collect();
+        format!(
+            r#"{{"format":"bezsolid","version":1,"solid":{{"kind":"volume","degree":[16,16,16],"points":[{}]}}}}"#,
+            points.join(",")
+        )
+    }
+
+    #[test]
+    fn exports_of_nets_that_fold_everywhere_say_they_are_approximate() {
+        let made = headless::mesh(&shuffled_volume(), "stl", 16).unwrap();
+        assert!(made.data.len() >= 84);
+        assert!(made.approximate > 0, "{}", made.approximate);
+    }
+
     #[test]
     fn exports_hold_the_model() {
         let e = moved();
         let svg = svg(e.solid());
         assert!(svg.contains("<path"));
-        assert_eq!(
-            headless::svg(&patch_json(&e)).unwrap(),
-            svg,
-            "the worker's SVG is the same"
-        );
+        let made = headless::svg(&patch_json(&e)).unwrap();
+        assert_eq!(made.data, svg, "the worker's SVG is the same");
+        assert_eq!(made.approximate, 0);
         assert!(hyperfun(&e).unwrap_err().contains("regular grid"));
         assert!(
             hyperfun(&ContourView::new(Solid2::fig9()))

@@ -950,7 +950,7 @@ impl View3 {
                     self.stack_request = Some((revision, axis));
                 }
             } else if !moving || self.stack.as_ref().is_none_or(|c| c.axis != axis) {
-                let data = stack_segments(volume, axis, |_, _| {});
+                let (data, _) = stack_segments(volume, axis, |_, _| {});
                 self.stack = Some(StackCache {
                     revision,
                     axis,
@@ -1099,18 +1099,20 @@ fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usi
 /// The zero contour of each slice of the volume across `axis`, placed at the slice's mean position
 /// along it, as segments: six `f64` each (its two ends). `progress(done, total)` is called after
 /// each slice. A slice whose net may fold costs the inverse map at every sample (seconds at high
-/// degree): the page runs this in its worker.
+/// degree): the page runs this in its worker. With the segments, how many evaluations ran out of
+/// their work budget (where a slice folds over itself very many times; 0 where the stack is exact).
 pub fn stack_segments(
     volume: &Solid3,
     axis: Axis,
     mut progress: impl FnMut(usize, usize),
-) -> Vec<f64> {
+) -> (Vec<f64>, usize) {
     let net = volume.volume();
     let d = volume.degree();
     let a = axis_number(axis);
     let (lo, hi) = plane_coordinates(axis);
     let slices = [d.0, d.1, d.2][a] + 1;
     let mut out = Vec::new();
+    let mut approximate = 0;
     for index in 0..slices {
         let solid = slice_patch(net, axis, index).and_then(|p| Solid2::try_from_patch(p).ok());
         if let Some(solid) = solid {
@@ -1134,10 +1136,11 @@ pub fn stack_segments(
                     out.extend(to3(q));
                 }
             }
+            approximate += solid.exhausted();
         }
         progress(index + 1, slices);
     }
-    out
+    (out, approximate)
 }
 
 /// The rods that draw a contour stack's segments ([`stack_segments`]) for `volume`.
@@ -1467,7 +1470,9 @@ mod tests {
         let (revision, axis) = there.take_stack_request().unwrap();
         assert_eq!((revision, axis), (editor.revision(), Axis::W));
         let mut calls = Vec::new();
-        let data = stack_segments(&fish, axis, |done, total| calls.push((done, total)));
+        let (data, approximate) =
+            stack_segments(&fish, axis, |done, total| calls.push((done, total)));
+        assert_eq!(approximate, 0, "the fish is exact");
         assert_eq!(
             calls,
             (1..=3).map(|k| (k, 3)).collect::<Vec<_>>(),

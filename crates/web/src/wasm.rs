@@ -183,7 +183,7 @@ pub fn headless_link(text: &str) -> Result<String, JsError> {
 /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
 #[wasm_bindgen]
 pub fn headless_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
-    document::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
+    made(document::headless::mesh(text, format, resolution as usize))
 }
 
 /// The surface a volume model (a model file or link) is drawn with at `resolution`, as six `f32`
@@ -195,7 +195,7 @@ pub fn headless_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8
 /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
 #[wasm_bindgen]
 pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError> {
-    document::headless::surface(text, resolution as usize).map_err(|e| JsError::new(&e))
+    made(document::headless::surface(text, resolution as usize))
 }
 
 /// The contour stack of a volume model (a model file or link) across `axis` (0 = u, 1 = v, 2 = w):
@@ -211,11 +211,14 @@ pub fn headless_stack(
     axis: u32,
     progress: &js_sys::Function,
 ) -> Result<Vec<f64>, JsError> {
-    document::headless::stack(text, axis as usize, |done, total| {
-        // A progress report that throws changes nothing in the work.
-        let _ = progress.call2(&JsValue::NULL, &done.into(), &total.into());
-    })
-    .map_err(|e| JsError::new(&e))
+    made(document::headless::stack(
+        text,
+        axis as usize,
+        |done, total| {
+            // A progress report that throws changes nothing in the work.
+            let _ = progress.call2(&JsValue::NULL, &done.into(), &total.into());
+        },
+    ))
 }
 
 /// The GPU objects the renderers hold now and have made: `[buffers, textures, made in all]` (a
@@ -233,7 +236,35 @@ pub fn gpu_objects() -> Vec<u32> {
 /// What is wrong with the input, or a volume model.
 #[wasm_bindgen]
 pub fn headless_svg(text: &str) -> Result<String, JsError> {
-    document::headless::svg(text).map_err(|e| JsError::new(&e))
+    made(document::headless::svg(text))
+}
+
+thread_local! {
+    /// [`headless_approximate`]'s answer.
+    static APPROXIMATE: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// The data of a headless job; its count of approximate evaluations is kept for
+/// [`headless_approximate`] (0 on an error).
+fn made<T>(job: Result<document::headless::Made<T>, String>) -> Result<T, JsError> {
+    let (data, approximate) = match job {
+        Ok(m) => (Ok(m.data), m.approximate),
+        Err(e) => (Err(JsError::new(&e)), 0),
+    };
+    APPROXIMATE.with(|a| a.set(approximate));
+    data
+}
+
+/// How many evaluations of `f` in the last `headless_mesh`, `headless_surface`, `headless_stack`
+/// or `headless_svg` ran out of their work budget, where the net folds over itself very many
+/// times: 0 when its result is exact; otherwise it is approximate there (the page says so).
+#[wasm_bindgen]
+#[must_use]
+pub fn headless_approximate() -> u32 {
+    APPROXIMATE
+        .with(std::cell::Cell::get)
+        .try_into()
+        .unwrap_or(u32::MAX)
 }
 
 /// The 3D view's canvas and GPU; the model and camera live in [`Modeler`].
