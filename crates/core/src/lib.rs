@@ -59,7 +59,7 @@
 //!   makes glam use the platform's math instead of `libm`. Without it the crate is `no_std` + `alloc`
 //!   (CI builds it so for `wasm32-unknown-unknown`).
 #![no_std]
-#![cfg_attr(docsrs, feature(doc_auto_cfg))]
+#![cfg_attr(docsrs, feature(doc_cfg))]
 
 extern crate alloc;
 #[cfg(any(feature = "std", test))]
