@@ -9,20 +9,10 @@
 //
 // Used by tests/e2e/soak.test.mjs (a shorter run in the suite) and tests/soak.mjs (the full one).
 
+import { random } from './random.mjs';
+
 /** The counts of the full soak. */
 export const FULL = { drags: 2000, links: 200, switches: 50, runs: 50 };
-
-/** A seeded generator (mulberry32): the same soak every time. */
-function random(seed) {
-  let a = seed >>> 0;
-  return () => {
-    a = (a + 0x6d2b79f5) >>> 0;
-    let t = a;
-    t = Math.imul(t ^ (t >>> 15), t | 1);
-    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
-    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
-  };
-}
 
 const N = 16; // points per side of the dragged patch
 

@@ -22,23 +22,11 @@ use bezsolid_core::esc::examples::Example;
 use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, ModelSolid};
 use bezsolid_core::presets::Preset;
 use bezsolid_core::{Solid2, Solid3};
-use common::{bezsolid, out_path};
+use common::{Rng, bezsolid, out_path};
 
 /// The fixtures' folder.
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/contracts")
-}
-
-/// A small deterministic generator (xorshift).
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// The models of the corpus, by name, as the earlier build wrote them.

@@ -11,19 +11,7 @@ mod common;
 use std::fmt::Write as _;
 use std::time::Duration;
 
-use common::{Feed, bezsolid_bounded, out_path, scratch};
-
-/// A small deterministic generator (xorshift).
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use common::{Feed, Rng, bezsolid_bounded, out_path, scratch};
 
 /// A model file of a patch (`degree` of 2) or volume (3) with `points` in the file's order.
 fn model(degree: &[usize], points: &[Vec<f64>]) -> String {

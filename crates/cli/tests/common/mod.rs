@@ -145,3 +145,16 @@ pub(crate) fn bezsolid_bounded(
         stderr: stderr.join().unwrap(),
     }
 }
+
+/// A small deterministic generator (xorshift): the same inputs on every run.
+pub(crate) struct Rng(pub(crate) u64);
+
+impl Rng {
+    /// A number in [0, 1).
+    pub(crate) fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
