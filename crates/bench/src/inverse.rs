@@ -24,29 +24,29 @@ fn warp(p: DVec3, a: f64) -> DVec3 {
 #[must_use]
 pub fn warped_patch(points: usize) -> Solid2 {
     let d = points - 1;
-    let patch = Patch::from_fn((d, d), |i, j| {
+    let patch = Patch::from_fn([d, d], |[i, j]| {
         let (x, y) = (i as f64 / d as f64, j as f64 / d as f64);
         let w = warp(DVec3::new(x, y, 0.0), 0.06);
         let xi = 0.12 - (x - 0.5).powi(2) - (y - 0.45).powi(2) + 0.05 * (7.0 * x).sin();
         DVec3::new(w.x, w.y, xi)
     })
     .unwrap_or_else(|_| unreachable!("a valid degree"));
-    Solid2::try_from_patch(patch).unwrap_or_else(|_| unreachable!("finite values"))
+    Solid2::try_from_net(patch).unwrap_or_else(|_| unreachable!("finite values"))
 }
 
 /// The benchmark volume ([`bench_solid`]) with its control points warped in space.
 #[must_use]
 pub fn warped_volume() -> Solid3 {
     let base = bench_solid();
-    let v = base.volume();
-    let (n, m, l) = v.degree();
-    let volume = Volume::from_fn((n, m, l), |i, j, k| {
-        let p = v.point(i, j, k);
+    let v = base.net();
+    let [n, m, l] = v.degree();
+    let volume = Volume::from_fn([n, m, l], |[i, j, k]| {
+        let p = v[[i, j, k]];
         let w = warp(p.truncate(), 0.05);
         DVec4::new(w.x, w.y, w.z, p.w)
     })
     .unwrap_or_else(|_| unreachable!("a valid degree"));
-    Solid3::try_from_volume(volume).unwrap_or_else(|_| unreachable!("finite values"))
+    Solid3::try_from_net(volume).unwrap_or_else(|_| unreachable!("finite values"))
 }
 
 /// xorshift64*: the same points natively and in wasm.
@@ -171,8 +171,8 @@ fn points_case<const D: usize, F: bezsolid_core::inverse::Forward<D>>(
 /// The regular grid over the unit box with the positions of its control points shuffled among them
 /// (and ξ random): a net that folds over itself everywhere, the worst a user can drag into being.
 #[must_use]
-pub fn shuffled_patch(degree: (usize, usize), seed: u64) -> Solid2 {
-    let (n, m) = degree;
+pub fn shuffled_patch(degree: [usize; 2], seed: u64) -> Solid2 {
+    let [n, m] = degree;
     let mut rng = Rng(seed);
     let mut spots: Vec<(f64, f64)> = (0..=n)
         .flat_map(|i| (0..=m).map(move |j| (i as f64 / n as f64, j as f64 / m as f64)))
@@ -180,18 +180,18 @@ pub fn shuffled_patch(degree: (usize, usize), seed: u64) -> Solid2 {
     for k in (1..spots.len()).rev() {
         spots.swap(k, ((rng.unit() * (k + 1) as f64) as usize).min(k));
     }
-    let patch = Patch::from_fn(degree, |i, j| {
+    let patch = Patch::from_fn(degree, |[i, j]| {
         let (x, y) = spots[i * (m + 1) + j];
         DVec3::new(x, y, rng.unit() * 2.0 - 1.0)
     })
     .unwrap_or_else(|_| unreachable!("a valid degree"));
-    Solid2::try_from_patch(patch).unwrap_or_else(|_| unreachable!("finite values"))
+    Solid2::try_from_net(patch).unwrap_or_else(|_| unreachable!("finite values"))
 }
 
 /// [`shuffled_patch`] for volumes.
 #[must_use]
-pub fn shuffled_volume(degree: (usize, usize, usize), seed: u64) -> Solid3 {
-    let (n, m, l) = degree;
+pub fn shuffled_volume(degree: [usize; 3], seed: u64) -> Solid3 {
+    let [n, m, l] = degree;
     let mut rng = Rng(seed);
     let mut spots: Vec<[f64; 3]> = Vec::new();
     for i in 0..=n {
@@ -208,12 +208,12 @@ pub fn shuffled_volume(degree: (usize, usize, usize), seed: u64) -> Solid3 {
     for k in (1..spots.len()).rev() {
         spots.swap(k, ((rng.unit() * (k + 1) as f64) as usize).min(k));
     }
-    let volume = Volume::from_fn(degree, |i, j, k| {
+    let volume = Volume::from_fn(degree, |[i, j, k]| {
         let [x, y, z] = spots[(i * (m + 1) + j) * (l + 1) + k];
         DVec4::new(x, y, z, rng.unit() * 2.0 - 1.0)
     })
     .unwrap_or_else(|_| unreachable!("a valid degree"));
-    Solid3::try_from_volume(volume).unwrap_or_else(|_| unreachable!("finite values"))
+    Solid3::try_from_net(volume).unwrap_or_else(|_| unreachable!("finite values"))
 }
 
 /// Nets that fold over themselves everywhere: points through the atlas against whole-domain
@@ -221,7 +221,7 @@ pub fn shuffled_volume(degree: (usize, usize, usize), seed: u64) -> Solid3 {
 fn folded(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     let budget = if quick { 50.0 } else { 1000.0 };
     let mut rows = Vec::new();
-    let patch = shuffled_patch((6, 6), 0x2545_F491_4F6C_DD1D);
+    let patch = shuffled_patch([6, 6], 0x2545_F491_4F6C_DD1D);
     let map = patch
         .inverse()
         .unwrap_or_else(|| unreachable!("a shuffled net"));
@@ -231,13 +231,13 @@ fn folded(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(points_case(
         clock,
         case,
-        (patch.patch(), map),
+        (patch.net(), map),
         count,
         &[Method::Clipping, Method::Fast],
     ));
     // The worst net there is: degree 16 on every axis, 4,913 points shuffled. Whole-domain
     // clipping takes seconds a point there.
-    let volume = shuffled_volume((16, 16, 16), 0xBF58_476D_1CE4_E5B9);
+    let volume = shuffled_volume([16, 16, 16], 0xBF58_476D_1CE4_E5B9);
     let map = volume
         .inverse()
         .unwrap_or_else(|| unreachable!("a shuffled net"));
@@ -246,7 +246,7 @@ fn folded(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(points_case(
         clock,
         "inverse map: random points of a volume that folds over itself (shuffled degree-16 net)",
-        (volume.volume(), map),
+        (volume.net(), map),
         count,
         &[Method::Fast],
     ));
@@ -257,7 +257,7 @@ fn folded(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     for (degree, seed) in [(6, 0x9E37_79B9_7F4A_7C15u64), (16, 0xD1B5_4A32_D192_ED03)] {
         let (ms, runs, lines) = time(clock, budget, || {
             // A fresh net each run: the atlas is part of the cost.
-            sampled_contour(&shuffled_patch((degree, degree), seed), res, 1e-9)
+            sampled_contour(&shuffled_patch([degree, degree], seed), res, 1e-9)
         });
         rows.push(Row {
             case: "contour of a patch that folds over itself (shuffled net)".into(),
@@ -271,7 +271,7 @@ fn folded(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     }
     let res = if quick { 16 } else { 64 };
     let (ms, runs, mesh) = time(clock, budget, || {
-        shuffled_volume((6, 6, 1), 0x94D0_49BB_1331_11EB)
+        shuffled_volume([6, 6, 1], 0x94D0_49BB_1331_11EB)
             .polygonize(res, 1e-9)
             .unwrap_or_else(|_| unreachable!("valid arguments"))
     });
@@ -299,7 +299,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(points_case(
         clock,
         "inverse map: random points in a warped bicubic patch",
-        (patch.patch(), map),
+        (patch.net(), map),
         count,
         &Method::ALL,
     ));
@@ -311,7 +311,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(points_case(
         clock,
         "inverse map: random points in a warped degree-(4,4,4) volume",
-        (volume.volume(), map),
+        (volume.net(), map),
         count,
         &Method::ALL,
     ));
@@ -321,7 +321,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     let build = "build the inverse map after an edit (spline, certificate, seed table)";
     let small = warped_patch(4);
     let big = warped_patch(16);
-    for (n, net) in [(4, small.patch()), (16, big.patch())] {
+    for (n, net) in [(4, small.net()), (16, big.net())] {
         let (ms, runs, map) = time(clock, budget, || InverseMap::new(net));
         rows.push(Row {
             case: build.into(),
@@ -333,7 +333,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
     }
-    let (ms, runs, map) = time(clock, budget, || InverseMap::new(volume.volume()));
+    let (ms, runs, map) = time(clock, budget, || InverseMap::new(volume.net()));
     rows.push(Row {
         case: build.into(),
         who: "bezsolid: volume, 5×5×5 points".into(),

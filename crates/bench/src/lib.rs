@@ -58,11 +58,11 @@ pub fn time<T>(clock: &mut dyn Clock, budget_ms: f64, mut f: impl FnMut() -> T) 
 #[must_use]
 pub fn bench_solid() -> Solid3 {
     let c = [0.25, -0.25, 0.25];
-    let ball = Solid3::regular((2, 2, 2), DVec3::ZERO, DVec3::ONE, |i, j, k| {
+    let ball = Solid3::regular([2, 2, 2], DVec3::ZERO, DVec3::ONE, |[i, j, k]| {
         0.16 - c[i] - c[j] - c[k]
     })
     .unwrap_or_else(|_| unreachable!("a valid net"));
-    let mut xi = ball.xi_volume();
+    let mut xi = ball.xi_net();
     for axis in [Axis::U, Axis::V, Axis::W] {
         for _ in 0..2 {
             xi = xi
@@ -70,9 +70,9 @@ pub fn bench_solid() -> Solid3 {
                 .unwrap_or_else(|_| unreachable!("degree 4 is allowed"));
         }
     }
-    let (n, m, l) = xi.degree();
+    let [n, m, l] = xi.degree();
     let pts = xi.points().to_vec();
-    let rippled = Volume::from_fn((n, m, l), |i, j, k| {
+    let rippled = Volume::from_fn([n, m, l], |[i, j, k]| {
         let s = pts[(i * (m + 1) + j) * (l + 1) + k];
         let ripple = 0.03 * (((i * 7 + j * 3 + k * 5) % 5) as f64 - 2.0) / 2.0;
         DVec3::new(
@@ -83,7 +83,7 @@ pub fn bench_solid() -> Solid3 {
         .extend(s + ripple)
     })
     .unwrap_or_else(|_| unreachable!("a valid net"));
-    Solid3::try_from_volume(rippled).unwrap_or_else(|_| unreachable!("a regular grid"))
+    Solid3::try_from_net(rippled).unwrap_or_else(|_| unreachable!("a regular grid"))
 }
 
 /// `n` sample coordinates spread over `[0, 1]`.
@@ -104,7 +104,7 @@ pub fn sampled(n: usize) -> (SampleGrid, Vec<f64>) {
             .map(|a| grid.origin[k] + grid.step[k] * a as f64)
             .collect()
     };
-    let values = solid.f_grid(&axis(0), &axis(1), &axis(2));
+    let values = solid.f_grid([&axis(0), &axis(1), &axis(2)]);
     (grid, values)
 }
 
@@ -113,12 +113,12 @@ pub fn sampled(n: usize) -> (SampleGrid, Vec<f64>) {
 pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     let budget = if quick { 50.0 } else { 1000.0 };
     let solid = bench_solid();
-    let xi = solid.xi_volume();
+    let xi = solid.xi_net();
     let mut rows = Vec::new();
     let eval_sizes: &[usize] = if quick { &[32] } else { &[64, 128, 256] };
     for &n in eval_sizes {
         let t = samples(n);
-        let (ms, runs, out) = time(clock, budget, || xi.eval_grid(&t, &t, &t));
+        let (ms, runs, out) = time(clock, budget, || xi.eval_grid([&t, &t, &t]));
         let points = (n * n * n) as f64;
         rows.push(Row {
             case: "grid evaluation S_xi, degree (4,4,4)".into(),
@@ -130,7 +130,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
         assert_eq!(out.len(), n * n * n);
-        let (ms, runs, _) = time(clock, budget, || solid.f_grid(&t, &t, &t));
+        let (ms, runs, _) = time(clock, budget, || solid.f_grid([&t, &t, &t]));
         rows.push(Row {
             case: "grid evaluation f = S_xi & F_s".into(),
             who: "bezsolid".into(),

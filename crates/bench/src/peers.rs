@@ -71,8 +71,8 @@ pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
 /// `[0, 1]³` (the solid's box), each basis polynomial built once per axis. The clipping is left out:
 /// inside the box it does not move the zero set, and fidget only meshes the box.
 fn bernstein_tree() -> Tree {
-    let xi = bench_solid().xi_volume();
-    let (n, m, l) = xi.degree();
+    let xi = bench_solid().xi_net();
+    let [n, m, l] = xi.degree();
     let basis = |axis: Tree, degree: usize| -> Vec<Tree> {
         let rest = 1.0f32 - axis.clone();
         (0..=degree)

@@ -112,7 +112,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             })
             .collect();
         let patch = patch_from_curves(&cubic).unwrap_or_else(|_| unreachable!("equal degrees"));
-        let (ms, runs, _) = time(clock, budget, || patch.eval_grid(&ts, &ts).len());
+        let (ms, runs, _) = time(clock, budget, || patch.eval_grid([&ts, &ts]).len());
         rows.push(Row {
             case: case.into(),
             who: "tensor patch, eval_grid".into(),

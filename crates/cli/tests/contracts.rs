@@ -45,8 +45,12 @@ fn models() -> Vec<(String, ModelFile)> {
         unreachable!()
     };
     let mut moved = fig9.clone();
-    moved.set_point(1, 1, glam::DVec2::new(0.62, 0.41)).unwrap();
-    moved.set_point(1, 2, glam::DVec2::new(0.55, 1.1)).unwrap();
+    moved
+        .set_point([1, 1], glam::DVec2::new(0.62, 0.41))
+        .unwrap();
+    moved
+        .set_point([1, 2], glam::DVec2::new(0.55, 1.1))
+        .unwrap();
     out.push(("space-mapped-patch".into(), ModelFile::from_solid2(&moved)));
     // A degree-(5, 5) patch whose control points are the regular grid's, shuffled: it folds over
     // itself everywhere.
@@ -58,27 +62,32 @@ fn models() -> Vec<(String, ModelFile)> {
         spots.swap(k, j);
     }
     let mut folded =
-        Solid2::regular((5, 5), glam::DVec2::ZERO, glam::DVec2::ONE, |_, _| 0.0).unwrap();
+        Solid2::regular([5, 5], glam::DVec2::ZERO, glam::DVec2::ONE, |[_, _]| 0.0).unwrap();
     for i in 0..6 {
         for j in 0..6 {
             let (x, y) = spots[i * 6 + j];
-            folded.set_point(i, j, glam::DVec2::new(x, y)).unwrap();
-            folded.set_xi(i, j, rng.unit() * 2.0 - 1.0).unwrap();
+            folded.set_point([i, j], glam::DVec2::new(x, y)).unwrap();
+            folded.set_xi([i, j], rng.unit() * 2.0 - 1.0).unwrap();
         }
     }
     out.push(("folded-patch".into(), ModelFile::from_solid2(&folded)));
     // A degree-(3, 3, 3) ball with its control points jittered: a space-mapped volume.
-    let mut ball = Solid3::regular((3, 3, 3), glam::DVec3::ZERO, glam::DVec3::ONE, |i, j, k| {
-        let c = glam::DVec3::new(i as f64, j as f64, k as f64) / 3.0 - 0.5;
-        0.8 - 2.0 * c.length_squared()
-    })
+    let mut ball = Solid3::regular(
+        [3, 3, 3],
+        glam::DVec3::ZERO,
+        glam::DVec3::ONE,
+        |[i, j, k]| {
+            let c = glam::DVec3::new(i as f64, j as f64, k as f64) / 3.0 - 0.5;
+            0.8 - 2.0 * c.length_squared()
+        },
+    )
     .unwrap();
     for i in 0..4 {
         for j in 0..4 {
             for k in 0..4 {
                 let p = glam::DVec3::new(i as f64, j as f64, k as f64) / 3.0;
                 let jitter = glam::DVec3::new(rng.unit(), rng.unit(), rng.unit()) - 0.5;
-                ball.set_point(i, j, k, p + 0.08 * jitter).unwrap();
+                ball.set_point([i, j, k], p + 0.08 * jitter).unwrap();
             }
         }
     }

@@ -456,7 +456,7 @@ pub fn patch_from_curves<P: ControlPoint>(
         .iter()
         .flat_map(|c| c.points().iter().copied())
         .collect();
-    Patch::try_new((curves.len() - 1, m), points).map_err(BlendError::Net)
+    Patch::try_new([curves.len() - 1, m], points).map_err(BlendError::Net)
 }
 
 /// The tensor-product volume equal to the transfinite Bézier blend
@@ -471,15 +471,15 @@ pub fn volume_from_patches<P: ControlPoint>(patches: &[Patch<P>]) -> Result<Volu
     if patches.len() > crate::MAX_DEGREE + 1 {
         return Err(BlendError::Count(patches.len()));
     }
-    let (n, m) = first.degree();
-    if patches.iter().any(|p| p.degree() != (n, m)) {
+    let [n, m] = first.degree();
+    if patches.iter().any(|p| p.degree() != [n, m]) {
         return Err(BlendError::Degrees);
     }
     let points = patches
         .iter()
         .flat_map(|p| p.points().iter().copied())
         .collect();
-    Volume::try_new((patches.len() - 1, n, m), points).map_err(BlendError::Net)
+    Volume::try_new([patches.len() - 1, n, m], points).map_err(BlendError::Net)
 }
 
 #[cfg(test)]
@@ -509,18 +509,18 @@ mod fit_tests {
             Some(DVec3::new(p[0], p[1], p[2]))
         })
         .expect("a polynomial");
-        assert_eq!(patch.degree(), (3, 3));
+        assert_eq!(patch.degree(), [3, 3]);
         // The first row of the net is C0 elevated to degree 3.
         let c0 = BezierCurve::try_new(vec![DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0)])
             .and_then(|c| c.elevate())
             .and_then(|c| c.elevate())
             .expect("elevated");
         for j in 0..4 {
-            assert!((patch.point(j, 0) - c0.points()[j]).length() < 1e-9);
+            assert!((patch[[j, 0]] - c0.points()[j]).length() < 1e-9);
         }
         // A plane is degree (1, 1); sin is no polynomial; a hole is undefined.
         let plane = fit_patch(&mut |u, v| Some(DVec3::new(u, v, 2.0 * u - v))).expect("a plane");
-        assert_eq!(plane.degree(), (1, 1));
+        assert_eq!(plane.degree(), [1, 1]);
         assert_eq!(
             fit_patch(&mut |u, v| Some(DVec3::new(u, v, (7.0 * u).sin()))).err(),
             Some(BlendError::NotPolynomial)
@@ -734,7 +734,7 @@ mod tests {
         let blend = bezier(&Fun::select(1), &handles).unwrap();
         for (u1, u2) in [(0.1, 0.7), (0.5, 0.5), (0.9, 0.2), (0.0, 1.0)] {
             let got = DVec3::from_slice(&eval(&blend, &[u1, u2]));
-            assert!((got - patch.eval(u2, u1)).length() < 1e-13);
+            assert!((got - patch.eval([u2, u1])).length() < 1e-13);
         }
         // Patches of one degree blend into a volume.
         let patches: Vec<Patch<DVec3>> = (0..3)
@@ -746,13 +746,13 @@ mod tests {
         for (u1, u2, u3) in [(0.2, 0.3, 0.4), (0.9, 0.1, 0.6)] {
             let expect: DVec3 = (0..3)
                 .map(|i| {
-                    patches[i].eval(u1, u2)
+                    patches[i].eval([u1, u2])
                         * (binomial(2, i)
                             * libm::pow(u3, i as f64)
                             * libm::pow(1.0 - u3, (2 - i) as f64))
                 })
                 .sum();
-            assert!((volume.eval(u3, u1, u2) - expect).length() < 1e-13);
+            assert!((volume.eval([u3, u1, u2]) - expect).length() < 1e-13);
         }
         // Curves of different degrees must be elevated first.
         assert!(matches!(
@@ -840,7 +840,7 @@ pub fn fit_patch(f: &mut dyn FnMut(f64, f64) -> Option<DVec3>) -> Result<Patch<D
             points[i * (m + 1) + j] = p;
         }
     }
-    let patch = Patch::try_new((n, m), points).map_err(BlendError::Net)?;
+    let patch = Patch::try_new([n, m], points).map_err(BlendError::Net)?;
     let scale = samples
         .iter()
         .fold(1e-300f64, |s, p| s.max(p.abs().max_element()));
@@ -851,7 +851,7 @@ pub fn fit_patch(f: &mut dyn FnMut(f64, f64) -> Option<DVec3>) -> Result<Patch<D
         (0.66, 0.93),
         (0.5, 0.5),
     ] {
-        if (patch.eval(u, v) - eval(u, v)?).abs().max_element() > 1e-10 * scale {
+        if (patch.eval([u, v]) - eval(u, v)?).abs().max_element() > 1e-10 * scale {
             return Err(BlendError::NotPolynomial);
         }
     }

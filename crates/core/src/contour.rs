@@ -117,7 +117,7 @@ pub fn solid_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Po
 #[must_use]
 pub fn sampled_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
     let grid = sample_grid(solid, resolution);
-    let values = solid.f_grid(&grid.xs(), &grid.ys());
+    let values = solid.f_grid([&grid.xs(), &grid.ys()]);
     contour(&grid, &values, |p: DVec2| solid.f(p), accuracy)
 }
 
@@ -154,7 +154,7 @@ pub fn forward_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Opti
 #[must_use]
 pub fn sheet_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
     let mut lines = sampled_contour(&solid.in_parameter_space(), resolution, accuracy);
-    let net = solid.patch();
+    let net = solid.net();
     for line in &mut lines {
         for p in &mut line.points {
             *p = DVec2::from_array(net.forward(p.to_array()).x);
@@ -497,7 +497,7 @@ mod tests {
     fn contour_of_fig9_solid_is_one_loop() {
         let s = crate::Solid2::fig9();
         let grid = Grid2::new(DVec2::splat(-0.2), DVec2::splat(1.2), 97, 97);
-        let values = s.f_grid(&grid.xs(), &grid.ys());
+        let values = s.f_grid([&grid.xs(), &grid.ys()]);
         let lines = contour(&grid, &values, |p| s.f(p), 1e-9);
         assert_eq!(lines.len(), 1);
         assert!(lines[0].closed && lines[0].signed_area() > 0.0);
@@ -548,7 +548,7 @@ mod tests {
     fn a_net_whose_points_share_one_x_has_closed_contours() {
         // The box is 2.2e-308 wide beside x = 3.9e-11: below rounding, so a grid over it alone has
         // no width and its margin cannot close the contour.
-        let patch = crate::Patch::from_fn((2, 2), |i, j| {
+        let patch = crate::Patch::from_fn([2, 2], |[i, j]| {
             DVec3::new(
                 3.9e-11 + 1.1e-308 * i as f64,
                 j as f64 / 2.0,
@@ -556,7 +556,7 @@ mod tests {
             )
         })
         .unwrap();
-        let solid = Solid2::try_from_patch(patch).unwrap();
+        let solid = Solid2::try_from_net(patch).unwrap();
         for res in [2, 7, 16, 64] {
             for line in solid_contour(&solid, res, 1e-9) {
                 assert!(line.closed, "{res}: {line:?}");
@@ -586,8 +586,8 @@ mod tests {
         let mut rng = Rng::new(91);
         let mut checked = 0;
         for _ in 0..6 {
-            let patch = crate::inverse::tests::warped_patch(&mut rng, (3, 3), 0.1);
-            let solid = Solid2::try_from_patch(patch).unwrap();
+            let patch = crate::inverse::tests::warped_patch(&mut rng, [3, 3], 0.1);
+            let solid = Solid2::try_from_net(patch).unwrap();
             let Some(forward) = forward_contour(&solid, 96, 1e-12) else {
                 continue;
             };

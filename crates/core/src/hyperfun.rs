@@ -95,7 +95,7 @@ pub fn solid2_hf(solid: &Solid2) -> Result<String, SpaceMapped> {
     if solid.inverse().is_some() {
         return Err(SpaceMapped);
     }
-    let (n, m) = solid.degree();
+    let [n, m] = solid.degree();
     let (min, max): (DVec2, DVec2) = solid.domain();
     let mut out = String::new();
     header(
@@ -109,10 +109,11 @@ pub fn solid2_hf(solid: &Solid2) -> Result<String, SpaceMapped> {
     let _ = writeln!(out, "my_model(x[3], a[1])\n{{");
     axis_lines(&mut out, "u", 1, min.x, max.x, n);
     axis_lines(&mut out, "v", 2, min.y, max.y, m);
+    let xi = solid.xi_net();
     let mut rows = Vec::with_capacity(n + 1);
     for i in 0..=n {
         let terms: Vec<String> = (0..=m)
-            .map(|j| format!("bv{j}*{}", num(solid.xi(i, j))))
+            .map(|j| format!("bv{j}*{}", num(xi[[i, j]])))
             .collect();
         rows.push(format!("bu{i}*({})", terms.join(" + ")));
     }
@@ -131,9 +132,9 @@ pub fn solid3_hf(solid: &Solid3) -> Result<String, SpaceMapped> {
     if solid.inverse().is_some() {
         return Err(SpaceMapped);
     }
-    let (n, m, l) = solid.degree();
+    let [n, m, l] = solid.degree();
     let (min, max): (DVec3, DVec3) = solid.domain();
-    let xi = solid.xi_volume();
+    let xi = solid.xi_net();
     let at = |i: usize, j: usize, k: usize| xi.points()[(i * (m + 1) + j) * (l + 1) + k];
     let mut out = String::new();
     header(
@@ -391,10 +392,10 @@ mod tests {
     fn exported_patches_evaluate_to_f() {
         let mut rng = Rng::new(61);
         let solid = Solid2::regular(
-            (3, 2),
+            [3, 2],
             DVec2::new(-1.0, 2.0),
             DVec2::new(0.5, 3.0),
-            |_, _| rng.range(-1.0, 1.0),
+            |[_, _]| rng.range(-1.0, 1.0),
         )
         .unwrap();
         let text = solid2_hf(&solid).unwrap();
@@ -412,12 +413,12 @@ mod tests {
     #[test]
     fn space_mapped_solids_are_refused() {
         let mut s2 = Solid2::fig9();
-        s2.set_point(1, 1, glam::DVec2::new(0.6, 0.45)).unwrap();
+        s2.set_point([1, 1], glam::DVec2::new(0.6, 0.45)).unwrap();
         assert_eq!(solid2_hf(&s2), Err(SpaceMapped));
         let ModelSolid::Volume(mut s3) = Preset::Blob.solid() else {
             unreachable!()
         };
-        s3.set_point(1, 1, 1, DVec3::new(0.1, 0.0, 0.2)).unwrap();
+        s3.set_point([1, 1, 1], DVec3::new(0.1, 0.0, 0.2)).unwrap();
         assert_eq!(solid3_hf(&s3), Err(SpaceMapped));
         assert!(alloc::string::ToString::to_string(&SpaceMapped).contains("regular grid"));
     }

@@ -69,6 +69,7 @@ pub mod bernstein;
 pub mod blend;
 pub mod contour;
 mod curve;
+mod dim;
 pub mod esc;
 pub mod hyperfun;
 pub mod inverse;
@@ -85,8 +86,9 @@ pub mod triangular;
 
 pub use bernstein::MAX_DEGREE;
 pub use curve::BezierCurve;
-pub use solid::{INVERSE_ACCURACY, Solid2, Solid3, SolidError};
-pub use tensor::{Axis, ControlPoint, Patch, PatchError, Volume};
+pub use dim::{Control, Dim, Dimension, Point};
+pub use solid::{INVERSE_ACCURACY, Solid, Solid2, Solid3, SolidError};
+pub use tensor::{Axis, ControlPoint, Patch, PatchError, Tensor, Volume};
 
 #[cfg(test)]
 pub(crate) mod testutil;

@@ -443,11 +443,11 @@ mod tests {
     /// A patch with arbitrary (non-round) numbers everywhere, space-mapped.
     fn awkward_patch() -> Solid2 {
         let mut s = Solid2::fig9();
-        s.set_point(1, 1, DVec2::new(0.612_345_678_901_234_5, 0.387_654_321))
+        s.set_point([1, 1], DVec2::new(0.612_345_678_901_234_5, 0.387_654_321))
             .unwrap();
-        s.set_xi(0, 2, -0.123_456_789_012_345_67).unwrap();
-        s.set_xi(2, 0, f64::MIN_POSITIVE).unwrap();
-        s.set_xi(2, 1, -0.0).unwrap();
+        s.set_xi([0, 2], -0.123_456_789_012_345_67).unwrap();
+        s.set_xi([2, 0], f64::MIN_POSITIVE).unwrap();
+        s.set_xi([2, 1], -0.0).unwrap();
         s
     }
 
@@ -456,13 +456,13 @@ mod tests {
         let mut solids: Vec<ModelSolid> = Preset::ALL.iter().map(|p| p.solid()).collect();
         solids.push(ModelSolid::Patch(awkward_patch()));
         let mut s3 = Solid3::regular(
-            (2, 1, 3),
+            [2, 1, 3],
             DVec3::ZERO,
             DVec3::new(1.0, 2.0, 3.0),
-            |i, j, k| (i * 7 + j * 3 + k) as f64 / 9.0 - 0.4,
+            |[i, j, k]| (i * 7 + j * 3 + k) as f64 / 9.0 - 0.4,
         )
         .unwrap();
-        s3.set_point(1, 0, 2, DVec3::new(0.45, 0.1, 2.2)).unwrap();
+        s3.set_point([1, 0, 2], DVec3::new(0.45, 0.1, 2.2)).unwrap();
         solids.push(ModelSolid::Volume(s3));
         for solid in solids {
             let f = file(&solid);
@@ -634,11 +634,11 @@ mod tests {
         let fig9 = encode(&file(&Preset::ALL[0].solid())).unwrap();
         assert!(fig9.len() < 120, "{fig9}");
         // A 4×4 patch with every ξ and one point dragged to arbitrary numbers.
-        let mut s = Solid2::regular((3, 3), DVec2::ZERO, DVec2::ONE, |i, j| {
+        let mut s = Solid2::regular([3, 3], DVec2::ZERO, DVec2::ONE, |[i, j]| {
             (i as f64 * 0.377 + j as f64 * 0.911).sin()
         })
         .unwrap();
-        s.set_point(2, 1, DVec2::new(0.7123, 0.3345)).unwrap();
+        s.set_point([2, 1], DVec2::new(0.7123, 0.3345)).unwrap();
         let link = encode(&ModelFile::from_solid2(&s)).unwrap();
         assert!(link.len() < 600, "{} chars", link.len());
     }

@@ -226,13 +226,8 @@ impl ModelFile {
     /// The model file of a patch solid.
     #[must_use]
     pub fn from_solid2(solid: &Solid2) -> Self {
-        let (n, m) = solid.degree();
-        let points = solid
-            .patch()
-            .points()
-            .iter()
-            .map(|p| p.to_array())
-            .collect();
+        let [n, m] = solid.degree();
+        let points = solid.net().points().iter().map(|p| p.to_array()).collect();
         Self::new(SolidSpec::Patch {
             degree: [n, m],
             points,
@@ -242,13 +237,8 @@ impl ModelFile {
     /// The model file of a volume solid.
     #[must_use]
     pub fn from_solid3(solid: &Solid3) -> Self {
-        let (n, m, l) = solid.degree();
-        let points = solid
-            .volume()
-            .points()
-            .iter()
-            .map(|p| p.to_array())
-            .collect();
+        let [n, m, l] = solid.degree();
+        let points = solid.net().points().iter().map(|p| p.to_array()).collect();
         Self::new(SolidSpec::Volume {
             degree: [n, m, l],
             points,
@@ -275,15 +265,13 @@ impl ModelFile {
         Ok(match &self.solid {
             SolidSpec::Patch { degree, points } => {
                 let pts = points.iter().map(|&p| DVec3::from_array(p)).collect();
-                let patch =
-                    Patch::try_new((degree[0], degree[1]), pts).map_err(SolidError::from)?;
-                ModelSolid::Patch(Solid2::try_from_patch(patch)?)
+                let patch = Patch::try_new(*degree, pts).map_err(SolidError::from)?;
+                ModelSolid::Patch(Solid2::try_from_net(patch)?)
             }
             SolidSpec::Volume { degree, points } => {
                 let pts = points.iter().map(|&p| DVec4::from_array(p)).collect();
-                let volume = Volume::try_new((degree[0], degree[1], degree[2]), pts)
-                    .map_err(SolidError::from)?;
-                ModelSolid::Volume(Solid3::try_from_volume(volume)?)
+                let volume = Volume::try_new(*degree, pts).map_err(SolidError::from)?;
+                ModelSolid::Volume(Solid3::try_from_net(volume)?)
             }
             SolidSpec::Esc { .. } => {
                 return Err(ModelError::Kind(
@@ -520,7 +508,7 @@ mod tests {
             ModelFile::from_solid2(&s2).to_solid(),
             Ok(ModelSolid::Patch(s2))
         );
-        let s3 = Solid3::regular((1, 2, 1), DVec3::ZERO, DVec3::ONE, |i, j, k| {
+        let s3 = Solid3::regular([1, 2, 1], DVec3::ZERO, DVec3::ONE, |[i, j, k]| {
             (i + j + k) as f64 - 1.5
         })
         .unwrap();

@@ -60,12 +60,12 @@ fn valid(solid: Result<Solid3, crate::SolidError>) -> Solid3 {
 
 fn blob() -> Solid3 {
     valid(Solid3::regular(
-        (2, 2, 2),
+        [2, 2, 2],
         DVec3::splat(-1.0),
         DVec3::ONE,
-        |i, j, k| match (i, j, k) {
-            (1, 1, 1) => 1.0,
-            (0 | 2, 0 | 2, 0 | 2) => -1.0,
+        |index| match index {
+            [1, 1, 1] => 1.0,
+            [0 | 2, 0 | 2, 0 | 2] => -1.0,
             _ => 0.25,
         },
     ))
@@ -75,7 +75,7 @@ fn ring() -> Solid3 {
     // The middle layer is raised on the control points at radius 0.5 to 1 from the axis and lowered
     // inside (the hole) and outside; the top and bottom layers are lowered a little.
     let min = DVec3::new(-1.0, -1.0, -0.4);
-    valid(Solid3::regular((6, 6, 2), min, -min, |i, j, k| {
+    valid(Solid3::regular([6, 6, 2], min, -min, |[i, j, k]| {
         let r = DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length();
         match (k, r) {
             (1, r) if r > 0.5 && r < 1.0 => 2.0,
@@ -103,10 +103,10 @@ fn fish() -> Solid3 {
     ];
     const ROW: [usize; 5] = [0, 1, 2, 1, 0];
     valid(Solid3::regular(
-        (6, 4, 2),
+        [6, 4, 2],
         DVec3::new(0.0, -0.8, -0.5),
         DVec3::new(3.0, 0.8, 0.5),
-        |i, j, k| {
+        |[i, j, k]| {
             let layer = if k == 1 { &MIDDLE } else { &OUTER };
             layer[ROW[j]][i]
         },

@@ -63,11 +63,30 @@ pub fn strip(t: f64) -> f64 {
     t * (1.0 - t)
 }
 
+/// The unit box of `D` parameters, `F_b(t_0) & F_b(t_1) & …`, taken left to right as the paper
+/// writes it (`&` is not associative in floating point, nor exactly in value).
+#[must_use]
+#[inline]
+pub fn unit_box<const D: usize>(t: [f64; D]) -> f64 {
+    t[1..]
+        .iter()
+        .fold(t.first().map_or(0.0, |&t0| strip(t0)), |c, &ta| {
+            intersect(c, strip(ta))
+        })
+}
+
 /// The unit square `F_s(u, v) = F_b(u) & F_b(v)`.
 #[must_use]
 #[inline]
 pub fn unit_square(u: f64, v: f64) -> f64 {
-    intersect(strip(u), strip(v))
+    unit_box([u, v])
+}
+
+/// The unit cube `F_s(u, v, w) = F_b(u) & F_b(v) & F_b(w)`.
+#[must_use]
+#[inline]
+pub fn unit_cube(u: f64, v: f64, w: f64) -> f64 {
+    unit_box([u, v, w])
 }
 
 /// A clipped value that overflowed to infinity or NaN, saturated: far outside the unit box, where
@@ -79,28 +98,26 @@ fn saturate(f: f64) -> f64 {
     if f.is_finite() { f } else { -f64::MAX }
 }
 
-/// Functional clipping of a patch value `s = S_ξ(u, v)` to the unit square: `s & F_s(u, v)`;
-/// finite for any input (see `saturate`).
+/// Functional clipping of a net's value `s = S_ξ(t)` to the unit box of its parameters:
+/// `s & F_s(t)`; finite for any input (see `saturate`).
+#[must_use]
+#[inline]
+pub fn clip<const D: usize>(s: f64, t: [f64; D]) -> f64 {
+    saturate(intersect(s, unit_box(t)))
+}
+
+/// [`clip`] of a patch value `S_ξ(u, v)` to the unit square.
 #[must_use]
 #[inline]
 pub fn clip2(s: f64, u: f64, v: f64) -> f64 {
-    saturate(intersect(s, unit_square(u, v)))
+    clip(s, [u, v])
 }
 
-/// The unit cube `F_s(u, v, w) = F_b(u) & F_b(v) & F_b(w)`, taken left to right as the paper writes it
-/// (`&` is not associative in floating point, nor exactly in value).
-#[must_use]
-#[inline]
-pub fn unit_cube(u: f64, v: f64, w: f64) -> f64 {
-    intersect(intersect(strip(u), strip(v)), strip(w))
-}
-
-/// Functional clipping of a volume value `s = S_ξ(u, v, w)` to the unit cube: `s & F_s(u, v, w)`;
-/// finite for any input.
+/// [`clip`] of a volume value `S_ξ(u, v, w)` to the unit cube.
 #[must_use]
 #[inline]
 pub fn clip3(s: f64, u: f64, v: f64, w: f64) -> f64 {
-    saturate(intersect(s, unit_cube(u, v, w)))
+    clip(s, [u, v, w])
 }
 
 /// A gradient with a component that overflowed, as none: where the value saturated there is no
@@ -113,34 +130,31 @@ fn finite_or_zero<const D: usize>(g: [f64; D]) -> [f64; D] {
     }
 }
 
-/// [`clip2`] with its gradient in `(u, v)`, given `s` and its gradient `ds`: the chain rule through
-/// [`intersect_with_partials`].
+/// [`clip`] with its gradient in `t`, given `s` and its gradient `ds`: the chain rule through
+/// [`intersect_with_partials`], box factor by box factor.
 #[must_use]
-pub fn clip2_with_gradient(s: f64, ds: [f64; 2], u: f64, v: f64) -> (f64, [f64; 2]) {
-    let (c, cu, cv) = intersect_with_partials(strip(u), strip(v));
+pub fn clip_with_gradient<const D: usize>(s: f64, ds: [f64; D], t: [f64; D]) -> (f64, [f64; D]) {
+    // The box F_s and its gradient, built left to right as `unit_box` is.
+    let mut dc = [0.0; D];
+    let mut c = 0.0;
+    for (a, &ta) in t.iter().enumerate() {
+        let ds_a = 1.0 - 2.0 * ta;
+        if a == 0 {
+            c = strip(ta);
+            dc[0] = ds_a;
+        } else {
+            let (next, pc, pa) = intersect_with_partials(c, strip(ta));
+            for g in &mut dc[..a] {
+                *g *= pc;
+            }
+            dc[a] = pa * ds_a;
+            c = next;
+        }
+    }
     let (f, fs, fc) = intersect_with_partials(s, c);
     (
         saturate(f),
-        finite_or_zero([
-            fs * ds[0] + fc * cu * (1.0 - 2.0 * u),
-            fs * ds[1] + fc * cv * (1.0 - 2.0 * v),
-        ]),
-    )
-}
-
-/// [`clip3`] with its gradient in `(u, v, w)`, given `s` and its gradient `ds`.
-#[must_use]
-pub fn clip3_with_gradient(s: f64, ds: [f64; 3], u: f64, v: f64, w: f64) -> (f64, [f64; 3]) {
-    let (c1, c1u, c1v) = intersect_with_partials(strip(u), strip(v));
-    let (c, cc1, cw) = intersect_with_partials(c1, strip(w));
-    let (f, fs, fc) = intersect_with_partials(s, c);
-    (
-        saturate(f),
-        finite_or_zero([
-            fs * ds[0] + fc * cc1 * c1u * (1.0 - 2.0 * u),
-            fs * ds[1] + fc * cc1 * c1v * (1.0 - 2.0 * v),
-            fs * ds[2] + fc * cw * (1.0 - 2.0 * w),
-        ]),
+        finite_or_zero(core::array::from_fn(|a| fs * ds[a] + fc * dc[a])),
     )
 }
 
@@ -169,9 +183,9 @@ mod tests {
                 rng.range(-0.3, 1.3),
             ];
             let ds = [b, c * p[2], c * p[1]];
-            let (f, grad) = clip3_with_gradient(s(p), ds, p[0], p[1], p[2]);
+            let (f, grad) = clip_with_gradient(s(p), ds, p);
             assert_eq!(f, clip3(s(p), p[0], p[1], p[2]));
-            let (f2, grad2) = clip2_with_gradient(s(p), [ds[0], ds[1]], p[0], p[1]);
+            let (f2, grad2) = clip_with_gradient(s(p), [ds[0], ds[1]], [p[0], p[1]]);
             assert_eq!(f2, clip2(s(p), p[0], p[1]));
             for axis in 0..3 {
                 let (mut up, mut down) = (p, p);

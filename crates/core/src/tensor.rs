@@ -1,17 +1,21 @@
-//! Tensor-product Bézier patches `S(u, v) = Σ_i Σ_j P_ij B_i^n(u) B_j^m(v)` and volumes
-//! `S(u, v, w) = Σ_i Σ_j Σ_k P_ijk B_i^n(u) B_j^m(v) B_k^l(w)`.
+//! Tensor-product Bézier nets of any dimension `D`: `S(t) = Σ_I P_I B_I(t)` with
+//! `B_I(t) = Π_a B_{i_a}^{n_a}(t_a)`: patches `S(u, v)` (`D = 2`), volumes `S(u, v, w)` (`D = 3`).
+//!
+//! One type, [`Tensor`], serves every dimension; [`Patch`] and [`Volume`] name its two common ones.
+//! Every operation contracts or maps the net one axis at a time, the last axis fastest in storage
+//! (the model file's order, DESIGN §5).
 
 use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
-use core::ops::{Add, Mul, Sub};
+use core::ops::{Add, Index, IndexMut, Mul, Sub};
 
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative_into, basis_array};
+use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative_into};
 
 /// What a control point must do: be added, scaled by `f64`, and copied. Implemented for `f64` and the
-/// glam `f64` vectors, so one patch type serves scalar fields, `(x, y, ξ)` points and `(x, y, z, ξ)`.
+/// glam `f64` vectors, so one net type serves scalar fields, `(x, y, ξ)` points and `(x, y, z, ξ)`.
 pub trait ControlPoint:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<f64, Output = Self> + PartialEq + fmt::Debug
 {
@@ -50,7 +54,7 @@ macro_rules! glam_control_point {
 }
 glam_control_point!(DVec2, DVec3, DVec4);
 
-/// One of the parameters of a patch (`U`, `V`) or a volume (`U`, `V`, `W`).
+/// One of the parameters of a net: `U`, `V` of a patch, and `W` of a volume.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Axis {
     /// The first parameter, `u` (index `i`).
@@ -59,6 +63,54 @@ pub enum Axis {
     V,
     /// The third parameter, `w` (index `k`); volumes only.
     W,
+}
+
+impl Axis {
+    /// The three axes in order.
+    pub const ALL: [Self; 3] = [Self::U, Self::V, Self::W];
+
+    /// The axis's number: 0 for `U`, 1 for `V`, 2 for `W` (the position of its index in `P_ijk`).
+    #[must_use]
+    pub const fn index(self) -> usize {
+        match self {
+            Self::U => 0,
+            Self::V => 1,
+            Self::W => 2,
+        }
+    }
+
+    /// The axis of a number, `None` past 2.
+    #[must_use]
+    pub const fn from_index(index: usize) -> Option<Self> {
+        match index {
+            0 => Some(Self::U),
+            1 => Some(Self::V),
+            2 => Some(Self::W),
+            _ => None,
+        }
+    }
+
+    /// The two other axes of a volume, in increasing order: the parameters of a slice across this
+    /// one.
+    #[must_use]
+    pub const fn others(self) -> (Self, Self) {
+        match self {
+            Self::U => (Self::V, Self::W),
+            Self::V => (Self::U, Self::W),
+            Self::W => (Self::U, Self::V),
+        }
+    }
+
+    /// The volume index `[i, j, k]` of point `[p, q]` of the slice with `index` along this axis
+    /// (`p`, `q` along the two [other](Axis::others) axes in order).
+    #[must_use]
+    pub const fn embed(self, index: usize, [p, q]: [usize; 2]) -> [usize; 3] {
+        match self {
+            Self::U => [index, p, q],
+            Self::V => [p, index, q],
+            Self::W => [p, q, index],
+        }
+    }
 }
 
 /// The two axes other than `axis` (0, 1 or 2), in increasing order.
@@ -70,16 +122,6 @@ pub(crate) const fn other_axes(axis: usize) -> (usize, usize) {
     }
 }
 
-impl Axis {
-    pub(crate) fn index(self) -> usize {
-        match self {
-            Self::U => 0,
-            Self::V => 1,
-            Self::W => 2,
-        }
-    }
-}
-
 /// The componentwise box `(min, max)` of a set of points; `(ZERO, ZERO)` for none.
 pub(crate) fn bounds_of<P: ControlPoint>(points: &[P]) -> (P, P) {
     let first = points.first().copied().unwrap_or(P::ZERO);
@@ -88,7 +130,18 @@ pub(crate) fn bounds_of<P: ControlPoint>(points: &[P]) -> (P, P) {
     })
 }
 
-/// Why a patch could not be built.
+/// The multi-index `[i, j, …]` of the `flat`-th point of a net with `dims` points per axis (the last
+/// axis fastest).
+pub(crate) fn multi_index<const D: usize>(dims: [usize; D], mut flat: usize) -> [usize; D] {
+    let mut out = [0; D];
+    for a in (0..D).rev() {
+        out[a] = flat % dims[a];
+        flat /= dims[a];
+    }
+    out
+}
+
+/// Why a net could not be built, split or elevated.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum PatchError {
     /// The parameter asked for does not exist (`W` of a patch).
@@ -101,9 +154,9 @@ pub enum PatchError {
         /// The degree given.
         degree: usize,
     },
-    /// The number of control points is not `(n + 1)(m + 1)`.
+    /// The number of control points is not `Π (n_a + 1)`.
     PointCount {
-        /// `(n + 1)(m + 1)`.
+        /// `Π (n_a + 1)`.
         expected: usize,
         /// The number given.
         got: usize,
@@ -126,186 +179,174 @@ impl fmt::Display for PatchError {
 
 impl core::error::Error for PatchError {}
 
-/// A tensor-product Bézier patch of degree `(n, m)`, `1 ≤ n, m ≤ MAX_DEGREE`.
+/// A tensor-product Bézier net over `D` parameters, of degree `n_a` along axis `a`,
+/// `1 ≤ n_a ≤ MAX_DEGREE`.
 ///
-/// Control points are stored row by row: `P_ij` at index `i·(m + 1) + j` (`i` along `u`, `j` along
-/// `v`), the order of the model file (DESIGN §5).
+/// Control points are stored with the last index fastest: `P_ij` of a patch at `i·(m + 1) + j`,
+/// `P_ijk` of a volume at `(i·(m + 1) + j)·(l + 1) + k`, the order of the model file (DESIGN §5).
+/// Indexing with `[i, j, …]` panics past the net, as a slice does; [`Tensor::get`] says `None`
+/// instead, for indices that come from input.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Patch<P> {
-    degree: (usize, usize),
+pub struct Tensor<P, const D: usize> {
+    degree: [usize; D],
     points: Vec<P>,
 }
 
-impl<P: ControlPoint> Patch<P> {
-    /// A patch from its degree and `(n + 1)(m + 1)` control points.
+/// A tensor-product Bézier patch `S(u, v) = Σ_i Σ_j P_ij B_i^n(u) B_j^m(v)`.
+pub type Patch<P> = Tensor<P, 2>;
+
+/// A tensor-product Bézier volume `S(u, v, w) = Σ_i Σ_j Σ_k P_ijk B_i^n(u) B_j^m(v) B_k^l(w)`.
+pub type Volume<P> = Tensor<P, 3>;
+
+impl<P: ControlPoint, const D: usize> Tensor<P, D> {
+    /// A net from its degree and `Π (n_a + 1)` control points.
     ///
     /// # Errors
     ///
     /// [`PatchError`] when a degree is out of range or the point count does not match.
-    pub fn try_new(degree: (usize, usize), points: Vec<P>) -> Result<Self, PatchError> {
-        check_net(&[degree.0, degree.1], points.len())?;
+    pub fn try_new(degree: [usize; D], points: Vec<P>) -> Result<Self, PatchError> {
+        check_net(&degree, points.len())?;
         Ok(Self { degree, points })
     }
 
-    /// A patch whose control point `P_ij` is `point(i, j)`.
+    /// A net whose control point `P_I` is `point(I)`.
     ///
     /// # Errors
     ///
     /// [`PatchError::Degree`] when a degree is out of range.
     pub fn from_fn(
-        degree: (usize, usize),
-        mut point: impl FnMut(usize, usize) -> P,
+        degree: [usize; D],
+        mut point: impl FnMut([usize; D]) -> P,
     ) -> Result<Self, PatchError> {
-        check_degrees(&[degree.0, degree.1])?;
-        let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1));
-        for i in 0..=degree.0 {
-            for j in 0..=degree.1 {
-                points.push(point(i, j));
-            }
-        }
+        check_degrees(&degree)?;
+        let dims = degree.map(|d| d + 1);
+        let count = dims.iter().product();
+        let points = (0..count).map(|k| point(multi_index(dims, k))).collect();
         Self::try_new(degree, points)
     }
 
-    /// The degree `(n, m)`.
+    /// The degree along each axis.
     #[must_use]
-    pub fn degree(&self) -> (usize, usize) {
+    pub fn degree(&self) -> [usize; D] {
         self.degree
     }
 
-    /// The control points, row by row (`P_ij` at `i·(m + 1) + j`).
+    /// The number of control points along each axis, `n_a + 1`.
+    #[must_use]
+    pub fn dims(&self) -> [usize; D] {
+        self.degree.map(|d| d + 1)
+    }
+
+    /// The control points in storage order (the last index fastest).
     #[must_use]
     pub fn points(&self) -> &[P] {
         &self.points
     }
 
-    /// `P_ij`.
-    ///
-    /// # Panics
-    ///
-    /// If `i > n` or `j > m`.
+    /// The position in [`Tensor::points`] of `P_I`, `None` past the net.
     #[must_use]
-    pub fn point(&self, i: usize, j: usize) -> P {
-        self.points[self.index(i, j)]
-    }
-
-    /// Mutable access to `P_ij`.
-    ///
-    /// # Panics
-    ///
-    /// If `i > n` or `j > m`.
-    pub fn point_mut(&mut self, i: usize, j: usize) -> &mut P {
-        let k = self.index(i, j);
-        &mut self.points[k]
-    }
-
-    fn index(&self, i: usize, j: usize) -> usize {
-        assert!(
-            i <= self.degree.0 && j <= self.degree.1,
-            "P_{i}{j} outside degree {:?}",
-            self.degree
-        );
-        i * (self.degree.1 + 1) + j
-    }
-
-    /// `S(u, v)` in basis form: `Σ_i B_i^n(u) Σ_j P_ij B_j^m(v)`.
-    #[must_use]
-    pub fn eval(&self, u: f64, v: f64) -> P {
-        let (n, m) = self.degree;
-        let bu = basis_array(n, u);
-        let bv = basis_array(m, v);
-        let mut sum = P::ZERO;
-        for (i, row) in self.points.chunks_exact(m + 1).enumerate() {
-            let mut r = P::ZERO;
-            for (p, &b) in row.iter().zip(&bv) {
-                r = r + *p * b;
+    pub fn flat_index(&self, index: [usize; D]) -> Option<usize> {
+        let mut flat = 0;
+        for (&i, &n) in index.iter().zip(&self.degree) {
+            if i > n {
+                return None;
             }
-            sum = sum + r * bu[i];
+            flat = flat * (n + 1) + i;
         }
-        sum
+        Some(flat)
     }
 
-    /// `S(u, v)` by de Casteljau: repeated linear interpolation, first along `v` in every row, then
-    /// along `u`. Slower than [`Patch::eval`]; the reference it is tested against.
+    /// The multi-index of the `flat`-th control point, `None` past the net.
     #[must_use]
-    pub fn eval_de_casteljau(&self, u: f64, v: f64) -> P {
-        let (n, m) = self.degree;
-        let mut rows = [P::ZERO; MAX_DEGREE + 1];
-        let mut tmp = [P::ZERO; MAX_DEGREE + 1];
-        for (i, row) in self.points.chunks_exact(m + 1).enumerate() {
-            tmp[..=m].copy_from_slice(row);
-            rows[i] = de_casteljau(&mut tmp[..=m], v);
-        }
-        de_casteljau(&mut rows[..=n], u)
+    pub fn multi_index(&self, flat: usize) -> Option<[usize; D]> {
+        (flat < self.points.len()).then(|| multi_index(self.dims(), flat))
     }
 
-    /// `S` at every `(us[a], vs[b])`, returned row-major by `b` (index `b·us.len() + a`, so rows run
-    /// along `u`, which is `x` in the view).
+    /// `P_I`, `None` past the net.
+    #[must_use]
+    pub fn get(&self, index: [usize; D]) -> Option<P> {
+        self.flat_index(index).map(|k| self.points[k])
+    }
+
+    /// Mutable access to `P_I`, `None` past the net.
+    pub fn get_mut(&mut self, index: [usize; D]) -> Option<&mut P> {
+        self.flat_index(index).map(|k| &mut self.points[k])
+    }
+
+    /// The net of the same degree with every control point mapped by `f` (the ξ part of a solid's
+    /// net, a projection, a change of coordinates).
+    #[must_use]
+    pub fn map<Q: ControlPoint>(&self, f: impl FnMut(P) -> Q) -> Tensor<Q, D> {
+        Tensor {
+            degree: self.degree,
+            points: self.points.iter().copied().map(f).collect(),
+        }
+    }
+
+    /// `S(t)` in basis form, contracting the last axis first.
+    #[must_use]
+    pub fn eval(&self, t: [f64; D]) -> P {
+        let mut bases = [[0.0; MAX_DEGREE + 1]; D];
+        for a in 0..D {
+            basis(self.degree[a], t[a], &mut bases[a]);
+        }
+        contract(&self.points, &self.dims(), &bases)
+    }
+
+    /// `S(t)` by de Casteljau: repeated linear interpolation along the last axis in every line, then
+    /// along the one before. Slower than [`Tensor::eval`]; the reference it is tested against.
+    #[must_use]
+    pub fn eval_de_casteljau(&self, t: [f64; D]) -> P {
+        casteljau(&self.points, &self.dims(), &t)
+    }
+
+    /// `S` at every point of the grid `ts[0] × ts[1] × …`, the first axis fastest: a patch's grid
+    /// point `(us[a], vs[b])` at `b·|us| + a` (rows run along `u`, which is `x` in the view), a
+    /// volume's `(us[a], vs[b], ws[c])` at `(c·|vs| + b)·|us| + a`.
     ///
-    /// Axis at a time: the control net is first contracted along `v` for every `vs[b]` (giving `n + 1`
-    /// points per `b`), then along `u`: `O((m + 1)(n + 1)·|vs| + (n + 1)·|us|·|vs|)` instead of
-    /// `(n + 1)(m + 1)` multiply-adds per grid point.
+    /// One axis at a time: the net is contracted along the last axis for each of its samples, then
+    /// along the one before, so a grid point costs about `n_0 + 1` multiply-adds plus shares of the
+    /// earlier contractions, not `Π (n_a + 1)`.
     #[must_use]
-    pub fn eval_grid(&self, us: &[f64], vs: &[f64]) -> Vec<P> {
-        let (n, m) = self.degree;
-        // Basis values along u, one row of n + 1 per us[a].
-        let mut bu = vec![0.0; us.len() * (n + 1)];
-        for (a, &u) in us.iter().enumerate() {
-            basis(n, u, &mut bu[a * (n + 1)..(a + 1) * (n + 1)]);
-        }
-        let mut out = Vec::with_capacity(us.len() * vs.len());
-        let mut bv = [0.0; MAX_DEGREE + 1];
-        let mut column = [P::ZERO; MAX_DEGREE + 1];
-        for &v in vs {
-            basis(m, v, &mut bv);
-            for (i, row) in self.points.chunks_exact(m + 1).enumerate() {
-                let mut r = P::ZERO;
-                for (p, &b) in row.iter().zip(&bv) {
-                    r = r + *p * b;
-                }
-                column[i] = r;
+    pub fn eval_grid(&self, ts: [&[f64]; D]) -> Vec<P> {
+        let dims = self.dims();
+        let tables: [Vec<f64>; D] = core::array::from_fn(|a| {
+            let n = self.degree[a];
+            let mut table = vec![0.0; ts[a].len() * (n + 1)];
+            for (row, &t) in table.chunks_exact_mut(n + 1).zip(ts[a]) {
+                basis(n, t, row);
             }
-            for weights in bu.chunks_exact(n + 1) {
-                let mut s = P::ZERO;
-                for (c, &w) in column.iter().zip(weights) {
-                    s = s + *c * w;
-                }
-                out.push(s);
-            }
-        }
+            table
+        });
+        // One scratch net per contraction: after the last axis, after the last two, …
+        let mut scratch: Vec<Vec<P>> = (1..D)
+            .map(|k| vec![P::ZERO; dims[..D - k].iter().product()])
+            .collect();
+        let mut out = Vec::with_capacity(ts.iter().map(|t| t.len()).product());
+        grid(&self.points, &dims, &tables, &mut scratch, &mut out);
         out
     }
 
-    /// `S(u, v)` with its partial derivatives `(S, ∂S/∂u, ∂S/∂v)`.
+    /// `S(t)` with its gradient `[∂S/∂t_0, ∂S/∂t_1, …]`.
     #[must_use]
-    pub fn eval_with_partials(&self, u: f64, v: f64) -> (P, P, P) {
-        let (n, m) = self.degree;
-        let [mut bu, mut du, mut bv, mut dv] = [[0.0; MAX_DEGREE + 1]; 4];
-        basis_and_derivative_into(n, u, &mut bu, &mut du);
-        basis_and_derivative_into(m, v, &mut bv, &mut dv);
-        let (mut s, mut su, mut sv) = (P::ZERO, P::ZERO, P::ZERO);
-        for (i, row) in self.points.chunks_exact(m + 1).enumerate() {
-            let (mut r, mut rv) = (P::ZERO, P::ZERO);
-            for (j, p) in row.iter().enumerate() {
-                r = r + *p * bv[j];
-                rv = rv + *p * dv[j];
-            }
-            s = s + r * bu[i];
-            su = su + r * du[i];
-            sv = sv + rv * bu[i];
+    pub fn eval_with_gradient(&self, t: [f64; D]) -> (P, [P; D]) {
+        let mut bases = [[0.0; MAX_DEGREE + 1]; D];
+        let mut derivs = [[0.0; MAX_DEGREE + 1]; D];
+        for a in 0..D {
+            basis_and_derivative_into(self.degree[a], t[a], &mut bases[a], &mut derivs[a]);
         }
-        (s, su, sv)
+        contract_with_gradient(&self.points, &self.dims(), &bases, &derivs)
     }
 
     /// de Casteljau split along `axis` at `t`: the halves over `[0, t]` and `[t, 1]` of that parameter,
-    /// each of the same degree, reproducing the patch on their parts.
+    /// each of the same degree, reproducing the net on their parts.
     ///
     /// # Errors
     ///
-    /// [`PatchError::Axis`] for [`Axis::W`].
+    /// [`PatchError::Axis`] for an axis the net does not have ([`Axis::W`] of a patch).
     pub fn split(&self, axis: Axis, t: f64) -> Result<(Self, Self), PatchError> {
         let a = self.axis(axis)?;
-        let dims = [self.degree.0 + 1, self.degree.1 + 1];
-        let (left, right) = split_net(&self.points, &dims, a, t);
+        let (left, right) = split_net(&self.points, &self.dims(), a, t);
         Ok((
             Self {
                 degree: self.degree,
@@ -318,254 +359,249 @@ impl<P: ControlPoint> Patch<P> {
         ))
     }
 
-    /// Degree elevation by one along `axis`: the same patch with one more row of control points.
+    /// Degree elevation by one along `axis`: the same map with one more layer of control points.
     ///
     /// # Errors
     ///
-    /// [`PatchError::Axis`] for [`Axis::W`]; [`PatchError::Degree`] when that degree is already
-    /// [`MAX_DEGREE`].
+    /// [`PatchError::Axis`] for an axis the net does not have; [`PatchError::Degree`] when that
+    /// degree is already [`MAX_DEGREE`].
     pub fn elevate(&self, axis: Axis) -> Result<Self, PatchError> {
         let a = self.axis(axis)?;
-        let mut degrees = [self.degree.0, self.degree.1];
-        let points = elevate_net(&self.points, &degrees, a)?;
-        degrees[a] += 1;
-        Ok(Self {
-            degree: (degrees[0], degrees[1]),
-            points,
-        })
+        let points = elevate_net(&self.points, &self.degree, a)?;
+        let mut degree = self.degree;
+        degree[a] += 1;
+        Ok(Self { degree, points })
     }
 
-    /// The componentwise box of the control points, which holds the whole patch over `[0, 1]²`
-    /// (convex hull property).
+    /// The componentwise box of the control points, which holds the whole net's image over the unit
+    /// box of its parameters (convex hull property).
     #[must_use]
     pub fn bounds(&self) -> (P, P) {
         bounds_of(&self.points)
     }
 
     fn axis(&self, axis: Axis) -> Result<usize, PatchError> {
-        match axis {
-            Axis::W => Err(PatchError::Axis { axis }),
-            _ => Ok(axis.index()),
+        let a = axis.index();
+        if a < D {
+            Ok(a)
+        } else {
+            Err(PatchError::Axis { axis })
         }
     }
-}
-
-/// A tensor-product Bézier volume of degree `(n, m, l)`, each from 1 to [`MAX_DEGREE`].
-///
-/// Control points are stored with `k` fastest: `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`, the order of
-/// the model file (DESIGN §5).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Volume<P> {
-    degree: (usize, usize, usize),
-    points: Vec<P>,
 }
 
 impl<P: ControlPoint> Volume<P> {
-    /// A volume from its degree and `(n + 1)(m + 1)(l + 1)` control points.
-    ///
-    /// # Errors
-    ///
-    /// [`PatchError`] when a degree is out of range or the point count does not match.
-    pub fn try_new(degree: (usize, usize, usize), points: Vec<P>) -> Result<Self, PatchError> {
-        check_net(&[degree.0, degree.1, degree.2], points.len())?;
-        Ok(Self { degree, points })
-    }
-
-    /// A volume whose control point `P_ijk` is `point(i, j, k)`.
-    ///
-    /// # Errors
-    ///
-    /// [`PatchError::Degree`] when a degree is out of range.
-    pub fn from_fn(
-        degree: (usize, usize, usize),
-        mut point: impl FnMut(usize, usize, usize) -> P,
-    ) -> Result<Self, PatchError> {
-        check_degrees(&[degree.0, degree.1, degree.2])?;
-        let mut points = Vec::with_capacity((degree.0 + 1) * (degree.1 + 1) * (degree.2 + 1));
-        for i in 0..=degree.0 {
-            for j in 0..=degree.1 {
-                for k in 0..=degree.2 {
-                    points.push(point(i, j, k));
-                }
-            }
+    /// The control points whose index along `axis` is `index`, as a patch over the two other axes
+    /// in increasing order (`P_index,j,k` as `Q_jk` across `U`); `None` past the net.
+    #[must_use]
+    pub fn slice(&self, axis: Axis, index: usize) -> Option<Patch<P>> {
+        let a = axis.index();
+        if index > self.degree[a] {
+            return None;
         }
-        Self::try_new(degree, points)
+        let (p, q) = other_axes(a);
+        let degree = [self.degree[p], self.degree[q]];
+        Patch::from_fn(degree, |pq| self[axis.embed(index, pq)]).ok()
     }
 
-    /// The degree `(n, m, l)`.
-    #[must_use]
-    pub fn degree(&self) -> (usize, usize, usize) {
-        self.degree
+    /// Writes `slice` into the control points whose index along `axis` is `index` (the inverse of
+    /// [`Volume::slice`]).
+    ///
+    /// # Errors
+    ///
+    /// [`PatchError::Axis`] for a slice past the net, [`PatchError::PointCount`] when the slice's
+    /// degree is not that of the two other axes; the volume is unchanged then.
+    pub fn set_slice(
+        &mut self,
+        axis: Axis,
+        index: usize,
+        slice: &Patch<P>,
+    ) -> Result<(), PatchError> {
+        let a = axis.index();
+        if index > self.degree[a] {
+            return Err(PatchError::Axis { axis });
+        }
+        let (p, q) = other_axes(a);
+        if slice.degree != [self.degree[p], self.degree[q]] {
+            return Err(PatchError::PointCount {
+                expected: (self.degree[p] + 1) * (self.degree[q] + 1),
+                got: slice.points.len(),
+            });
+        }
+        for (flat, &point) in slice.points.iter().enumerate() {
+            self[axis.embed(index, multi_index(slice.dims(), flat))] = point;
+        }
+        Ok(())
     }
+}
 
-    /// The control points (`P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`).
-    #[must_use]
-    pub fn points(&self) -> &[P] {
-        &self.points
-    }
+impl<P: ControlPoint, const D: usize> Index<[usize; D]> for Tensor<P, D> {
+    type Output = P;
 
-    /// `P_ijk`.
+    /// `P_I`.
     ///
     /// # Panics
     ///
-    /// If an index is above its degree.
-    #[must_use]
-    pub fn point(&self, i: usize, j: usize, k: usize) -> P {
-        self.points[self.index(i, j, k)]
-    }
-
-    /// Mutable access to `P_ijk`.
-    ///
-    /// # Panics
-    ///
-    /// If an index is above its degree.
-    pub fn point_mut(&mut self, i: usize, j: usize, k: usize) -> &mut P {
-        let at = self.index(i, j, k);
-        &mut self.points[at]
-    }
-
-    fn index(&self, i: usize, j: usize, k: usize) -> usize {
-        let (n, m, l) = self.degree;
-        assert!(
-            i <= n && j <= m && k <= l,
-            "P_{i}{j}{k} outside degree {:?}",
-            self.degree
-        );
-        (i * (m + 1) + j) * (l + 1) + k
-    }
-
-    /// `S(u, v, w)` in basis form, contracting `w`, then `v`, then `u`.
-    #[must_use]
-    pub fn eval(&self, u: f64, v: f64, w: f64) -> P {
-        let (n, m, l) = self.degree;
-        let bu = basis_array(n, u);
-        let bv = basis_array(m, v);
-        let bw = basis_array(l, w);
-        let mut sum = P::ZERO;
-        for (i, slab) in self.points.chunks_exact((m + 1) * (l + 1)).enumerate() {
-            let mut s = P::ZERO;
-            for (j, row) in slab.chunks_exact(l + 1).enumerate() {
-                let mut r = P::ZERO;
-                for (p, &b) in row.iter().zip(&bw) {
-                    r = r + *p * b;
-                }
-                s = s + r * bv[j];
-            }
-            sum = sum + s * bu[i];
+    /// If an index is above its degree (see [`Tensor::get`]).
+    fn index(&self, index: [usize; D]) -> &P {
+        match self.flat_index(index) {
+            Some(k) => &self.points[k],
+            None => panic!("P_{index:?} outside degree {:?}", self.degree),
         }
-        sum
     }
+}
 
-    /// `S` at every `(us[a], vs[b], ws[c])`, returned with `a` fastest (index
-    /// `(c·|vs| + b)·|us| + a`), one axis at a time: the net is contracted along `w` for each `ws[c]`,
-    /// then along `v`, then along `u`, so a grid point costs about `n + 1` multiply-adds plus shares
-    /// of the earlier contractions, not `(n + 1)(m + 1)(l + 1)`.
-    #[must_use]
-    pub fn eval_grid(&self, us: &[f64], vs: &[f64], ws: &[f64]) -> Vec<P> {
-        let (n, m, l) = self.degree;
-        let table = |deg: usize, ts: &[f64]| {
-            let mut out = vec![0.0; ts.len() * (deg + 1)];
-            for (a, &t) in ts.iter().enumerate() {
-                basis(deg, t, &mut out[a * (deg + 1)..(a + 1) * (deg + 1)]);
+impl<P: ControlPoint, const D: usize> IndexMut<[usize; D]> for Tensor<P, D> {
+    fn index_mut(&mut self, index: [usize; D]) -> &mut P {
+        match self.flat_index(index) {
+            Some(k) => &mut self.points[k],
+            None => panic!("P_{index:?} outside degree {:?}", self.degree),
+        }
+    }
+}
+
+/// A row of basis values, one per control point along an axis.
+type Row = [f64; MAX_DEGREE + 1];
+
+/// `Σ_i p_i b_i` over one line of a net.
+#[inline(always)]
+fn dot<P: ControlPoint>(line: &[P], b: &[f64]) -> P {
+    line.iter()
+        .zip(b)
+        .fold(P::ZERO, |acc, (p, &w)| acc + *p * w)
+}
+
+/// `Σ_I P_I Π_a b_a[i_a]` over a net with `dims` points per axis and one basis row per axis,
+/// contracting the last axis first. The last two axes are one loop; more recurse slab by slab.
+#[inline(always)]
+fn contract<P: ControlPoint>(points: &[P], dims: &[usize], bases: &[Row]) -> P {
+    match (dims, bases) {
+        ([_, m], [bu, bv]) => {
+            let mut sum = P::ZERO;
+            for (row, &w) in points.chunks_exact(*m).zip(bu) {
+                sum = sum + dot(row, bv) * w;
             }
-            out
-        };
-        let (bu, bv, bw) = (table(n, us), table(m, vs), table(l, ws));
-        let mut out = Vec::with_capacity(us.len() * vs.len() * ws.len());
-        let mut plane = vec![P::ZERO; (n + 1) * (m + 1)];
-        let mut column = [P::ZERO; MAX_DEGREE + 1];
-        for wc in bw.chunks_exact(l + 1) {
-            for (slot, row) in plane.iter_mut().zip(self.points.chunks_exact(l + 1)) {
-                *slot = row
-                    .iter()
-                    .zip(wc)
-                    .fold(P::ZERO, |acc, (p, &b)| acc + *p * b);
-            }
-            for vc in bv.chunks_exact(m + 1) {
-                for (i, row) in plane.chunks_exact(m + 1).enumerate() {
-                    column[i] = row
-                        .iter()
-                        .zip(vc)
-                        .fold(P::ZERO, |acc, (p, &b)| acc + *p * b);
-                }
-                for uc in bu.chunks_exact(n + 1) {
-                    out.push(
-                        column
-                            .iter()
-                            .zip(uc)
-                            .fold(P::ZERO, |acc, (p, &b)| acc + *p * b),
-                    );
-                }
+            sum
+        }
+        ([_, inner @ ..], [b, rest @ ..]) if !inner.is_empty() => {
+            let slab = inner.iter().product();
+            points
+                .chunks_exact(slab)
+                .zip(b)
+                .fold(P::ZERO, |acc, (s, &w)| acc + contract(s, inner, rest) * w)
+        }
+        (_, [b, ..]) => dot(points, b),
+        _ => points.first().copied().unwrap_or(P::ZERO),
+    }
+}
+
+/// [`contract`] with the partial derivatives along each axis, from the basis rows `b` and their
+/// derivatives `d`: `g[a]` is the derivative along this net's axis `a` (the rest are zero).
+#[inline(always)]
+fn contract_with_gradient<P: ControlPoint, const D: usize>(
+    points: &[P],
+    dims: &[usize],
+    b: &[Row],
+    d: &[Row],
+) -> (P, [P; D]) {
+    let mut g = [P::ZERO; D];
+    let mut s = P::ZERO;
+    match (dims, b, d) {
+        ([_], [b0, ..], [d0, ..]) => {
+            for ((&p, &bk), &dk) in points.iter().zip(b0).zip(d0) {
+                s = s + p * bk;
+                g[0] = g[0] + p * dk;
             }
         }
-        out
-    }
-
-    /// `S(u, v, w)` with its gradient `[∂S/∂u, ∂S/∂v, ∂S/∂w]`.
-    #[must_use]
-    pub fn eval_with_gradient(&self, u: f64, v: f64, w: f64) -> (P, [P; 3]) {
-        let (n, m, l) = self.degree;
-        let [mut bu, mut du, mut bv, mut dv, mut bw, mut dw] = [[0.0; MAX_DEGREE + 1]; 6];
-        basis_and_derivative_into(n, u, &mut bu, &mut du);
-        basis_and_derivative_into(m, v, &mut bv, &mut dv);
-        basis_and_derivative_into(l, w, &mut bw, &mut dw);
-        let (mut s, mut su, mut sv, mut sw) = (P::ZERO, P::ZERO, P::ZERO, P::ZERO);
-        for (i, slab) in self.points.chunks_exact((m + 1) * (l + 1)).enumerate() {
-            let (mut t, mut tv, mut tw) = (P::ZERO, P::ZERO, P::ZERO);
-            for (j, row) in slab.chunks_exact(l + 1).enumerate() {
-                let (mut r, mut rw) = (P::ZERO, P::ZERO);
-                for (k, p) in row.iter().enumerate() {
-                    r = r + *p * bw[k];
-                    rw = rw + *p * dw[k];
+        ([_, m], [b0, b1, ..], [d0, d1, ..]) => {
+            for ((row, &bi), &di) in points.chunks_exact(*m).zip(b0).zip(d0) {
+                let (mut r, mut rv) = (P::ZERO, P::ZERO);
+                for ((&p, &bj), &dj) in row.iter().zip(b1).zip(d1) {
+                    r = r + p * bj;
+                    rv = rv + p * dj;
                 }
-                t = t + r * bv[j];
-                tv = tv + r * dv[j];
-                tw = tw + rw * bv[j];
+                s = s + r * bi;
+                g[0] = g[0] + r * di;
+                g[1] = g[1] + rv * bi;
             }
-            s = s + t * bu[i];
-            su = su + t * du[i];
-            sv = sv + tv * bu[i];
-            sw = sw + tw * bu[i];
         }
-        (s, [su, sv, sw])
+        ([_, m, l], [b0, b1, b2, ..], [d0, d1, d2, ..]) => {
+            for ((slab, &bi), &di) in points.chunks_exact(m * l).zip(b0).zip(d0) {
+                let (mut t, mut tv, mut tw) = (P::ZERO, P::ZERO, P::ZERO);
+                for ((row, &bj), &dj) in slab.chunks_exact(*l).zip(b1).zip(d1) {
+                    let (mut r, mut rw) = (P::ZERO, P::ZERO);
+                    for ((&p, &bk), &dk) in row.iter().zip(b2).zip(d2) {
+                        r = r + p * bk;
+                        rw = rw + p * dk;
+                    }
+                    t = t + r * bj;
+                    tv = tv + r * dj;
+                    tw = tw + rw * bj;
+                }
+                s = s + t * bi;
+                g[0] = g[0] + t * di;
+                g[1] = g[1] + tv * bi;
+                g[2] = g[2] + tw * bi;
+            }
+        }
+        ([_, inner @ ..], _, _) => {
+            let slab = inner.iter().product();
+            for (i, chunk) in points.chunks_exact(slab).enumerate() {
+                let (cs, cg) = contract_with_gradient::<P, D>(chunk, inner, &b[1..], &d[1..]);
+                s = s + cs * b[0][i];
+                g[0] = g[0] + cs * d[0][i];
+                for a in 1..dims.len() {
+                    g[a] = g[a] + cg[a - 1] * b[0][i];
+                }
+            }
+        }
+        _ => {}
     }
+    (s, g)
+}
 
-    /// de Casteljau split along `axis` at `t`: the halves over `[0, t]` and `[t, 1]` of that parameter.
-    #[must_use]
-    pub fn split(&self, axis: Axis, t: f64) -> (Self, Self) {
-        let (n, m, l) = self.degree;
-        let (left, right) = split_net(&self.points, &[n + 1, m + 1, l + 1], axis.index(), t);
-        (
-            Self {
-                degree: self.degree,
-                points: left,
-            },
-            Self {
-                degree: self.degree,
-                points: right,
-            },
-        )
+/// de Casteljau over a net: every line along the last axis reduced at its parameter, then the
+/// resulting net along the one before.
+fn casteljau<P: ControlPoint>(points: &[P], dims: &[usize], t: &[f64]) -> P {
+    let Some((&n, inner)) = dims.split_first() else {
+        return points.first().copied().unwrap_or(P::ZERO);
+    };
+    let mut column = [P::ZERO; MAX_DEGREE + 1];
+    if inner.is_empty() {
+        column[..n].copy_from_slice(points);
+    } else {
+        let slab = inner.iter().product();
+        for (slot, s) in column.iter_mut().zip(points.chunks_exact(slab)) {
+            *slot = casteljau(s, inner, &t[1..]);
+        }
     }
+    de_casteljau(&mut column[..n], t[0])
+}
 
-    /// Degree elevation by one along `axis`.
-    ///
-    /// # Errors
-    ///
-    /// [`PatchError::Degree`] when that degree is already [`MAX_DEGREE`].
-    pub fn elevate(&self, axis: Axis) -> Result<Self, PatchError> {
-        let mut degrees = [self.degree.0, self.degree.1, self.degree.2];
-        let points = elevate_net(&self.points, &degrees, axis.index())?;
-        degrees[axis.index()] += 1;
-        Ok(Self {
-            degree: (degrees[0], degrees[1], degrees[2]),
-            points,
-        })
+/// The grid evaluation behind [`Tensor::eval_grid`]: for each sample of the last axis (its basis
+/// row in `tables`), the net contracted along it into `scratch[0]`, then that net's grid over the
+/// axes before, appended to `out`.
+fn grid<P: ControlPoint>(
+    points: &[P],
+    dims: &[usize],
+    tables: &[Vec<f64>],
+    scratch: &mut [Vec<P>],
+    out: &mut Vec<P>,
+) {
+    let last = dims.len() - 1;
+    let n = dims[last];
+    if last == 0 {
+        out.extend(tables[0].chunks_exact(n).map(|w| dot(points, w)));
+        return;
     }
-
-    /// The componentwise box of the control points, which holds the whole volume over `[0, 1]³`.
-    #[must_use]
-    pub fn bounds(&self) -> (P, P) {
-        bounds_of(&self.points)
+    let Some((net, rest)) = scratch.split_first_mut() else {
+        return;
+    };
+    for weights in tables[last].chunks_exact(n) {
+        for (slot, line) in net.iter_mut().zip(points.chunks_exact(n)) {
+            *slot = dot(line, weights);
+        }
+        grid(net, &dims[..last], &tables[..last], rest, out);
     }
 }
 
@@ -685,8 +721,8 @@ mod tests {
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
     fn random_patch(rng: &mut Rng, max_degree: usize) -> Patch<DVec3> {
-        let degree = (rng.int(1, max_degree), rng.int(1, max_degree));
-        Patch::from_fn(degree, |_, _| {
+        let degree = [rng.int(1, max_degree), rng.int(1, max_degree)];
+        Patch::from_fn(degree, |_| {
             DVec3::new(
                 rng.range(-2.0, 2.0),
                 rng.range(-2.0, 2.0),
@@ -698,11 +734,11 @@ mod tests {
 
     /// The definition, written out: `Σ_i Σ_j P_ij C(n,i) uⁱ(1−u)ⁿ⁻ⁱ C(m,j) vʲ(1−v)ᵐ⁻ʲ`.
     fn direct(patch: &Patch<DVec3>, u: f64, v: f64) -> DVec3 {
-        let (n, m) = patch.degree();
+        let [n, m] = patch.degree();
         let mut s = DVec3::ZERO;
         for i in 0..=n {
             for j in 0..=m {
-                s += patch.point(i, j) * bernstein(n, i, u) * bernstein(m, j, v);
+                s += patch[[i, j]] * bernstein(n, i, u) * bernstein(m, j, v);
             }
         }
         s
@@ -714,7 +750,7 @@ mod tests {
         for _ in 0..200 {
             let patch = random_patch(&mut rng, MAX_DEGREE);
             let (u, v) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
-            let a = patch.eval(u, v);
+            let a = patch.eval([u, v]);
             let b = direct(&patch, u, v);
             assert!((a - b).abs().max_element() < 1e-11, "{a} vs {b}");
         }
@@ -726,8 +762,8 @@ mod tests {
         for _ in 0..200 {
             let patch = random_patch(&mut rng, MAX_DEGREE);
             let (u, v) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
-            let a = patch.eval(u, v);
-            let b = patch.eval_de_casteljau(u, v);
+            let a = patch.eval([u, v]);
+            let b = patch.eval_de_casteljau([u, v]);
             assert!((a - b).abs().max_element() < 1e-10, "{a} vs {b}");
         }
     }
@@ -736,20 +772,10 @@ mod tests {
     fn patch_interpolates_corners() {
         let mut rng = Rng::new(12);
         let patch = random_patch(&mut rng, 6);
-        let (n, m) = patch.degree();
-        assert_eq!(patch.eval(0.0, 0.0), patch.point(0, 0));
-        assert!(
-            (patch.eval(1.0, 1.0) - patch.point(n, m))
-                .abs()
-                .max_element()
-                < 1e-14
-        );
-        assert!(
-            (patch.eval(1.0, 0.0) - patch.point(n, 0))
-                .abs()
-                .max_element()
-                < 1e-14
-        );
+        let [n, m] = patch.degree();
+        assert_eq!(patch.eval([0.0, 0.0]), patch[[0, 0]]);
+        assert!((patch.eval([1.0, 1.0]) - patch[[n, m]]).abs().max_element() < 1e-14);
+        assert!((patch.eval([1.0, 0.0]) - patch[[n, 0]]).abs().max_element() < 1e-14);
     }
 
     #[test]
@@ -759,10 +785,10 @@ mod tests {
             let patch = random_patch(&mut rng, 8);
             let us: Vec<f64> = (0..7).map(|_| rng.range(-0.1, 1.1)).collect();
             let vs: Vec<f64> = (0..5).map(|_| rng.range(-0.1, 1.1)).collect();
-            let grid = patch.eval_grid(&us, &vs);
+            let grid = patch.eval_grid([&us, &vs]);
             for (b, &v) in vs.iter().enumerate() {
                 for (a, &u) in us.iter().enumerate() {
-                    let d = grid[b * us.len() + a] - patch.eval(u, v);
+                    let d = grid[b * us.len() + a] - patch.eval([u, v]);
                     assert!(d.abs().max_element() < 1e-12);
                 }
             }
@@ -770,12 +796,12 @@ mod tests {
     }
 
     fn random_volume(rng: &mut Rng, max_degree: usize) -> Volume<DVec4> {
-        let degree = (
+        let degree = [
             rng.int(1, max_degree),
             rng.int(1, max_degree),
             rng.int(1, max_degree),
-        );
-        Volume::from_fn(degree, |_, _, _| {
+        ];
+        Volume::from_fn(degree, |_| {
             DVec4::new(
                 rng.range(-2.0, 2.0),
                 rng.range(-2.0, 2.0),
@@ -791,7 +817,7 @@ mod tests {
         let mut rng = Rng::new(14);
         for _ in 0..100 {
             let vol = random_volume(&mut rng, 8);
-            let (n, m, l) = vol.degree();
+            let [n, m, l] = vol.degree();
             let (u, v, w) = (
                 rng.range(0.0, 1.0),
                 rng.range(0.0, 1.0),
@@ -801,14 +827,14 @@ mod tests {
             for i in 0..=n {
                 for j in 0..=m {
                     for k in 0..=l {
-                        direct += vol.point(i, j, k)
+                        direct += vol[[i, j, k]]
                             * bernstein(n, i, u)
                             * bernstein(m, j, v)
                             * bernstein(l, k, w);
                     }
                 }
             }
-            assert!((vol.eval(u, v, w) - direct).abs().max_element() < 1e-11);
+            assert!((vol.eval([u, v, w]) - direct).abs().max_element() < 1e-11);
         }
     }
 
@@ -820,11 +846,11 @@ mod tests {
             let us: Vec<f64> = (0..4).map(|_| rng.range(-0.1, 1.1)).collect();
             let vs: Vec<f64> = (0..3).map(|_| rng.range(-0.1, 1.1)).collect();
             let ws: Vec<f64> = (0..5).map(|_| rng.range(-0.1, 1.1)).collect();
-            let grid = vol.eval_grid(&us, &vs, &ws);
+            let grid = vol.eval_grid([&us, &vs, &ws]);
             for (c, &w) in ws.iter().enumerate() {
                 for (b, &v) in vs.iter().enumerate() {
                     for (a, &u) in us.iter().enumerate() {
-                        let d = grid[(c * vs.len() + b) * us.len() + a] - vol.eval(u, v, w);
+                        let d = grid[(c * vs.len() + b) * us.len() + a] - vol.eval([u, v, w]);
                         assert!(d.abs().max_element() < 1e-12);
                     }
                 }
@@ -835,14 +861,14 @@ mod tests {
     #[test]
     fn volume_rejects_bad_input() {
         assert_eq!(
-            Volume::try_new((1, 1, 1), alloc::vec![0.0; 7]),
+            Volume::try_new([1, 1, 1], alloc::vec![0.0; 7]),
             Err(PatchError::PointCount {
                 expected: 8,
                 got: 7
             })
         );
         assert_eq!(
-            Volume::<f64>::from_fn((1, 1, 17), |_, _, _| 0.0),
+            Volume::<f64>::from_fn([1, 1, 17], |_| 0.0),
             Err(PatchError::Degree { degree: 17 })
         );
     }
@@ -850,22 +876,22 @@ mod tests {
     #[test]
     fn patch_rejects_bad_input() {
         assert_eq!(
-            Patch::try_new((2, 2), alloc::vec![0.0; 8]),
+            Patch::try_new([2, 2], alloc::vec![0.0; 8]),
             Err(PatchError::PointCount {
                 expected: 9,
                 got: 8
             })
         );
         assert_eq!(
-            Patch::try_new((0, 2), alloc::vec![0.0; 3]),
+            Patch::try_new([0, 2], alloc::vec![0.0; 3]),
             Err(PatchError::Degree { degree: 0 })
         );
         assert_eq!(
-            Patch::<f64>::from_fn((17, 1), |_, _| 0.0),
+            Patch::<f64>::from_fn([17, 1], |_| 0.0),
             Err(PatchError::Degree { degree: 17 })
         );
         assert_eq!(
-            Patch::<f64>::from_fn((usize::MAX, 1), |_, _| 0.0),
+            Patch::<f64>::from_fn([usize::MAX, 1], |_| 0.0),
             Err(PatchError::Degree { degree: usize::MAX })
         );
     }
@@ -885,10 +911,10 @@ mod tests {
         for _ in 0..60 {
             let patch = random_patch(&mut rng, 8);
             let (u, v) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
-            let (s, su, sv) = patch.eval_with_partials(u, v);
-            assert!(close3(s, patch.eval(u, v), 1e-12));
-            let fu = (patch.eval(u + h, v) - patch.eval(u - h, v)) / (2.0 * h);
-            let fv = (patch.eval(u, v + h) - patch.eval(u, v - h)) / (2.0 * h);
+            let (s, [su, sv]) = patch.eval_with_gradient([u, v]);
+            assert!(close3(s, patch.eval([u, v]), 1e-12));
+            let fu = (patch.eval([u + h, v]) - patch.eval([u - h, v])) / (2.0 * h);
+            let fv = (patch.eval([u, v + h]) - patch.eval([u, v - h])) / (2.0 * h);
             assert!(close3(su, fu, 1e-5), "{su} vs {fu}");
             assert!(close3(sv, fv, 1e-5), "{sv} vs {fv}");
         }
@@ -905,13 +931,13 @@ mod tests {
                 rng.range(0.0, 1.0),
                 rng.range(0.0, 1.0),
             ];
-            let (s, grad) = vol.eval_with_gradient(p[0], p[1], p[2]);
-            assert!(close4(s, vol.eval(p[0], p[1], p[2]), 1e-12));
+            let (s, grad) = vol.eval_with_gradient(p);
+            assert!(close4(s, vol.eval([p[0], p[1], p[2]]), 1e-12));
             for (axis, g) in grad.iter().enumerate() {
                 let (mut up, mut down) = (p, p);
                 up[axis] += h;
                 down[axis] -= h;
-                let fd = (vol.eval(up[0], up[1], up[2]) - vol.eval(down[0], down[1], down[2]))
+                let fd = (vol.eval([up[0], up[1], up[2]]) - vol.eval([down[0], down[1], down[2]]))
                     / (2.0 * h);
                 assert!(close4(*g, fd, 1e-5), "axis {axis}: {g} vs {fd}");
             }
@@ -930,12 +956,12 @@ mod tests {
                     let (a, b) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
                     // (a, b) in a half is (t·a, b) or (t + (1 − t)·a, b) in the whole, along `axis`.
                     let whole = |x: f64| match axis {
-                        Axis::U => patch.eval(x, b),
-                        _ => patch.eval(b, x),
+                        Axis::U => patch.eval([x, b]),
+                        _ => patch.eval([b, x]),
                     };
                     let (l, r) = match axis {
-                        Axis::U => (left.eval(a, b), right.eval(a, b)),
-                        _ => (left.eval(b, a), right.eval(b, a)),
+                        Axis::U => (left.eval([a, b]), right.eval([a, b])),
+                        _ => (left.eval([b, a]), right.eval([b, a])),
                     };
                     assert!(close3(l, whole(t * a), 1e-10));
                     assert!(close3(r, whole(t + (1.0 - t) * a), 1e-10));
@@ -955,7 +981,7 @@ mod tests {
             let vol = random_volume(&mut rng, 5);
             let t = rng.range(0.05, 0.95);
             for (axis, ix) in [(Axis::U, 0), (Axis::V, 1), (Axis::W, 2)] {
-                let (left, right) = vol.split(axis, t);
+                let (left, right) = vol.split(axis, t).unwrap();
                 for _ in 0..5 {
                     let p = [
                         rng.range(0.0, 1.0),
@@ -965,7 +991,7 @@ mod tests {
                     let (mut pl, mut pr) = (p, p);
                     pl[ix] = t * p[ix];
                     pr[ix] = t + (1.0 - t) * p[ix];
-                    let at = |v: &Volume<DVec4>, q: [f64; 3]| v.eval(q[0], q[1], q[2]);
+                    let at = |v: &Volume<DVec4>, q: [f64; 3]| v.eval([q[0], q[1], q[2]]);
                     assert!(close4(at(&left, p), at(&vol, pl), 1e-10));
                     assert!(close4(at(&right, p), at(&vol, pr), 1e-10));
                 }
@@ -981,16 +1007,16 @@ mod tests {
             let vol = random_volume(&mut rng, 5);
             for axis in [Axis::U, Axis::V] {
                 let up = patch.elevate(axis).unwrap();
-                let (n, m) = patch.degree();
+                let [n, m] = patch.degree();
                 let expect = if axis == Axis::U {
-                    (n + 1, m)
+                    [n + 1, m]
                 } else {
-                    (n, m + 1)
+                    [n, m + 1]
                 };
                 assert_eq!(up.degree(), expect);
                 for _ in 0..10 {
                     let (u, v) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
-                    assert!(close3(up.eval(u, v), patch.eval(u, v), 1e-10));
+                    assert!(close3(up.eval([u, v]), patch.eval([u, v]), 1e-10));
                 }
             }
             for axis in [Axis::U, Axis::V, Axis::W] {
@@ -1002,14 +1028,14 @@ mod tests {
                         rng.range(0.0, 1.0),
                     ];
                     assert!(close4(
-                        up.eval(p[0], p[1], p[2]),
-                        vol.eval(p[0], p[1], p[2]),
+                        up.eval([p[0], p[1], p[2]]),
+                        vol.eval([p[0], p[1], p[2]]),
                         1e-10
                     ));
                 }
             }
         }
-        let top = Patch::from_fn((MAX_DEGREE, 1), |_, _| 0.0).unwrap();
+        let top = Patch::from_fn([MAX_DEGREE, 1], |_| 0.0).unwrap();
         assert_eq!(
             top.elevate(Axis::U),
             Err(PatchError::Degree {
@@ -1033,9 +1059,9 @@ mod tests {
                     rng.range(0.0, 1.0),
                     rng.range(0.0, 1.0),
                 );
-                let p = patch.eval(u, v);
+                let p = patch.eval([u, v]);
                 assert!(p.cmpge(lo - 1e-12).all() && p.cmple(hi + 1e-12).all());
-                let q = vol.eval(u, v, w);
+                let q = vol.eval([u, v, w]);
                 assert!(q.cmpge(vlo - 1e-12).all() && q.cmple(vhi + 1e-12).all());
             }
             // The box is exactly the control points' extent, component by component.
@@ -1046,5 +1072,41 @@ mod tests {
                 assert_eq!((lo[axis], hi[axis]), (min, max));
             }
         }
+    }
+
+    #[test]
+    fn slices_of_a_volume_are_its_layers_and_write_back() {
+        let mut rng = Rng::new(27);
+        let vol = random_volume(&mut rng, 4);
+        let [n, m, l] = vol.degree();
+        for axis in Axis::ALL {
+            let len = vol.degree()[axis.index()];
+            for index in 0..=len {
+                let slice = vol.slice(axis, index).unwrap();
+                for [a, b] in (0..slice.points().len()).map(|k| slice.multi_index(k).unwrap()) {
+                    let at = match axis {
+                        Axis::U => [index, a, b],
+                        Axis::V => [a, index, b],
+                        Axis::W => [a, b, index],
+                    };
+                    assert_eq!(slice[[a, b]], vol[at]);
+                }
+                let mut copy = vol.clone();
+                let doubled = slice.map(|p| p * 2.0);
+                copy.set_slice(axis, index, &doubled).unwrap();
+                assert_eq!(copy.slice(axis, index), Some(doubled));
+            }
+            assert_eq!(vol.slice(axis, len + 1), None);
+        }
+        let mut copy = vol.clone();
+        let wrong = Patch::from_fn([n + 1, m], |_| DVec4::ONE).unwrap();
+        assert!(copy.set_slice(Axis::W, 0, &wrong).is_err());
+        assert!(
+            copy.set_slice(Axis::W, l + 1, &vol.slice(Axis::W, 0).unwrap())
+                .is_err()
+        );
+        assert_eq!(copy, vol);
+        assert_eq!(vol.get([n + 1, 0, 0]), None);
+        assert_eq!(vol.get([n, m, l]), Some(vol[[n, m, l]]));
     }
 }

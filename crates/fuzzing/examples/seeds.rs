@@ -36,7 +36,7 @@ fn main() -> std::io::Result<()> {
         .collect();
     let mut mapped = bezsolid_core::Solid2::fig9();
     mapped
-        .set_point(1, 1, glam::DVec2::new(0.7, 0.2))
+        .set_point([1, 1], glam::DVec2::new(0.7, 0.2))
         .expect("a point of fig9");
     models.push(("fig9-moved".into(), ModelFile::from_solid2(&mapped)));
     models.push((

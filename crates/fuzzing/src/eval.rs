@@ -36,7 +36,7 @@ fn patch(input: &mut Input<'_>) {
     let solid = net::solid2(input, bezsolid_core::MAX_DEGREE);
     let (lo, hi) = solid.domain();
     let control: Vec<[f64; 2]> = solid
-        .patch()
+        .net()
         .points()
         .iter()
         .map(|p| p.truncate().to_array())
@@ -60,7 +60,7 @@ fn methods(points: usize) -> &'static [Method] {
 }
 
 fn check2(solid: &Solid2, p: DVec2, outside: bool) {
-    for &method in methods(solid.patch().points().len()) {
+    for &method in methods(solid.net().points().len()) {
         let v = solid.evaluate(p, method);
         check_value(v.f, v.preimages, outside, method, p);
     }
@@ -68,7 +68,7 @@ fn check2(solid: &Solid2, p: DVec2, outside: bool) {
     check_value(f, 0, outside, Method::Fast, p);
     let (f, g) = solid.f_with_gradient(p);
     assert!(!f.is_nan() && !g.is_nan(), "f {f}, ∇f {g} at {p}");
-    for f in solid.f_grid(&[p.x, p.x], &[p.y]) {
+    for f in solid.f_grid([&[p.x, p.x], &[p.y]]) {
         check_value(f, 0, outside, Method::Fast, p);
     }
 }
@@ -77,7 +77,7 @@ fn volume(input: &mut Input<'_>) {
     let solid = net::solid3(input, bezsolid_core::MAX_DEGREE);
     let (lo, hi) = solid.domain();
     let control: Vec<[f64; 3]> = solid
-        .volume()
+        .net()
         .points()
         .iter()
         .map(|p| p.truncate().to_array())
@@ -90,7 +90,7 @@ fn volume(input: &mut Input<'_>) {
 }
 
 fn check3(solid: &Solid3, p: DVec3, outside: bool) {
-    for &method in methods(solid.volume().points().len()) {
+    for &method in methods(solid.net().points().len()) {
         let v = solid.evaluate(p, method);
         check_value(v.f, v.preimages, outside, method, p);
     }
@@ -98,7 +98,7 @@ fn check3(solid: &Solid3, p: DVec3, outside: bool) {
     check_value(f, 0, outside, Method::Fast, p);
     let (f, g) = solid.f_with_gradient(p);
     assert!(!f.is_nan() && !g.is_nan(), "f {f}, ∇f {g} at {p}");
-    for f in solid.f_grid(&[p.x, p.x], &[p.y], &[p.z]) {
+    for f in solid.f_grid([&[p.x, p.x], &[p.y], &[p.z]]) {
         check_value(f, 0, outside, Method::Fast, p);
     }
 }

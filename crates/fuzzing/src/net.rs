@@ -142,9 +142,9 @@ pub(crate) fn solid2(input: &mut Input<'_>, max_degree: usize) -> Solid2 {
         .zip(&net.xi)
         .map(|(p, &xi)| DVec2::from_array(*p).extend(xi))
         .collect();
-    let patch = Patch::try_new((net.degree[0], net.degree[1]), points)
+    let patch = Patch::try_new([net.degree[0], net.degree[1]], points)
         .unwrap_or_else(|e| panic!("the decoder made an invalid net: {e}"));
-    Solid2::try_from_patch(patch)
+    Solid2::try_from_net(patch)
         .unwrap_or_else(|e| panic!("a net of finite values in range is refused: {e}"))
 }
 
@@ -157,9 +157,9 @@ pub(crate) fn solid3(input: &mut Input<'_>, max_degree: usize) -> Solid3 {
         .zip(&net.xi)
         .map(|(p, &xi)| DVec3::from_array(*p).extend(xi))
         .collect::<Vec<DVec4>>();
-    let volume = Volume::try_new((net.degree[0], net.degree[1], net.degree[2]), points)
+    let volume = Volume::try_new([net.degree[0], net.degree[1], net.degree[2]], points)
         .unwrap_or_else(|e| panic!("the decoder made an invalid net: {e}"));
-    Solid3::try_from_volume(volume)
+    Solid3::try_from_net(volume)
         .unwrap_or_else(|e| panic!("a net of finite values in range is refused: {e}"))
 }
 

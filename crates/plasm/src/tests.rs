@@ -208,7 +208,7 @@ fn blend_of_equal_degree_curves_is_the_tensor_patch() {
     let patch = patch_from_curves(&curves).expect("a patch");
     for (u1, u2) in [(0.0, 0.0), (0.25, 0.5), (0.9, 0.1), (1.0, 1.0), (0.5, 0.75)] {
         // The blend at (u1, u2) is the patch at (u, v) = (u2, u1).
-        let want = patch.eval(u2, u1);
+        let want = patch.eval([u2, u1]);
         assert!(close(
             &at(&mut p, "Surf", &[u1, u2]),
             &want.to_array(),

@@ -155,75 +155,6 @@ struct VolumeDoc {
     index: usize,
 }
 
-/// The number of a parameter axis: 0 for u, 1 for v, 2 for w.
-#[must_use]
-pub fn axis_number(axis: Axis) -> usize {
-    match axis {
-        Axis::U => 0,
-        Axis::V => 1,
-        Axis::W => 2,
-    }
-}
-
-/// The parameter axis of a number: 0 for u, 1 for v, 2 for w.
-#[must_use]
-pub fn axis_of(number: usize) -> Option<Axis> {
-    [Axis::U, Axis::V, Axis::W].get(number).copied()
-}
-
-/// The indices `[i, j, k]` of the `k`-th control point of a volume of `degree` (model file order).
-#[must_use]
-pub fn volume_ijk(degree: (usize, usize, usize), k: usize) -> [usize; 3] {
-    let (_, m, l) = degree;
-    [k / ((m + 1) * (l + 1)), k / (l + 1) % (m + 1), k % (l + 1)]
-}
-
-/// The flat index (model file order) of control point `[i, j, k]` of a volume of `degree`.
-#[must_use]
-pub fn volume_index(degree: (usize, usize, usize), [i, j, k]: [usize; 3]) -> usize {
-    let (_, m, l) = degree;
-    (i * (m + 1) + j) * (l + 1) + k
-}
-
-/// The volume index `(i, j, k)` of slice point `(p, q)` of the slice `index` across `axis`.
-#[must_use]
-pub fn slice_point(axis: Axis, index: usize, p: usize, q: usize) -> (usize, usize, usize) {
-    match axis {
-        Axis::U => (index, p, q),
-        Axis::V => (p, index, q),
-        Axis::W => (p, q, index),
-    }
-}
-
-/// The two coordinates in the plane of a slice across `axis` (x y, x z or y z), as indices.
-#[must_use]
-pub fn plane_coordinates(axis: Axis) -> (usize, usize) {
-    match axis {
-        Axis::U => (1, 2),
-        Axis::V => (0, 2),
-        Axis::W => (0, 1),
-    }
-}
-
-/// The control points of a volume with `index` along `axis` as a patch: points `(a, b, ξ)` with
-/// `a, b` the slice's two in-plane coordinates (x y across w, x z across v, y z across u).
-#[must_use]
-pub fn slice_patch(volume: &Volume<DVec4>, axis: Axis, index: usize) -> Option<Patch<DVec3>> {
-    let d = volume.degree();
-    let dims = [d.0, d.1, d.2];
-    let a = axis_number(axis);
-    if index > dims[a] {
-        return None;
-    }
-    let (lo, hi) = plane_coordinates(axis);
-    Patch::from_fn((dims[lo], dims[hi]), |p, q| {
-        let (i, j, k) = slice_point(axis, index, p, q);
-        let v = volume.point(i, j, k);
-        DVec3::new(v[lo], v[hi], v.w)
-    })
-    .ok()
-}
-
 /// What kind of edit an undo step records: consecutive wheel turns or number entries on one point
 /// are one step; everything else is a step of its own.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -313,7 +244,7 @@ impl ContourView {
         self.drag = None;
         self.volume_drag = None;
         self.fixed = None;
-        let index = solid.degree().2 / 2;
+        let index = solid.degree()[2] / 2;
         self.volume = Some(VolumeDoc {
             solid,
             axis: Axis::W,
@@ -349,7 +280,7 @@ impl ContourView {
             .as_mut()
             .ok_or("the model is a patch; it has no slices")?;
         let d = doc.solid.degree();
-        let len = [d.0, d.1, d.2][axis_number(axis)] + 1;
+        let len = d[axis.index()] + 1;
         if index >= len {
             return Err(format!("the net has {len} slices across that axis"));
         }
@@ -372,8 +303,8 @@ impl ContourView {
     /// The model's net, as the history keeps it.
     fn net(&self) -> Net {
         match &self.volume {
-            Some(doc) => Net::Volume(doc.solid.volume().clone()),
-            None => Net::Patch(self.solid.patch().clone()),
+            Some(doc) => Net::Volume(doc.solid.net().clone()),
+            None => Net::Patch(self.solid.net().clone()),
         }
     }
 
@@ -388,9 +319,7 @@ impl ContourView {
     /// The patch editor's solid from the volume's selected slice.
     fn refresh_slice(&mut self) {
         let Some(doc) = &self.volume else { return };
-        if let Some(solid) = slice_patch(doc.solid.volume(), doc.axis, doc.index)
-            .and_then(|p| Solid2::try_from_patch(p).ok())
-        {
+        if let Some(solid) = doc.solid.slice(doc.axis, doc.index) {
             self.solid = solid;
         }
     }
@@ -400,21 +329,9 @@ impl ContourView {
         let Some(doc) = &mut self.volume else {
             return Ok(());
         };
-        let mut net = doc.solid.volume().clone();
-        let (lo, hi) = plane_coordinates(doc.axis);
-        let (n, m) = self.solid.degree();
-        for p in 0..=n {
-            for q in 0..=m {
-                let (i, j, k) = slice_point(doc.axis, doc.index, p, q);
-                let s = self.solid.patch().point(p, q);
-                let v = net.point_mut(i, j, k);
-                v[lo] = s.x;
-                v[hi] = s.y;
-                v.w = s.z;
-            }
-        }
-        doc.solid = Solid3::try_from_volume(net).map_err(|e| e.to_string())?;
-        Ok(())
+        doc.solid
+            .set_slice(doc.axis, doc.index, &self.solid)
+            .map_err(|e| e.to_string())
     }
 
     fn keep_selection_in_range(&mut self) {
@@ -433,7 +350,7 @@ impl ContourView {
         let before = self.net();
         let old = self.solid.clone();
         edit(&mut self.solid).map_err(|e| e.to_string())?;
-        if self.solid.patch() != old.patch() {
+        if self.solid.net() != old.net() {
             if let Err(e) = self.write_back() {
                 self.solid = old;
                 return Err(e);
@@ -517,18 +434,18 @@ impl ContourView {
     /// keeps the slice shown where the net still has it.
     fn restore(&mut self, net: Net) -> bool {
         match net {
-            Net::Patch(patch) => match Solid2::try_from_patch(patch) {
+            Net::Patch(patch) => match Solid2::try_from_net(patch) {
                 Ok(solid) => {
                     self.solid = solid;
                     self.volume = None;
                 }
                 Err(_) => return false,
             },
-            Net::Volume(volume) => match Solid3::try_from_volume(volume) {
+            Net::Volume(volume) => match Solid3::try_from_net(volume) {
                 Ok(solid) => {
                     let (axis, index) = self.slice().unwrap_or((Axis::W, 0));
                     let d = solid.degree();
-                    let top = [d.0, d.1, d.2][axis_number(axis)];
+                    let top = d[axis.index()];
                     self.volume = Some(VolumeDoc {
                         solid,
                         axis,
@@ -550,21 +467,22 @@ impl ContourView {
     /// it there. The drag ends with [`Self::pointer_up`] as one undo step.
     pub fn begin_volume_drag(&mut self, index: usize) {
         let Some(doc) = &self.volume else { return };
-        let d = doc.solid.degree();
-        if index >= doc.solid.volume().points().len() {
+        if index >= doc.solid.net().points().len() {
             return;
         }
-        let ijk = volume_ijk(d, index);
+        let Some(ijk) = doc.solid.net().multi_index(index) else {
+            return;
+        };
         let axis = doc.axis;
-        let along = ijk[axis_number(axis)];
+        let along = ijk[axis.index()];
         // The slice's two in-plane axes are numbered as the coordinates in its plane.
-        let (lo, hi) = plane_coordinates(axis);
-        let (p, q) = (ijk[lo], ijk[hi]);
+        let (lo, hi) = axis.others();
+        let (p, q) = (ijk[lo.index()], ijk[hi.index()]);
         let before = self.net();
         if self.slice() != Some((axis, along)) {
             let _ = self.set_slice(axis, along);
         }
-        self.selected = Some(p * (self.solid.degree().1 + 1) + q);
+        self.selected = Some(p * (self.solid.degree()[1] + 1) + q);
         self.volume_drag = Some((index, before));
     }
 
@@ -580,12 +498,13 @@ impl ContourView {
         let (Some((index, _)), Some(doc)) = (&self.volume_drag, &mut self.volume) else {
             return false;
         };
-        let d = doc.solid.degree();
-        let [i, j, k] = volume_ijk(d, *index);
-        let before = doc.solid.volume().points()[*index];
-        let ok = xi.is_none_or(|xi| doc.solid.set_xi(i, j, k, xi).is_ok())
-            && xyz.is_none_or(|p| doc.solid.set_point(i, j, k, p).is_ok());
-        let changed = ok && doc.solid.volume().points()[*index] != before;
+        let Some([i, j, k]) = doc.solid.net().multi_index(*index) else {
+            return false;
+        };
+        let before = doc.solid.net().points()[*index];
+        let ok = xi.is_none_or(|xi| doc.solid.set_xi([i, j, k], xi).is_ok())
+            && xyz.is_none_or(|p| doc.solid.set_point([i, j, k], p).is_ok());
+        let changed = ok && doc.solid.net().points()[*index] != before;
         if changed {
             self.revision += 1;
             self.refresh_slice();
@@ -601,19 +520,15 @@ impl ContourView {
     pub fn elevate(&mut self, axis: Axis) -> Result<(), String> {
         if let Some(doc) = &self.volume {
             let d = doc.solid.degree();
-            let side = [d.0, d.1, d.2][axis_number(axis)];
+            let side = d[axis.index()];
             if side + 1 >= MAX_POINTS_PER_SIDE {
                 return Err(format!(
                     "the net has {} points along that axis already; the editor takes at most {MAX_POINTS_PER_SIDE}",
                     side + 1
                 ));
             }
-            let net = doc
-                .solid
-                .volume()
-                .elevate(axis)
-                .map_err(|e| e.to_string())?;
-            let solid = Solid3::try_from_volume(net).map_err(|e| e.to_string())?;
+            let net = doc.solid.net().elevate(axis).map_err(|e| e.to_string())?;
+            let solid = Solid3::try_from_net(net).map_err(|e| e.to_string())?;
             let before = self.net();
             if let Some(doc) = &mut self.volume {
                 doc.solid = solid;
@@ -623,7 +538,7 @@ impl ContourView {
             self.keep_selection_in_range();
             return Ok(());
         }
-        let (n, m) = self.solid.degree();
+        let [n, m] = self.solid.degree();
         let side = match axis {
             Axis::U => n,
             Axis::V => m,
@@ -636,7 +551,7 @@ impl ContourView {
             ));
         }
         self.apply(Step::Other, |s| {
-            *s = Solid2::try_from_patch(s.patch().elevate(axis)?)?;
+            *s = Solid2::try_from_net(s.net().elevate(axis)?)?;
             Ok(())
         })
     }
@@ -659,17 +574,19 @@ impl ContourView {
         if let Some(v) = self.volume() {
             // From a volume: a new patch over its box's x, y extent.
             let (min, max) = v.domain();
-            let patch =
-                Solid2::regular((nu - 1, nv - 1), min.truncate(), max.truncate(), |_, _| {
-                    0.25
-                })
-                .map_err(|e| e.to_string())?;
+            let patch = Solid2::regular(
+                [nu - 1, nv - 1],
+                min.truncate(),
+                max.truncate(),
+                |[_, _]| 0.25,
+            )
+            .map_err(|e| e.to_string())?;
             self.set_solid(patch);
             return Ok(());
         }
         let (min, max) = self.solid.domain();
         self.apply(Step::Other, |s| {
-            *s = Solid2::regular((nu - 1, nv - 1), min, max, |_, _| 0.25)?;
+            *s = Solid2::regular([nu - 1, nv - 1], min, max, |[_, _]| 0.25)?;
             Ok(())
         })?;
         self.fixed = None;
@@ -699,7 +616,7 @@ impl ContourView {
                 (a.extend(0.0), b.extend(1.0))
             }
         };
-        let solid = Solid3::regular((nu - 1, nv - 1, nw - 1), min, max, |_, _, _| 0.25)
+        let solid = Solid3::regular([nu - 1, nv - 1, nw - 1], min, max, |[_, _, _]| 0.25)
             .map_err(|e| e.to_string())?;
         self.set_volume(solid);
         Ok(())
@@ -769,11 +686,11 @@ impl ContourView {
     }
 
     fn columns(&self) -> usize {
-        self.solid.degree().1 + 1
+        self.solid.degree()[1] + 1
     }
 
     fn count(&self) -> usize {
-        self.solid.patch().points().len()
+        self.solid.net().points().len()
     }
 
     fn ij(&self, index: usize) -> (usize, usize) {
@@ -788,7 +705,7 @@ impl ContourView {
 
     /// Selects `P_ij` (or nothing); out-of-range indices select nothing.
     pub fn select(&mut self, ij: Option<(usize, usize)>) {
-        let (n, m) = self.solid.degree();
+        let [n, m] = self.solid.degree();
         self.selected = ij
             .filter(|&(i, j)| i <= n && j <= m)
             .map(|(i, j)| i * (m + 1) + j);
@@ -797,7 +714,7 @@ impl ContourView {
     /// ξ of the selected point.
     #[must_use]
     pub fn selected_xi(&self) -> Option<f64> {
-        self.selected().map(|(i, j)| self.solid.xi(i, j))
+        self.selected().and_then(|(i, j)| self.solid.xi([i, j]))
     }
 
     /// Sets ξ of the selected point.
@@ -808,13 +725,13 @@ impl ContourView {
     pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), String> {
         let k = self.selected.ok_or("no control point is selected")?;
         let (i, j) = self.ij(k);
-        self.apply(Step::Input(k), |s| s.set_xi(i, j, xi))
+        self.apply(Step::Input(k), |s| s.set_xi([i, j], xi))
     }
 
     /// The selected control point `(x, y, ξ)`.
     #[must_use]
     pub fn selected_point(&self) -> Option<DVec3> {
-        self.selected.map(|k| self.solid.patch().points()[k])
+        self.selected.map(|k| self.solid.net().points()[k])
     }
 
     /// Moves the selected point to `(x, y)` in the plane (space mapping, typed in).
@@ -825,14 +742,14 @@ impl ContourView {
     pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), String> {
         let k = self.selected.ok_or("no control point is selected")?;
         let (i, j) = self.ij(k);
-        self.apply(Step::Input(k), |s| s.set_point(i, j, DVec2::new(x, y)))
+        self.apply(Step::Input(k), |s| s.set_point([i, j], DVec2::new(x, y)))
     }
 
     /// The control point whose disc is under the CSS pixel `q`, nearest first.
     #[must_use]
     pub fn pick(&self, q: DVec2) -> Option<usize> {
         self.solid
-            .patch()
+            .net()
             .points()
             .iter()
             .enumerate()
@@ -878,7 +795,7 @@ impl ContourView {
             index,
             mode,
             start: DVec2::ZERO,
-            start_point: self.solid.patch().points()[index],
+            start_point: self.solid.net().points()[index],
             before: self.net(),
         });
     }
@@ -895,10 +812,10 @@ impl ContourView {
         let Some(drag) = &self.drag else { return false };
         let k = drag.index;
         let (i, j) = self.ij(k);
-        let before = self.solid.patch().points()[k];
-        let ok = xi.is_none_or(|xi| self.solid.set_xi(i, j, xi).is_ok())
-            && xy.is_none_or(|xy| self.solid.set_point(i, j, xy).is_ok());
-        self.after_drag_move(ok && self.solid.patch().points()[k] != before)
+        let before = self.solid.net().points()[k];
+        let ok = xi.is_none_or(|xi| self.solid.set_xi([i, j], xi).is_ok())
+            && xy.is_none_or(|xy| self.solid.set_point([i, j], xy).is_ok());
+        self.after_drag_move(ok && self.solid.net().points()[k] != before)
     }
 
     /// After a drag moved the slice's point: the volume follows; returns `changed`.
@@ -919,18 +836,18 @@ impl ContourView {
     pub fn pointer_move(&mut self, q: DVec2) -> bool {
         let Some(drag) = &self.drag else { return false };
         let (i, j) = self.ij(drag.index);
-        let before = self.solid.patch().points()[drag.index];
+        let before = self.solid.net().points()[drag.index];
         let result = match drag.mode {
             Mode::Function => {
                 let xi = drag.start_point.z + (drag.start.y - q.y) * XI_PER_PIXEL;
-                self.solid.set_xi(i, j, xi)
+                self.solid.set_xi([i, j], xi)
             }
             Mode::Space => {
                 let xy = drag.start_point.truncate() + self.to_world(q) - self.to_world(drag.start);
-                self.solid.set_point(i, j, xy)
+                self.solid.set_point([i, j], xy)
             }
         };
-        let changed = result.is_ok() && self.solid.patch().points()[drag.index] != before;
+        let changed = result.is_ok() && self.solid.net().points()[drag.index] != before;
         self.after_drag_move(changed)
     }
 
@@ -976,7 +893,7 @@ impl ContourView {
             (Some(k), Some(xi)) if delta_y.is_finite() && delta_y != 0.0 && self.drag.is_none() => {
                 let (i, j) = self.ij(k);
                 self.apply(Step::Wheel(k), |s| {
-                    s.set_xi(i, j, xi - delta_y * XI_PER_WHEEL)
+                    s.set_xi([i, j], xi - delta_y * XI_PER_WHEEL)
                 })
                 .is_ok()
             }
@@ -988,7 +905,7 @@ impl ContourView {
     /// view used it (the page then prevents the browser's default). Tab and Shift+Tab walk through
     /// the points and let focus leave the view after the last (first) one, as a composite widget does.
     pub fn key(&mut self, key: &str, shift: bool) -> bool {
-        let (n, m) = self.solid.degree();
+        let [n, m] = self.solid.degree();
         let step = if shift {
             XI_KEY_STEP * 0.1
         } else {
@@ -1055,7 +972,7 @@ impl ContourView {
         match (self.selected, self.selected_xi()) {
             (Some(k), Some(xi)) if self.drag.is_none() => {
                 let (i, j) = self.ij(k);
-                self.apply(Step::Other, |s| s.set_xi(i, j, xi + delta))
+                self.apply(Step::Other, |s| s.set_xi([i, j], xi + delta))
                     .is_ok()
             }
             _ => false,
@@ -1078,7 +995,7 @@ impl ContourView {
         let (vmin, vmax) = self.view_box();
         let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
         let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
-        let values = self.solid.f_grid(&grid.xs(), &grid.ys());
+        let values = self.solid.f_grid([&grid.xs(), &grid.ys()]);
         (grid, values)
     }
 
@@ -1142,7 +1059,7 @@ impl ContourView {
         let (w, h) = (2, 2);
         let cells = MAPPED_MESH_CELLS;
         let ts: Vec<f64> = (0..=cells).map(|k| k as f64 / cells as f64).collect();
-        let net = self.solid.patch().eval_grid(&ts, &ts);
+        let net = self.solid.net().eval_grid([&ts, &ts]);
         let side = cells + 1;
         let fs: Vec<f64> = net
             .iter()
@@ -1204,7 +1121,7 @@ impl ContourView {
     pub fn xi_scale(&self) -> f64 {
         let m = self
             .solid
-            .patch()
+            .net()
             .points()
             .iter()
             .map(|p| p.z.abs())
@@ -1219,15 +1136,15 @@ impl ContourView {
             size: self.size,
             dpr: self.dpr,
         };
-        let patch = self.solid.patch();
+        let patch = self.solid.net();
         // The domain's outline: the patch's four boundary curves (the box of a regular grid).
         for line in outline(patch) {
             for w in line.windows(2) {
                 pen.segment(self.to_screen(w[0]), self.to_screen(w[1]), 1.25, BOX_COLOR);
             }
         }
-        let (n, m) = self.solid.degree();
-        let at = |i: usize, j: usize| self.to_screen(patch.point(i, j).truncate());
+        let [n, m] = self.solid.degree();
+        let at = |i: usize, j: usize| self.to_screen(patch[[i, j]].truncate());
         for i in 0..=n {
             for j in 0..=m {
                 if i < n {
@@ -1297,7 +1214,7 @@ pub fn outline(patch: &Patch<DVec3>) -> [Vec<DVec2>; 4] {
         (0..=OUTLINE_SAMPLES)
             .map(|k| {
                 let (u, v) = f(t(k));
-                patch.eval(u, v).truncate()
+                patch.eval([u, v]).truncate()
             })
             .collect()
     };
@@ -1536,7 +1453,7 @@ mod tests {
         let mut v = view();
         v.set_mode(Mode::Space);
         let corner = v.to_screen(DVec2::new(1.0, 1.0));
-        let outline_before = outline(v.solid().patch());
+        let outline_before = outline(v.solid().net());
         assert!(v.pointer_down(corner, false));
         let target = corner + DVec2::new(40.0, -25.0);
         assert!(v.pointer_move(target));
@@ -1552,7 +1469,7 @@ mod tests {
             (v.to_screen(p.truncate()) - target).length() < 1e-9,
             "the view stays put after the drop"
         );
-        let outline_after = outline(v.solid().patch());
+        let outline_after = outline(v.solid().net());
         assert_ne!(outline_before[1], outline_after[1]);
         assert_eq!(
             outline_after[1].last(),
@@ -1620,22 +1537,22 @@ mod tests {
         let before: Vec<f64> = probes.iter().map(|&p| v.solid().f(p)).collect();
         v.elevate(Axis::U).unwrap();
         v.elevate(Axis::V).unwrap();
-        assert_eq!(v.solid().degree(), (3, 3));
+        assert_eq!(v.solid().degree(), [3, 3]);
         for (&p, f) in probes.iter().zip(&before) {
             assert!((v.solid().f(p) - f).abs() < 1e-12);
         }
         assert!(v.elevate(Axis::W).is_err());
         v.select(Some((3, 3)));
         v.reset_grid(2, 5).unwrap();
-        assert_eq!(v.solid().degree(), (1, 4));
+        assert_eq!(v.solid().degree(), [1, 4]);
         assert_eq!(v.selected(), None, "P33 is not in a 2×5 grid");
-        assert!(v.solid().patch().points().iter().all(|p| p.z == 0.25));
+        assert!(v.solid().net().points().iter().all(|p| p.z == 0.25));
         assert!(v.reset_grid(1, 4).is_err() && v.reset_grid(2, 17).is_err());
         for _ in 0..(MAX_POINTS_PER_SIDE - 2) {
             v.elevate(Axis::U).unwrap();
         }
         assert!(v.elevate(Axis::U).unwrap_err().contains("at most"));
-        assert_eq!(v.solid().degree().0, MAX_POINTS_PER_SIDE - 1);
+        assert_eq!(v.solid().degree()[0], MAX_POINTS_PER_SIDE - 1);
         while v.undo() {}
         assert_eq!(v.solid(), &Solid2::fig9());
     }
@@ -1644,7 +1561,7 @@ mod tests {
     fn opening_a_model_is_an_undo_step() {
         let mut v = view();
         v.select(Some((2, 2)));
-        let other = Solid2::regular((1, 1), DVec2::ZERO, DVec2::new(2.0, 1.0), |i, j| {
+        let other = Solid2::regular([1, 1], DVec2::ZERO, DVec2::new(2.0, 1.0), |[i, j]| {
             (i + j) as f64 - 0.5
         })
         .unwrap();
@@ -1698,26 +1615,26 @@ mod tests {
         let mut v = view();
         v.set_volume(blob.clone());
         assert_eq!(v.slice(), Some((Axis::W, 1)));
-        assert_eq!(v.solid().degree(), (2, 2));
+        assert_eq!(v.solid().degree(), [2, 2]);
         // The middle w slice of the blob: its centre is the volume's centre point, ξ = 1.
         v.select(Some((1, 1)));
         assert_eq!(v.selected_xi(), Some(1.0));
         v.set_selected_xi(0.4).unwrap();
-        assert_eq!(v.volume().unwrap().xi(1, 1, 1), Some(0.4));
+        assert_eq!(v.volume().unwrap().xi([1, 1, 1]), Some(0.4));
         // A space edit in the slice moves the volume's point in x and y (z kept).
         v.set_selected_xy(0.1, -0.2).unwrap();
-        let p = v.volume().unwrap().volume().point(1, 1, 1);
+        let p = v.volume().unwrap().net()[[1, 1, 1]];
         assert_eq!((p.x, p.y, p.z, p.w), (0.1, -0.2, 0.0, 0.4));
         assert!(v.volume().unwrap().inverse().is_some());
         // Another slice: across u, index 0 (points (y, z, ξ)).
         v.set_slice(Axis::U, 0).unwrap();
-        assert_eq!(v.solid().patch().point(0, 0), DVec3::new(-1.0, -1.0, -1.0));
+        assert_eq!(v.solid().net()[[0, 0]], DVec3::new(-1.0, -1.0, -1.0));
         assert!(v.set_slice(Axis::U, 3).is_err());
         // A 3D drag of a volume point: one step; the slice follows.
         let before = v.volume().unwrap().clone();
         v.begin_volume_drag(0);
         assert!(v.drag_volume_to(None, Some(0.5)));
-        assert_eq!(v.solid().patch().point(0, 0).z, 0.5);
+        assert_eq!(v.solid().net()[[0, 0]].z, 0.5);
         v.pointer_up();
         assert!(v.undo());
         assert_eq!(v.volume().unwrap(), &before);
@@ -1732,13 +1649,13 @@ mod tests {
         let probe = DVec3::new(0.2, -0.3, 0.1);
         let f = v.volume().unwrap().f(probe);
         v.elevate(Axis::W).unwrap();
-        assert_eq!(v.volume().unwrap().degree(), (2, 2, 3));
+        assert_eq!(v.volume().unwrap().degree(), [2, 2, 3]);
         assert!((v.volume().unwrap().f(probe) - f).abs() < 1e-12);
         assert!(v.undo());
         assert_eq!(v.volume().unwrap(), &blob);
         // A new flat volume over the blob's box.
         v.new_volume(2, 3, 4).unwrap();
-        assert_eq!(v.volume().unwrap().degree(), (1, 2, 3));
+        assert_eq!(v.volume().unwrap().degree(), [1, 2, 3]);
         assert_eq!(v.volume().unwrap().domain(), blob.domain());
         assert!(v.new_volume(1, 3, 3).is_err());
         assert!(v.undo());

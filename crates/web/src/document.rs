@@ -243,7 +243,8 @@ pub mod headless {
         axis: usize,
         progress: impl FnMut(usize, usize),
     ) -> Result<Made<Vec<f64>>, String> {
-        let axis = crate::app::axis_of(axis).ok_or("axes are 0 (u), 1 (v) and 2 (w)")?;
+        let axis =
+            bezsolid_core::Axis::from_index(axis).ok_or("axes are 0 (u), 1 (v) and 2 (w)")?;
         match read_any(text)? {
             ModelSolid::Volume(v) => {
                 let (data, approximate) = crate::view3d::stack_segments(&v, axis, progress);
@@ -308,8 +309,8 @@ mod tests {
 
     fn moved() -> ContourView {
         let mut s = Solid2::fig9();
-        s.set_point(1, 2, DVec2::new(0.61, 1.2)).unwrap();
-        s.set_xi(0, 1, 0.123_456_789_012_345_6).unwrap();
+        s.set_point([1, 2], DVec2::new(0.61, 1.2)).unwrap();
+        s.set_xi([0, 1], 0.123_456_789_012_345_6).unwrap();
         ContourView::new(s)
     }
 

@@ -231,7 +231,7 @@ fn is_surface_map(s: &bezsolid_plasm::Shown) -> bool {
 ///
 /// The script's error, a value that is not such a surface, or a map that is no polynomial of
 /// degree at most 16 in each parameter.
-pub fn patch_model(script: &str, index: usize) -> Result<(String, (usize, usize)), String> {
+pub fn patch_model(script: &str, index: usize) -> Result<(String, [usize; 2]), String> {
     let mut interp = Interp::new();
     let run = interp.run(script);
     if let Some(e) = run.error {
@@ -265,7 +265,7 @@ pub fn patch_model(script: &str, index: usize) -> Result<(String, (usize, usize)
     })
     .map_err(|e| failure.clone().unwrap_or_else(|| e.to_string()))?;
     let degree = patch.degree();
-    let solid = bezsolid_core::Solid2::try_from_patch(patch).map_err(|e| e.to_string())?;
+    let solid = bezsolid_core::Solid2::try_from_net(patch).map_err(|e| e.to_string())?;
     let json = serde_json::to_string_pretty(&ModelFile::from_solid2(&solid)).unwrap_or_default();
     Ok((json, degree))
 }
@@ -480,25 +480,25 @@ mod tests {
         assert_eq!(r["values"][0]["patch"], true);
         assert_eq!(r["values"][1]["patch"], false, "a curve is no surface");
         let (json, degree) = patch_model(&src, 0).expect("a patch");
-        assert_eq!(degree, (3, 3));
+        assert_eq!(degree, [3, 3]);
         let file: ModelFile = serde_json::from_str(&json).expect("a model file");
         let bezsolid_core::model::ModelSolid::Patch(solid) = file.to_solid().expect("a solid")
         else {
             panic!("a patch");
         };
         // The net interpolates the boundary curves: its corners are the curves' ends.
-        let p = solid.patch();
-        assert!((p.point(0, 0) - DVec3::ZERO).length() < 1e-9);
-        assert!((p.point(3, 0) - DVec3::new(10.0, 0.0, 0.0)).length() < 1e-9);
-        assert!((p.point(0, 3) - DVec3::new(0.0, 6.0, 0.0)).length() < 1e-9);
-        assert!((p.point(3, 3) - DVec3::new(10.0, 6.0, -1.0)).length() < 1e-9);
+        let p = solid.net();
+        assert!((p[[0, 0]] - DVec3::ZERO).length() < 1e-9);
+        assert!((p[[3, 0]] - DVec3::new(10.0, 0.0, 0.0)).length() < 1e-9);
+        assert!((p[[0, 3]] - DVec3::new(0.0, 6.0, 0.0)).length() < 1e-9);
+        assert!((p[[3, 3]] - DVec3::new(10.0, 6.0, -1.0)).length() < 1e-9);
         // A plane grid has no third coordinate; a curve is not a surface.
         let grids = scripts::example("4.8").expect("4.8").source();
         assert!(patch_model(&grids, 0).is_err());
         assert!(patch_model(&src, 1).is_err());
         // Hermite surfaces are cubic too.
         let hermite = scripts::example("4.6").expect("4.6").source();
-        assert_eq!(patch_model(&hermite, 0).expect("a patch").1, (3, 3));
+        assert_eq!(patch_model(&hermite, 0).expect("a patch").1, [3, 3]);
     }
 
     #[test]

@@ -9,13 +9,10 @@
 //! model (half the domain's larger side per unit of ξ) and held still while editing.
 
 use bezsolid_core::contour::solid_contour;
-use bezsolid_core::{Axis, Solid2, Solid3};
+use bezsolid_core::{Axis, Solid3};
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::app::{
-    ContourView, Mode, Rgba, XI_PER_PIXEL, axis_number, diverging, plane_coordinates, slice_patch,
-    slice_point, volume_ijk, volume_index,
-};
+use crate::app::{ContourView, Mode, Rgba, XI_PER_PIXEL, diverging};
 
 /// Cells per side of the surface mesh.
 const SURFACE_CELLS: usize = 48;
@@ -487,10 +484,10 @@ impl View3 {
     /// The world positions of the control points' spheres (the volume's or the patch's).
     fn centres(&self, editor: &ContourView) -> Vec<DVec3> {
         match editor.volume() {
-            Some(v) => v.volume().points().iter().map(|p| p.truncate()).collect(),
+            Some(v) => v.net().points().iter().map(|p| p.truncate()).collect(),
             None => editor
                 .solid()
-                .patch()
+                .net()
                 .points()
                 .iter()
                 .map(|&p| self.world(p))
@@ -547,7 +544,7 @@ impl View3 {
                 editor.mode()
             };
             if let Some(volume) = editor.volume() {
-                let p = volume.volume().points()[k];
+                let p = volume.net().points()[k];
                 let (o, d) = self.camera.ray(q, self.size);
                 let back = (self.camera.eye() - self.camera.target).normalize();
                 let grab = plane_hit(o, d, p.truncate(), back).unwrap_or(p.truncate());
@@ -555,7 +552,7 @@ impl View3 {
                 self.gesture = Some(Gesture::VolumePoint(mode, q, p, p.truncate() - grab));
                 return true;
             }
-            let centre = self.world(editor.solid().patch().points()[k]);
+            let centre = self.world(editor.solid().net().points()[k]);
             let grab = self.grab_point(centre, mode, q).unwrap_or(centre);
             editor.begin_drag(k, mode);
             self.gesture = Some(Gesture::Point(mode, centre - grab));
@@ -629,7 +626,7 @@ impl View3 {
                     self.gesture = None;
                     return false;
                 };
-                let centre = self.world(editor.solid().patch().points()[k]);
+                let centre = self.world(editor.solid().net().points()[k]);
                 let Some(hit) = self.grab_point(centre, mode, q) else {
                     return false;
                 };
@@ -813,7 +810,7 @@ impl View3 {
     /// rods, and the plane ξ = 0.
     fn patch_geometry(&self, editor: &ContourView) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
         let solid = editor.solid();
-        let patch = solid.patch();
+        let patch = solid.net();
         let (lo, hi) = xi_range(editor);
         let scale = lo.abs().max(hi.abs()).max(1e-12);
         let mut opaque = Vec::new();
@@ -822,7 +819,7 @@ impl View3 {
         let n = SURFACE_CELLS;
         let ts: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
         let pts: Vec<DVec3> = patch
-            .eval_grid(&ts, &ts)
+            .eval_grid([&ts, &ts])
             .into_iter()
             .map(|p| self.world(p))
             .collect();
@@ -859,7 +856,7 @@ impl View3 {
         // The control points as spheres coloured by ξ; the selected one orange on a guide line
         // down to the plane (the vertical it moves along in function mode).
         let r = Self::radius(editor);
-        let (du, dv) = solid.degree();
+        let [du, dv] = solid.degree();
         let selected = editor.selected().map(|(i, j)| i * (dv + 1) + j);
         let detail = sphere_detail(patch.points().len());
         for (k, p) in patch.points().iter().enumerate() {
@@ -877,12 +874,7 @@ impl View3 {
                 sphere(&mut opaque, c, r, diverging(p.z / scale), detail);
             }
         }
-        net_rods(
-            &mut opaque,
-            (du, dv),
-            |i, j| self.world(patch.point(i, j)),
-            r,
-        );
+        net_rods(&mut opaque, (du, dv), |i, j| self.world(patch[[i, j]]), r);
 
         // The plane ξ = 0 over the domain with a margin.
         let (min, max) = solid.domain();
@@ -977,18 +969,19 @@ impl View3 {
             opaque.extend_from_slice(&c.stack);
         }
         let r = Self::radius(editor);
-        let net = volume.volume();
-        let d = volume.degree();
+        let net = volume.net();
         let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
-        let selected = editor.selected().map(|(p, q)| {
-            let (i, j, k) = slice_point(axis, index, p, q);
-            volume_index(d, [i, j, k])
-        });
+        let selected = editor
+            .selected()
+            .and_then(|(p, q)| net.flat_index(axis.embed(index, [p, q])));
         let detail = sphere_detail(net.points().len());
         for (k, p) in net.points().iter().enumerate() {
             let (radius, color) = if selected == Some(k) {
                 (r * 1.3, SELECT_COLOR)
-            } else if volume_ijk(d, k)[axis_number(axis)] == index {
+            } else if net
+                .multi_index(k)
+                .is_some_and(|ijk| ijk[axis.index()] == index)
+            {
                 (r, diverging(p.w / scale))
             } else {
                 (r * 0.7, diverging(p.w / scale))
@@ -996,12 +989,9 @@ impl View3 {
             sphere(&mut opaque, p.truncate(), radius, color, detail);
         }
         let mut translucent = Vec::new();
-        if let Some(patch) = slice_patch(net, axis, index) {
-            let (n, m) = patch.degree();
-            let at = |p: usize, q: usize| {
-                let (i, j, k) = slice_point(axis, index, p, q);
-                net.point(i, j, k).truncate()
-            };
+        if let Some(slice) = net.slice(axis, index) {
+            let [n, m] = slice.degree();
+            let at = |p: usize, q: usize| slice[[p, q]].truncate();
             net_rods(&mut opaque, (n, m), at, r);
             translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
         }
@@ -1106,16 +1096,15 @@ pub fn stack_segments(
     axis: Axis,
     mut progress: impl FnMut(usize, usize),
 ) -> (Vec<f64>, usize) {
-    let net = volume.volume();
-    let d = volume.degree();
-    let a = axis_number(axis);
-    let (lo, hi) = plane_coordinates(axis);
-    let slices = [d.0, d.1, d.2][a] + 1;
+    let net = volume.net();
+    let a = axis.index();
+    let (lo, hi) = axis.others();
+    let (lo, hi) = (lo.index(), hi.index());
+    let slices = net.dims()[a];
     let mut out = Vec::new();
     let mut approximate = 0;
     for index in 0..slices {
-        let solid = slice_patch(net, axis, index).and_then(|p| Solid2::try_from_patch(p).ok());
-        if let Some(solid) = solid {
+        if let Some(solid) = volume.slice(axis, index) {
             let along = patch_mean_along(net, axis, index);
             let to3 = |p: DVec2| {
                 let mut v = [0.0; 3];
@@ -1158,17 +1147,12 @@ pub fn stack_vertices(volume: &Solid3, segments: &[f64]) -> Vec<MeshVertex> {
 
 /// The mean coordinate along `axis` of the control points of slice `index` across it.
 fn patch_mean_along(net: &bezsolid_core::Volume<DVec4>, axis: Axis, index: usize) -> f64 {
-    let d = net.degree();
-    let a = axis_number(axis);
-    let mut sum = 0.0;
-    let mut count = 0.0f64;
-    for (k, p) in net.points().iter().enumerate() {
-        if volume_ijk(d, k)[a] == index {
-            sum += p[a];
-            count += 1.0;
-        }
-    }
-    sum / count.max(1.0)
+    let a = axis.index();
+    let Some(slice) = net.slice(axis, index) else {
+        return 0.0;
+    };
+    let sum: f64 = slice.points().iter().map(|p| p[a]).sum();
+    sum / slice.points().len() as f64
 }
 
 /// Where the ray `o + t·d` meets the plane through `p` with normal `n` (in front of the eye).
@@ -1185,7 +1169,7 @@ fn plane_hit(o: DVec3, d: DVec3, p: DVec3, n: DVec3) -> Option<DVec3> {
 fn xi_range(editor: &ContourView) -> (f64, f64) {
     editor
         .solid()
-        .patch()
+        .net()
         .points()
         .iter()
         .fold((0.0f64, 0.0f64), |(lo, hi), p| (lo.min(p.z), hi.max(p.z)))
@@ -1389,7 +1373,7 @@ mod tests {
             .iter()
             .map(|v| v.position[2])
             .fold(f32::MIN, f32::max);
-        let expected = editor.solid().patch().eval(0.5, 0.5).z * height;
+        let expected = editor.solid().net().eval([0.5, 0.5]).z * height;
         assert!(
             (f64::from(top) - expected).abs() < 1e-3,
             "{top} vs {expected}"
@@ -1556,7 +1540,7 @@ mod tests {
         // A degree-16 volume's scene: the spheres within the budget.
         let (mut editor, mut view) = setup();
         editor.set_volume(
-            Solid3::regular((16, 16, 16), DVec3::ZERO, DVec3::ONE, |_, _, _| 0.25).unwrap(),
+            Solid3::regular([16, 16, 16], DVec3::ZERO, DVec3::ONE, |[_, _, _]| 0.25).unwrap(),
         );
         let scene = view.scene(&editor);
         assert!(

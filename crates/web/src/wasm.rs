@@ -498,7 +498,7 @@ impl Modeler {
     /// The degree `[n, m]` of the patch.
     #[must_use]
     pub fn degree(&self) -> Vec<u32> {
-        let (n, m) = self.view.solid().degree();
+        let [n, m] = self.view.solid().degree();
         vec![n as u32, m as u32]
     }
 
@@ -620,7 +620,7 @@ impl Modeler {
     pub fn load_preset(&mut self, name: &str) -> Result<(), JsError> {
         let solid = match name {
             "flat" => bezsolid_core::model::ModelSolid::Patch(
-                Solid2::regular((3, 3), glam::DVec2::ZERO, glam::DVec2::ONE, |_, _| 0.25)
+                Solid2::regular([3, 3], glam::DVec2::ZERO, glam::DVec2::ONE, |[_, _]| 0.25)
                     .map_err(|e| error("preset", e))?,
             ),
             _ => document::preset(name).map_err(|e| JsError::new(&e))?,
@@ -699,7 +699,7 @@ impl Modeler {
     pub fn xi_extent(&self) -> f64 {
         match self.view.volume() {
             Some(v) => v
-                .volume()
+                .net()
                 .points()
                 .iter()
                 .fold(1e-12f64, |m, p| m.max(p.w.abs())),
@@ -723,7 +723,7 @@ impl Modeler {
     #[must_use]
     pub fn volume_degree(&self) -> Option<Vec<u32>> {
         self.view.volume().map(|v| {
-            let (n, m, l) = v.degree();
+            let [n, m, l] = v.degree();
             vec![n as u32, m as u32, l as u32]
         })
     }
@@ -800,13 +800,13 @@ impl Modeler {
     pub fn stack_request(&mut self) -> Option<Vec<f64>> {
         self.view3
             .take_stack_request()
-            .map(|(r, axis)| vec![r as f64, crate::app::axis_number(axis) as f64])
+            .map(|(r, axis)| vec![r as f64, axis.index() as f64])
     }
 
     /// A contour stack made elsewhere ([`headless_stack`]) for model `revision` across `axis`;
     /// returns whether it was taken (not when the model or the axis has changed since).
     pub fn set_stack(&mut self, revision: f64, axis: u32, data: &[f64]) -> bool {
-        crate::app::axis_of(axis as usize).is_some_and(|axis| {
+        bezsolid_core::Axis::from_index(axis as usize).is_some_and(|axis| {
             self.view3
                 .set_stack(&self.view, revision as u64, axis, data)
         })

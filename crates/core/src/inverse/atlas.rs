@@ -30,7 +30,7 @@ use alloc::collections::VecDeque;
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::clip::{ClipLimits, ClipStats, Tensor, clip_seeds};
+use super::clip::{Bernstein, ClipLimits, ClipStats, clip_seeds};
 use crate::bernstein::{bernstein, binomial};
 
 /// The largest degree per axis of a piece's approximation.
@@ -117,7 +117,7 @@ pub(crate) struct Piece<const D: usize> {
     /// The map is certified injective on the box.
     pub(crate) certified: bool,
     /// The map over the box's local parameters, approximated.
-    approx: Tensor<D, D>,
+    approx: Bernstein<D, D>,
     /// The approximation's error bound per coordinate.
     band: [f64; D],
 }
@@ -133,7 +133,7 @@ pub(crate) struct Atlas<const D: usize> {
 
 impl<const D: usize> Atlas<D> {
     /// The atlas of the spatial net `net` (coefficients over the unit box), cut within `budget`.
-    pub(crate) fn build(net: &Tensor<D, D>, budget: AtlasBudget) -> Self {
+    pub(crate) fn build(net: &Bernstein<D, D>, budget: AtlasBudget) -> Self {
         let (lo, hi) = super::bounds(&net.coefs);
         let scale = (0..D)
             .map(|c| (hi[c] - lo[c]).max(lo[c].abs()).max(hi[c].abs()))
@@ -325,7 +325,7 @@ enum Approach<const D: usize> {
 /// Newton's method for `Q(t) = p` on a low-degree net from `t`: the root once a step is below
 /// `1e-10`; calls `step` before each step.
 fn newton_on<const D: usize>(
-    q: &Tensor<D, D>,
+    q: &Bernstein<D, D>,
     p: [f64; D],
     mut t: [f64; D],
     step: &mut impl FnMut(),
@@ -352,7 +352,7 @@ fn newton_on<const D: usize>(
 
 /// The value of a low-degree net at local parameters `t` and its Jacobian by columns.
 fn eval_with_jacobian<const D: usize>(
-    net: &Tensor<D, D>,
+    net: &Bernstein<D, D>,
     t: [f64; D],
 ) -> ([f64; D], [[f64; D]; D]) {
     let mut basis = [[0.0; crate::bernstein::MAX_DEGREE + 1]; D];
@@ -416,7 +416,7 @@ struct Shape<const D: usize> {
 }
 
 impl<const D: usize> Shape<D> {
-    fn of(t: &Tensor<D, D>) -> Self {
+    fn of(t: &Bernstein<D, D>) -> Self {
         let mut mean = [[0.0; D]; D];
         let mut spread = [0.0; D];
         for axis in 0..D {
@@ -455,7 +455,7 @@ fn norm<const D: usize>(v: [f64; D]) -> f64 {
 }
 
 /// The Bernstein coefficients of `∂S/∂t_axis` (local parameters), in any order.
-fn derivative<const D: usize>(t: &Tensor<D, D>, axis: usize) -> Vec<[f64; D]> {
+fn derivative<const D: usize>(t: &Bernstein<D, D>, axis: usize) -> Vec<[f64; D]> {
     let n = t.dims[axis];
     let stride: usize = t.dims[axis + 1..].iter().product();
     let scale = (n - 1) as f64;
@@ -503,7 +503,7 @@ impl<const D: usize> Reducer<D> {
 
     /// The interpolant of degree `min(n, APPROX_DEGREE)` per axis of the restricted net `t` and
     /// the bound on its error per component.
-    fn approximate(&self, t: &Tensor<D, D>) -> (Tensor<D, D>, [f64; D]) {
+    fn approximate(&self, t: &Bernstein<D, D>) -> (Bernstein<D, D>, [f64; D]) {
         if self.axes.iter().all(Option::is_none) {
             return (t.clone(), [0.0; D]);
         }
@@ -543,7 +543,7 @@ struct Matrix {
 }
 
 /// `t` with the matrix applied along `axis` (its `cols` coefficients become `rows`).
-fn apply<const D: usize>(t: &Tensor<D, D>, axis: usize, m: &Matrix) -> Tensor<D, D> {
+fn apply<const D: usize>(t: &Bernstein<D, D>, axis: usize, m: &Matrix) -> Bernstein<D, D> {
     debug_assert_eq!(t.dims[axis], m.cols);
     let stride: usize = t.dims[axis + 1..].iter().product();
     let outer = t.coefs.len() / (m.cols * stride);
@@ -565,7 +565,7 @@ fn apply<const D: usize>(t: &Tensor<D, D>, axis: usize, m: &Matrix) -> Tensor<D,
             }
         }
     }
-    Tensor { dims, coefs }
+    Bernstein { dims, coefs }
 }
 
 /// The map from Bernstein coefficients of degree `n` to those of the degree-`k` polynomial that
@@ -646,7 +646,7 @@ mod tests {
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    fn eval<const D: usize>(t: &Tensor<D, D>, u: [f64; D]) -> [f64; D] {
+    fn eval<const D: usize>(t: &Bernstein<D, D>, u: [f64; D]) -> [f64; D] {
         let mut out = [0.0; D];
         for (index, c) in t.coefs.iter().enumerate() {
             let idx = super::super::multi_index(t.dims, index);
@@ -664,7 +664,7 @@ mod tests {
     fn the_approximation_is_within_its_band() {
         let mut rng = Rng::new(5);
         for (n, m) in [(5, 2), (8, 8), (16, 3)] {
-            let t = Tensor::<2, 2> {
+            let t = Bernstein::<2, 2> {
                 dims: [n + 1, m + 1],
                 coefs: (0..(n + 1) * (m + 1))
                     .map(|_| [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)])
@@ -686,7 +686,7 @@ mod tests {
             }
         }
         // A cubic is its own approximation.
-        let t = Tensor::<2, 2> {
+        let t = Bernstein::<2, 2> {
             dims: [4, 4],
             coefs: (0..16).map(|_| [rng.range(-1.0, 1.0), 0.0]).collect(),
         };

@@ -20,12 +20,12 @@ const SPLIT_RATIO: f64 = 0.8;
 /// `E` is the number of components (equations); clipping uses `E = D`, the injectivity certificate
 /// also splits boundary curves (`D = 1`, `E = 2`) and faces (`D = 2`, `E = 3`).
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Tensor<const D: usize, const E: usize> {
+pub(crate) struct Bernstein<const D: usize, const E: usize> {
     pub(crate) dims: [usize; D],
     pub(crate) coefs: Vec<[f64; E]>,
 }
 
-impl<const D: usize, const E: usize> Tensor<D, E> {
+impl<const D: usize, const E: usize> Bernstein<D, E> {
     fn stride(&self, axis: usize) -> usize {
         self.dims[axis + 1..].iter().product()
     }
@@ -204,7 +204,7 @@ pub struct ClipStats {
 /// polishes and merges them. A box whose coefficients are all within rounding of zero (the map is
 /// constant there) is reported as a root without further splitting.
 pub(crate) fn clip_roots<const D: usize>(
-    system: &Tensor<D, D>,
+    system: &Bernstein<D, D>,
     lo: [f64; D],
     hi: [f64; D],
     limits: ClipLimits,
@@ -221,7 +221,7 @@ pub(crate) fn clip_roots<const D: usize>(
 /// the bands. When the pass cap stops the search, the boxes still open are given as seeds too, so
 /// that the work is bounded and no region is dropped unseen.
 pub(crate) fn clip_seeds<const D: usize>(
-    system: &Tensor<D, D>,
+    system: &Bernstein<D, D>,
     band: [f64; D],
     limits: ClipLimits,
     stats: &mut ClipStats,
@@ -233,7 +233,7 @@ pub(crate) fn clip_seeds<const D: usize>(
 /// within `flat` of zero taken as a root, open boxes kept as seeds at the pass cap if `keep_open`.
 #[allow(clippy::too_many_arguments)]
 fn search<const D: usize>(
-    system: &Tensor<D, D>,
+    system: &Bernstein<D, D>,
     lo: [f64; D],
     hi: [f64; D],
     band: [f64; D],
@@ -249,7 +249,7 @@ fn search<const D: usize>(
             start.restrict(a, lo[a], hi[a], &mut line);
         }
     }
-    let within_band = |t: &Tensor<D, D>| {
+    let within_band = |t: &Bernstein<D, D>| {
         t.coefs
             .iter()
             .all(|c| (0..D).all(|e| c[e].abs() <= flat[e]))
@@ -366,7 +366,7 @@ mod tests {
         let coefs = (0..3)
             .flat_map(|i| (0..3).map(move |j| coef(i, j)))
             .collect();
-        let t = Tensor {
+        let t = Bernstein {
             dims: [3, 3],
             coefs,
         };

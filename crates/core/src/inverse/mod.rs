@@ -34,13 +34,11 @@ use core::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use once_cell::race::OnceBox;
 
-use glam::{DVec3, DVec4};
-
 use crate::bernstein::binomial;
-use crate::rfunc::{clip2, clip3};
-use crate::tensor::{Patch, Volume};
+use crate::dim::{Control, Dim, Dimension};
+use crate::tensor::Tensor;
 use atlas::{Atlas, AtlasBudget};
-use clip::{ClipLimits, ClipStats, Tensor, clip_roots};
+use clip::{Bernstein, ClipLimits, ClipStats, clip_roots};
 use tps::{Kernel, Spline};
 
 /// Candidate roots closer than this (in parameters) are one root: the seam between split boxes, or
@@ -114,50 +112,34 @@ pub trait Forward<const D: usize> {
     fn spatial(&self) -> Vec<[f64; D]>;
 }
 
-impl Forward<2> for Patch<DVec3> {
-    fn forward(&self, u: [f64; 2]) -> Eval<2> {
-        let (s, su, sv) = self.eval_with_partials(u[0], u[1]);
-        Eval {
-            x: [s.x, s.y],
-            jac: [[su.x, su.y], [sv.x, sv.y]],
-            xi: s.z,
-            dxi: [su.z, sv.z],
+impl<const D: usize> Forward<D> for Tensor<Control<D>, D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn forward(&self, u: [f64; D]) -> Eval<D> {
+        let (s, ds) = self.eval_with_gradient(u);
+        let (x, xi) = Dim::<D>::split(s);
+        let mut jac = [[0.0; D]; D];
+        let mut dxi = [0.0; D];
+        for (c, &d) in ds.iter().enumerate() {
+            (jac[c], dxi[c]) = Dim::<D>::split(d);
         }
+        Eval { x, jac, xi, dxi }
     }
-    fn dims(&self) -> [usize; 2] {
-        let (n, m) = self.degree();
-        [n + 1, m + 1]
+    fn dims(&self) -> [usize; D] {
+        Tensor::dims(self)
     }
-    fn spatial(&self) -> Vec<[f64; 2]> {
-        self.points().iter().map(|p| [p.x, p.y]).collect()
-    }
-}
-
-impl Forward<3> for Volume<DVec4> {
-    fn forward(&self, u: [f64; 3]) -> Eval<3> {
-        let (s, [su, sv, sw]) = self.eval_with_gradient(u[0], u[1], u[2]);
-        Eval {
-            x: [s.x, s.y, s.z],
-            jac: [[su.x, su.y, su.z], [sv.x, sv.y, sv.z], [sw.x, sw.y, sw.z]],
-            xi: s.w,
-            dxi: [su.w, sv.w, sw.w],
-        }
-    }
-    fn dims(&self) -> [usize; 3] {
-        let (n, m, l) = self.degree();
-        [n + 1, m + 1, l + 1]
-    }
-    fn spatial(&self) -> Vec<[f64; 3]> {
-        self.points().iter().map(|p| [p.x, p.y, p.z]).collect()
+    fn spatial(&self) -> Vec<[f64; D]> {
+        self.points()
+            .iter()
+            .map(|&c| Dim::<D>::split(c).0)
+            .collect()
     }
 }
 
 /// The clipped defining function `S_ξ(u) & F_s(u)` at a parameter point.
 pub(crate) fn clipped<const D: usize>(xi: f64, u: [f64; D]) -> f64 {
-    match D {
-        2 => clip2(xi, u[0], u[1]),
-        _ => clip3(xi, u[0], u[1], u[2]),
-    }
+    crate::rfunc::clip(xi, u)
 }
 
 /// Solve the `D × D` system `J δ = r` given by columns; `None` when singular.
@@ -228,7 +210,7 @@ pub enum GuessFit {
 /// It keeps no reference to the net; every query takes the net it was built from.
 #[derive(Debug)]
 pub struct InverseMap<const D: usize> {
-    tensor: Tensor<D, D>,
+    tensor: Bernstein<D, D>,
     guess: Spline<D>,
     injective: bool,
     seeds: SeedTable<D>,
@@ -281,7 +263,7 @@ impl<const D: usize> InverseMap<D> {
     /// The inverse map of `net` with the spline guess fitted as `fit` says.
     pub fn with_guess<F: Forward<D>>(net: &F, fit: GuessFit) -> Self {
         let dims = net.dims();
-        let tensor = Tensor {
+        let tensor = Bernstein {
             dims,
             coefs: net.spatial(),
         };
@@ -820,19 +802,11 @@ fn bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
     )
 }
 
-/// The multi-index of flat index `index` (last axis fastest).
-pub(crate) fn multi_index<const D: usize>(dims: [usize; D], mut index: usize) -> [usize; D] {
-    let mut out = [0; D];
-    for a in (0..D).rev() {
-        out[a] = index % dims[a];
-        index /= dims[a];
-    }
-    out
-}
+pub(crate) use crate::tensor::multi_index;
 
 /// The paper's fit: each control point (at most about 150, evenly thinned) to its regular-grid
 /// parameters.
-fn control_sites<const D: usize>(t: &Tensor<D, D>) -> (Vec<[f64; D]>, Vec<[f64; D]>) {
+fn control_sites<const D: usize>(t: &Bernstein<D, D>) -> (Vec<[f64; D]>, Vec<[f64; D]>) {
     let stride = |n: usize| {
         let mut s = 1;
         while (n - 1).div_ceil(s) + 1 > if D == 2 { 12 } else { 5 } {
@@ -1001,7 +975,7 @@ mod certify {
 
     use alloc::vec::Vec;
 
-    use super::{Tensor, binomial, multi_index};
+    use super::{Bernstein, binomial, multi_index};
 
     /// Scalar tensor-product Bernstein polynomial.
     struct Poly<const D: usize> {
@@ -1012,7 +986,7 @@ mod certify {
     /// The most multiply-adds spent on the Bernstein form of `det J`.
     const MAX_WORK: usize = 40_000_000;
 
-    fn derivative<const D: usize>(t: &Tensor<D, D>, axis: usize, comp: usize) -> Poly<D> {
+    fn derivative<const D: usize>(t: &Bernstein<D, D>, axis: usize, comp: usize) -> Poly<D> {
         let mut dims = t.dims;
         dims[axis] -= 1;
         let n = (t.dims[axis] - 1) as f64;
@@ -1057,7 +1031,7 @@ mod certify {
     }
 
     /// `det J` in Bernstein form, `None` when that costs more than [`MAX_WORK`].
-    fn det_j<const D: usize>(t: &Tensor<D, D>) -> Option<Poly<D>> {
+    fn det_j<const D: usize>(t: &Bernstein<D, D>) -> Option<Poly<D>> {
         let d = |axis: usize, comp: usize| derivative(t, axis, comp);
         let size = |p: &Poly<D>| p.c.len();
         let first = size(&d(0, 0));
@@ -1109,7 +1083,7 @@ mod certify {
         }
         let sign = corner.signum();
         let mut line = Vec::new();
-        let mut stack = alloc::vec![Tensor::<D, 1> {
+        let mut stack = alloc::vec![Bernstein::<D, 1> {
             dims: det.dims,
             coefs: det.c.iter().map(|&v| [v * sign]).collect(),
         }];
@@ -1150,7 +1124,7 @@ mod certify {
     }
 
     /// The boundary of the box cut into `2^level` pieces per free axis of each face.
-    fn pieces<const D: usize>(t: &Tensor<D, D>, level: u32) -> Vec<Piece<D>> {
+    fn pieces<const D: usize>(t: &Bernstein<D, D>, level: u32) -> Vec<Piece<D>> {
         let mut out = Vec::new();
         let cuts = 1usize << level;
         for axis in 0..D {
@@ -1182,7 +1156,7 @@ mod certify {
                     }
                     let (xlo, xhi, tangents) = if D == 2 {
                         let n = t.dims[free[0]];
-                        let mut c = Tensor::<1, D> {
+                        let mut c = Bernstein::<1, D> {
                             dims: [n],
                             coefs: (0..n).map(|i| t.coefs[face_index(&[i])]).collect(),
                         };
@@ -1197,7 +1171,7 @@ mod certify {
                         (a, b, tangents)
                     } else {
                         let (n0, n1) = (t.dims[free[0]], t.dims[free[1]]);
-                        let mut c = Tensor::<2, D> {
+                        let mut c = Bernstein::<2, D> {
                             dims: [n0, n1],
                             coefs: (0..n0 * n1)
                                 .map(|f| t.coefs[face_index(&[f / n1, f % n1])])
@@ -1241,7 +1215,7 @@ mod certify {
             .all(|v| (0..D).map(|c| v[c] * d[c]).sum::<f64>() > 1e-9 * norm(v))
     }
 
-    fn boundary_simple<const D: usize>(t: &Tensor<D, D>) -> bool {
+    fn boundary_simple<const D: usize>(t: &Bernstein<D, D>) -> bool {
         let levels = if D == 2 { 1..=6 } else { 1..=3 };
         'level: for level in levels {
             let ps = pieces(t, level);
@@ -1262,7 +1236,7 @@ mod certify {
         false
     }
 
-    pub(super) fn injective<const D: usize>(t: &Tensor<D, D>) -> bool {
+    pub(super) fn injective<const D: usize>(t: &Bernstein<D, D>) -> bool {
         det_j(t).is_some_and(one_signed) && boundary_simple(t)
     }
 }

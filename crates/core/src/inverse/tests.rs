@@ -5,15 +5,16 @@ use alloc::vec::Vec;
 use glam::{DVec3, DVec4};
 
 use super::*;
+use crate::tensor::{Patch, Volume};
 use crate::testutil::Rng;
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 /// A regular grid over the unit box with every point moved by up to `amp` per coordinate and
 /// random ξ.
-pub(crate) fn warped_patch(rng: &mut Rng, degree: (usize, usize), amp: f64) -> Patch<DVec3> {
-    let (n, m) = degree;
-    Patch::from_fn(degree, |i, j| {
+pub(crate) fn warped_patch(rng: &mut Rng, degree: [usize; 2], amp: f64) -> Patch<DVec3> {
+    let [n, m] = degree;
+    Patch::from_fn(degree, |[i, j]| {
         DVec3::new(
             i as f64 / n as f64 + rng.range(-amp, amp),
             j as f64 / m as f64 + rng.range(-amp, amp),
@@ -23,13 +24,9 @@ pub(crate) fn warped_patch(rng: &mut Rng, degree: (usize, usize), amp: f64) -> P
     .unwrap()
 }
 
-pub(crate) fn warped_volume(
-    rng: &mut Rng,
-    degree: (usize, usize, usize),
-    amp: f64,
-) -> Volume<DVec4> {
-    let (n, m, l) = degree;
-    Volume::from_fn(degree, |i, j, k| {
+pub(crate) fn warped_volume(rng: &mut Rng, degree: [usize; 3], amp: f64) -> Volume<DVec4> {
+    let [n, m, l] = degree;
+    Volume::from_fn(degree, |[i, j, k]| {
         DVec4::new(
             i as f64 / n as f64 + rng.range(-amp, amp),
             j as f64 / m as f64 + rng.range(-amp, amp),
@@ -53,7 +50,7 @@ fn every_method_inverts_mild_warps_to_1e_10() {
     let mut rng = Rng::new(11);
     let mut certified = 0;
     for trial in 0..12 {
-        let net = warped_patch(&mut rng, (3, 3), 0.08);
+        let net = warped_patch(&mut rng, [3, 3], 0.08);
         let map = InverseMap::new(&net);
         certified += usize::from(map.injective());
         for _ in 0..40 {
@@ -73,7 +70,7 @@ fn every_method_inverts_mild_warps_to_1e_10() {
     assert!(certified >= 9, "only {certified} of 12 certified");
     let mut rng = Rng::new(12);
     for _ in 0..4 {
-        let net = warped_volume(&mut rng, (4, 4, 4), 0.05);
+        let net = warped_volume(&mut rng, [4, 4, 4], 0.05);
         let map = InverseMap::new(&net);
         assert!(map.injective());
         for _ in 0..20 {
@@ -115,7 +112,7 @@ fn clipping_finds_every_root_of_folded_nets() {
     let mut rng = Rng::new(21);
     let mut folds = 0;
     for _ in 0..16 {
-        let net = warped_patch(&mut rng, (3, 3), 0.45);
+        let net = warped_patch(&mut rng, [3, 3], 0.45);
         let map = InverseMap::new(&net);
         for _ in 0..12 {
             let p = net.forward(random_u(&mut rng)).x;
@@ -138,7 +135,7 @@ fn clipping_finds_every_root_of_folded_nets() {
     assert!(folds > 10, "the nets should fold: {folds}");
     let mut rng = Rng::new(22);
     for _ in 0..3 {
-        let net = warped_volume(&mut rng, (3, 3, 3), 0.3);
+        let net = warped_volume(&mut rng, [3, 3, 3], 0.3);
         let map = InverseMap::new(&net);
         for _ in 0..6 {
             let p = net.forward(random_u(&mut rng)).x;
@@ -178,9 +175,9 @@ fn every_path_agrees_with_clipping() {
     let mut rng = Rng::new(31);
     for amp in [0.05, 0.15, 0.45] {
         for _ in 0..4 {
-            methods_agree(&warped_patch(&mut rng, (3, 3), amp), &mut rng);
+            methods_agree(&warped_patch(&mut rng, [3, 3], amp), &mut rng);
         }
-        methods_agree(&warped_volume(&mut rng, (3, 3, 3), amp * 0.7), &mut rng);
+        methods_agree(&warped_volume(&mut rng, [3, 3, 3], amp * 0.7), &mut rng);
     }
 }
 
@@ -188,7 +185,7 @@ fn every_path_agrees_with_clipping() {
 fn f_is_continuous_across_the_domain_boundary() {
     let mut rng = Rng::new(41);
     for _ in 0..6 {
-        let net = warped_patch(&mut rng, (3, 3), 0.1);
+        let net = warped_patch(&mut rng, [3, 3], 0.1);
         let map = InverseMap::new(&net);
         for _ in 0..10 {
             // A point on a boundary edge and the outward normal of the image there.
@@ -230,7 +227,7 @@ fn f_is_continuous_across_the_domain_boundary() {
 #[test]
 fn a_regular_grid_inverts_to_its_scaling() {
     let mut rng = Rng::new(51);
-    let net = warped_patch(&mut rng, (4, 2), 0.0);
+    let net = warped_patch(&mut rng, [4, 2], 0.0);
     let map = InverseMap::new(&net);
     assert!(map.injective());
     for _ in 0..50 {
@@ -246,8 +243,8 @@ fn a_regular_grid_inverts_to_its_scaling() {
 #[test]
 fn degenerate_nets_give_defined_values() {
     let mut rng = Rng::new(61);
-    let same = Patch::from_fn((3, 3), |_, _| DVec3::new(0.5, 0.5, 0.3)).unwrap();
-    let collapsed = Patch::from_fn((3, 3), |i, j| {
+    let same = Patch::from_fn([3, 3], |[_, _]| DVec3::new(0.5, 0.5, 0.3)).unwrap();
+    let collapsed = Patch::from_fn([3, 3], |[i, j]| {
         let x = i as f64 / 3.0;
         let y = j as f64 / 3.0;
         // The edge u = 0 collapsed to one point.
@@ -258,11 +255,11 @@ fn degenerate_nets_give_defined_values() {
         }
     })
     .unwrap();
-    let inside_out = Patch::from_fn((3, 3), |i, j| {
+    let inside_out = Patch::from_fn([3, 3], |[i, j]| {
         DVec3::new(1.0 - i as f64 / 3.0, j as f64 / 3.0, 0.5)
     })
     .unwrap();
-    let line = Patch::from_fn((2, 2), |i, j| DVec3::new(i as f64 + j as f64, 0.0, 0.2)).unwrap();
+    let line = Patch::from_fn([2, 2], |[i, j]| DVec3::new(i as f64 + j as f64, 0.0, 0.2)).unwrap();
     for net in [same, collapsed, inside_out, line] {
         let map = InverseMap::new(&net);
         let mut points: Vec<[f64; 2]> = (0..30).map(|_| random_u(&mut rng)).collect();
@@ -285,7 +282,7 @@ fn degenerate_nets_give_defined_values() {
             }
         }
     }
-    let same = Volume::from_fn((2, 2, 2), |_, _, _| DVec4::new(1.0, 1.0, 1.0, 0.5)).unwrap();
+    let same = Volume::from_fn([2, 2, 2], |[_, _, _]| DVec4::new(1.0, 1.0, 1.0, 0.5)).unwrap();
     let map = InverseMap::new(&same);
     for p in [[1.0, 1.0, 1.0], [0.0, 0.3, 0.2]] {
         assert!(
@@ -328,14 +325,14 @@ fn guess_error<const D: usize, F: Forward<D>>(
 fn the_default_guess_is_the_better_one_by_measurement() {
     let mut rng = Rng::new(71);
     let patches: Vec<_> = (0..8)
-        .map(|_| warped_patch(&mut rng, (3, 3), 0.12))
+        .map(|_| warped_patch(&mut rng, [3, 3], 0.12))
         .collect();
     let control = guess_error(&patches, GuessFit::ControlPoints, None, &mut rng);
     let forward = guess_error(&patches, GuessFit::ForwardSamples, None, &mut rng);
     std::println!("2D guess error: control points {control:.2e}, forward samples {forward:.2e}");
     assert!(forward < control);
     let volumes: Vec<_> = (0..4)
-        .map(|_| warped_volume(&mut rng, (4, 4, 4), 0.08))
+        .map(|_| warped_volume(&mut rng, [4, 4, 4], 0.08))
         .collect();
     let fit = GuessFit::ForwardSamples;
     let linear = guess_error(&volumes, fit, Some(Kernel::Linear), &mut rng);
@@ -350,7 +347,7 @@ fn the_default_guess_is_the_better_one_by_measurement() {
 #[test]
 fn tangential_and_seam_roots_are_single() {
     let xs = [0.0, 1.5, 0.5];
-    let net = Patch::from_fn((2, 1), |i, j| DVec3::new(xs[i], j as f64, 0.5)).unwrap();
+    let net = Patch::from_fn([2, 1], |[i, j]| DVec3::new(xs[i], j as f64, 0.5)).unwrap();
     let map = InverseMap::new(&net);
     assert!(!map.injective());
     for p in [[0.9, 0.5], [0.9, 0.0], [0.9, 1.0]] {
@@ -380,9 +377,9 @@ fn tangential_and_seam_roots_are_single() {
 #[test]
 fn far_from_the_origin_the_fast_path_still_converges() {
     let mut rng = Rng::new(101);
-    let near = warped_patch(&mut rng, (3, 3), 0.05);
-    let far = Patch::from_fn((3, 3), |i, j| {
-        let p = near.point(i, j);
+    let near = warped_patch(&mut rng, [3, 3], 0.05);
+    let far = Patch::from_fn([3, 3], |[i, j]| {
+        let p = near[[i, j]];
         DVec3::new(p.x + 1e5, p.y - 3e5, p.z)
     })
     .unwrap();
@@ -403,15 +400,15 @@ fn far_from_the_origin_the_fast_path_still_converges() {
 
 /// The regular grid over the unit box with the control points' positions shuffled among them (ξ
 /// random): a net that folds over itself everywhere, the worst a user can drag into being.
-pub(crate) fn shuffled_patch(rng: &mut Rng, degree: (usize, usize)) -> Patch<DVec3> {
-    let (n, m) = degree;
+pub(crate) fn shuffled_patch(rng: &mut Rng, degree: [usize; 2]) -> Patch<DVec3> {
+    let [n, m] = degree;
     let mut spots: Vec<(f64, f64)> = (0..=n)
         .flat_map(|i| (0..=m).map(move |j| (i as f64 / n as f64, j as f64 / m as f64)))
         .collect();
     for k in (1..spots.len()).rev() {
         spots.swap(k, rng.int(0, k));
     }
-    Patch::from_fn(degree, |i, j| {
+    Patch::from_fn(degree, |[i, j]| {
         let (x, y) = spots[i * (m + 1) + j];
         DVec3::new(x, y, rng.range(-1.0, 1.0))
     })
@@ -419,8 +416,8 @@ pub(crate) fn shuffled_patch(rng: &mut Rng, degree: (usize, usize)) -> Patch<DVe
 }
 
 /// [`shuffled_patch`] for volumes.
-pub(crate) fn shuffled_volume(rng: &mut Rng, degree: (usize, usize, usize)) -> Volume<DVec4> {
-    let (n, m, l) = degree;
+pub(crate) fn shuffled_volume(rng: &mut Rng, degree: [usize; 3]) -> Volume<DVec4> {
+    let [n, m, l] = degree;
     let mut spots: Vec<[f64; 3]> = (0..(n + 1) * (m + 1) * (l + 1))
         .map(|index| {
             let idx = multi_index([n + 1, m + 1, l + 1], index);
@@ -434,7 +431,7 @@ pub(crate) fn shuffled_volume(rng: &mut Rng, degree: (usize, usize, usize)) -> V
     for k in (1..spots.len()).rev() {
         spots.swap(k, rng.int(0, k));
     }
-    Volume::from_fn(degree, |i, j, k| {
+    Volume::from_fn(degree, |[i, j, k]| {
         let [x, y, z] = spots[(i * (m + 1) + j) * (l + 1) + k];
         DVec4::new(x, y, z, rng.range(-1.0, 1.0))
     })
@@ -507,7 +504,7 @@ fn atlas_agrees_with_clipping<const D: usize, F: Forward<D>>(
 fn the_atlas_finds_the_preimages_of_nets_that_fold_everywhere() {
     let mut rng = Rng::new(111);
     let (mut found, mut near_folds) = (0, 0);
-    for degree in [(3, 3), (6, 6), (9, 4)] {
+    for degree in [[3, 3], [6, 6], [9, 4]] {
         for _ in 0..3 {
             let net = shuffled_patch(&mut rng, degree);
             let (f, n) = atlas_agrees_with_clipping(&net, &mut rng, 150);
@@ -516,11 +513,11 @@ fn the_atlas_finds_the_preimages_of_nets_that_fold_everywhere() {
         }
     }
     for _ in 0..2 {
-        let net = shuffled_volume(&mut rng, (2, 2, 2));
+        let net = shuffled_volume(&mut rng, [2, 2, 2]);
         let (f, n) = atlas_agrees_with_clipping(&net, &mut rng, 60);
         found += f;
         near_folds += n;
-        let net = warped_volume(&mut rng, (3, 3, 3), 0.3);
+        let net = warped_volume(&mut rng, [3, 3, 3], 0.3);
         let (f, n) = atlas_agrees_with_clipping(&net, &mut rng, 60);
         found += f;
         near_folds += n;
@@ -535,9 +532,9 @@ fn the_atlas_finds_the_preimages_of_nets_that_fold_everywhere() {
 #[test]
 fn queries_through_the_atlas_are_bounded_however_the_net_folds() {
     let mut rng = Rng::new(112);
-    for (degree, planned) in [((16, 16), 1 << 20), ((16, 16), 0), ((6, 6), 1 << 22)] {
+    for (degree, planned) in [([16, 16], 1 << 20), ([16, 16], 0), ([6, 6], 1 << 22)] {
         let net = shuffled_patch(&mut rng, degree);
-        let points = (degree.0 + 1) * (degree.1 + 1);
+        let points = (degree[0] + 1) * (degree[1] + 1);
         let map = InverseMap::new(&net);
         map.plan(planned);
         let (pieces, _) = map.atlas_pieces();

@@ -15,7 +15,7 @@ use super::polygonize::{EdgeRoots, LinearRoots, SampleGrid, linear_root, polygon
 use crate::bernstein::{MAX_DEGREE, basis_and_derivative};
 use crate::inverse::{Forward, solve_jac};
 use crate::math::illinois;
-use crate::rfunc::{clip3, clip3_with_gradient};
+use crate::rfunc::{clip_with_gradient, clip3};
 use crate::tensor::other_axes;
 use crate::{Solid3, Volume};
 
@@ -103,17 +103,6 @@ impl Solid3 {
         }
     }
 
-    /// The solid of the same `S_ξ` on the regular grid over the unit cube: the solid in parameter
-    /// space.
-    #[must_use]
-    pub fn in_parameter_space(&self) -> Solid3 {
-        let v = self.volume();
-        Solid3::regular(self.degree(), DVec3::ZERO, DVec3::ONE, |i, j, k| {
-            v.point(i, j, k).w
-        })
-        .unwrap_or_else(|_| unreachable!("the unit cube with the net's valid ξ"))
-    }
-
     fn polygonize_forward(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
         self.polygonize_sheets(resolution, accuracy)
     }
@@ -137,7 +126,7 @@ impl Solid3 {
         let mut mesh = self
             .in_parameter_space()
             .polygonize_regular(resolution, accuracy)?;
-        let net = self.volume();
+        let net = self.net();
         for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
             let e = net.forward(p.to_array());
             *p = DVec3::from_array(e.x);
@@ -163,7 +152,7 @@ impl Solid3 {
                 .map(|i| grid.origin[a] + grid.step[a] * i as f64)
                 .collect()
         };
-        let values = self.f_grid(&axis(0), &axis(1), &axis(2));
+        let values = self.f_grid([&axis(0), &axis(1), &axis(2)]);
         let mut mesh = polygonize(&grid, &values, &mut LinearRoots);
         mesh.normals = mesh
             .positions
@@ -177,7 +166,7 @@ impl Solid3 {
         let grid = self.mesh_grid(resolution)?;
         let mut roots = SolidRoots::new(self, &grid, accuracy);
         let [us, vs, ws] = &roots.params;
-        let mut values = roots.xi.eval_grid(us, vs, ws);
+        let mut values = roots.xi.eval_grid([us, vs, ws]);
         let inner = |t: f64| t > 0.0 && t < 1.0;
         let mut i = 0;
         for &w in ws {
@@ -216,10 +205,9 @@ struct SolidRoots<'a> {
 
 impl<'a> SolidRoots<'a> {
     fn new(solid: &'a Solid3, grid: &SampleGrid, accuracy: f64) -> Self {
-        let xi = solid.xi_volume();
+        let xi = solid.xi_net();
         let (min, max) = solid.domain();
-        let degree = xi.degree();
-        let degrees = [degree.0, degree.1, degree.2];
+        let degrees = xi.degree();
         let params: [Vec<f64>; 3] = core::array::from_fn(|axis| {
             (0..grid.dims[axis])
                 .map(|a| {
@@ -277,7 +265,7 @@ impl<'a> SolidRoots<'a> {
     /// of its derivatives along the two other axes (in increasing axis order), from the contracted
     /// planes: `(degree + 1)²` multiply-adds each.
     fn line(&self, axis: usize, lower: [usize; 3]) -> [[f64; MAX_DEGREE + 1]; 3] {
-        let (n, m, l) = self.xi.degree();
+        let [n, m, l] = self.xi.degree();
         let (dn, dm, dl) = (n + 1, m + 1, l + 1);
         let [a, b, c] = lower;
         let row =
@@ -349,7 +337,7 @@ fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
 impl EdgeRoots for SolidRoots<'_> {
     fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
         let [coef, dp, dq] = self.line(axis, lower);
-        let (n, m, l) = self.xi.degree();
+        let [n, m, l] = self.xi.degree();
         let degree = [n, m, l][axis];
         let (t0, t1) = (
             self.params[axis][lower[axis]],
@@ -409,7 +397,7 @@ impl EdgeRoots for SolidRoots<'_> {
         let (p, q) = other_axes(axis);
         grad[p] = dot(&dp, &b);
         grad[q] = dot(&dq, &b);
-        let (_, g) = clip3_with_gradient(dot(&coef, &b), grad, at[0], at[1], at[2]);
+        let (_, g) = clip_with_gradient(dot(&coef, &b), grad, at);
         (t, -(DVec3::from_array(g) * self.scale).normalize_or_zero())
     }
 
@@ -440,17 +428,17 @@ mod tests {
     /// the Bernstein coefficients of `(t − ½)²` are `(¼, −¼, ¼)`, so `S_ξ = r² − |t − ½|²` exactly.
     fn ball(r: f64, min: DVec3, max: DVec3) -> Solid3 {
         let c = [0.25, -0.25, 0.25];
-        Solid3::regular((2, 2, 2), min, max, |i, j, k| r * r - c[i] - c[j] - c[k]).unwrap()
+        Solid3::regular([2, 2, 2], min, max, |[i, j, k]| r * r - c[i] - c[j] - c[k]).unwrap()
     }
 
     #[test]
     fn a_net_whose_points_share_one_x_meshes_closed() {
         // The box is 2.2e-308 wide beside x = 7.8e-12: below rounding.
-        let volume = Volume::from_fn((1, 1, 1), |i, j, k| {
+        let volume = Volume::from_fn([1, 1, 1], |[i, j, k]| {
             DVec4::new(7.8e-12 + 2.2e-308 * i as f64, j as f64, k as f64, 1.0)
         })
         .unwrap();
-        let solid = Solid3::try_from_volume(volume).unwrap();
+        let solid = Solid3::try_from_net(volume).unwrap();
         for res in [1, 2, 6, 12] {
             let mesh = solid.polygonize(res, 1e-9).unwrap();
             assert!(mesh.check_closed_manifold().is_ok(), "{res}");
@@ -492,10 +480,10 @@ mod tests {
     fn a_solid_cut_by_the_box_is_closed_by_the_box_faces() {
         // ξ = 0.5 everywhere: the whole box is inside; the mesh is the box itself, vertices on its faces.
         let solid = Solid3::regular(
-            (1, 2, 1),
+            [1, 2, 1],
             DVec3::ZERO,
             DVec3::new(2.0, 1.0, 1.0),
-            |_, _, _| 0.5,
+            |[_, _, _]| 0.5,
         )
         .unwrap();
         let mesh = solid.polygonize(10, 1e-12).unwrap();
@@ -538,7 +526,7 @@ mod tests {
             assert_eq!(solid.polygonize(8, accuracy), Err(MeshError::Accuracy));
         }
         // An empty solid is an empty mesh, not an error.
-        let empty = Solid3::regular((1, 1, 1), DVec3::ZERO, DVec3::ONE, |_, _, _| -1.0).unwrap();
+        let empty = Solid3::regular([1, 1, 1], DVec3::ZERO, DVec3::ONE, |[_, _, _]| -1.0).unwrap();
         assert_eq!(empty.polygonize(8, 1e-6).unwrap().triangle_count(), 0);
     }
 
@@ -557,8 +545,8 @@ mod tests {
     fn warped_volume_forward_mesh_lies_on_the_inverse_zero_set() {
         let mut rng = crate::testutil::Rng::new(81);
         let base = ball(0.4, DVec3::ZERO, DVec3::ONE);
-        let volume = Volume::from_fn((2, 2, 2), |i, j, k| {
-            let p = base.volume().point(i, j, k);
+        let volume = Volume::from_fn([2, 2, 2], |[i, j, k]| {
+            let p = base.net()[[i, j, k]];
             let d = DVec3::new(
                 rng.range(-0.08, 0.08),
                 rng.range(-0.08, 0.08),
@@ -567,7 +555,7 @@ mod tests {
             (p.truncate() + d).extend(p.w)
         })
         .unwrap();
-        let solid = Solid3::try_from_volume(volume).unwrap();
+        let solid = Solid3::try_from_net(volume).unwrap();
         assert!(solid.inverse().unwrap().injective());
         let mesh = solid.polygonize(24, 1e-12).unwrap();
         mesh.check_closed_manifold().unwrap();
@@ -590,12 +578,12 @@ mod tests {
     #[test]
     fn an_inside_out_net_still_meshes_outward() {
         let base = ball(0.4, DVec3::ZERO, DVec3::ONE);
-        let volume = Volume::from_fn((2, 2, 2), |i, j, k| {
-            let p = base.volume().point(i, j, k);
+        let volume = Volume::from_fn([2, 2, 2], |[i, j, k]| {
+            let p = base.net()[[i, j, k]];
             DVec4::new(1.0 - p.x, p.y, p.z, p.w)
         })
         .unwrap();
-        let solid = Solid3::try_from_volume(volume).unwrap();
+        let solid = Solid3::try_from_net(volume).unwrap();
         assert!(solid.inverse().unwrap().injective());
         let mesh = solid.polygonize(16, 1e-12).unwrap();
         mesh.check_closed_manifold().unwrap();
@@ -616,23 +604,23 @@ mod tests {
             base.polygonize_sheets(12, 1e-9).unwrap(),
             base.polygonize(12, 1e-9).unwrap()
         );
-        let moved = Volume::from_fn((2, 2, 2), |i, j, k| {
-            let p = base.volume().point(i, j, k);
+        let moved = Volume::from_fn([2, 2, 2], |[i, j, k]| {
+            let p = base.net()[[i, j, k]];
             DVec4::new(p.x + 0.1 * p.y * p.y, p.y, p.z, p.w)
         })
         .unwrap();
-        let moved = Solid3::try_from_volume(moved).unwrap();
+        let moved = Solid3::try_from_net(moved).unwrap();
         assert!(moved.inverse().unwrap().injective());
         assert_eq!(
             moved.polygonize_sheets(12, 1e-9).unwrap(),
             moved.polygonize(12, 1e-9).unwrap()
         );
         let mut rng = crate::testutil::Rng::new(82);
-        let folded = crate::inverse::tests::warped_volume(&mut rng, (2, 2, 2), 0.45);
-        let folded = Solid3::try_from_volume(folded).unwrap();
+        let folded = crate::inverse::tests::warped_volume(&mut rng, [2, 2, 2], 0.45);
+        let folded = Solid3::try_from_net(folded).unwrap();
         let mesh = folded.polygonize_sheets(12, 1e-9).unwrap();
         mesh.check_closed_manifold().unwrap();
-        let (lo, hi) = folded.volume().bounds();
+        let (lo, hi) = folded.net().bounds();
         for p in &mesh.positions {
             assert!(p.cmpge(lo.truncate() - DVec3::splat(1e-9)).all());
             assert!(p.cmple(hi.truncate() + DVec3::splat(1e-9)).all());
@@ -647,8 +635,8 @@ mod tests {
     #[test]
     fn a_folded_net_meshes_by_sampling() {
         let mut rng = crate::testutil::Rng::new(82);
-        let volume = crate::inverse::tests::warped_volume(&mut rng, (2, 2, 2), 0.45);
-        let solid = Solid3::try_from_volume(volume).unwrap();
+        let volume = crate::inverse::tests::warped_volume(&mut rng, [2, 2, 2], 0.45);
+        let solid = Solid3::try_from_net(volume).unwrap();
         let mesh = solid.polygonize(12, 1e-9).unwrap();
         mesh.check_closed_manifold().unwrap();
     }
