@@ -97,8 +97,15 @@ fn dense_roots<const D: usize, F: Forward<D>>(
     for index in 0..k.pow(D as u32) {
         let idx = multi_index([k; D], index);
         let start = core::array::from_fn(|a| (idx[a] as f64 + 0.5) / k as f64);
-        if let Some(u) = map.newton(net, p, start, 40, &mut QueryStats::default())
-            && inside_closed(u, 0.0)
+        if let Some(u) = newton::newton(
+            net,
+            p,
+            start,
+            map.scale,
+            40,
+            newton::Until::Root,
+            &mut QueryStats::default(),
+        ) && inside_closed(u, 0.0)
             && roots.iter().all(|r| dist(*r, u) > 1e-6)
         {
             roots.push(u);
