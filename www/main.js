@@ -805,11 +805,11 @@ async function main() {
   // Files: open (picker or drop), save and export.
   const openFile = async (file) => {
     if (!file) return;
-    if (file.size > 16 * 1024 * 1024 && !/\.(obj|stl)$/i.test(file.name)) {
+    if (file.size > 16 * 1024 * 1024 && !/\.(obj|stl|ply)$/i.test(file.name)) {
       say(`${file.name} is too large for a model file (${file.size} bytes).`, 'error');
       return;
     }
-    if (/\.(obj|stl)$/i.test(file.name)) {
+    if (/\.(obj|stl|ply)$/i.test(file.name)) {
       importMesh(0, file);
       return;
     }
@@ -852,7 +852,7 @@ async function main() {
     e.preventDefault();
     drop.hidden = true;
     const file = e.dataTransfer.files[0];
-    if (/\.(obj|stl)$/i.test(file.name)) importMesh(freeform() && e.shiftKey ? 1 : 0, file);
+    if (/\.(obj|stl|ply)$/i.test(file.name)) importMesh(freeform() && e.shiftKey ? 1 : 0, file);
     else openFile(file);
   });
 

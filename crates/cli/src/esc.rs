@@ -8,7 +8,7 @@ use bezsolid_core::esc::bool::{Expr, Op};
 use bezsolid_core::esc::chain::{EscSolid, Stats};
 use bezsolid_core::esc::draw::Boolean;
 use bezsolid_core::esc::examples::Example;
-use bezsolid_core::esc::import::{MAX_FILE_BYTES, read_mesh};
+use bezsolid_core::mesh::{MAX_FILE_BYTES, read};
 use glam::DVec3;
 
 use crate::args::Args;
@@ -77,7 +77,7 @@ fn load_solid(arg: &str) -> Result<Boolean> {
             .mesh()
     } else {
         let bytes = crate::input::read_bytes(arg, MAX_FILE_BYTES as u64, "mesh file")?;
-        read_mesh(&bytes).with_context(|| format!("{arg} is not a usable mesh"))?
+        read(&bytes).with_context(|| format!("{arg} is not a usable mesh"))?
     };
     let solid = EscSolid::new(&mesh).with_context(|| format!("{arg} does not bound a solid"))?;
     Ok(Boolean {

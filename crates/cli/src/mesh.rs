@@ -5,7 +5,7 @@ use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
 use bezsolid_core::esc::draw::MAX_RESOLUTION as ESC_MAX_RESOLUTION;
-use bezsolid_core::mesh::{MAX_RESOLUTION, obj, ply, stl};
+use bezsolid_core::mesh::{Format, MAX_RESOLUTION};
 use bezsolid_core::model::{ModelSolid, SolidSpec};
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
@@ -14,11 +14,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     let out = args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?;
     let res: usize = args.number("--res", 64)?;
     let accuracy: f64 = args.number("--accuracy", 1e-9)?;
-    let ext = std::path::Path::new(out)
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let Some(ext @ ("stl" | "obj" | "ply")) = ext.as_deref() else {
+    let Some(format) = Format::of_path(out) else {
         bail!("mesh: {out} should end in .stl, .obj or .ply");
     };
     if !(1..=MAX_RESOLUTION).contains(&res) {
@@ -46,12 +42,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         crate::warn_exhausted(solid.exhausted());
         mesh
     };
-    let bytes = match ext {
-        "stl" => stl::write_stl(&mesh),
-        "obj" => obj::write_obj(&mesh).into_bytes(),
-        _ => ply::write_ply(&mesh),
-    };
-    std::fs::write(out, bytes).with_context(|| format!("cannot write {out}"))?;
+    std::fs::write(out, format.write(&mesh)).with_context(|| format!("cannot write {out}"))?;
     eprintln!(
         "bezsolid: {} triangles, {} vertices written to {out}",
         mesh.triangle_count(),

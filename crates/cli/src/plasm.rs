@@ -2,8 +2,8 @@
 //! its top-level expressions draw.
 
 use anyhow::{Context, Result, bail};
-use bezsolid_core::mesh::{ply, stl};
-use bezsolid_plasm::mesh::{Geometry, write_obj};
+use bezsolid_core::mesh::Format;
+use bezsolid_plasm::mesh::export;
 use bezsolid_plasm::{Complex, Interp, scripts};
 
 use crate::args::Args;
@@ -37,24 +37,11 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     if complexes.is_empty() {
         bail!("plasm: {name} draws nothing (no top-level expression gives a complex)");
     }
-    let ext = std::path::Path::new(out)
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let bytes = match ext.as_deref() {
-        Some("obj") => write_obj(complexes.iter().copied()).into_bytes(),
-        Some(e @ ("stl" | "ply")) => {
-            let g = Geometry::of(complexes.iter().copied());
-            if g.mesh.triangles.is_empty() {
-                bail!("plasm: {name} draws no triangles (only curves or points): write an .obj");
-            }
-            if e == "stl" {
-                stl::write_stl(&g.mesh)
-            } else {
-                ply::write_ply(&g.mesh)
-            }
-        }
-        _ => bail!("plasm: {out} should end in .obj, .stl or .ply"),
+    let Some(format) = Format::of_path(out) else {
+        bail!("plasm: {out} should end in .obj, .stl or .ply");
+    };
+    let Ok(bytes) = export(complexes.iter().copied(), format) else {
+        bail!("plasm: {name} draws no triangles (only curves or points): write an .obj");
     };
     std::fs::write(out, bytes).with_context(|| format!("cannot write {out}"))?;
     let cells: usize = complexes.iter().map(|c| c.cell_count()).sum();

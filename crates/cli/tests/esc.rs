@@ -137,15 +137,17 @@ fn mesh_files_are_read_and_bad_ones_refused() {
     let fixtures = concat!(env!("CARGO_MANIFEST_DIR"), "/../core/tests/fixtures/mesh/");
     let file = scratch("two.csv", "0.5,0.5,0.5\n5,5,5\n");
     let file = file.to_str().unwrap();
-    // The cube fixture spans [0, 1]³: its centre is inside, a far point outside.
-    let got = run(&[
-        "esc",
-        "classify",
-        &format!("{fixtures}cube.obj"),
-        "--points",
-        file,
-    ]);
-    assert_eq!(got, vec![1, 0]);
+    // The cube fixtures span [0, 1]³: the centre is inside, a far point outside.
+    for cube in ["cube.obj", "cube.ply"] {
+        let got = run(&[
+            "esc",
+            "classify",
+            &format!("{fixtures}{cube}"),
+            "--points",
+            file,
+        ]);
+        assert_eq!(got, vec![1, 0], "{cube}");
+    }
     for (name, says) in [
         ("open.obj", "open edge"),
         ("nonmanifold.obj", "shared by more than two triangles"),
@@ -252,7 +254,7 @@ fn free_form_model_files_and_links_classify_and_mesh() {
     let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
     assert_eq!(bytes.len(), 84 + 50 * count);
     // The core's reader welds the corners and refuses anything but a closed 2-manifold.
-    let mesh = bezsolid_core::esc::import::read_mesh(&bytes).expect("a closed mesh");
+    let mesh = bezsolid_core::mesh::read(&bytes).expect("a closed mesh");
     assert_eq!(mesh.triangles.len(), count);
     assert!(count > 500);
     for p in &mesh.positions {

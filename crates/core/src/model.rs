@@ -32,8 +32,8 @@ use crate::esc::bool::{Expr, Op};
 use crate::esc::chain::EscSolid;
 use crate::esc::draw::Boolean;
 use crate::esc::examples::Example;
-use crate::esc::import::{MAX_TRIANGLES, MAX_VERTICES, RawMesh, mesh_from_raw};
 use crate::mesh::Mesh;
+use crate::mesh::{MAX_TRIANGLES, MAX_VERTICES, RawMesh, from_raw};
 use crate::solid::{Solid2, Solid3, SolidError};
 use crate::tensor::{Patch, Volume};
 
@@ -474,7 +474,7 @@ impl EscOperand {
                     normals: None,
                     triangles: spec.triangles.clone(),
                 };
-                return mesh_from_raw(&raw).map_err(|e| e.to_string());
+                return from_raw(&raw).map_err(|e| e.to_string());
             }
             _ => return Err("give either an example or a mesh".into()),
         };

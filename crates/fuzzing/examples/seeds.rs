@@ -106,6 +106,22 @@ fn main() -> std::io::Result<()> {
           vn 0 0 -1\nvn 0 -1 0\nvn -1 0 0\nvn 0.577 0.577 0.577\n\
           f 1//1 3//1 2//1\nf -4//2 -3//2 -1//2\nf 1//3 4//3 3//3\nf 2//4 3//4 4//4\n",
     )?;
+    write(
+        "mesh_import",
+        "tetra.ply",
+        b"ply\nformat ascii 1.0\ncomment a tetrahedron with normals\nelement vertex 4\n\
+          property float x\nproperty float y\nproperty float z\n\
+          property float nx\nproperty float ny\nproperty float nz\n\
+          element face 4\nproperty list uchar int vertex_indices\nend_header\n\
+          0 0 0 -1 -1 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n\
+          3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+    )?;
+    let cube = bezsolid_core::esc::examples::Example::Icosphere.mesh();
+    write(
+        "mesh_import",
+        "icosphere.ply",
+        &bezsolid_core::mesh::Format::Ply.write(&cube),
+    )?;
 
     for s in [
         scripts::S3_1,

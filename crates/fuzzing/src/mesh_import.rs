@@ -1,16 +1,17 @@
-//! The `mesh_import` target: OBJ, binary STL and ASCII STL files, as the free-form mode imports them.
+//! The `mesh_import` target: OBJ, STL (binary and ASCII) and PLY files, as the free-form mode imports
+//! them.
 
 use bezsolid_core::esc::chain::EscSolid;
-use bezsolid_core::esc::import::{self, RawMesh};
+use bezsolid_core::mesh::{self, Format, RawMesh};
 use glam::DVec3;
 
 /// The most triangles of an imported mesh that is also made into a free-form solid and asked
 /// about a point: building the chain grows with the mesh, and the import is the target.
 const MAX_SOLID_TRIANGLES: usize = 2_000;
 
-/// Reads the bytes as a mesh file, each parser on its own and then as [`import::read_mesh`] does.
+/// Reads the bytes as a mesh file, each format's parser on its own and then as [`mesh::read`] does.
 ///
-/// - The parsers ([`import::parse_obj`], [`import::parse_stl`]) give finite positions and
+/// - The parsers ([`Format::parse`]) give finite positions and
 ///   triangle indices in range, as [`RawMesh`] promises.
 /// - A mesh that reads is closed and manifold ([`Mesh::check_closed_manifold`]), oriented outward
 ///   (volume ≥ 0), with one finite unit (or zero) normal per vertex, and every vertex used.
@@ -23,14 +24,11 @@ const MAX_SOLID_TRIANGLES: usize = 2_000;
 ///
 /// [`Mesh::check_closed_manifold`]: bezsolid_core::mesh::Mesh::check_closed_manifold
 pub fn mesh_import(data: &[u8]) {
-    let _ = import::detect(data);
-    for raw in [import::parse_obj(data), import::parse_stl(data)]
-        .into_iter()
-        .flatten()
-    {
+    let _ = Format::detect(data);
+    for raw in Format::ALL.into_iter().filter_map(|f| f.parse(data).ok()) {
         check_raw(&raw);
     }
-    let Ok(mesh) = import::read_mesh(data) else {
+    let Ok(mesh) = mesh::read(data) else {
         return;
     };
     if let Err(e) = mesh.check_closed_manifold() {

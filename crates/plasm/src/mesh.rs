@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
-use bezsolid_core::mesh::Mesh;
+use bezsolid_core::mesh::{Format, Mesh};
 use glam::DVec3;
 
 use crate::complex::Complex;
@@ -180,4 +180,29 @@ pub fn write_obj<'a>(complexes: impl IntoIterator<Item = &'a Complex>) -> String
         base += c.point_count() as u64;
     }
     out
+}
+
+/// Why [`export`] made no file: the complexes have no triangles (only curves or points), which
+/// only OBJ can hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NoTriangles;
+
+/// The file of `complexes` in `format`: OBJ keeps everything ([`write_obj`]: faces, lines,
+/// points); STL and PLY hold the triangles of their [`Geometry`].
+///
+/// # Errors
+///
+/// [`NoTriangles`] for STL or PLY of complexes with no triangles.
+pub fn export<'a>(
+    complexes: impl IntoIterator<Item = &'a Complex>,
+    format: Format,
+) -> Result<Vec<u8>, NoTriangles> {
+    if format == Format::Obj {
+        return Ok(write_obj(complexes).into_bytes());
+    }
+    let g = Geometry::of(complexes);
+    if g.mesh.triangles.is_empty() {
+        return Err(NoTriangles);
+    }
+    Ok(format.write(&g.mesh))
 }

@@ -7,10 +7,8 @@ use bezsolid_core::contour::solid_contour;
 use bezsolid_core::hyperfun::{solid2_hf, solid3_hf};
 use bezsolid_core::link;
 use bezsolid_core::mesh::Mesh;
-use bezsolid_core::mesh::obj::write_obj;
-use bezsolid_core::mesh::ply::write_ply;
-use bezsolid_core::mesh::stl::write_stl;
 use bezsolid_core::mesh::svg::contours_svg;
+use bezsolid_core::mesh::{Format, UnknownFormat};
 use bezsolid_core::model::{ModelFile, ModelSolid};
 
 use crate::app::ContourView;
@@ -292,12 +290,8 @@ pub fn mesh(editor: &ContourView, resolution: usize) -> Result<Mesh, String> {
 ///
 /// For another format.
 pub fn mesh_file(mesh: &Mesh, format: &str) -> Result<Vec<u8>, String> {
-    match format {
-        "stl" => Ok(write_stl(mesh)),
-        "obj" => Ok(write_obj(mesh).into_bytes()),
-        "ply" => Ok(write_ply(mesh)),
-        other => Err(format!("unknown mesh format {other:?}: stl, obj or ply")),
-    }
+    let format: Format = format.parse().map_err(|e: UnknownFormat| e.to_string())?;
+    Ok(format.write(mesh))
 }
 
 #[cfg(test)]

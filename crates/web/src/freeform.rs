@@ -225,7 +225,7 @@ impl FreeForm {
         self.replace(slot, name, EscOperand::example(example, offset))
     }
 
-    /// Operand `slot` becomes an imported mesh (read by `bezsolid_core::esc::import`), named `name`.
+    /// Operand `slot` becomes an imported mesh (read by [`bezsolid_core::mesh::read`]), named `name`.
     ///
     /// # Errors
     ///

@@ -2,6 +2,7 @@
 //! expressions give is drawn in the 3D view: surfaces shaded with their triangles' edges, curves
 //! as thin tubes, points as small spheres, one colour per result.
 
+use bezsolid_core::mesh::{Format, UnknownFormat};
 use bezsolid_core::model::ModelFile;
 use bezsolid_plasm::mesh::{Geometry, embed};
 use bezsolid_plasm::{Complex, Interp, scripts};
@@ -206,14 +207,9 @@ pub fn export(script: &str, format: &str) -> Result<Vec<u8>, String> {
     if complexes.is_empty() {
         return Err("the script draws nothing: no top-level expression gives a complex".into());
     }
-    if format == "obj" {
-        return Ok(bezsolid_plasm::mesh::write_obj(complexes).into_bytes());
-    }
-    let g = Geometry::of(complexes);
-    if g.mesh.triangles.is_empty() {
-        return Err("the script draws no triangles (only curves or points): export OBJ".into());
-    }
-    crate::document::mesh_file(&g.mesh, format)
+    let format: Format = format.parse().map_err(|e: UnknownFormat| e.to_string())?;
+    bezsolid_plasm::mesh::export(complexes, format)
+        .map_err(|_| "the script draws no triangles (only curves or points): export OBJ".into())
 }
 
 /// Whether a value is a surface made by `MAP` of a map of two parameters into at least three

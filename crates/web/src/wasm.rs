@@ -1034,8 +1034,8 @@ impl FreeFormView {
     ///
     /// What is wrong with the file (malformed, too large, not closed) or the slot.
     pub fn import_mesh(&mut self, slot: usize, name: &str, bytes: &[u8]) -> Result<(), JsError> {
-        let mesh = bezsolid_core::esc::import::read_mesh(bytes)
-            .map_err(|e| JsError::new(&format!("{name}: {e}")))?;
+        let mesh =
+            bezsolid_core::mesh::read(bytes).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
         self.state
             .set_mesh(slot, name, &mesh)
             .map_err(|e| JsError::new(&format!("{name}: {e}")))

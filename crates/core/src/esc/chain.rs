@@ -44,11 +44,11 @@ use core::fmt;
 
 use glam::DVec3;
 
-use super::import::{MeshDefects, validate};
 use super::pn::{PnSurface, cubic_index};
 use super::predicates::{orient_sign, side};
 use super::ray::{Crossings, Ray, Unsure, Wall, patch_crossings, patch_hits};
 use crate::mesh::Mesh;
+use crate::mesh::{MeshDefects, validate};
 
 /// Why a mesh cannot make an [`EscSolid`].
 #[derive(Clone, Debug, PartialEq)]

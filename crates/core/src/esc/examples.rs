@@ -8,8 +8,8 @@ use core::f64::consts::TAU;
 
 use glam::DVec3;
 
-use super::import::angle_weighted_normals;
 use crate::mesh::Mesh;
+use crate::mesh::angle_weighted_normals;
 
 /// The most subdivision levels of [`icosphere`]: 6 gives 81 920 triangles.
 pub const MAX_SUBDIVISIONS: u32 = 6;
@@ -200,7 +200,7 @@ pub fn blob() -> Mesh {
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
-    use crate::esc::import::validate;
+    use crate::mesh::validate;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 

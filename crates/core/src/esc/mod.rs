@@ -4,7 +4,8 @@
 //! per triangle. A point is in the solid where the chain's associated function is 1; Booleans are
 //! chain algebra at points.
 //!
-//! - [`import`]: OBJ and STL (binary and ASCII) readers with validation and caps.
+//! Meshes come from [`crate::mesh::read`] (OBJ, STL, PLY, validated, with caps) or [`examples`].
+//!
 //! - [`examples`]: the built-in solids (icosphere, torus, blob).
 //! - [`pn`]: PN triangles and their normal field.
 //! - [`predicates`]: exact orientation with a symbolic perturbation.
@@ -26,7 +27,6 @@ pub mod bool;
 pub mod chain;
 pub mod draw;
 pub mod examples;
-pub mod import;
 pub mod pn;
 pub mod predicates;
 pub mod ray;

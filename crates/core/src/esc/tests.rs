@@ -9,8 +9,8 @@ use glam::DVec3;
 use super::bool::{Expr, Op};
 use super::chain::{EscSolid, Stats};
 use super::examples::{Example, icosphere, torus};
-use super::import::angle_weighted_normals;
 use crate::mesh::Mesh;
+use crate::mesh::angle_weighted_normals;
 use crate::testutil::Rng;
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;

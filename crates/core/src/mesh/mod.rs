@@ -1,21 +1,161 @@
 //! Indexed triangle meshes, the polygonizer that makes them from a sampled field, and the files they
-//! are written to: binary [`stl`], [`obj`], binary [`ply`], and [`svg`] for 2D contours. Writers return
-//! bytes or strings; core does no file I/O.
+//! are read from and written to: one [`Format`] per file kind ([`obj`], binary and ASCII [`stl`],
+//! binary and ASCII [`ply`]), each module with its reader beside its writer, and [`svg`] for 2D
+//! contours. Reading is shared ([`read`], [`from_raw`]) and so is the one check that triangles
+//! bound a solid ([`validate`], [`Mesh::check_closed_manifold`]). Core does no file I/O: readers
+//! take bytes, writers return them.
 
+use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt;
+use core::str::FromStr;
 
 use glam::DVec3;
 
 mod bezier;
+mod manifold;
 pub mod obj;
 pub mod ply;
 mod polygonize;
+mod read;
 pub mod stl;
 pub mod svg;
 
 pub use bezier::{MAX_RESOLUTION, MeshError};
+pub use manifold::{MeshDefects, validate};
 pub use polygonize::{EdgeRoots, LinearRoots, SampleGrid, polygonize};
+pub use read::{
+    MAX_FILE_BYTES, MAX_TRIANGLES, MAX_VERTICES, RawMesh, ReadError, angle_weighted_normals,
+    from_raw, read,
+};
+
+/// A mesh file format: what the command line, the page and scripts export to and import from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// Wavefront OBJ (text): positions, normals, faces.
+    Obj,
+    /// STL: written binary; read binary or ASCII.
+    Stl,
+    /// PLY: written binary little-endian with normals; read ASCII or binary of either byte order.
+    Ply,
+}
+
+impl Format {
+    /// Every format.
+    pub const ALL: [Self; 3] = [Self::Stl, Self::Obj, Self::Ply];
+
+    /// The file name extension, lower case and without the dot (`"obj"`, `"stl"`, `"ply"`).
+    #[must_use]
+    pub const fn extension(self) -> &'static str {
+        match self {
+            Self::Obj => "obj",
+            Self::Stl => "stl",
+            Self::Ply => "ply",
+        }
+    }
+
+    /// The media type of a file of this format.
+    #[must_use]
+    pub const fn media_type(self) -> &'static str {
+        match self {
+            Self::Obj => "model/obj",
+            Self::Stl => "model/stl",
+            Self::Ply => "application/octet-stream",
+        }
+    }
+
+    /// The format of a file named `path`, by its extension (any case); `None` for another.
+    #[must_use]
+    pub fn of_path(path: &str) -> Option<Self> {
+        let (_, ext) = path.rsplit_once('.')?;
+        ext.parse().ok()
+    }
+
+    /// The format of a file from its bytes: PLY when it starts with `ply` and a line end; binary
+    /// STL when it is at least 84 bytes long and exactly `84 + 50·count` bytes, `count` being the
+    /// little-endian `u32` at offset 80; ASCII STL when it starts (after white space) with `solid`
+    /// and contains `facet`; OBJ otherwise.
+    #[must_use]
+    pub fn detect(bytes: &[u8]) -> Self {
+        if ply::starts_with_magic(bytes) {
+            Self::Ply
+        } else if stl::is_binary(bytes) || stl::is_ascii(bytes) {
+            Self::Stl
+        } else {
+            Self::Obj
+        }
+    }
+
+    /// The file of `mesh` in this format.
+    #[must_use]
+    pub fn write(self, mesh: &Mesh) -> Vec<u8> {
+        match self {
+            Self::Obj => obj::write_obj(mesh).into_bytes(),
+            Self::Stl => stl::write_stl(mesh),
+            Self::Ply => ply::write_ply(mesh),
+        }
+    }
+
+    /// The vertices and triangles of a file of this format as it gives them (no welding, checks
+    /// or orientation: see [`Format::read`]).
+    ///
+    /// # Errors
+    ///
+    /// [`ReadError`] for a file that does not follow the format or passes a cap.
+    pub fn parse(self, bytes: &[u8]) -> Result<RawMesh, ReadError> {
+        match self {
+            Self::Obj => obj::parse_obj(bytes),
+            Self::Stl => stl::parse_stl(bytes),
+            Self::Ply => ply::parse_ply(bytes),
+        }
+    }
+
+    /// A file of this format as a closed, outward-oriented mesh with unit vertex normals (the
+    /// steps of [`read`], with the format given).
+    ///
+    /// # Errors
+    ///
+    /// [`ReadError`]: the file is too large, malformed, empty, or not a closed solid.
+    pub fn read(self, bytes: &[u8]) -> Result<Mesh, ReadError> {
+        read::check_size(bytes)?;
+        from_raw(&self.parse(bytes)?)
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.extension())
+    }
+}
+
+/// A mesh format name that is none of `stl`, `obj`, `ply`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownFormat(pub String);
+
+impl fmt::Display for UnknownFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "unknown mesh format `{}`: the formats are stl, obj and ply",
+            self.0
+        )
+    }
+}
+
+impl core::error::Error for UnknownFormat {}
+
+impl FromStr for Format {
+    type Err = UnknownFormat;
+
+    /// `"stl"`, `"obj"` or `"ply"`, in any case, with or without a leading dot.
+    fn from_str(s: &str) -> Result<Self, UnknownFormat> {
+        let name = s.strip_prefix('.').unwrap_or(s);
+        Self::ALL
+            .into_iter()
+            .find(|f| f.extension().eq_ignore_ascii_case(name))
+            .ok_or_else(|| UnknownFormat(s.into()))
+    }
+}
 
 /// An indexed triangle mesh: triangles are counter-clockwise seen from outside the solid, and
 /// `normals[i]` is the outward unit normal at `positions[i]` (from `−∇f`), or zero where unknown.
@@ -28,56 +168,6 @@ pub struct Mesh {
     /// Vertex indices, three per triangle.
     pub triangles: Vec<[u32; 3]>,
 }
-
-/// Why a mesh is not a closed, consistently oriented 2-manifold.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum ManifoldError {
-    /// A triangle uses a vertex index past the end, or the same vertex twice.
-    BadTriangle {
-        /// The triangle's index.
-        triangle: usize,
-    },
-    /// An edge has a number of faces other than two, or two faces that run it the same way.
-    Edge {
-        /// One end of the edge.
-        a: u32,
-        /// The other end.
-        b: u32,
-        /// Faces that run it `a → b`.
-        forward: usize,
-        /// Faces that run it `b → a`.
-        backward: usize,
-    },
-    /// The triangles around a vertex form more than one fan (two surfaces touch at a point).
-    Vertex {
-        /// The vertex.
-        vertex: u32,
-    },
-}
-
-impl fmt::Display for ManifoldError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::BadTriangle { triangle } => {
-                write!(f, "triangle {triangle} has a bad vertex index")
-            }
-            Self::Edge {
-                a,
-                b,
-                forward,
-                backward,
-            } => write!(
-                f,
-                "edge {a}–{b} has {forward} faces one way and {backward} the other (want 1 and 1)"
-            ),
-            Self::Vertex { vertex } => {
-                write!(f, "the faces around vertex {vertex} are not one fan")
-            }
-        }
-    }
-}
-
-impl core::error::Error for ManifoldError {}
 
 impl Mesh {
     /// The number of triangles.
@@ -153,78 +243,17 @@ impl Mesh {
         v - edges.len() as i64 + self.triangles.len() as i64
     }
 
-    /// Checks that the mesh is a closed, consistently oriented 2-manifold: every edge has exactly two
-    /// faces that run it in opposite directions, and the faces around every vertex form one fan.
+    /// Checks that the mesh is a closed, consistently oriented 2-manifold: every edge has exactly
+    /// two faces that run it in opposite directions, the faces around every vertex form one fan, no
+    /// face repeats a vertex or names one past the end. The topology of [`validate`], which also
+    /// rejects faces of (almost) no area: marching cubes makes those where a sample is exactly
+    /// zero, and they bound the solid all the same.
     ///
     /// # Errors
     ///
-    /// The first defect found, as a [`ManifoldError`].
-    pub fn check_closed_manifold(&self) -> Result<(), ManifoldError> {
-        let n = self.positions.len();
-        // Directed edges (a, b, triangle), sorted by their undirected key.
-        let mut edges: Vec<(u32, u32, bool)> = Vec::with_capacity(self.triangles.len() * 3);
-        for (t, tri) in self.triangles.iter().enumerate() {
-            if tri.iter().any(|&i| i as usize >= n)
-                || tri[0] == tri[1]
-                || tri[1] == tri[2]
-                || tri[0] == tri[2]
-            {
-                return Err(ManifoldError::BadTriangle { triangle: t });
-            }
-            for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
-                edges.push((a.min(b), a.max(b), a < b));
-            }
-        }
-        edges.sort_unstable();
-        for group in edges.chunk_by(|x, y| x.0 == y.0 && x.1 == y.1) {
-            let forward = group.iter().filter(|e| e.2).count();
-            let backward = group.len() - forward;
-            if forward != 1 || backward != 1 {
-                return Err(ManifoldError::Edge {
-                    a: group[0].0,
-                    b: group[0].1,
-                    forward,
-                    backward,
-                });
-            }
-        }
-        // Every edge is now shared by two faces, so around each vertex the faces chain into cycles:
-        // the vertex is manifold when they form exactly one. Follow, for each vertex, the map from the
-        // edge a face enters by to the edge it leaves by.
-        let mut around: Vec<(u32, u32, u32)> = Vec::with_capacity(self.triangles.len() * 3);
-        for tri in &self.triangles {
-            for e in 0..3 {
-                // At corner tri[e], the face runs from tri[e + 2] to tri[e + 1] around it.
-                around.push((tri[e], tri[(e + 2) % 3], tri[(e + 1) % 3]));
-            }
-        }
-        around.sort_unstable();
-        for fan in around.chunk_by(|x, y| x.0 == y.0) {
-            // Each "from" neighbour appears once; follow next = to until back at the start.
-            let next = |from: u32| {
-                fan.binary_search_by(|probe| probe.1.cmp(&from))
-                    .ok()
-                    .map(|i| fan[i].2)
-            };
-            let start = fan[0].1;
-            let mut at = start;
-            let mut steps = 0;
-            loop {
-                at = match next(at) {
-                    Some(to) => to,
-                    None => return Err(ManifoldError::Vertex { vertex: fan[0].0 }),
-                };
-                steps += 1;
-                if at == start || steps > fan.len() {
-                    break;
-                }
-            }
-            if steps != fan.len() {
-                return Err(ManifoldError::Vertex { vertex: fan[0].0 });
-            }
-        }
-        Ok(())
+    /// Every defect, counted, as [`MeshDefects`].
+    pub fn check_closed_manifold(&self) -> Result<(), MeshDefects> {
+        manifold::check(&self.positions, &self.triangles, false)
     }
 }
 
@@ -274,21 +303,24 @@ pub(crate) mod tests {
     fn defects_are_found() {
         let mut mesh = test_mesh();
         mesh.triangles.pop();
-        assert!(matches!(
-            mesh.check_closed_manifold(),
-            Err(ManifoldError::Edge { .. })
-        ));
+        assert_eq!(
+            mesh.check_closed_manifold().map_err(|d| d.open_edges),
+            Err(3)
+        );
         let mut flipped = test_mesh();
         flipped.triangles[0].swap(0, 1);
-        assert!(matches!(
-            flipped.check_closed_manifold(),
-            Err(ManifoldError::Edge { .. })
-        ));
+        assert_eq!(
+            flipped
+                .check_closed_manifold()
+                .map_err(|d| d.inconsistent_edges),
+            Err(3)
+        );
         let mut bad = test_mesh();
         bad.triangles[0][0] = u32::MAX;
         assert_eq!(
-            bad.check_closed_manifold(),
-            Err(ManifoldError::BadTriangle { triangle: 0 })
+            bad.check_closed_manifold()
+                .map_err(|d| d.degenerate_triangles),
+            Err(1)
         );
         // Two balls touching at one vertex: every edge is fine, the vertex is not.
         let a = test_mesh();
@@ -304,7 +336,10 @@ pub(crate) mod tests {
         );
         assert_eq!(
             two.check_closed_manifold(),
-            Err(ManifoldError::Vertex { vertex: 0 })
+            Err(MeshDefects {
+                non_manifold_vertices: 1,
+                ..MeshDefects::default()
+            })
         );
     }
 }

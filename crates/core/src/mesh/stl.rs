@@ -1,12 +1,14 @@
-//! Binary STL: an 80-byte header, a little-endian `u32` triangle count, then per triangle the facet
-//! normal and three corners as `f32` and a zero `u16`. Corners are counter-clockwise seen from
-//! outside, as STL readers expect.
+//! STL. Written binary: an 80-byte header, a little-endian `u32` triangle count, then per triangle
+//! the facet normal and three corners as `f32` and a zero `u16`; corners are counter-clockwise seen
+//! from outside, as STL readers expect. Read binary or ASCII (`solid`, `facet … endfacet` blocks,
+//! `endsolid`).
 
 use alloc::vec::Vec;
 
 use glam::DVec3;
 
-use super::Mesh;
+use super::read::{MAX_TRIANGLES, three_numbers, too_many};
+use super::{Mesh, RawMesh, ReadError};
 
 /// The header: it must not begin with `solid`, which marks ASCII STL.
 const HEADER: &[u8] = b"binary STL written by bezsolid";
@@ -34,6 +36,209 @@ fn push_vec3(out: &mut Vec<u8>, p: DVec3) {
     for x in p.to_array() {
         out.extend_from_slice(&(x as f32).to_le_bytes());
     }
+}
+
+/// Parses an STL file, binary or ASCII. Binary when its length matches its triangle count, ASCII
+/// when it starts with `solid`, otherwise binary (and then truncated). Facet normals are ignored:
+/// they are flat, and [`read`](super::read) computes smooth ones. Corners are not welded.
+///
+/// # Errors
+///
+/// [`ReadError::Truncated`] for a binary file of the wrong length, [`ReadError::Parse`] with the
+/// line for malformed ASCII (including a file that ends before `endsolid`),
+/// [`ReadError::NotFinite`], or [`ReadError::TooLarge`] past [`MAX_TRIANGLES`] triangles.
+pub fn parse_stl(bytes: &[u8]) -> Result<RawMesh, ReadError> {
+    match binary_stl_count(bytes) {
+        Some(count) if binary_stl_len(count) == bytes.len() as u64 => {
+            parse_binary_stl(bytes, count)
+        }
+        _ if starts_with_solid(bytes) => parse_ascii_stl(bytes),
+        count => Err(ReadError::Truncated {
+            expected_bytes: count.map_or(84, binary_stl_len),
+            got_bytes: bytes.len() as u64,
+        }),
+    }
+}
+
+/// Whether the bytes are a binary STL: at least 84 bytes long and exactly `84 + 50·count` bytes,
+/// `count` being the little-endian `u32` at offset 80.
+pub(crate) fn is_binary(bytes: &[u8]) -> bool {
+    binary_stl_count(bytes).is_some_and(|count| binary_stl_len(count) == bytes.len() as u64)
+}
+
+/// Whether the bytes look like an ASCII STL: `solid` first (after white space), `facet` later.
+pub(crate) fn is_ascii(bytes: &[u8]) -> bool {
+    starts_with_solid(bytes) && bytes.windows(5).any(|w| w.eq_ignore_ascii_case(b"facet"))
+}
+
+/// The triangle count of a binary STL header, if the file is long enough to have one.
+fn binary_stl_count(bytes: &[u8]) -> Option<u32> {
+    match bytes.get(80..84)? {
+        &[a, b, c, d] => Some(u32::from_le_bytes([a, b, c, d])),
+        _ => None,
+    }
+}
+
+fn binary_stl_len(count: u32) -> u64 {
+    84 + 50 * u64::from(count)
+}
+
+fn starts_with_solid(bytes: &[u8]) -> bool {
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
+    start
+        .and_then(|s| bytes.get(s..s + 5))
+        .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
+}
+
+/// Whether the bytes hold control characters that text does not (binary data, UTF-16, …), at a
+/// length where a binary STL header fits.
+pub(crate) fn looks_binary(bytes: &[u8]) -> bool {
+    bytes.len() >= 84
+        && bytes
+            .iter()
+            .any(|&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0c))
+}
+
+fn parse_binary_stl(bytes: &[u8], count: u32) -> Result<RawMesh, ReadError> {
+    let count = count as usize;
+    if count > MAX_TRIANGLES {
+        return Err(ReadError::TooLarge {
+            what: "triangles",
+            count,
+            max: MAX_TRIANGLES,
+        });
+    }
+    let body = bytes.get(84..).unwrap_or_default();
+    let mut positions = Vec::with_capacity(3 * count);
+    let mut triangles = Vec::with_capacity(count);
+    for facet in body.chunks_exact(50).take(count) {
+        // 12 bytes of normal, then three corners of 12 bytes, then the 2-byte attribute.
+        let corners = facet.get(12..48).unwrap_or_default();
+        for corner in corners.chunks_exact(12) {
+            let mut xyz = [0.0f64; 3];
+            for (x, b) in xyz.iter_mut().zip(corner.chunks_exact(4)) {
+                if let &[b0, b1, b2, b3] = b {
+                    *x = f64::from(f32::from_le_bytes([b0, b1, b2, b3]));
+                }
+            }
+            let p = DVec3::from_array(xyz);
+            positions.push(p);
+            if !p.is_finite() {
+                return Err(ReadError::NotFinite {
+                    vertex: positions.len(),
+                });
+            }
+        }
+        let base = triangles.len() as u32 * 3;
+        triangles.push([base, base + 1, base + 2]);
+    }
+    Ok(RawMesh {
+        positions,
+        normals: None,
+        triangles,
+    })
+}
+
+/// Where an ASCII STL parse is: the next statement expected.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stl {
+    /// Before `solid`.
+    Start,
+    /// Inside a solid: `facet` or `endsolid`.
+    Solid,
+    /// After `facet`: `outer loop`.
+    Facet,
+    /// Inside a loop with this many vertices read.
+    Loop(u8),
+    /// After `endloop`: `endfacet`.
+    EndLoop,
+    /// After `endsolid`: nothing, or another `solid`.
+    Done,
+}
+
+fn parse_ascii_stl(bytes: &[u8]) -> Result<RawMesh, ReadError> {
+    let mut positions = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut state = Stl::Start;
+    let mut last_line = 1;
+    for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line_no = k + 1;
+        let mut tokens = line
+            .split(u8::is_ascii_whitespace)
+            .filter(|t| !t.is_empty());
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        last_line = line_no;
+        let is = |word: &[u8]| keyword.eq_ignore_ascii_case(word);
+        let error = |reason| ReadError::Parse {
+            line: line_no,
+            reason,
+        };
+        state = match state {
+            Stl::Start | Stl::Done if is(b"solid") => Stl::Solid,
+            Stl::Start => return Err(error("an ASCII STL starts with `solid`")),
+            Stl::Done => return Err(error("only another `solid` may follow `endsolid`")),
+            Stl::Solid if is(b"facet") => {
+                if triangles.len() == MAX_TRIANGLES {
+                    return Err(too_many("triangles", MAX_TRIANGLES));
+                }
+                Stl::Facet
+            }
+            Stl::Solid if is(b"endsolid") => Stl::Done,
+            Stl::Solid => return Err(error("expected `facet` or `endsolid`")),
+            Stl::Facet
+                if is(b"outer")
+                    && tokens
+                        .next()
+                        .is_some_and(|t| t.eq_ignore_ascii_case(b"loop")) =>
+            {
+                Stl::Loop(0)
+            }
+            Stl::Facet => return Err(error("expected `outer loop`")),
+            Stl::Loop(n) if is(b"vertex") => {
+                if n == 3 {
+                    return Err(error("a facet has more than three vertices"));
+                }
+                let p = three_numbers(&mut tokens)
+                    .ok_or(error("a vertex needs three numbers: `vertex x y z`"))?;
+                positions.push(p);
+                if !p.is_finite() {
+                    return Err(ReadError::NotFinite {
+                        vertex: positions.len(),
+                    });
+                }
+                Stl::Loop(n + 1)
+            }
+            Stl::Loop(3) if is(b"endloop") => {
+                let base = triangles.len() as u32 * 3;
+                triangles.push([base, base + 1, base + 2]);
+                Stl::EndLoop
+            }
+            Stl::Loop(_) if is(b"endloop") => {
+                return Err(error("a facet needs three vertices"));
+            }
+            Stl::Loop(_) => return Err(error("expected `vertex` or `endloop`")),
+            Stl::EndLoop if is(b"endfacet") => Stl::Solid,
+            Stl::EndLoop => return Err(error("expected `endfacet`")),
+        };
+    }
+    let reason = match state {
+        Stl::Done => {
+            return Ok(RawMesh {
+                positions,
+                normals: None,
+                triangles,
+            });
+        }
+        Stl::Start => "the file is empty",
+        Stl::Solid => "the file ends before `endsolid`",
+        Stl::Facet | Stl::Loop(_) | Stl::EndLoop => "the file ends in the middle of a facet",
+    };
+    Err(ReadError::Parse {
+        line: last_line,
+        reason,
+    })
 }
 
 #[cfg(test)]

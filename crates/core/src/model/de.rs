@@ -25,7 +25,7 @@ use serde::de::{
 use serde::{Deserialize, forward_to_deserialize_any};
 
 use super::{EscOperand, SolidSpec};
-use crate::esc::import::{MAX_TRIANGLES, MAX_VERTICES};
+use crate::mesh::{MAX_TRIANGLES, MAX_VERTICES};
 
 /// The `kind` names, in variant order.
 const KINDS: &[&str] = &["patch", "volume", "esc", "plasm"];

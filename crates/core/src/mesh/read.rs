@@ -1,19 +1,21 @@
-//! Reading triangle meshes: OBJ, binary STL and ASCII STL, from bytes (core does no file I/O).
+//! Reading triangle meshes that bound solids, from bytes (core does no file I/O): the steps every
+//! [`Format`]'s reader shares.
 //!
-//! The input is untrusted: every reader returns a typed [`ImportError`] instead of panicking, and
+//! The input is untrusted: every reader returns a typed [`ReadError`] instead of panicking, and
 //! nothing is allocated in proportion to a count the file claims before that count is checked
 //! against the caps ([`MAX_FILE_BYTES`], [`MAX_TRIANGLES`], [`MAX_VERTICES`]).
 //!
-//! [`read_mesh`] turns a file into a [`Mesh`] that bounds a solid:
+//! [`read`] turns a file into a [`Mesh`] that bounds a solid:
 //!
-//! 1. [`detect`] the format and parse it ([`parse_obj`], [`parse_stl`]) into a [`RawMesh`];
-//! 2. weld vertices with exactly equal coordinates (STL has no indices; OBJ files often repeat
-//!    positions too) and drop vertices that no triangle uses;
-//! 3. [`validate`]: every edge has two triangles running it opposite ways, no triangle is degenerate
-//!    and the triangles around every vertex form one fan; all defects are counted ([`MeshDefects`]);
+//! 1. [`Format::detect`] the format and parse it ([`Format::parse`]) into a [`RawMesh`];
+//! 2. weld vertices with exactly equal coordinates (STL has no indices; OBJ and PLY files often
+//!    repeat positions too) and drop vertices that no triangle uses;
+//! 3. [`validate`]: every edge has two triangles running it opposite ways, no triangle is
+//!    degenerate and the triangles around every vertex form one fan; all defects are counted
+//!    ([`MeshDefects`]);
 //! 4. orient: a closed mesh with negative volume was written inside out, and is turned over;
-//! 5. vertex normals: the file's own (OBJ `vn`) where it gives one for every face corner, otherwise
-//!    [`angle_weighted_normals`].
+//! 5. vertex normals: the file's own (OBJ `vn`, PLY `nx ny nz`) where it gives one for every
+//!    vertex, otherwise [`angle_weighted_normals`].
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -21,7 +23,8 @@ use core::fmt;
 
 use glam::DVec3;
 
-use crate::mesh::Mesh;
+use super::manifold::{MeshDefects, corners, validate};
+use super::{Format, Mesh, stl};
 
 /// The most triangles a file may have (after fan-splitting OBJ polygons): a binary STL of this size
 /// is 10 MB, and the solids of this project are meant for thousands of triangles, not millions.
@@ -34,36 +37,6 @@ pub const MAX_VERTICES: usize = 200_000;
 /// The largest file accepted, in bytes (128 MiB).
 pub const MAX_FILE_BYTES: usize = 128 << 20;
 
-/// A triangle is degenerate when its area is at most this times the squared diagonal of the mesh's
-/// bounding box: relative, so that the test does not depend on the unit of the file.
-const DEGENERATE_AREA: f64 = 1e-12;
-
-/// The file formats [`read_mesh`] reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum MeshFormat {
-    /// Wavefront OBJ (text).
-    Obj,
-    /// Binary STL: an 80-byte header, a `u32` triangle count and 50 bytes per triangle.
-    StlBinary,
-    /// ASCII STL: `solid`, then `facet … endfacet` blocks, then `endsolid`.
-    StlAscii,
-}
-
-/// The format of a file from its bytes: binary STL when it is at least 84 bytes long and exactly
-/// `84 + 50·count` bytes, `count` being the little-endian `u32` at offset 80; ASCII STL when it
-/// starts (after white space) with `solid` and contains `facet`; OBJ otherwise.
-#[must_use]
-pub fn detect(bytes: &[u8]) -> MeshFormat {
-    if binary_stl_count(bytes).is_some_and(|count| binary_stl_len(count) == bytes.len() as u64) {
-        MeshFormat::StlBinary
-    } else if starts_with_solid(bytes) && bytes.windows(5).any(|w| w.eq_ignore_ascii_case(b"facet"))
-    {
-        MeshFormat::StlAscii
-    } else {
-        MeshFormat::Obj
-    }
-}
-
 /// A mesh as a file gives it, before welding, validation and orientation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RawMesh {
@@ -72,7 +45,7 @@ pub struct RawMesh {
     pub positions: Vec<DVec3>,
     /// Per vertex, the sum of the file's unit normals at the face corners that use it (not
     /// normalised, so that welded vertices can add theirs): present only for an OBJ file that gives
-    /// a `vn` at every face corner.
+    /// a `vn` at every face corner, or a PLY file with `nx ny nz` on its vertices.
     pub normals: Option<Vec<DVec3>>,
     /// Triangles as indices into `positions`, all in range; polygons are split into fans.
     pub triangles: Vec<[u32; 3]>,
@@ -80,7 +53,7 @@ pub struct RawMesh {
 
 /// Why a file could not be read as a closed solid mesh.
 #[derive(Clone, Debug, PartialEq)]
-pub enum ImportError {
+pub enum ReadError {
     /// The file is larger than a cap allows.
     TooLarge {
         /// What was counted: `"bytes"`, `"triangles"`, `"vertices"` or `"normals"`.
@@ -128,11 +101,16 @@ pub enum ImportError {
         /// The vertex index it names.
         index: u32,
     },
+    /// A binary file (PLY) does not follow its format.
+    Malformed {
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// The mesh is not a closed, consistently oriented 2-manifold.
     Defects(MeshDefects),
 }
 
-impl fmt::Display for ImportError {
+impl fmt::Display for ReadError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::TooLarge { what, max, .. } => write!(
@@ -168,138 +146,90 @@ impl fmt::Display for ImportError {
                 f,
                 "triangle {triangle} names vertex {index}, which does not exist"
             ),
+            Self::Malformed { reason } => write!(f, "the file is damaged: {reason}"),
             Self::Defects(defects) => write!(f, "{defects}"),
         }
     }
 }
 
-impl core::error::Error for ImportError {}
+impl core::error::Error for ReadError {}
 
-/// Every defect that keeps a mesh from bounding a solid, counted (see [`validate`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct MeshDefects {
-    /// Edges used by one triangle only.
-    pub open_edges: usize,
-    /// Edges used by three or more triangles.
-    pub non_manifold_edges: usize,
-    /// Edges whose two triangles run them the same direction (one of them is turned over).
-    pub inconsistent_edges: usize,
-    /// Triangles that repeat a vertex, use a vertex that does not exist, or have (almost) no area.
-    pub degenerate_triangles: usize,
-    /// Vertices whose triangles form more than one fan (two sheets touch at a point).
-    pub non_manifold_vertices: usize,
-}
-
-impl MeshDefects {
-    /// Whether there are no defects at all.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        *self == Self::default()
-    }
-}
-
-impl fmt::Display for MeshDefects {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let items: [(usize, &str, &str); 5] = [
-            (self.open_edges, "open edge", "open edges"),
-            (
-                self.non_manifold_edges,
-                "edge shared by more than two triangles",
-                "edges shared by more than two triangles",
-            ),
-            (
-                self.inconsistent_edges,
-                "inconsistently oriented edge (a triangle is turned over)",
-                "inconsistently oriented edges (triangles are turned over)",
-            ),
-            (
-                self.degenerate_triangles,
-                "degenerate triangle",
-                "degenerate triangles",
-            ),
-            (
-                self.non_manifold_vertices,
-                "non-manifold vertex (surfaces touch at a point)",
-                "non-manifold vertices (surfaces touch at a point)",
-            ),
-        ];
-        f.write_str("the mesh is not a closed solid")?;
-        let mut first = true;
-        for (count, one, many) in items {
-            if count == 0 {
-                continue;
-            }
-            f.write_str(if first { ": " } else { ", " })?;
-            first = false;
-            write!(f, "{count} {}", if count == 1 { one } else { many })?;
-        }
-        Ok(())
-    }
-}
-
-impl core::error::Error for MeshDefects {}
-
-/// Reads an OBJ or STL (binary or ASCII) file into a closed, outward-oriented mesh with unit vertex
-/// normals and no unused vertices (the steps are in the module documentation).
+/// Reads a mesh file of any [`Format`] (told by [`Format::detect`]) into a closed,
+/// outward-oriented mesh with unit vertex normals and no unused vertices (the steps are in the
+/// module documentation).
 ///
 /// # Errors
 ///
-/// [`ImportError`]: the file is too large, malformed, empty, or not a closed solid.
-pub fn read_mesh(bytes: &[u8]) -> Result<Mesh, ImportError> {
+/// [`ReadError`]: the file is too large, malformed, empty, or not a closed solid.
+pub fn read(bytes: &[u8]) -> Result<Mesh, ReadError> {
+    check_size(bytes)?;
+    let format = match Format::detect(bytes) {
+        // Control characters do not occur in text: this is a binary STL of the wrong length.
+        Format::Obj if stl::looks_binary(bytes) => Format::Stl,
+        format => format,
+    };
+    from_raw(&format.parse(bytes)?)
+}
+
+/// [`ReadError::TooLarge`] past [`MAX_FILE_BYTES`].
+pub(crate) fn check_size(bytes: &[u8]) -> Result<(), ReadError> {
     if bytes.len() > MAX_FILE_BYTES {
-        return Err(ImportError::TooLarge {
+        return Err(ReadError::TooLarge {
             what: "bytes",
             count: bytes.len(),
             max: MAX_FILE_BYTES,
         });
     }
-    let raw = match detect(bytes) {
-        // Control characters do not occur in text: this is a binary STL of the wrong length.
-        MeshFormat::Obj if looks_binary(bytes) => parse_stl(bytes)?,
-        MeshFormat::Obj => parse_obj(bytes)?,
-        MeshFormat::StlBinary | MeshFormat::StlAscii => parse_stl(bytes)?,
-    };
-    mesh_from_raw(&raw)
+    Ok(())
+}
+
+/// [`ReadError::TooLarge`] for a count that passed its cap while reading.
+pub(crate) fn too_many(what: &'static str, max: usize) -> ReadError {
+    ReadError::TooLarge {
+        what,
+        count: max + 1,
+        max,
+    }
 }
 
 /// A closed, outward-oriented mesh with unit vertex normals from parsed (or hand-made) vertices
-/// and triangles: weld, check the caps, validate, orient, normals (the steps of [`read_mesh`]
+/// and triangles: weld, check the caps, validate, orient, normals (the steps of [`read`](super::read)
 /// after parsing).
 ///
 /// # Errors
 ///
-/// [`ImportError`]: too many triangles or vertices, a bad index, a coordinate that is not finite,
+/// [`ReadError`]: too many triangles or vertices, a bad index, a coordinate that is not finite,
 /// no triangles, or not a closed solid.
-pub fn mesh_from_raw(raw: &RawMesh) -> Result<Mesh, ImportError> {
+pub fn from_raw(raw: &RawMesh) -> Result<Mesh, ReadError> {
     if raw.triangles.len() > MAX_TRIANGLES {
-        return Err(ImportError::TooLarge {
+        return Err(ReadError::TooLarge {
             what: "triangles",
             count: raw.triangles.len(),
             max: MAX_TRIANGLES,
         });
     }
     if let Some(vertex) = raw.positions.iter().position(|p| !p.is_finite()) {
-        return Err(ImportError::NotFinite { vertex: vertex + 1 });
+        return Err(ReadError::NotFinite { vertex: vertex + 1 });
     }
     if raw.triangles.is_empty() {
-        return Err(ImportError::Empty);
+        return Err(ReadError::Empty);
     }
     // The parsers check their indices with line numbers; lists from elsewhere are checked here.
     let n = raw.positions.len();
     for (triangle, tri) in raw.triangles.iter().enumerate() {
         if let Some(&index) = tri.iter().find(|&&i| i as usize >= n) {
-            return Err(ImportError::TriangleIndex { triangle, index });
+            return Err(ReadError::TriangleIndex { triangle, index });
         }
     }
     let (positions, file_normals, triangles) = weld(raw)?;
     if positions.len() > MAX_VERTICES {
-        return Err(ImportError::TooLarge {
+        return Err(ReadError::TooLarge {
             what: "vertices",
             count: positions.len(),
             max: MAX_VERTICES,
         });
     }
-    validate(&positions, &triangles).map_err(ImportError::Defects)?;
+    validate(&positions, &triangles).map_err(ReadError::Defects)?;
     let mut mesh = Mesh {
         positions,
         normals: Vec::new(),
@@ -344,7 +274,7 @@ fn agreeing_normals(mut sums: Vec<DVec3>, computed: &[DVec3]) -> Option<Vec<DVec
 /// Welds vertices with exactly equal coordinates and keeps only the vertices that triangles use,
 /// numbered by first use: the positions, the summed file normals (if any) and the triangles.
 #[allow(clippy::type_complexity)]
-fn weld(raw: &RawMesh) -> Result<(Vec<DVec3>, Option<Vec<DVec3>>, Vec<[u32; 3]>), ImportError> {
+fn weld(raw: &RawMesh) -> Result<(Vec<DVec3>, Option<Vec<DVec3>>, Vec<[u32; 3]>), ReadError> {
     let n = raw.positions.len();
     // `+ 0.0` turns −0 into +0, so that the two weld.
     let key = |i: u32| {
@@ -387,7 +317,7 @@ fn weld(raw: &RawMesh) -> Result<(Vec<DVec3>, Option<Vec<DVec3>>, Vec<[u32; 3]>)
     for tri in &raw.triangles {
         let mut out = [0u32; 3];
         for (o, &i) in out.iter_mut().zip(tri) {
-            let bad = ImportError::BadIndex {
+            let bad = ReadError::BadIndex {
                 line: 0,
                 index: i64::from(i) + 1,
             };
@@ -435,485 +365,21 @@ pub fn angle_weighted_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Ve
     normals
 }
 
-/// The corners of a triangle, or `None` if an index is out of range.
-fn corners(positions: &[DVec3], tri: &[u32; 3]) -> Option<[DVec3; 3]> {
-    Some([
-        *positions.get(tri[0] as usize)?,
-        *positions.get(tri[1] as usize)?,
-        *positions.get(tri[2] as usize)?,
-    ])
-}
-
-/// Checks that triangles bound a solid, counting every defect (see [`MeshDefects`]): each
-/// undirected edge must have exactly two triangles running it in opposite directions (one is
-/// *open*, three or more *non-manifold*, two the same way *inconsistent*); no triangle may repeat a
-/// vertex, use one out of range, or have area ≤ 10⁻¹² × (bounding-box diagonal)²; and the triangles
-/// around each vertex must be connected through the edges at that vertex (one fan; otherwise the
-/// vertex is *non-manifold*). Triangles that repeat a vertex or are out of range take no part in
-/// the edge and vertex counts. No triangles at all is no defect here ([`read_mesh`] reports it).
-///
-/// # Errors
-///
-/// The counts, when any is nonzero.
-pub fn validate(positions: &[DVec3], triangles: &[[u32; 3]]) -> Result<(), MeshDefects> {
-    let mut defects = MeshDefects::default();
-    let (lo, hi) = positions
-        .iter()
-        .filter(|p| p.is_finite())
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        });
-    let diagonal2 = if lo.cmple(hi).all() {
-        (hi - lo).length_squared()
-    } else {
-        0.0
-    };
-    // |(b − a) × (c − a)| = 2·area.
-    let min_double_area = 2.0 * DEGENERATE_AREA * diagonal2;
-    let mut edges: Vec<(u32, u32, bool)> = Vec::with_capacity(triangles.len() * 3);
-    let mut around: Vec<(u32, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
-    for tri in triangles {
-        let Some(p) = corners(positions, tri) else {
-            defects.degenerate_triangles += 1;
-            continue;
-        };
-        if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
-            defects.degenerate_triangles += 1;
-            continue;
-        }
-        if (p[1] - p[0]).cross(p[2] - p[0]).length() <= min_double_area {
-            defects.degenerate_triangles += 1;
-        }
-        for e in 0..3 {
-            let (a, b) = (tri[e], tri[(e + 1) % 3]);
-            edges.push((a.min(b), a.max(b), a < b));
-            // At corner tri[e], the triangle joins its neighbours tri[e + 2] and tri[e + 1].
-            around.push((tri[e], tri[(e + 2) % 3], tri[(e + 1) % 3]));
-        }
-    }
-    edges.sort_unstable();
-    for group in edges.chunk_by(|x, y| x.0 == y.0 && x.1 == y.1) {
-        match group {
-            [_] => defects.open_edges += 1,
-            [x, y] if x.2 == y.2 => defects.inconsistent_edges += 1,
-            [_, _] => {}
-            _ => defects.non_manifold_edges += 1,
-        }
-    }
-    // The link of a vertex: its neighbours, joined by each triangle at it. One fan (a disc, or a
-    // half-disc at the border) is a connected link; a link in several pieces is two sheets touching.
-    around.sort_unstable();
-    let mut neighbours: Vec<u32> = Vec::new();
-    let mut parent: Vec<usize> = Vec::new();
-    for fan in around.chunk_by(|x, y| x.0 == y.0) {
-        neighbours.clear();
-        neighbours.extend(fan.iter().flat_map(|c| [c.1, c.2]));
-        neighbours.sort_unstable();
-        neighbours.dedup();
-        parent.clear();
-        parent.extend(0..neighbours.len());
-        let mut pieces = neighbours.len();
-        for c in fan {
-            let (Ok(a), Ok(b)) = (
-                neighbours.binary_search(&c.1),
-                neighbours.binary_search(&c.2),
-            ) else {
-                continue;
-            };
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-            if ra != rb {
-                if let Some(p) = parent.get_mut(ra) {
-                    *p = rb;
-                }
-                pieces -= 1;
-            }
-        }
-        if pieces > 1 {
-            defects.non_manifold_vertices += 1;
-        }
-    }
-    if defects.is_empty() {
-        Ok(())
-    } else {
-        Err(defects)
-    }
-}
-
-/// The root of `i` in a union–find forest, halving paths on the way.
-fn find(parent: &mut [usize], mut i: usize) -> usize {
-    while let Some(&p) = parent.get(i) {
-        if p == i {
-            break;
-        }
-        let grand = parent.get(p).copied().unwrap_or(p);
-        if let Some(slot) = parent.get_mut(i) {
-            *slot = grand;
-        }
-        i = grand;
-    }
-    i
-}
-
-/// Parses an OBJ file: `v x y z [w …]` (extra values such as `w` or colours are ignored), `vn`, and
-/// `f` with `v`, `v/vt`, `v//vn` or `v/vt/vn` corners, negative (relative) indices, and polygons
-/// split into fans from their first corner; `#` starts a comment; every other statement (`vt`, `o`,
-/// `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, …) is ignored. A face may only refer to vertices and
-/// normals defined above it.
-///
-/// # Errors
-///
-/// [`ImportError::Parse`] or [`ImportError::BadIndex`] with the line, [`ImportError::NotFinite`],
-/// or [`ImportError::TooLarge`] past [`MAX_VERTICES`] vertices or normals or [`MAX_TRIANGLES`]
-/// triangles.
-pub fn parse_obj(text: &[u8]) -> Result<RawMesh, ImportError> {
-    let text = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
-    let mut positions: Vec<DVec3> = Vec::new();
-    let mut file_normals: Vec<DVec3> = Vec::new();
-    // Per position, the sum of the normals at its face corners.
-    let mut sums: Vec<DVec3> = Vec::new();
-    let mut every_corner_has_a_normal = true;
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    for (k, line) in text.split(|&b| b == b'\n').enumerate() {
-        let line_no = k + 1;
-        let line = line.split(|&b| b == b'#').next().unwrap_or_default();
-        let mut tokens = line
-            .split(u8::is_ascii_whitespace)
-            .filter(|t| !t.is_empty());
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
-        match keyword {
-            b"v" => {
-                let p = three_numbers(&mut tokens).ok_or(ImportError::Parse {
-                    line: line_no,
-                    reason: "a vertex needs three numbers: `v x y z`",
-                })?;
-                if positions.len() == MAX_VERTICES {
-                    return Err(too_many("vertices", MAX_VERTICES));
-                }
-                positions.push(p);
-                sums.push(DVec3::ZERO);
-                if !p.is_finite() {
-                    return Err(ImportError::NotFinite {
-                        vertex: positions.len(),
-                    });
-                }
-            }
-            b"vn" => {
-                let n = three_numbers(&mut tokens).ok_or(ImportError::Parse {
-                    line: line_no,
-                    reason: "a normal needs three numbers: `vn x y z`",
-                })?;
-                if file_normals.len() == MAX_VERTICES {
-                    return Err(too_many("normals", MAX_VERTICES));
-                }
-                // A non-finite or zero normal counts as none at the corners that use it.
-                file_normals.push(if n.is_finite() {
-                    n.normalize_or_zero()
-                } else {
-                    DVec3::ZERO
-                });
-            }
-            b"f" => {
-                // Split into a fan as the corners come: no buffer as long as the line.
-                let mut first = None;
-                let mut previous = None;
-                let mut corners = 0usize;
-                for token in tokens {
-                    let (v, vn) = face_corner(token, line_no, positions.len(), file_normals.len())?;
-                    match vn.and_then(|i| file_normals.get(i)) {
-                        Some(&n) => {
-                            if let Some(s) = sums.get_mut(v) {
-                                *s += n;
-                            }
-                        }
-                        None => every_corner_has_a_normal = false,
-                    }
-                    // `v` < positions.len() ≤ MAX_VERTICES, so it fits.
-                    let v = v as u32;
-                    corners += 1;
-                    match (first, previous) {
-                        (Some(a), Some(b)) => {
-                            if triangles.len() == MAX_TRIANGLES {
-                                return Err(too_many("triangles", MAX_TRIANGLES));
-                            }
-                            triangles.push([a, b, v]);
-                        }
-                        (None, _) => first = Some(v),
-                        (Some(_), None) => {}
-                    }
-                    if corners >= 2 {
-                        previous = Some(v);
-                    }
-                }
-                if corners < 3 {
-                    return Err(ImportError::Parse {
-                        line: line_no,
-                        reason: "a face needs at least three vertices",
-                    });
-                }
-            }
-            _ => {}
-        }
-    }
-    Ok(RawMesh {
-        positions,
-        normals: (every_corner_has_a_normal && !triangles.is_empty()).then_some(sums),
-        triangles,
-    })
-}
-
-fn too_many(what: &'static str, max: usize) -> ImportError {
-    ImportError::TooLarge {
-        what,
-        count: max + 1,
-        max,
-    }
-}
-
-/// One face corner `v`, `v/vt`, `v//vn` or `v/vt/vn`: the 0-based vertex and normal indices.
-fn face_corner(
-    token: &[u8],
-    line: usize,
-    vertices: usize,
-    normals: usize,
-) -> Result<(usize, Option<usize>), ImportError> {
-    let malformed = ImportError::Parse {
-        line,
-        reason: "a face corner must be `v`, `v/vt`, `v//vn` or `v/vt/vn` with integer indices",
-    };
-    let mut parts = token.split(|&b| b == b'/');
-    let v = parts.next().and_then(integer).ok_or(malformed.clone())?;
-    let _texture = parts.next();
-    let vn = match parts.next() {
-        None | Some(b"") => None,
-        Some(part) => Some(integer(part).ok_or(malformed.clone())?),
-    };
-    if parts.next().is_some() {
-        return Err(malformed);
-    }
-    let resolve = |index: i64, count: usize| {
-        let count = i64::try_from(count).unwrap_or(i64::MAX);
-        let i = if index < 0 { count + index } else { index - 1 };
-        if index != 0 && (0..count).contains(&i) {
-            usize::try_from(i).map_err(|_| ImportError::BadIndex { line, index })
-        } else {
-            Err(ImportError::BadIndex { line, index })
-        }
-    };
-    Ok((
-        resolve(v, vertices)?,
-        vn.map(|vn| resolve(vn, normals)).transpose()?,
-    ))
-}
-
-fn integer(token: &[u8]) -> Option<i64> {
+pub(crate) fn integer(token: &[u8]) -> Option<i64> {
     core::str::from_utf8(token).ok()?.parse().ok()
 }
 
-fn number(token: &[u8]) -> Option<f64> {
+pub(crate) fn number(token: &[u8]) -> Option<f64> {
     core::str::from_utf8(token).ok()?.parse().ok()
 }
 
 /// The next three tokens as numbers (they may be NaN or infinite: the caller reports that).
-fn three_numbers<'a>(tokens: &mut impl Iterator<Item = &'a [u8]>) -> Option<DVec3> {
+pub(crate) fn three_numbers<'a>(tokens: &mut impl Iterator<Item = &'a [u8]>) -> Option<DVec3> {
     Some(DVec3::new(
         number(tokens.next()?)?,
         number(tokens.next()?)?,
         number(tokens.next()?)?,
     ))
-}
-
-/// Parses an STL file, binary or ASCII. Binary when its length matches its triangle count, ASCII
-/// when it starts with `solid`, otherwise binary (and then truncated). Facet normals are ignored:
-/// they are flat, and [`read_mesh`] computes smooth ones. Corners are not welded.
-///
-/// # Errors
-///
-/// [`ImportError::Truncated`] for a binary file of the wrong length, [`ImportError::Parse`] with the
-/// line for malformed ASCII (including a file that ends before `endsolid`),
-/// [`ImportError::NotFinite`], or [`ImportError::TooLarge`] past [`MAX_TRIANGLES`] triangles.
-pub fn parse_stl(bytes: &[u8]) -> Result<RawMesh, ImportError> {
-    match binary_stl_count(bytes) {
-        Some(count) if binary_stl_len(count) == bytes.len() as u64 => {
-            parse_binary_stl(bytes, count)
-        }
-        _ if starts_with_solid(bytes) => parse_ascii_stl(bytes),
-        count => Err(ImportError::Truncated {
-            expected_bytes: count.map_or(84, binary_stl_len),
-            got_bytes: bytes.len() as u64,
-        }),
-    }
-}
-
-/// The triangle count of a binary STL header, if the file is long enough to have one.
-fn binary_stl_count(bytes: &[u8]) -> Option<u32> {
-    match bytes.get(80..84)? {
-        &[a, b, c, d] => Some(u32::from_le_bytes([a, b, c, d])),
-        _ => None,
-    }
-}
-
-fn binary_stl_len(count: u32) -> u64 {
-    84 + 50 * u64::from(count)
-}
-
-fn starts_with_solid(bytes: &[u8]) -> bool {
-    let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
-    start
-        .and_then(|s| bytes.get(s..s + 5))
-        .is_some_and(|w| w.eq_ignore_ascii_case(b"solid"))
-}
-
-/// Whether the bytes hold control characters that text does not (binary data, UTF-16, …), at a
-/// length where a binary STL header fits.
-fn looks_binary(bytes: &[u8]) -> bool {
-    bytes.len() >= 84
-        && bytes
-            .iter()
-            .any(|&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0c))
-}
-
-fn parse_binary_stl(bytes: &[u8], count: u32) -> Result<RawMesh, ImportError> {
-    let count = count as usize;
-    if count > MAX_TRIANGLES {
-        return Err(ImportError::TooLarge {
-            what: "triangles",
-            count,
-            max: MAX_TRIANGLES,
-        });
-    }
-    let body = bytes.get(84..).unwrap_or_default();
-    let mut positions = Vec::with_capacity(3 * count);
-    let mut triangles = Vec::with_capacity(count);
-    for facet in body.chunks_exact(50).take(count) {
-        // 12 bytes of normal, then three corners of 12 bytes, then the 2-byte attribute.
-        let corners = facet.get(12..48).unwrap_or_default();
-        for corner in corners.chunks_exact(12) {
-            let mut xyz = [0.0f64; 3];
-            for (x, b) in xyz.iter_mut().zip(corner.chunks_exact(4)) {
-                if let &[b0, b1, b2, b3] = b {
-                    *x = f64::from(f32::from_le_bytes([b0, b1, b2, b3]));
-                }
-            }
-            let p = DVec3::from_array(xyz);
-            positions.push(p);
-            if !p.is_finite() {
-                return Err(ImportError::NotFinite {
-                    vertex: positions.len(),
-                });
-            }
-        }
-        let base = triangles.len() as u32 * 3;
-        triangles.push([base, base + 1, base + 2]);
-    }
-    Ok(RawMesh {
-        positions,
-        normals: None,
-        triangles,
-    })
-}
-
-/// Where an ASCII STL parse is: the next statement expected.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Stl {
-    /// Before `solid`.
-    Start,
-    /// Inside a solid: `facet` or `endsolid`.
-    Solid,
-    /// After `facet`: `outer loop`.
-    Facet,
-    /// Inside a loop with this many vertices read.
-    Loop(u8),
-    /// After `endloop`: `endfacet`.
-    EndLoop,
-    /// After `endsolid`: nothing, or another `solid`.
-    Done,
-}
-
-fn parse_ascii_stl(bytes: &[u8]) -> Result<RawMesh, ImportError> {
-    let mut positions = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut state = Stl::Start;
-    let mut last_line = 1;
-    for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
-        let line_no = k + 1;
-        let mut tokens = line
-            .split(u8::is_ascii_whitespace)
-            .filter(|t| !t.is_empty());
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
-        last_line = line_no;
-        let is = |word: &[u8]| keyword.eq_ignore_ascii_case(word);
-        let error = |reason| ImportError::Parse {
-            line: line_no,
-            reason,
-        };
-        state = match state {
-            Stl::Start | Stl::Done if is(b"solid") => Stl::Solid,
-            Stl::Start => return Err(error("an ASCII STL starts with `solid`")),
-            Stl::Done => return Err(error("only another `solid` may follow `endsolid`")),
-            Stl::Solid if is(b"facet") => {
-                if triangles.len() == MAX_TRIANGLES {
-                    return Err(too_many("triangles", MAX_TRIANGLES));
-                }
-                Stl::Facet
-            }
-            Stl::Solid if is(b"endsolid") => Stl::Done,
-            Stl::Solid => return Err(error("expected `facet` or `endsolid`")),
-            Stl::Facet
-                if is(b"outer")
-                    && tokens
-                        .next()
-                        .is_some_and(|t| t.eq_ignore_ascii_case(b"loop")) =>
-            {
-                Stl::Loop(0)
-            }
-            Stl::Facet => return Err(error("expected `outer loop`")),
-            Stl::Loop(n) if is(b"vertex") => {
-                if n == 3 {
-                    return Err(error("a facet has more than three vertices"));
-                }
-                let p = three_numbers(&mut tokens)
-                    .ok_or(error("a vertex needs three numbers: `vertex x y z`"))?;
-                positions.push(p);
-                if !p.is_finite() {
-                    return Err(ImportError::NotFinite {
-                        vertex: positions.len(),
-                    });
-                }
-                Stl::Loop(n + 1)
-            }
-            Stl::Loop(3) if is(b"endloop") => {
-                let base = triangles.len() as u32 * 3;
-                triangles.push([base, base + 1, base + 2]);
-                Stl::EndLoop
-            }
-            Stl::Loop(_) if is(b"endloop") => {
-                return Err(error("a facet needs three vertices"));
-            }
-            Stl::Loop(_) => return Err(error("expected `vertex` or `endloop`")),
-            Stl::EndLoop if is(b"endfacet") => Stl::Solid,
-            Stl::EndLoop => return Err(error("expected `endfacet`")),
-        };
-    }
-    let reason = match state {
-        Stl::Done => {
-            return Ok(RawMesh {
-                positions,
-                normals: None,
-                triangles,
-            });
-        }
-        Stl::Start => "the file is empty",
-        Stl::Solid => "the file ends before `endsolid`",
-        Stl::Facet | Stl::Loop(_) | Stl::EndLoop => "the file ends in the middle of a facet",
-    };
-    Err(ImportError::Parse {
-        line: last_line,
-        reason,
-    })
 }
 
 #[cfg(test)]
@@ -923,6 +389,8 @@ mod tests {
     use alloc::string::String;
 
     use super::*;
+    use crate::mesh::obj::parse_obj;
+    use crate::mesh::stl::parse_stl;
     use crate::testutil::Rng;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -959,25 +427,28 @@ mod tests {
     }
 
     fn defects(bytes: &[u8]) -> MeshDefects {
-        match read_mesh(bytes) {
-            Err(ImportError::Defects(d)) => d,
+        match read(bytes) {
+            Err(ReadError::Defects(d)) => d,
             other => panic!("expected defects, got {other:?}"),
         }
     }
 
     #[test]
     fn import_detects_formats() {
-        assert_eq!(detect(CUBE), MeshFormat::Obj);
-        assert_eq!(detect(TETRA_ASCII), MeshFormat::StlAscii);
-        assert_eq!(detect(TETRA_BINARY), MeshFormat::StlBinary);
-        assert_eq!(detect(TRUNCATED), MeshFormat::Obj);
-        assert_eq!(detect(b""), MeshFormat::Obj);
-        assert_eq!(detect(b"  \n solid x\nendsolid x\n"), MeshFormat::Obj);
+        assert_eq!(Format::detect(CUBE), Format::Obj);
+        assert_eq!(Format::detect(TETRA_ASCII), Format::Stl);
+        assert!(stl::is_ascii(TETRA_ASCII) && !stl::is_binary(TETRA_ASCII));
+        assert_eq!(Format::detect(TETRA_BINARY), Format::Stl);
+        assert!(stl::is_binary(TETRA_BINARY));
+        assert_eq!(Format::detect(TRUNCATED), Format::Obj);
+        assert_eq!(Format::detect(b""), Format::Obj);
+        assert_eq!(Format::detect(b"  \n solid x\nendsolid x\n"), Format::Obj);
+        assert_eq!(Format::detect(b"ply\nformat ascii 1.0\n"), Format::Ply);
     }
 
     #[test]
     fn import_reads_the_cube() {
-        let mesh = read_mesh(CUBE).unwrap();
+        let mesh = read(CUBE).unwrap();
         assert_solid(&mesh);
         assert_eq!(mesh.triangles.len(), 12);
         assert_eq!(mesh.positions.len(), 8);
@@ -987,7 +458,7 @@ mod tests {
 
     #[test]
     fn import_angle_weighted_normal_of_a_cube_corner_is_the_diagonal() {
-        let mesh = read_mesh(CUBE).unwrap();
+        let mesh = read(CUBE).unwrap();
         for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
             let expected = (*p * 2.0 - 1.0) / 3f64.sqrt();
             assert!((*n - expected).length() < 1e-12, "{p} {n}");
@@ -999,7 +470,7 @@ mod tests {
         for bytes in [TETRA_ASCII, TETRA_BINARY] {
             let raw = parse_stl(bytes).unwrap();
             assert_eq!(raw.positions.len(), 12);
-            let mesh = read_mesh(bytes).unwrap();
+            let mesh = read(bytes).unwrap();
             assert_solid(&mesh);
             assert_eq!(mesh.positions.len(), 4);
             assert_eq!(mesh.triangles.len(), 4);
@@ -1014,7 +485,7 @@ mod tests {
         let text = String::from_utf8(text)
             .unwrap()
             .replacen("vertex 0 0 0", "vertex -0 0 -0", 1);
-        let mesh = read_mesh(text.as_bytes()).unwrap();
+        let mesh = read(text.as_bytes()).unwrap();
         assert_eq!(mesh.positions.len(), 4);
     }
 
@@ -1029,7 +500,7 @@ mod tests {
             triangles: raw.triangles,
         };
         assert!(before.volume() < 0.0);
-        let mesh = read_mesh(inward).unwrap();
+        let mesh = read(inward).unwrap();
         assert_solid(&mesh);
         assert!((mesh.volume() - 1.0).abs() < 1e-12);
     }
@@ -1046,7 +517,7 @@ mod tests {
             vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
         );
         assert!(raw.normals.is_some());
-        let mesh = read_mesh(text).unwrap();
+        let mesh = read(text).unwrap();
         assert_solid(&mesh);
         // The origin's normal is the sum of its three faces', (−1, −1, −1)/√3.
         let origin = mesh
@@ -1071,14 +542,14 @@ mod tests {
         let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\n\
             f 1//1 3//1 2\nf 1//1 2//1 4//1\nf 1//1 4//1 3//1\nf 2//1 3//1 4//1\n";
         assert!(parse_obj(text).unwrap().normals.is_none());
-        let mesh = read_mesh(text).unwrap();
+        let mesh = read(text).unwrap();
         let computed = angle_weighted_normals(&mesh.positions, &mesh.triangles);
         assert_eq!(mesh.normals, computed);
         // Every corner has a normal, but they all point along z: inside at some vertex.
         let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\n\
             f 1//1 3//1 2//1\nf 1//1 2//1 4//1\nf 1//1 4//1 3//1\nf 2//1 3//1 4//1\n";
         assert!(parse_obj(text).unwrap().normals.is_some());
-        let mesh = read_mesh(text).unwrap();
+        let mesh = read(text).unwrap();
         assert_eq!(mesh.normals, computed);
     }
 
@@ -1092,7 +563,7 @@ mod tests {
                 ..MeshDefects::default()
             }
         );
-        let message = format!("{}", ImportError::Defects(d));
+        let message = format!("{}", ReadError::Defects(d));
         assert_eq!(message, "the mesh is not a closed solid: 4 open edges");
     }
 
@@ -1190,10 +661,10 @@ mod tests {
 
     #[test]
     fn import_reports_truncated_binary_stl() {
-        let err = read_mesh(TRUNCATED).unwrap_err();
+        let err = read(TRUNCATED).unwrap_err();
         assert_eq!(
             err,
-            ImportError::Truncated {
+            ReadError::Truncated {
                 expected_bytes: 284,
                 got_bytes: 150
             }
@@ -1202,7 +673,7 @@ mod tests {
         // Shorter than the header.
         assert_eq!(
             parse_stl(&TETRA_BINARY[..50]).unwrap_err(),
-            ImportError::Truncated {
+            ReadError::Truncated {
                 expected_bytes: 84,
                 got_bytes: 50
             }
@@ -1211,8 +682,8 @@ mod tests {
         let mut long = TETRA_BINARY.to_vec();
         long.push(0);
         assert!(matches!(
-            read_mesh(&long),
-            Err(ImportError::Truncated {
+            read(&long),
+            Err(ReadError::Truncated {
                 expected_bytes: 284,
                 got_bytes: 285
             })
@@ -1221,10 +692,10 @@ mod tests {
 
     #[test]
     fn import_reports_truncated_ascii_stl() {
-        let err = read_mesh(TRUNCATED_ASCII).unwrap_err();
+        let err = read(TRUNCATED_ASCII).unwrap_err();
         assert_eq!(
             err,
-            ImportError::Parse {
+            ReadError::Parse {
                 line: 18,
                 reason: "the file ends in the middle of a facet"
             }
@@ -1237,85 +708,73 @@ mod tests {
             vertex 0 1 0\n endloop\n endfacet\n";
         assert!(matches!(
             parse_stl(no_end),
-            Err(ImportError::Parse { line: 8, reason }) if reason.contains("endsolid")
+            Err(ReadError::Parse { line: 8, reason }) if reason.contains("endsolid")
         ));
         let four = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
             vertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
         assert!(matches!(
             parse_stl(four),
-            Err(ImportError::Parse { line: 7, .. })
+            Err(ReadError::Parse { line: 7, .. })
         ));
         let bad_number = b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 zero\n";
         assert!(matches!(
             parse_stl(bad_number),
-            Err(ImportError::Parse { line: 4, .. })
+            Err(ReadError::Parse { line: 4, .. })
         ));
     }
 
     #[test]
     fn import_reports_garbage() {
-        let err = read_mesh(GARBAGE).unwrap_err();
+        let err = read(GARBAGE).unwrap_err();
         assert!(
-            matches!(err, ImportError::Truncated { got_bytes: 256, .. }),
+            matches!(err, ReadError::Truncated { got_bytes: 256, .. }),
             "{err:?}"
         );
         assert!(format!("{err}").contains("binary STL"));
         // Text that is no mesh: no triangles.
         assert_eq!(
-            read_mesh(b"hello, world\nthis is not a mesh\n"),
-            Err(ImportError::Empty)
+            read(b"hello, world\nthis is not a mesh\n"),
+            Err(ReadError::Empty)
         );
-        assert_eq!(read_mesh(b""), Err(ImportError::Empty));
-        assert_eq!(
-            format!("{}", ImportError::Empty),
-            "the file has no triangles"
-        );
+        assert_eq!(read(b""), Err(ReadError::Empty));
+        assert_eq!(format!("{}", ReadError::Empty), "the file has no triangles");
     }
 
     #[test]
     fn import_reports_bad_indices() {
-        let err = read_mesh(BAD_INDEX).unwrap_err();
-        assert_eq!(err, ImportError::BadIndex { line: 12, index: 9 });
+        let err = read(BAD_INDEX).unwrap_err();
+        assert_eq!(err, ReadError::BadIndex { line: 12, index: 9 });
         assert!(format!("{err}").starts_with("line 12: index 9"));
         let zero = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n";
-        let err = read_mesh(zero).unwrap_err();
-        assert_eq!(err, ImportError::BadIndex { line: 4, index: 0 });
+        let err = read(zero).unwrap_err();
+        assert_eq!(err, ReadError::BadIndex { line: 4, index: 0 });
         assert!(format!("{err}").contains("index 0"));
         let behind = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n";
         assert_eq!(
-            read_mesh(behind),
-            Err(ImportError::BadIndex { line: 4, index: -4 })
+            read(behind),
+            Err(ReadError::BadIndex { line: 4, index: -4 })
         );
         let normal = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n";
-        assert_eq!(
-            read_mesh(normal),
-            Err(ImportError::BadIndex { line: 5, index: 2 })
-        );
+        assert_eq!(read(normal), Err(ReadError::BadIndex { line: 5, index: 2 }));
         let two = b"v 0 0 0\nv 1 0 0\nf 1 2\n";
-        assert!(matches!(
-            read_mesh(two),
-            Err(ImportError::Parse { line: 3, .. })
-        ));
+        assert!(matches!(read(two), Err(ReadError::Parse { line: 3, .. })));
         let word = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 three\n";
-        assert!(matches!(
-            read_mesh(word),
-            Err(ImportError::Parse { line: 4, .. })
-        ));
+        assert!(matches!(read(word), Err(ReadError::Parse { line: 4, .. })));
     }
 
     #[test]
     fn import_reports_not_finite_coordinates() {
-        let err = read_mesh(NAN).unwrap_err();
-        assert_eq!(err, ImportError::NotFinite { vertex: 3 });
+        let err = read(NAN).unwrap_err();
+        assert_eq!(err, ReadError::NotFinite { vertex: 3 });
         assert!(format!("{err}").contains("not a finite number"));
         assert_eq!(
-            read_mesh(b"v 1e400 0 0\n"),
-            Err(ImportError::NotFinite { vertex: 1 })
+            read(b"v 1e400 0 0\n"),
+            Err(ReadError::NotFinite { vertex: 1 })
         );
         // A NaN in a binary STL corner.
         let mut bytes = TETRA_BINARY.to_vec();
         bytes[84 + 12 + 12 + 4..84 + 12 + 12 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
-        assert_eq!(read_mesh(&bytes), Err(ImportError::NotFinite { vertex: 2 }));
+        assert_eq!(read(&bytes), Err(ReadError::NotFinite { vertex: 2 }));
     }
 
     #[test]
@@ -1324,10 +783,10 @@ mod tests {
         let count = MAX_TRIANGLES + 1;
         let mut bytes = vec![b' '; 84 + 50 * count];
         bytes[80..84].copy_from_slice(&(count as u32).to_le_bytes());
-        let err = read_mesh(&bytes).unwrap_err();
+        let err = read(&bytes).unwrap_err();
         assert_eq!(
             err,
-            ImportError::TooLarge {
+            ReadError::TooLarge {
                 what: "triangles",
                 count,
                 max: MAX_TRIANGLES
@@ -1341,7 +800,7 @@ mod tests {
         }
         assert!(matches!(
             parse_obj(&text),
-            Err(ImportError::TooLarge {
+            Err(ReadError::TooLarge {
                 what: "vertices",
                 ..
             })
@@ -1354,7 +813,7 @@ mod tests {
         polygon.extend_from_slice(b" 3\n");
         assert!(matches!(
             parse_obj(&polygon),
-            Err(ImportError::TooLarge {
+            Err(ReadError::TooLarge {
                 what: "triangles",
                 ..
             })
@@ -1366,8 +825,8 @@ mod tests {
     fn import_caps_the_file_size() {
         let bytes = vec![0u8; MAX_FILE_BYTES + 1];
         assert!(matches!(
-            read_mesh(&bytes),
-            Err(ImportError::TooLarge { what: "bytes", .. })
+            read(&bytes),
+            Err(ReadError::TooLarge { what: "bytes", .. })
         ));
     }
 
@@ -1380,7 +839,7 @@ mod tests {
         assert_eq!(raw.triangles.len(), 6);
         assert_eq!(raw.triangles[0], [0, 3, 2]);
         assert_eq!(raw.triangles[1], [0, 2, 1]);
-        let mesh = read_mesh(text).unwrap();
+        let mesh = read(text).unwrap();
         assert_solid(&mesh);
         assert!((mesh.volume() - 1.0 / 3.0).abs() < 1e-12);
     }
@@ -1457,7 +916,7 @@ mod tests {
                 let good = goods[rng.int(0, goods.len() - 1)];
                 mutate(&mut rng, good)
             };
-            match read_mesh(&bytes) {
+            match read(&bytes) {
                 Ok(mesh) => {
                     ok += 1;
                     mesh.check_closed_manifold().unwrap();
