@@ -2,10 +2,10 @@
 //! simplicial chain against Jordan ray parity on the same PN surface and the same grid (the paper's
 //! Fig. 20 claim, as queries per second and patch intersections per query).
 
-use bezsolid_core::esc::bool::{Expr, Op};
-use bezsolid_core::esc::chain::{EscSolid, Stats};
-use bezsolid_core::esc::draw::Boolean;
-use bezsolid_core::esc::examples::Example;
+use bezsolid_core::esc::Boolean;
+use bezsolid_core::esc::Example;
+use bezsolid_core::esc::{EscSolid, Stats};
+use bezsolid_core::esc::{Expr, Op};
 use glam::DVec3;
 
 use crate::inverse::Rng;

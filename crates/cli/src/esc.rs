@@ -4,10 +4,10 @@
 //! A free-form model file or share link stands for its whole result wherever a mesh goes.
 
 use anyhow::{Context, Result, bail};
-use bezsolid_core::esc::bool::{Expr, Op};
-use bezsolid_core::esc::chain::{EscSolid, Stats};
-use bezsolid_core::esc::draw::Boolean;
-use bezsolid_core::esc::examples::Example;
+use bezsolid_core::esc::Boolean;
+use bezsolid_core::esc::Example;
+use bezsolid_core::esc::{EscSolid, Stats};
+use bezsolid_core::esc::{Expr, Op};
 use bezsolid_core::mesh::{MAX_FILE_BYTES, read};
 use glam::DVec3;
 

@@ -17,8 +17,8 @@ mod common;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use bezsolid_core::esc::bool::Op;
-use bezsolid_core::esc::examples::Example;
+use bezsolid_core::esc::Example;
+use bezsolid_core::esc::Op;
 use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, ModelSolid};
 use bezsolid_core::presets::Preset;
 use bezsolid_core::{Solid2, Solid3};

@@ -716,7 +716,7 @@ fn de_casteljau<P: ControlPoint>(pts: &mut [P], t: f64) -> P {
 mod tests {
     use super::*;
     use crate::bernstein::bernstein;
-    use crate::testutil::Rng;
+    use crate::testutil::{Rng, assert_close};
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -896,14 +896,6 @@ mod tests {
         );
     }
 
-    fn close3(a: DVec3, b: DVec3, tol: f64) -> bool {
-        (a - b).abs().max_element() <= tol * (1.0 + a.abs().max_element())
-    }
-
-    fn close4(a: DVec4, b: DVec4, tol: f64) -> bool {
-        (a - b).abs().max_element() <= tol * (1.0 + a.abs().max_element())
-    }
-
     #[test]
     fn patch_partials_match_finite_differences() {
         let mut rng = Rng::new(21);
@@ -912,11 +904,11 @@ mod tests {
             let patch = random_patch(&mut rng, 8);
             let (u, v) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
             let (s, [su, sv]) = patch.eval_with_gradient([u, v]);
-            assert!(close3(s, patch.eval([u, v]), 1e-12));
+            assert_close!(s, patch.eval([u, v]), 1e-12);
             let fu = (patch.eval([u + h, v]) - patch.eval([u - h, v])) / (2.0 * h);
             let fv = (patch.eval([u, v + h]) - patch.eval([u, v - h])) / (2.0 * h);
-            assert!(close3(su, fu, 1e-5), "{su} vs {fu}");
-            assert!(close3(sv, fv, 1e-5), "{sv} vs {fv}");
+            assert_close!(su, fu, 1e-5, "{su} vs {fu}");
+            assert_close!(sv, fv, 1e-5, "{sv} vs {fv}");
         }
     }
 
@@ -932,14 +924,14 @@ mod tests {
                 rng.range(0.0, 1.0),
             ];
             let (s, grad) = vol.eval_with_gradient(p);
-            assert!(close4(s, vol.eval([p[0], p[1], p[2]]), 1e-12));
+            assert_close!(s, vol.eval([p[0], p[1], p[2]]), 1e-12);
             for (axis, g) in grad.iter().enumerate() {
                 let (mut up, mut down) = (p, p);
                 up[axis] += h;
                 down[axis] -= h;
                 let fd = (vol.eval([up[0], up[1], up[2]]) - vol.eval([down[0], down[1], down[2]]))
                     / (2.0 * h);
-                assert!(close4(*g, fd, 1e-5), "axis {axis}: {g} vs {fd}");
+                assert_close!(*g, fd, 1e-5, "axis {axis}: {g} vs {fd}");
             }
         }
     }
@@ -963,8 +955,8 @@ mod tests {
                         Axis::U => (left.eval([a, b]), right.eval([a, b])),
                         _ => (left.eval([b, a]), right.eval([b, a])),
                     };
-                    assert!(close3(l, whole(t * a), 1e-10));
-                    assert!(close3(r, whole(t + (1.0 - t) * a), 1e-10));
+                    assert_close!(l, whole(t * a), 1e-10);
+                    assert_close!(r, whole(t + (1.0 - t) * a), 1e-10);
                 }
             }
         }
@@ -992,8 +984,8 @@ mod tests {
                     pl[ix] = t * p[ix];
                     pr[ix] = t + (1.0 - t) * p[ix];
                     let at = |v: &Volume<DVec4>, q: [f64; 3]| v.eval([q[0], q[1], q[2]]);
-                    assert!(close4(at(&left, p), at(&vol, pl), 1e-10));
-                    assert!(close4(at(&right, p), at(&vol, pr), 1e-10));
+                    assert_close!(at(&left, p), at(&vol, pl), 1e-10);
+                    assert_close!(at(&right, p), at(&vol, pr), 1e-10);
                 }
             }
         }
@@ -1016,7 +1008,7 @@ mod tests {
                 assert_eq!(up.degree(), expect);
                 for _ in 0..10 {
                     let (u, v) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
-                    assert!(close3(up.eval([u, v]), patch.eval([u, v]), 1e-10));
+                    assert_close!(up.eval([u, v]), patch.eval([u, v]), 1e-10);
                 }
             }
             for axis in [Axis::U, Axis::V, Axis::W] {
@@ -1027,11 +1019,11 @@ mod tests {
                         rng.range(0.0, 1.0),
                         rng.range(0.0, 1.0),
                     ];
-                    assert!(close4(
+                    assert_close!(
                         up.eval([p[0], p[1], p[2]]),
                         vol.eval([p[0], p[1], p[2]]),
                         1e-10
-                    ));
+                    );
                 }
             }
         }

@@ -405,7 +405,7 @@ mod tests {
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
     use super::*;
-    use crate::testutil::Rng;
+    use crate::testutil::{Rng, assert_close};
 
     fn random_point(rng: &mut Rng) -> DVec3 {
         DVec3::new(
@@ -439,11 +439,6 @@ mod tests {
     fn random_dir(rng: &mut Rng) -> DVec3 {
         let (a, b) = (rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
         DVec3::new(a, b, -a - b)
-    }
-
-    fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
-        (a - b).abs().max_element()
-            <= tol * a.abs().max_element().max(b.abs().max_element()).max(1.0)
     }
 
     #[test]
@@ -523,13 +518,10 @@ mod tests {
             .unwrap();
             for _ in 0..20 {
                 let b = random_bary(&mut rng);
-                assert!(close(patch.eval(b), b, 1e-12), "n = {n}");
-                assert!(close(patch.eval_de_casteljau(b), b, 1e-12), "n = {n}");
+                assert_close!(patch.eval(b), b, 1e-12, "n = {n}");
+                assert_close!(patch.eval_de_casteljau(b), b, 1e-12, "n = {n}");
                 let d = random_dir(&mut rng);
-                assert!(
-                    close(patch.directional_derivative(b, d), d, 1e-12),
-                    "n = {n}"
-                );
+                assert_close!(patch.directional_derivative(b, d), d, 1e-12, "n = {n}");
             }
         }
     }
@@ -542,13 +534,13 @@ mod tests {
             for _ in 0..20 {
                 let b = random_bary(&mut rng);
                 let (x, y) = (patch.eval(b), patch.eval_de_casteljau(b));
-                assert!(close(x, y, 1e-12), "{x} vs {y}");
+                assert_close!(x, y, 1e-12, "{x} vs {y}");
             }
             // Slightly outside the triangle: still the same polynomial.
             for _ in 0..5 {
                 let (s, t) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
                 let b = st_to_bary(s, t);
-                assert!(close(patch.eval(b), patch.eval_de_casteljau(b), 1e-10));
+                assert_close!(patch.eval(b), patch.eval_de_casteljau(b), 1e-10);
             }
         }
         // The highest degree too.
@@ -556,7 +548,7 @@ mod tests {
         let patch = TriangularPatch::from_fn(MAX_DEGREE, |_, _, _| random_point(&mut rng)).unwrap();
         for _ in 0..20 {
             let b = random_bary(&mut rng);
-            assert!(close(patch.eval(b), patch.eval_de_casteljau(b), 1e-11));
+            assert_close!(patch.eval(b), patch.eval_de_casteljau(b), 1e-11);
         }
     }
 
@@ -567,8 +559,8 @@ mod tests {
             let patch = random_patch(&mut rng, 8);
             for (c, b) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
                 let corner = patch.corner(c).unwrap();
-                assert!(close(patch.eval(b), corner, 1e-14));
-                assert!(close(patch.eval_de_casteljau(b), corner, 1e-14));
+                assert_close!(patch.eval(b), corner, 1e-14);
+                assert_close!(patch.eval_de_casteljau(b), corner, 1e-14);
             }
         }
     }
@@ -590,7 +582,7 @@ mod tests {
                 for _ in 0..10 {
                     let t = rng.range(0.0, 1.0);
                     let b = corners[e] * (1.0 - t) + corners[(e + 1) % 3] * t;
-                    assert!(close(curve.eval(t), patch.eval(b), 1e-12));
+                    assert_close!(curve.eval(t), patch.eval(b), 1e-12);
                 }
             }
         }
@@ -607,7 +599,7 @@ mod tests {
                 let d = random_dir(&mut rng);
                 let fd = (patch.eval(b + d * h) - patch.eval(b - d * h)) / (2.0 * h);
                 let dd = patch.directional_derivative(b, d);
-                assert!(close(fd, dd, 1e-5), "{fd} vs {dd}");
+                assert_close!(fd, dd, 1e-5, "{fd} vs {dd}");
             }
         }
     }
@@ -621,19 +613,11 @@ mod tests {
             for _ in 0..10 {
                 let b = random_bary(&mut rng);
                 let (s, t) = (b.y, b.z);
-                assert!(close(patch.eval_st(s, t), patch.eval(b), 1e-15));
+                assert_close!(patch.eval_st(s, t), patch.eval(b), 1e-15);
                 let fs = (patch.eval_st(s + h, t) - patch.eval_st(s - h, t)) / (2.0 * h);
                 let ft = (patch.eval_st(s, t + h) - patch.eval_st(s, t - h)) / (2.0 * h);
-                assert!(
-                    close(fs, patch.ds(s, t), 1e-5),
-                    "{fs} vs {}",
-                    patch.ds(s, t)
-                );
-                assert!(
-                    close(ft, patch.dt(s, t), 1e-5),
-                    "{ft} vs {}",
-                    patch.dt(s, t)
-                );
+                assert_close!(fs, patch.ds(s, t), 1e-5);
+                assert_close!(ft, patch.dt(s, t), 1e-5);
             }
         }
     }
@@ -650,7 +634,7 @@ mod tests {
                 let c = patch.directional_derivative(random_bary(&mut rng), d);
                 for _ in 0..5 {
                     let b = random_bary(&mut rng);
-                    assert!(close(patch.directional_derivative(b, d), c, 1e-13));
+                    assert_close!(patch.directional_derivative(b, d), c, 1e-13);
                 }
                 continue;
             };
@@ -658,7 +642,7 @@ mod tests {
             for _ in 0..10 {
                 let b = random_bary(&mut rng);
                 let (x, y) = (dp.eval(b), patch.directional_derivative(b, d));
-                assert!(close(x, y, 1e-12), "{x} vs {y}");
+                assert_close!(x, y, 1e-12, "{x} vs {y}");
             }
         }
     }
@@ -682,14 +666,14 @@ mod tests {
                     let x = random_bary(&mut rng);
                     let mapped = tri[0] * x.x + tri[1] * x.y + tri[2] * x.z;
                     let (a, b) = (sub.eval(x), patch.eval(mapped));
-                    assert!(close(a, b, 1e-11), "{a} vs {b}");
+                    assert_close!(a, b, 1e-11, "{a} vs {b}");
                 }
             }
             // The split point is a corner of every sub-patch.
             let tp = patch.eval(p);
-            assert!(close(subs[0].corner(0).unwrap(), tp, 1e-12));
-            assert!(close(subs[1].corner(1).unwrap(), tp, 1e-12));
-            assert!(close(subs[2].corner(2).unwrap(), tp, 1e-12));
+            assert_close!(subs[0].corner(0).unwrap(), tp, 1e-12);
+            assert_close!(subs[1].corner(1).unwrap(), tp, 1e-12);
+            assert_close!(subs[2].corner(2).unwrap(), tp, 1e-12);
         }
     }
 
@@ -706,7 +690,7 @@ mod tests {
             }
             for _ in 0..10 {
                 let b = random_bary(&mut rng);
-                assert!(close(e.eval(b), patch.eval(b), 1e-12));
+                assert_close!(e.eval(b), patch.eval(b), 1e-12);
             }
         }
         let top = TriangularPatch::from_fn(MAX_DEGREE, |_, _, _| 1.0).unwrap();

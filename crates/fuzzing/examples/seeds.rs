@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 
 use base64::Engine as _;
-use bezsolid_core::esc::bool::Op;
-use bezsolid_core::esc::examples::Example;
+use bezsolid_core::esc::Example;
+use bezsolid_core::esc::Op;
 use bezsolid_core::link;
 use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, ModelSolid};
 use bezsolid_core::presets::Preset;
@@ -116,7 +116,7 @@ fn main() -> std::io::Result<()> {
           0 0 0 -1 -1 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n\
           3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
     )?;
-    let cube = bezsolid_core::esc::examples::Example::Icosphere.mesh();
+    let cube = bezsolid_core::esc::Example::Icosphere.mesh();
     write(
         "mesh_import",
         "icosphere.ply",

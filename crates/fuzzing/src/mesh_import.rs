@@ -1,7 +1,7 @@
 //! The `mesh_import` target: OBJ, STL (binary and ASCII) and PLY files, as the free-form mode imports
 //! them.
 
-use bezsolid_core::esc::chain::EscSolid;
+use bezsolid_core::esc::EscSolid;
 use bezsolid_core::mesh::{self, Format, RawMesh};
 use glam::DVec3;
 

@@ -8,10 +8,10 @@
 //! [`FreeForm::surface_request`] and [`FreeForm::set_surface`]); until it comes a coarse one is
 //! drawn.
 
-use bezsolid_core::esc::bool::{Expr, Op};
-use bezsolid_core::esc::chain::EscSolid;
-use bezsolid_core::esc::draw::Boolean;
-use bezsolid_core::esc::examples::Example;
+use bezsolid_core::esc::Boolean;
+use bezsolid_core::esc::EscSolid;
+use bezsolid_core::esc::Example;
+use bezsolid_core::esc::{Expr, Op};
 use bezsolid_core::mesh::Mesh;
 use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
 use glam::DVec3;
@@ -549,7 +549,7 @@ pub mod headless {
     /// The largest resolution of a headless surface or mesh.
     pub const MAX_RESOLUTION: usize = bezsolid_core::esc::draw::MAX_RESOLUTION;
 
-    fn boolean(text: &str, resolution: usize) -> Result<bezsolid_core::esc::draw::Boolean, String> {
+    fn boolean(text: &str, resolution: usize) -> Result<bezsolid_core::esc::Boolean, String> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
             return Err(format!(
                 "resolution {resolution} is outside 2..={MAX_RESOLUTION}"

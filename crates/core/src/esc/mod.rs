@@ -14,8 +14,11 @@
 //! - [`mod@bool`]: Boolean expressions as chain algebra.
 //! - [`draw`]: point meshes and surfaces of Boolean results.
 //!
+//! The types a caller needs are re-exported here: [`EscSolid`], [`Expr`] and [`Op`], [`Boolean`],
+//! [`Example`], [`PnSurface`].
+//!
 //! ```
-//! use bezsolid_core::esc::{chain::EscSolid, examples::Example};
+//! use bezsolid_core::esc::{EscSolid, Example};
 //! use glam::DVec3;
 //!
 //! let ball = EscSolid::new(&Example::Icosphere.mesh()).unwrap();
@@ -30,6 +33,12 @@ pub mod examples;
 pub mod pn;
 pub mod predicates;
 pub mod ray;
+
+pub use bool::{Expr, Op};
+pub use chain::{EscError, EscSolid, Stats};
+pub use draw::{Boolean, PointMesh};
+pub use examples::Example;
+pub use pn::PnSurface;
 
 #[cfg(test)]
 mod tests;
