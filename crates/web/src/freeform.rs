@@ -17,9 +17,9 @@ use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
 use glam::DVec3;
 
 use crate::app::Rgba;
-use crate::view3d::{
-    Camera, MeshVertex, OrbitView, Scene, float_vertices, mesh_floats, next_generation,
-};
+use crate::camera::{Camera, OrbitView};
+use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
+use crate::view3d::mesh_floats;
 
 /// The result's surface while the fine one is being made (cells along the longest side).
 pub const COARSE_RESOLUTION: usize = 16;
@@ -83,9 +83,8 @@ pub struct FreeForm {
     resolution: usize,
     boolean: Boolean,
     revision: u64,
-    /// The result's surface: revision, resolution, vertices.
-    surface: Option<(u64, usize, Vec<MeshVertex>)>,
-    request: Option<(u64, usize)>,
+    /// The result's surface: coarse now, fine from elsewhere.
+    surface: Refined,
     orbit: OrbitView,
     geometry: Option<Geometry>,
     /// The point mesh's counts `(inside, marked)` for a revision.
@@ -119,8 +118,7 @@ impl FreeForm {
                 expr: Expr::Solid(0),
             },
             revision: 0,
-            surface: None,
-            request: None,
+            surface: Refined::default(),
             orbit: OrbitView::default(),
             geometry: None,
             point_counts: None,
@@ -162,7 +160,7 @@ impl FreeForm {
 
     fn changed(&mut self) {
         self.revision += 1;
-        self.request = Some((self.revision, self.resolution));
+        self.surface.ask(self.revision, self.resolution);
     }
 
     /// Rebuilds the solids from a changed operand list; on failure the scene stays as it was.
@@ -342,9 +340,7 @@ impl FreeForm {
     /// The resolution of the result's surface at rest (8 to 160); returns the value taken.
     pub fn set_resolution(&mut self, resolution: usize) -> usize {
         self.resolution = resolution.clamp(8, bezsolid_core::esc::draw::MAX_RESOLUTION);
-        if self.surface.as_ref().is_none_or(|s| s.1 != self.resolution) {
-            self.request = Some((self.revision, self.resolution));
-        }
+        self.surface.ask(self.revision, self.resolution);
         self.resolution
     }
 
@@ -356,30 +352,28 @@ impl FreeForm {
 
     /// The fine surface wanted: `(revision, resolution)`, once.
     pub fn surface_request(&mut self) -> Option<(u64, usize)> {
-        self.request.take()
+        self.surface.take_request()
     }
 
     /// The fine surface for `revision` at `resolution` as six `f32` per vertex (position, normal),
     /// three vertices per triangle; ignored when the scene has changed since. Returns whether it
     /// was taken.
     pub fn set_surface(&mut self, revision: u64, resolution: usize, data: &[f32]) -> bool {
-        if revision != self.revision {
-            return false;
-        }
         if !data.len().is_multiple_of(18) {
             return false;
         }
-        self.surface = Some((revision, resolution, float_vertices(data, RESULT_COLOR)));
-        true
+        self.surface.hand_in(
+            revision,
+            self.revision,
+            resolution,
+            float_vertices(data, RESULT_COLOR),
+        )
     }
 
     /// The triangles and resolution of the result's surface drawn now.
     #[must_use]
     pub fn surface_info(&self) -> Option<(usize, usize)> {
-        self.surface
-            .as_ref()
-            .filter(|s| s.0 == self.revision)
-            .map(|s| (s.2.len() / 3, s.1))
+        self.surface.info(self.revision)
     }
 
     /// Frames the scene.
@@ -413,26 +407,25 @@ impl FreeForm {
     /// the surface changes.
     pub fn scene(&mut self) -> Scene<'_> {
         let shows_surface = self.display == Display::Result;
-        if shows_surface && self.surface.as_ref().is_none_or(|s| s.0 != self.revision) {
-            // Nothing for this revision yet: a coarse surface now, the fine one on request.
-            let mesh = self.boolean.surface(COARSE_RESOLUTION);
-            self.surface = Some((
+        if shows_surface {
+            // A coarse surface now, the fine one from elsewhere.
+            let boolean = &self.boolean;
+            self.surface.update(
                 self.revision,
+                self.resolution,
                 COARSE_RESOLUTION,
-                mesh_vertices(&mesh, RESULT_COLOR),
-            ));
-            if self.resolution != COARSE_RESOLUTION && self.request.is_none() {
-                self.request = Some((self.revision, self.resolution));
-            }
+                true,
+                |r| mesh_vertices(&boolean.surface(r), RESULT_COLOR),
+            );
         }
         // Only the result display depends on the surface (its arrival redraws nothing else).
         let key = (
             self.revision,
             self.display,
             self.surface
-                .as_ref()
+                .drawn()
                 .filter(|_| shows_surface)
-                .map(|s| (s.0, s.1)),
+                .map(|m| (m.revision, m.resolution)),
         );
         if self.geometry.as_ref().is_none_or(|g| g.0 != key) {
             let (opaque, translucent, counts) = self.build();
@@ -464,8 +457,8 @@ impl FreeForm {
         };
         match self.display {
             Display::Result => {
-                if let Some(s) = &self.surface {
-                    opaque.extend_from_slice(&s.2);
+                if let Some(m) = self.surface.drawn() {
+                    opaque.extend_from_slice(&m.vertices);
                 }
                 pn(0, ghost(A_COLOR), &mut translucent);
                 pn(1, ghost(B_COLOR), &mut translucent);

@@ -5,8 +5,10 @@
 //! place that branches on the target.
 
 pub mod app;
+pub mod camera;
 pub mod document;
 pub mod freeform;
+pub mod scene;
 pub mod script;
 pub mod view3d;
 

@@ -2,7 +2,7 @@
 //! ones blended over them, 4× multisampled where the adapter can.
 
 use crate::render::{Counted, attachment, sample_count};
-use crate::view3d::{MeshVertex, Scene};
+use crate::scene::{MeshVertex, Scene};
 
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
 const BACKGROUND: wgpu::Color = wgpu::Color {

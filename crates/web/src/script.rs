@@ -10,8 +10,10 @@ use glam::DVec3;
 use serde_json::json;
 
 use crate::app::Rgba;
+use crate::camera::OrbitView;
 use crate::freeform::octahedron;
-use crate::view3d::{MeshVertex, OrbitView, Scene, next_generation, prism};
+use crate::scene::{MeshVertex, Scene, next_generation};
+use crate::view3d::prism;
 
 /// Floats per vertex of a drawing: position, normal, straight RGBA.
 pub const FLOATS_PER_VERTEX: usize = 10;

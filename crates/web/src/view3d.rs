@@ -13,19 +13,13 @@ use bezsolid_core::{Axis, Solid3};
 use glam::{DVec2, DVec3, DVec4};
 
 use crate::app::{ContourView, Mode, Rgba, XI_PER_PIXEL, diverging};
+use crate::camera::{Camera, OrbitView};
+use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
 
 /// Cells per side of the surface mesh.
 const SURFACE_CELLS: usize = 48;
 /// A sphere's radius as a fraction of the domain's larger side.
 const SPHERE_RADIUS: f64 = 0.022;
-/// Orbit: radians per CSS pixel of drag, as `OrbitControls` (a full turn per view height).
-const ORBIT_PER_PIXEL: f64 = core::f64::consts::TAU;
-/// Zoom: the distance is multiplied by `exp(deltaY · ZOOM_PER_WHEEL)` (a notch of 100 is ×1.105).
-const ZOOM_PER_WHEEL: f64 = 0.001;
-/// The camera's vertical field of view.
-const FOV_Y: f64 = 0.75;
-/// Pitch stays inside ±(π/2 − this), as `OrbitControls` keeps the pole out of reach.
-const POLE_MARGIN: f64 = 0.01;
 
 const PLANE_COLOR: Rgba = [0.55, 0.58, 0.64, 0.28];
 const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
@@ -43,313 +37,14 @@ const COARSE_RESOLUTION: usize = 24;
 /// Cells per side of each slice's contour in the stack.
 const STACK_CELLS: usize = 48;
 
-/// One vertex of the 3D geometry.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MeshVertex {
-    /// World position.
-    pub position: [f32; 3],
-    /// Unit normal (the shading is two-sided).
-    pub normal: [f32; 3],
-    /// Straight RGBA.
-    pub color: Rgba,
-}
-
-impl MeshVertex {
-    /// Bytes of one vertex: 10 little-endian `f32`.
-    pub const SIZE: usize = 40;
-
-    /// Appends the vertex's bytes (`float32x3`, `float32x3`, `float32x4`).
-    pub fn write(&self, out: &mut Vec<u8>) {
-        for x in self.position.iter().chain(&self.normal).chain(&self.color) {
-            out.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-}
-
-/// Everything one 3D redraw needs. The triangles are borrowed from the view's cache: they are
-/// rebuilt only when the model, the selection, the slice or the surface changes, not when the camera
-/// moves, and `generation` tells the renderer whether to upload them again.
-#[derive(Clone, Debug)]
-pub struct Scene<'a> {
-    /// Opaque triangles (surface, spheres, guides), drawn first.
-    pub opaque: &'a [MeshVertex],
-    /// Translucent triangles (the plane ξ = 0), drawn last.
-    pub translucent: &'a [MeshVertex],
-    /// Changes whenever the triangles do.
-    pub generation: u64,
-    /// Clip from world, column-major (`wgpu`'s depth range 0 to 1).
-    pub view_proj: [[f32; 4]; 4],
-    /// The camera's position, for the headlight.
-    pub eye: [f32; 3],
-}
-
-/// A number for a new set of triangles, never handed out before: the patch, volume and free-form
-/// scenes draw on one renderer, which uploads the triangles again whenever the generation it
-/// last drew changes, so their generations must not collide.
-pub fn next_generation() -> u64 {
-    static NEXT: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(1);
-    NEXT.fetch_add(1, core::sync::atomic::Ordering::Relaxed)
-}
-
-/// An orbit camera around a target, z up.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    /// The point looked at and orbited.
-    pub target: DVec3,
-    /// Distance from the target to the eye.
-    pub distance: f64,
-    /// Angle around z, from +x.
-    pub yaw: f64,
-    /// Angle above the xy plane.
-    pub pitch: f64,
-}
-
-impl Camera {
-    /// A camera that frames the box `[min, max]` from the front right, above, in a viewport of
-    /// `aspect` (width / height).
-    #[must_use]
-    pub fn fit(min: DVec3, max: DVec3, aspect: f64) -> Self {
-        let radius = ((max - min).length() * 0.5).max(1e-9);
-        // The narrower of the two fields of view must hold the box's bounding sphere.
-        let half_x = ((FOV_Y * 0.5).tan() * aspect.clamp(0.05, 20.0)).atan();
-        let half = half_x.min(FOV_Y * 0.5);
-        Self {
-            target: (min + max) * 0.5,
-            distance: radius / half.sin() * 1.02,
-            yaw: -1.1,
-            pitch: 0.55,
-        }
-    }
-
-    /// The eye's position.
-    #[must_use]
-    pub fn eye(&self) -> DVec3 {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        self.target + DVec3::new(cp * cy, cp * sy, sp) * self.distance
-    }
-
-    /// The camera's right, up and backward (eye − target) unit vectors.
-    fn basis(&self) -> (DVec3, DVec3, DVec3) {
-        let back = (self.eye() - self.target).normalize();
-        let right = DVec3::Z.cross(back).normalize();
-        let up = back.cross(right);
-        (right, up, back)
-    }
-
-    /// Near and far planes that hold a scene of size `extent` around the target.
-    fn clip_planes(&self, extent: f64) -> (f64, f64) {
-        let near = (self.distance - extent * 2.0).max(self.distance * 1e-3);
-        (near, self.distance + extent * 2.0)
-    }
-
-    /// Clip from world for a viewport of `aspect` (width / height), column-major.
-    #[must_use]
-    pub fn view_proj(&self, aspect: f64, extent: f64) -> [[f64; 4]; 4] {
-        let (r, u, b) = self.basis();
-        let e = self.eye();
-        // View: rows are the camera axes; translation −axis·eye.
-        let view = [
-            [r.x, u.x, b.x, 0.0],
-            [r.y, u.y, b.y, 0.0],
-            [r.z, u.z, b.z, 0.0],
-            [-r.dot(e), -u.dot(e), -b.dot(e), 1.0],
-        ];
-        let (near, far) = self.clip_planes(extent);
-        let f = 1.0 / (FOV_Y * 0.5).tan();
-        let a = aspect.max(1e-6);
-        // Right-handed perspective to depth 0 (near) .. 1 (far).
-        let proj = [
-            [f / a, 0.0, 0.0, 0.0],
-            [0.0, f, 0.0, 0.0],
-            [0.0, 0.0, far / (near - far), -1.0],
-            [0.0, 0.0, near * far / (near - far), 0.0],
-        ];
-        let mut out = [[0.0; 4]; 4];
-        for (c, col) in out.iter_mut().enumerate() {
-            for (r, x) in col.iter_mut().enumerate() {
-                *x = (0..4).map(|k| proj[k][r] * view[c][k]).sum();
-            }
-        }
-        out
-    }
-
-    /// A scene of cached triangles seen by this camera in a viewport of `size` CSS pixels, for a
-    /// model of size `extent` (which sets the clip planes).
-    #[must_use]
-    pub fn scene<'a>(
-        &self,
-        opaque: &'a [MeshVertex],
-        translucent: &'a [MeshVertex],
-        generation: u64,
-        size: DVec2,
-        extent: f64,
-    ) -> Scene<'a> {
-        let m = self.view_proj(size.x / size.y, extent);
-        Scene {
-            opaque,
-            translucent,
-            generation,
-            view_proj: m.map(|c| c.map(|x| x as f32)),
-            eye: self.eye().as_vec3().to_array(),
-        }
-    }
-
-    /// The ray through CSS pixel `q` of a viewport of `size`: origin (the eye) and unit direction.
-    #[must_use]
-    pub fn ray(&self, q: DVec2, size: DVec2) -> (DVec3, DVec3) {
-        let (r, u, b) = self.basis();
-        let t = (FOV_Y * 0.5).tan();
-        let ndc = DVec2::new(q.x / size.x * 2.0 - 1.0, 1.0 - q.y / size.y * 2.0);
-        let dir = r * ndc.x * t * (size.x / size.y) + u * ndc.y * t - b;
-        (self.eye(), dir.normalize())
-    }
-
-    /// Orbits by a pointer move of `delta` CSS pixels in a viewport `height` pixels tall: right
-    /// turns the scene right, up tilts it towards the viewer.
-    pub fn orbit(&mut self, delta: DVec2, height: f64) {
-        let k = ORBIT_PER_PIXEL / height.max(1.0);
-        self.yaw -= delta.x * k;
-        let limit = core::f64::consts::FRAC_PI_2 - POLE_MARGIN;
-        self.pitch = (self.pitch + delta.y * k).clamp(-limit, limit);
-    }
-
-    /// Pans so that the point under the pointer follows it.
-    pub fn pan(&mut self, delta: DVec2, height: f64) {
-        let (r, u, _) = self.basis();
-        let per_pixel = 2.0 * self.distance * (FOV_Y * 0.5).tan() / height.max(1.0);
-        self.target += (-r * delta.x + u * delta.y) * per_pixel;
-    }
-
-    /// Zooms by a wheel `delta_y` (positive: away).
-    pub fn zoom(&mut self, delta_y: f64) {
-        if delta_y.is_finite() {
-            self.distance = (self.distance * (delta_y * ZOOM_PER_WHEEL).clamp(-1.0, 1.0).exp())
-                .clamp(1e-6, 1e9);
-        }
-    }
-}
-
-/// An orbit camera with its viewport and gesture, for the views whose only interaction is the
-/// camera (the free-form and script views): left drag orbits, right or Shift drag pans, the
-/// wheel zooms, and the view refits on resize until the camera is moved.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OrbitView {
-    camera: Camera,
-    size: DVec2,
-    /// Panning or orbiting, and the last pointer position.
-    gesture: Option<(bool, DVec2)>,
-    /// The user has moved the camera since it was last fitted.
-    moved: bool,
-}
-
-impl Default for OrbitView {
-    fn default() -> Self {
-        Self {
-            camera: Camera::fit(DVec3::splat(-1.0), DVec3::ONE, 1.0),
-            size: DVec2::new(640.0, 480.0),
-            gesture: None,
-            moved: false,
-        }
-    }
-}
-
-impl OrbitView {
-    /// Frames the box `[lo, hi]`; a flat box (a plane drawing at z = 0, its lines drawn as thin
-    /// tubes: under 2% as deep as it is large) is seen from above, x to the right and y up.
-    pub fn fit(&mut self, lo: DVec3, hi: DVec3) {
-        self.camera = Camera::fit(lo, hi, self.size.x / self.size.y.max(1.0));
-        let size = hi - lo;
-        if size.z <= 0.02 * size.length() {
-            self.camera.yaw = -core::f64::consts::FRAC_PI_2;
-            self.camera.pitch = core::f64::consts::FRAC_PI_2 - POLE_MARGIN;
-        }
-        self.moved = false;
-    }
-
-    /// The viewport's size in CSS pixels; refits to `[lo, hi]` unless the camera was moved.
-    pub fn resize(&mut self, width: f64, height: f64, (lo, hi): (DVec3, DVec3)) {
-        self.size = DVec2::new(width.max(1.0), height.max(1.0));
-        if !self.moved {
-            self.fit(lo, hi);
-        }
-    }
-
-    /// Whether the user moved the camera since it was last fitted.
-    #[must_use]
-    pub fn moved(&self) -> bool {
-        self.moved
-    }
-
-    /// Pointer pressed: orbit, or pan with `pan`.
-    pub fn pointer_down(&mut self, q: DVec2, pan: bool) {
-        self.gesture = Some((pan, q));
-    }
-
-    /// Pointer moved; returns whether the camera moved.
-    pub fn pointer_move(&mut self, q: DVec2) -> bool {
-        let Some((pan, last)) = self.gesture else {
-            return false;
-        };
-        if pan {
-            self.camera.pan(q - last, self.size.y);
-        } else {
-            self.camera.orbit(q - last, self.size.y);
-        }
-        self.gesture = Some((pan, q));
-        self.moved = true;
-        true
-    }
-
-    /// Pointer released.
-    pub fn pointer_up(&mut self) {
-        self.gesture = None;
-    }
-
-    /// The wheel: zooms.
-    pub fn wheel(&mut self, delta_y: f64) {
-        self.camera.zoom(delta_y);
-        self.moved = true;
-    }
-
-    /// The camera.
-    #[must_use]
-    pub fn camera(&self) -> &Camera {
-        &self.camera
-    }
-
-    /// A scene of cached triangles seen from here, for a model of size `extent`.
-    #[must_use]
-    pub fn scene<'a>(
-        &self,
-        opaque: &'a [MeshVertex],
-        translucent: &'a [MeshVertex],
-        generation: u64,
-        extent: f64,
-    ) -> Scene<'a> {
-        self.camera
-            .scene(opaque, translucent, generation, self.size, extent)
-    }
-}
-
+/// A drag of a control point (the camera's gestures are the [`OrbitView`]'s).
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Gesture {
-    Orbit(DVec2),
-    Pan(DVec2),
     /// A control point: the mode, and the offset from the grab point to the point's centre.
     Point(Mode, DVec3),
     /// A control point of a volume: the mode, where the pointer went down, the point then, and the
     /// offset from the grab point (on the plane through it facing the camera) to its centre.
     VolumePoint(Mode, DVec2, DVec4, DVec3),
-}
-
-/// A volume's polygonized surface for one revision of the model and one resolution.
-#[derive(Clone, Debug)]
-struct SurfaceCache {
-    revision: u64,
-    resolution: usize,
-    surface: Vec<MeshVertex>,
-    triangles: usize,
 }
 
 /// The contour stack of a volume's slices across one axis, for one revision of the model.
@@ -382,28 +77,24 @@ struct Geometry {
     extent: f64,
 }
 
-/// The 3D view's state: camera, height scale, viewport and the gesture under way.
+/// The 3D view's state: the camera with its viewport, the height scale, and the drag of a control
+/// point under way.
 #[derive(Clone, Debug)]
 pub struct View3 {
-    camera: Camera,
+    orbit: OrbitView,
     /// World z per unit of ξ.
     height: f64,
-    size: DVec2,
     gesture: Option<Gesture>,
-    /// The user has moved the camera since it was last fitted.
-    moved: bool,
     /// A volume's surface: cells along the longest side at rest, and whether to mesh coarsely now
     /// (while a point moves).
     resolution: usize,
     coarse: bool,
-    surface: Option<SurfaceCache>,
+    surface: Refined,
     stack: Option<StackCache>,
     /// The fine surface and the contour stack are made elsewhere (a Web Worker) and handed in with
     /// [`Self::set_surface`] and [`Self::set_stack`]; until they come, a coarse surface and the
     /// previous stack are drawn.
     external: bool,
-    /// The fine surface wanted from elsewhere: `(revision, resolution)`.
-    request: Option<(u64, usize)>,
     /// The contour stack wanted from elsewhere: `(revision, axis)`.
     stack_request: Option<(u64, Axis)>,
     geometry: Option<Geometry>,
@@ -414,17 +105,14 @@ impl View3 {
     #[must_use]
     pub fn new(editor: &ContourView) -> Self {
         let mut v = Self {
-            camera: Camera::fit(DVec3::ZERO, DVec3::ONE, 1.0),
+            orbit: OrbitView::default(),
             height: 1.0,
-            size: DVec2::new(640.0, 480.0),
             gesture: None,
-            moved: false,
             resolution: DEFAULT_RESOLUTION,
             coarse: false,
-            surface: None,
+            surface: Refined::default(),
             stack: None,
             external: false,
-            request: None,
             stack_request: None,
             geometry: None,
         };
@@ -435,15 +123,15 @@ impl View3 {
     /// The camera.
     #[must_use]
     pub fn camera(&self) -> &Camera {
-        &self.camera
+        self.orbit.camera()
     }
 
     /// Sets the viewport size in CSS pixels (sizes below 1 become 1). Until the camera is moved,
     /// a new shape of viewport frames the model again.
     pub fn resize(&mut self, editor: &ContourView, width: f64, height: f64) {
-        let ok = |x: f64| if x.is_finite() && x >= 1.0 { x } else { 1.0 };
-        self.size = DVec2::new(ok(width), ok(height));
-        if !self.moved {
+        let moved = self.orbit.moved();
+        self.orbit.resize(width, height, (DVec3::ZERO, DVec3::ONE));
+        if !moved {
             self.fit(editor);
         }
     }
@@ -452,20 +140,17 @@ impl View3 {
     pub fn fit(&mut self, editor: &ContourView) {
         if let Some(volume) = editor.volume() {
             let (min, max) = volume.domain();
-            self.camera = Camera::fit(min, max, self.size.x / self.size.y);
-            self.moved = false;
+            self.orbit.fit_box(min, max);
             return;
         }
         let (min, max) = editor.solid().domain();
         let extent = (max - min).max_element().max(1e-9);
         self.height = 0.5 * extent;
         let (lo, hi) = xi_range(editor);
-        self.camera = Camera::fit(
+        self.orbit.fit_box(
             DVec3::new(min.x, min.y, (lo * self.height).min(0.0)),
             DVec3::new(max.x, max.y, (hi * self.height).max(0.0)),
-            self.size.x / self.size.y,
         );
-        self.moved = false;
     }
 
     /// World position of control point `p = (x, y, ξ)`.
@@ -498,20 +183,13 @@ impl View3 {
     /// The CSS pixel where control point `index`'s sphere centre is drawn (`None` behind the eye).
     #[must_use]
     pub fn screen_of(&self, editor: &ContourView, index: usize) -> Option<DVec2> {
-        let p = *self.centres(editor).get(index)?;
-        let m = self.camera.view_proj(self.size.x / self.size.y, 1.0);
-        let clip: [f64; 4] =
-            core::array::from_fn(|r| (0..3).map(|c| m[c][r] * p[c]).sum::<f64>() + m[3][r]);
-        (clip[3] > 0.0).then(|| {
-            let ndc = DVec2::new(clip[0] / clip[3], clip[1] / clip[3]);
-            DVec2::new((ndc.x + 1.0) * 0.5, (1.0 - ndc.y) * 0.5) * self.size
-        })
+        self.orbit.screen_of(*self.centres(editor).get(index)?)
     }
 
     /// The control point whose sphere the ray through CSS pixel `q` meets first.
     #[must_use]
     pub fn pick(&self, editor: &ContourView, q: DVec2) -> Option<usize> {
-        let (o, d) = self.camera.ray(q, self.size);
+        let (o, d) = self.orbit.ray(q);
         // Picking is a little more generous than the drawn sphere.
         let r = Self::radius(editor) * 1.6;
         self.centres(editor)
@@ -545,8 +223,8 @@ impl View3 {
             };
             if let Some(volume) = editor.volume() {
                 let p = volume.net().points()[k];
-                let (o, d) = self.camera.ray(q, self.size);
-                let back = (self.camera.eye() - self.camera.target).normalize();
+                let (o, d) = self.orbit.ray(q);
+                let back = self.back();
                 let grab = plane_hit(o, d, p.truncate(), back).unwrap_or(p.truncate());
                 editor.begin_volume_drag(k);
                 self.gesture = Some(Gesture::VolumePoint(mode, q, p, p.truncate() - grab));
@@ -558,18 +236,14 @@ impl View3 {
             self.gesture = Some(Gesture::Point(mode, centre - grab));
             return true;
         }
-        self.gesture = Some(if pan || other_mode {
-            Gesture::Pan(q)
-        } else {
-            Gesture::Orbit(q)
-        });
+        self.orbit.pointer_down(q, pan || other_mode);
         false
     }
 
     /// Where the pointer ray meets the constraint of a drag through `centre`: the vertical line
     /// (function mode) or the horizontal plane (space mode).
     fn grab_point(&self, centre: DVec3, mode: Mode, q: DVec2) -> Option<DVec3> {
-        let (o, d) = self.camera.ray(q, self.size);
+        let (o, d) = self.orbit.ray(q);
         match mode {
             Mode::Space => {
                 if d.z.abs() < 1e-9 {
@@ -595,27 +269,14 @@ impl View3 {
     /// Pointer moved to CSS pixel `q`. Returns whether anything changed (camera or model).
     pub fn pointer_move(&mut self, editor: &mut ContourView, q: DVec2) -> bool {
         match self.gesture {
-            None => false,
-            Some(Gesture::Orbit(last)) => {
-                self.moved = true;
-                self.camera.orbit(q - last, self.size.y);
-                self.gesture = Some(Gesture::Orbit(q));
-                true
-            }
-            Some(Gesture::Pan(last)) => {
-                self.moved = true;
-                self.camera.pan(q - last, self.size.y);
-                self.gesture = Some(Gesture::Pan(q));
-                true
-            }
+            None => self.orbit.pointer_move(q),
             Some(Gesture::VolumePoint(mode, start, p, offset)) => match mode {
                 Mode::Function => {
                     editor.drag_volume_to(None, Some(p.w + (start.y - q.y) * XI_PER_PIXEL))
                 }
                 Mode::Space => {
-                    let (o, d) = self.camera.ray(q, self.size);
-                    let back = (self.camera.eye() - self.camera.target).normalize();
-                    match plane_hit(o, d, p.truncate(), back) {
+                    let (o, d) = self.orbit.ray(q);
+                    match plane_hit(o, d, p.truncate(), self.back()) {
                         Some(hit) => editor.drag_volume_to(Some(hit + offset), None),
                         None => false,
                     }
@@ -648,18 +309,25 @@ impl View3 {
             editor.pointer_up();
         }
         self.gesture = None;
+        self.orbit.pointer_up();
     }
 
     /// Whether a gesture is under way.
     #[must_use]
     pub fn busy(&self) -> bool {
-        self.gesture.is_some()
+        self.gesture.is_some() || self.orbit.busy()
     }
 
     /// The wheel: zooms.
     pub fn wheel(&mut self, delta_y: f64) {
-        self.moved = true;
-        self.camera.zoom(delta_y);
+        self.orbit.wheel(delta_y);
+    }
+
+    /// The camera's backward unit vector (eye − target): the normal of the plane a volume's point
+    /// is dragged in.
+    fn back(&self) -> DVec3 {
+        let camera = self.orbit.camera();
+        (camera.eye() - camera.target).normalize()
     }
 
     /// Sets the volume surface's resolution at rest (cells along the longest side, 8 to
@@ -683,7 +351,9 @@ impl View3 {
     /// The triangle count of the volume's surface last drawn and the resolution it was made at.
     #[must_use]
     pub fn surface_info(&self) -> Option<(usize, usize)> {
-        self.surface.as_ref().map(|c| (c.triangles, c.resolution))
+        self.surface
+            .drawn()
+            .map(|m| (m.vertices.len() / 3, m.resolution))
     }
 
     /// Whether the fine surface and the contour stack are made elsewhere (see
@@ -739,7 +409,7 @@ impl View3 {
 
     /// The fine surface wanted from elsewhere since the last call: `(revision, resolution)`.
     pub fn take_request(&mut self) -> Option<(u64, usize)> {
-        self.request.take()
+        self.surface.take_request()
     }
 
     /// Hands in a surface made elsewhere for model `revision` at `resolution`: `data` holds six
@@ -752,20 +422,15 @@ impl View3 {
         resolution: usize,
         data: &[f32],
     ) -> bool {
-        if revision != editor.revision()
-            || editor.volume().is_none()
-            || !data.len().is_multiple_of(18)
-        {
+        if editor.volume().is_none() || !data.len().is_multiple_of(18) {
             return false;
         }
-        let surface = float_vertices(data, SURFACE_COLOR);
-        self.surface = Some(SurfaceCache {
+        self.surface.hand_in(
             revision,
+            editor.revision(),
             resolution,
-            triangles: surface.len() / 3,
-            surface,
-        });
-        true
+            float_vertices(data, SURFACE_COLOR),
+        )
     }
 
     /// Builds the scene of `editor`'s model: the triangles come from the cache unless what they
@@ -779,7 +444,7 @@ impl View3 {
             revision: editor.revision(),
             selected: editor.selected(),
             slice: editor.slice(),
-            surface: self.surface.as_ref().map(|c| (c.revision, c.resolution)),
+            surface: self.surface.drawn().map(|m| (m.revision, m.resolution)),
             stack: self.stack.as_ref().map(|c| (c.revision, c.axis)),
             height: self.height.to_bits(),
         };
@@ -798,11 +463,10 @@ impl View3 {
             });
         }
         match &self.geometry {
-            Some(g) => {
-                self.camera
-                    .scene(&g.opaque, &g.translucent, g.generation, self.size, g.extent)
-            }
-            None => self.camera.scene(&[], &[], 0, self.size, 1.0),
+            Some(g) => self
+                .orbit
+                .scene(&g.opaque, &g.translucent, g.generation, g.extent),
+            None => self.orbit.scene(&[], &[], 0, 1.0),
         }
     }
 
@@ -906,27 +570,13 @@ impl View3 {
         };
         let axis = editor.slice().map_or(Axis::W, |(a, _)| a);
         let revision = editor.revision();
-        let have = |c: &Option<SurfaceCache>, res: usize| {
-            c.as_ref()
-                .is_some_and(|c| c.revision == revision && c.resolution == res)
-        };
-        if !have(&self.surface, resolution) {
-            let local = if self.external && !moving {
-                self.request = Some((revision, resolution));
-                COARSE_RESOLUTION.min(resolution)
-            } else {
-                resolution
-            };
-            if !have(&self.surface, local) {
-                let (surface, triangles) = surface_vertices(volume, local);
-                self.surface = Some(SurfaceCache {
-                    revision,
-                    resolution: local,
-                    surface,
-                    triangles,
-                });
-            }
-        }
+        self.surface.update(
+            revision,
+            resolution,
+            COARSE_RESOLUTION.min(resolution),
+            self.external && !moving,
+            |r| surface_vertices(volume, r),
+        );
         if !self
             .stack
             .as_ref()
@@ -962,8 +612,8 @@ impl View3 {
     ) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
         let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
         let mut opaque: Vec<MeshVertex> = Vec::new();
-        if let Some(c) = &self.surface {
-            opaque.extend_from_slice(&c.surface);
+        if let Some(m) = self.surface.drawn() {
+            opaque.extend_from_slice(&m.vertices);
         }
         if let Some(c) = &self.stack {
             opaque.extend_from_slice(&c.stack);
@@ -1068,22 +718,8 @@ pub fn mesh_floats(mesh: &bezsolid_core::mesh::Mesh) -> Vec<f32> {
     out
 }
 
-/// Vertices of one colour from [`mesh_floats`]' form.
-#[must_use]
-pub fn float_vertices(data: &[f32], color: Rgba) -> Vec<MeshVertex> {
-    data.chunks_exact(6)
-        .map(|v| MeshVertex {
-            position: [v[0], v[1], v[2]],
-            normal: [v[3], v[4], v[5]],
-            color,
-        })
-        .collect()
-}
-
-fn surface_vertices(volume: &Solid3, resolution: usize) -> (Vec<MeshVertex>, usize) {
-    let surface = float_vertices(&surface_floats(volume, resolution), SURFACE_COLOR);
-    let triangles = surface.len() / 3;
-    (surface, triangles)
+fn surface_vertices(volume: &Solid3, resolution: usize) -> Vec<MeshVertex> {
+    float_vertices(&surface_floats(volume, resolution), SURFACE_COLOR)
 }
 
 /// The zero contour of each slice of the volume across `axis`, placed at the slice's mean position
@@ -1265,7 +901,7 @@ mod tests {
 
     /// Where world point `p` lands, in CSS pixels.
     fn project(view: &View3, p: DVec3) -> DVec2 {
-        let m = view.camera.view_proj(800.0 / 600.0, 2.0);
+        let m = view.camera().view_proj(800.0 / 600.0, 2.0);
         let clip: [f64; 4] =
             core::array::from_fn(|r| (0..3).map(|c| m[c][r] * p[c]).sum::<f64>() + m[3][r]);
         let ndc = DVec2::new(clip[0] / clip[3], clip[1] / clip[3]);
@@ -1281,13 +917,13 @@ mod tests {
             DVec3::new(0.5, 1.0, -0.5),
         ] {
             let q = project(&view, p);
-            let (o, d) = view.camera.ray(q, view.size);
+            let (o, d) = view.orbit.ray(q);
             let miss = (p - o).cross(d).length();
             assert!(miss < 1e-9, "{p}: {miss}");
         }
         // Depth in 0..1 with the target in between.
-        let m = view.camera.view_proj(800.0 / 600.0, 2.0);
-        let t = view.camera.target;
+        let m = view.camera().view_proj(800.0 / 600.0, 2.0);
+        let t = view.camera().target;
         let z: f64 = (0..3).map(|c| m[c][2] * t[c]).sum::<f64>() + m[3][2];
         let w: f64 = (0..3).map(|c| m[c][3] * t[c]).sum::<f64>() + m[3][3];
         assert!((0.0..1.0).contains(&(z / w)));
@@ -1335,7 +971,10 @@ mod tests {
         assert!(!view.pointer_down(&mut editor, DVec2::new(5.0, 5.0), false, false));
         assert!(view.pointer_move(&mut editor, DVec2::new(105.0, 5.0)));
         view.pointer_up(&mut editor);
-        assert!((view.camera().yaw - (before.yaw - ORBIT_PER_PIXEL * 100.0 / 600.0)).abs() < 1e-12);
+        assert!(
+            (view.camera().yaw - (before.yaw - core::f64::consts::TAU * 100.0 / 600.0)).abs()
+                < 1e-12
+        );
         assert_eq!(view.camera().distance, before.distance);
         assert!(!view.pointer_down(&mut editor, DVec2::new(5.0, 5.0), true, false));
         view.pointer_move(&mut editor, DVec2::new(5.0, 50.0));
@@ -1383,7 +1022,9 @@ mod tests {
         // Moving the camera keeps the triangles (no new generation to upload); an edit or a new
         // selection makes new ones.
         view.wheel(100.0);
-        view.camera.orbit(DVec2::new(30.0, 10.0), 600.0);
+        view.orbit.pointer_down(DVec2::new(100.0, 100.0), false);
+        view.orbit.pointer_move(DVec2::new(130.0, 110.0));
+        view.orbit.pointer_up();
         let moved = view.scene(&editor);
         assert_eq!(moved.generation, generation);
         assert_ne!(moved.view_proj, matrix, "the camera moved");

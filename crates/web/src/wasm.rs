@@ -290,7 +290,7 @@ impl Viewer3 {
     }
 
     /// Draws `scene` on the canvas and presents it.
-    fn present(&mut self, scene: &crate::view3d::Scene<'_>) {
+    fn present(&mut self, scene: &crate::scene::Scene<'_>) {
         let Some((texture, view)) =
             frame_texture(&self.surface, self.renderer.device(), &self.config)
         else {
