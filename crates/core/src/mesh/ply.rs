@@ -185,7 +185,7 @@ impl Body<'_> {
     /// A list's length: a whole number no larger than `max`.
     fn count(&mut self, kind: Scalar, max: usize) -> Result<usize, ReadError> {
         let n = self.value(kind)?;
-        if n.fract() != 0.0 || !(0.0..=max as f64).contains(&n) {
+        if libm::trunc(n) != n || !(0.0..=max as f64).contains(&n) {
             return Err(ReadError::Malformed {
                 reason: "a PLY list has a negative, fractional or huge length",
             });
@@ -270,7 +270,7 @@ pub fn parse_ply(bytes: &[u8]) -> Result<RawMesh, ReadError> {
                         for _ in 0..n {
                             let v = body.value(property.kind)?;
                             if keep {
-                                if v.fract() != 0.0 || !(0.0..u32::MAX as f64).contains(&v) {
+                                if libm::trunc(v) != v || !(0.0..u32::MAX as f64).contains(&v) {
                                     return Err(ReadError::BadIndex {
                                         line: body.line,
                                         index: v as i64,
