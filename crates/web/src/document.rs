@@ -11,7 +11,7 @@ use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::mesh::{Format, UnknownFormat};
 use bezsolid_core::model::{ModelFile, ModelSolid};
 
-use crate::app::ContourView;
+use crate::editor::Editor;
 
 /// Accuracy of exported mesh vertices on f = 0.
 pub const MESH_ACCURACY: f64 = 1e-9;
@@ -25,7 +25,7 @@ pub const SVG_ACCURACY: f64 = 1e-9;
 
 /// The model file of the editor's model.
 #[must_use]
-pub fn model_file(editor: &ContourView) -> ModelFile {
+pub fn model_file(editor: &Editor) -> ModelFile {
     match editor.volume() {
         Some(v) => ModelFile::from_solid3(v),
         None => ModelFile::from_solid2(editor.solid()),
@@ -34,13 +34,13 @@ pub fn model_file(editor: &ContourView) -> ModelFile {
 
 /// The model file of the editor's model, as pretty JSON.
 #[must_use]
-pub fn model_json(editor: &ContourView) -> String {
+pub fn model_json(editor: &Editor) -> String {
     // Serialising plain numbers and strings into a String cannot fail.
     serde_json::to_string_pretty(&model_file(editor)).unwrap_or_default() + "\n"
 }
 
 /// Opens `model` in the editor (one undo step).
-pub fn open(editor: &mut ContourView, model: ModelSolid) {
+pub fn open(editor: &mut Editor, model: ModelSolid) {
     match model {
         ModelSolid::Patch(s) => editor.set_solid(s),
         ModelSolid::Volume(v) => editor.set_volume(v),
@@ -80,7 +80,7 @@ pub fn read_model(text: &str) -> Result<ModelSolid, String> {
 /// # Errors
 ///
 /// When the model is too large for a link.
-pub fn share_fragment(editor: &ContourView) -> Result<String, String> {
+pub fn share_fragment(editor: &Editor) -> Result<String, String> {
     link::encode(&model_file(editor)).map_err(|e| e.to_string())
 }
 
@@ -96,7 +96,7 @@ pub fn open_link(text: &str) -> Result<ModelSolid, String> {
 /// The model file (JSON) of the patch the 2D view edits: the model itself, or the selected slice
 /// of a volume (what [`svg`] draws).
 #[must_use]
-pub fn patch_json(editor: &ContourView) -> String {
+pub fn patch_json(editor: &Editor) -> String {
     serde_json::to_string(&ModelFile::from_solid2(editor.solid())).unwrap_or_default()
 }
 
@@ -117,7 +117,7 @@ pub fn svg(solid: &Solid2) -> String {
 /// # Errors
 ///
 /// For a space-mapped model, which HyperFun cannot express.
-pub fn hyperfun(editor: &ContourView) -> Result<String, String> {
+pub fn hyperfun(editor: &Editor) -> Result<String, String> {
     match editor.volume() {
         Some(v) => solid3_hf(v),
         None => solid2_hf(editor.solid()),
@@ -141,9 +141,7 @@ pub fn read_any(text: &str) -> Result<ModelSolid, String> {
 /// The page's module without a page: a model file or a link in, the model file, the link or a mesh
 /// file out (for node and other headless hosts).
 pub mod headless {
-    use super::{
-        ContourView, MESH_ACCURACY, mesh_file, model_json, open, read_any, share_fragment,
-    };
+    use super::{Editor, MESH_ACCURACY, mesh_file, model_json, open, read_any, share_fragment};
     use bezsolid_core::Solid2;
     use bezsolid_core::model::ModelSolid;
 
@@ -173,8 +171,8 @@ pub mod headless {
         }
     }
 
-    fn editor(text: &str) -> Result<ContourView, String> {
-        let mut e = ContourView::new(Solid2::fig9());
+    fn editor(text: &str) -> Result<Editor, String> {
+        let mut e = Editor::new(Solid2::fig9());
         open(&mut e, read_any(text)?);
         e.forget_history();
         Ok(e)
@@ -275,7 +273,7 @@ pub mod headless {
 /// # Errors
 ///
 /// For a patch model, or a resolution out of range.
-pub fn mesh(editor: &ContourView, resolution: usize) -> Result<Mesh, String> {
+pub fn mesh(editor: &Editor, resolution: usize) -> Result<Mesh, String> {
     let volume = editor
         .volume()
         .ok_or("mesh exports are of volume (3D) models; this is a patch: export SVG instead")?;
@@ -301,35 +299,35 @@ mod tests {
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    fn moved() -> ContourView {
+    fn moved() -> Editor {
         let mut s = Solid2::fig9();
         s.set_point([1, 2], DVec2::new(0.61, 1.2)).unwrap();
         s.set_xi([0, 1], 0.123_456_789_012_345_6).unwrap();
-        ContourView::new(s)
+        Editor::new(s)
     }
 
-    fn same_model(a: &ContourView, b: &ContourView) -> bool {
+    fn same_model(a: &Editor, b: &Editor) -> bool {
         model_file(a) == model_file(b)
     }
 
     #[test]
     fn model_file_and_link_round_trip_exactly() {
         let e = moved();
-        let mut other = ContourView::new(Solid2::fig9());
+        let mut other = Editor::new(Solid2::fig9());
         open(&mut other, read_model(&model_json(&e)).unwrap());
         assert!(same_model(&e, &other));
         let link = share_fragment(&e).unwrap();
-        let mut third = ContourView::new(Solid2::fig9());
+        let mut third = Editor::new(Solid2::fig9());
         open(&mut third, open_link(&format!("http://h/{link}")).unwrap());
         assert!(same_model(&e, &third));
     }
 
     #[test]
     fn volumes_open_save_link_and_mesh() {
-        let mut e = ContourView::new(Solid2::fig9());
+        let mut e = Editor::new(Solid2::fig9());
         open(&mut e, preset("fish").unwrap());
         assert!(e.volume().is_some());
-        let mut back = ContourView::new(Solid2::fig9());
+        let mut back = Editor::new(Solid2::fig9());
         open(&mut back, read_model(&model_json(&e)).unwrap());
         assert!(same_model(&e, &back));
         open(&mut back, open_link(&share_fragment(&e).unwrap()).unwrap());
@@ -340,13 +338,13 @@ mod tests {
         assert_eq!(stl.len(), 84 + 50 * m.triangles.len());
         assert!(mesh_file(&m, "xyz").is_err());
         assert!(hyperfun(&e).unwrap().contains("my_model("));
-        assert!(mesh(&ContourView::new(Solid2::fig9()), 24).is_err());
+        assert!(mesh(&Editor::new(Solid2::fig9()), 24).is_err());
     }
 
     #[test]
     fn headless_reads_files_and_links_and_meshes() {
         let e = {
-            let mut e = ContourView::new(Solid2::fig9());
+            let mut e = Editor::new(Solid2::fig9());
             open(&mut e, preset("blob").unwrap());
             e
         };
@@ -362,7 +360,7 @@ mod tests {
         assert!(headless::mesh(&link, "stl", 1).is_err());
         assert!(headless::mesh(&link, "stl", 100_000).is_err());
         assert!(
-            headless::mesh(&model_json(&ContourView::new(Solid2::fig9())), "stl", 20)
+            headless::mesh(&model_json(&Editor::new(Solid2::fig9())), "stl", 20)
                 .unwrap_err()
                 .contains("patch")
         );
@@ -448,7 +446,7 @@ mod tests {
         assert_eq!(made.approximate, 0);
         assert!(hyperfun(&e).unwrap_err().contains("regular grid"));
         assert!(
-            hyperfun(&ContourView::new(Solid2::fig9()))
+            hyperfun(&Editor::new(Solid2::fig9()))
                 .unwrap()
                 .contains("my_model(")
         );

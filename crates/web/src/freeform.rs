@@ -16,8 +16,8 @@ use bezsolid_core::mesh::Mesh;
 use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
 use glam::DVec3;
 
-use crate::app::Rgba;
 use crate::camera::{Camera, OrbitView};
+use crate::color::Rgba;
 use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
 use crate::view3d::mesh_floats;
 

@@ -1,15 +1,30 @@
 //! # bezsolid-web
 //!
-//! The bezsolid modeler in the browser. The state of each view lives in plain Rust ([`app`]) and is
-//! tested natively; the wasm-bindgen glue and the wgpu renderer exist only on `wasm32` and are the one
-//! place that branches on the target.
+//! The bezsolid modeler in the browser. Everything but the GPU and the page lives in plain Rust and
+//! is tested natively, one concept per module:
+//!
+//! - [`editor`]: the model, the selection, the drag under way and the undo history, which every view
+//!   edits through;
+//! - [`view2d`]: the 2D contour view's viewport and input; [`frame2d`]: what it draws;
+//! - [`view3d`]: the 3D view of a patch or a volume; [`camera`]: the orbit camera every 3D view
+//!   contains; [`scene`]: what a 3D view hands the renderer, and the cache of a surface drawn coarse
+//!   now and fine from the worker;
+//! - [`freeform`]: the Free-form mode; [`script`]: the Script mode;
+//! - [`document`]: files, links and exports of the editor's model, and the jobs the worker runs;
+//! - [`color`]: the colours the views share.
+//!
+//! The wasm-bindgen glue and the wgpu renderer exist only on `wasm32` and are the one place that
+//! branches on the target.
 
-pub mod app;
 pub mod camera;
+pub mod color;
 pub mod document;
+pub mod editor;
+pub mod frame2d;
 pub mod freeform;
 pub mod scene;
 pub mod script;
+pub mod view2d;
 pub mod view3d;
 
 #[cfg(target_arch = "wasm32")]

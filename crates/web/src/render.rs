@@ -4,7 +4,7 @@
 use core::ops::Deref;
 use core::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::app::{Frame, ShapeVertex};
+use crate::frame2d::{Frame, ShapeVertex};
 
 static BUFFERS: AtomicUsize = AtomicUsize::new(0);
 static TEXTURES: AtomicUsize = AtomicUsize::new(0);

@@ -2,7 +2,7 @@
 //! of a surface drawn coarse now and fine once it comes from elsewhere ([`Refined`]), which the
 //! Bézier volume view and the free-form view share.
 
-use crate::app::Rgba;
+use crate::color::Rgba;
 
 /// One vertex of the 3D geometry.
 #[derive(Clone, Copy, Debug, PartialEq)]

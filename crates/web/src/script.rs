@@ -9,8 +9,8 @@ use bezsolid_plasm::{Complex, Interp, scripts};
 use glam::DVec3;
 use serde_json::json;
 
-use crate::app::Rgba;
 use crate::camera::OrbitView;
+use crate::color::Rgba;
 use crate::freeform::octahedron;
 use crate::scene::{MeshVertex, Scene, next_generation};
 use crate::view3d::prism;

@@ -3,7 +3,7 @@
 //! with the conventions of three.js `OrbitControls` (left drag orbits, right or Shift drag pans, the
 //! wheel zooms); picking by ray against the spheres; and drags of a sphere along its vertical line
 //! (function mapping, ξ) or in its horizontal plane (space mapping, x and y), which go through the
-//! patch editor ([`ContourView`]) so that the two views share one model and one undo history.
+//! editor ([`Editor`]) so that the two views share one model and one undo history.
 //!
 //! World space is z-up: `(x, y, h·ξ)`, where the height scale `h` is set when the view fits the
 //! model (half the domain's larger side per unit of ξ) and held still while editing.
@@ -12,9 +12,11 @@ use bezsolid_core::contour::solid_contour;
 use bezsolid_core::{Axis, Solid3};
 use glam::{DVec2, DVec3, DVec4};
 
-use crate::app::{ContourView, Mode, Rgba, XI_PER_PIXEL, diverging};
 use crate::camera::{Camera, OrbitView};
+use crate::color::{Rgba, diverging};
+use crate::editor::{Editor, Mode};
 use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
+use crate::view2d::XI_PER_PIXEL;
 
 /// Cells per side of the surface mesh.
 const SURFACE_CELLS: usize = 48;
@@ -103,7 +105,7 @@ pub struct View3 {
 impl View3 {
     /// A view that frames `editor`'s model.
     #[must_use]
-    pub fn new(editor: &ContourView) -> Self {
+    pub fn new(editor: &Editor) -> Self {
         let mut v = Self {
             orbit: OrbitView::default(),
             height: 1.0,
@@ -128,7 +130,7 @@ impl View3 {
 
     /// Sets the viewport size in CSS pixels (sizes below 1 become 1). Until the camera is moved,
     /// a new shape of viewport frames the model again.
-    pub fn resize(&mut self, editor: &ContourView, width: f64, height: f64) {
+    pub fn resize(&mut self, editor: &Editor, width: f64, height: f64) {
         let moved = self.orbit.moved();
         self.orbit.resize(width, height, (DVec3::ZERO, DVec3::ONE));
         if !moved {
@@ -137,7 +139,7 @@ impl View3 {
     }
 
     /// Frames the model again (the height scale too): after opening another model, or on request.
-    pub fn fit(&mut self, editor: &ContourView) {
+    pub fn fit(&mut self, editor: &Editor) {
         if let Some(volume) = editor.volume() {
             let (min, max) = volume.domain();
             self.orbit.fit_box(min, max);
@@ -158,7 +160,7 @@ impl View3 {
         DVec3::new(p.x, p.y, p.z * self.height)
     }
 
-    fn radius(editor: &ContourView) -> f64 {
+    fn radius(editor: &Editor) -> f64 {
         let extent = match editor.volume() {
             Some(v) => (v.domain().1 - v.domain().0).max_element(),
             None => (editor.solid().domain().1 - editor.solid().domain().0).max_element(),
@@ -167,7 +169,7 @@ impl View3 {
     }
 
     /// The world positions of the control points' spheres (the volume's or the patch's).
-    fn centres(&self, editor: &ContourView) -> Vec<DVec3> {
+    fn centres(&self, editor: &Editor) -> Vec<DVec3> {
         match editor.volume() {
             Some(v) => v.net().points().iter().map(|p| p.truncate()).collect(),
             None => editor
@@ -182,13 +184,13 @@ impl View3 {
 
     /// The CSS pixel where control point `index`'s sphere centre is drawn (`None` behind the eye).
     #[must_use]
-    pub fn screen_of(&self, editor: &ContourView, index: usize) -> Option<DVec2> {
+    pub fn screen_of(&self, editor: &Editor, index: usize) -> Option<DVec2> {
         self.orbit.screen_of(*self.centres(editor).get(index)?)
     }
 
     /// The control point whose sphere the ray through CSS pixel `q` meets first.
     #[must_use]
-    pub fn pick(&self, editor: &ContourView, q: DVec2) -> Option<usize> {
+    pub fn pick(&self, editor: &Editor, q: DVec2) -> Option<usize> {
         let (o, d) = self.orbit.ray(q);
         // Picking is a little more generous than the drawn sphere.
         let r = Self::radius(editor) * 1.6;
@@ -210,7 +212,7 @@ impl View3 {
     /// camera orbits. Returns whether a control point was grabbed.
     pub fn pointer_down(
         &mut self,
-        editor: &mut ContourView,
+        editor: &mut Editor,
         q: DVec2,
         pan: bool,
         other_mode: bool,
@@ -267,7 +269,7 @@ impl View3 {
     }
 
     /// Pointer moved to CSS pixel `q`. Returns whether anything changed (camera or model).
-    pub fn pointer_move(&mut self, editor: &mut ContourView, q: DVec2) -> bool {
+    pub fn pointer_move(&mut self, editor: &mut Editor, q: DVec2) -> bool {
         match self.gesture {
             None => self.orbit.pointer_move(q),
             Some(Gesture::VolumePoint(mode, start, p, offset)) => match mode {
@@ -301,12 +303,12 @@ impl View3 {
     }
 
     /// Pointer released: ends the gesture (a point drag is one undo step).
-    pub fn pointer_up(&mut self, editor: &mut ContourView) {
+    pub fn pointer_up(&mut self, editor: &mut Editor) {
         if matches!(
             self.gesture,
             Some(Gesture::Point(..) | Gesture::VolumePoint(..))
         ) {
-            editor.pointer_up();
+            editor.end_drag();
         }
         self.gesture = None;
         self.orbit.pointer_up();
@@ -371,13 +373,7 @@ impl View3 {
     /// Hands in a contour stack made elsewhere ([`stack_segments`]) for model `revision` across
     /// `axis`: six `f64` per segment (its two ends). A stack for an older revision or another axis
     /// is dropped (a newer edit supersedes it); returns whether it was taken.
-    pub fn set_stack(
-        &mut self,
-        editor: &ContourView,
-        revision: u64,
-        axis: Axis,
-        data: &[f64],
-    ) -> bool {
+    pub fn set_stack(&mut self, editor: &Editor, revision: u64, axis: Axis, data: &[f64]) -> bool {
         let Some(volume) = editor.volume() else {
             return false;
         };
@@ -397,7 +393,7 @@ impl View3 {
     /// The contour stack drawn now: its segments, and whether it is of the model as it is (not
     /// the previous one, drawn while the new one is being made); `None` when none is drawn.
     #[must_use]
-    pub fn stack_info(&self, editor: &ContourView) -> Option<(usize, bool)> {
+    pub fn stack_info(&self, editor: &Editor) -> Option<(usize, bool)> {
         self.stack.as_ref().map(|c| {
             let axis = editor.slice().map_or(Axis::W, |(a, _)| a);
             (
@@ -417,7 +413,7 @@ impl View3 {
     /// revision is dropped (a newer edit supersedes it); returns whether it was taken.
     pub fn set_surface(
         &mut self,
-        editor: &ContourView,
+        editor: &Editor,
         revision: u64,
         resolution: usize,
         data: &[f32],
@@ -436,7 +432,7 @@ impl View3 {
     /// Builds the scene of `editor`'s model: the triangles come from the cache unless what they
     /// depend on changed; the camera is applied fresh.
     #[must_use]
-    pub fn scene(&mut self, editor: &ContourView) -> Scene<'_> {
+    pub fn scene(&mut self, editor: &Editor) -> Scene<'_> {
         if let Some(volume) = editor.volume() {
             self.update_volume_caches(editor, volume);
         }
@@ -472,7 +468,7 @@ impl View3 {
 
     /// A patch: the surface `(x, y, h·ξ)` coloured by ξ, the control points as spheres, the net as
     /// rods, and the plane ξ = 0.
-    fn patch_geometry(&self, editor: &ContourView) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
+    fn patch_geometry(&self, editor: &Editor) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
         let solid = editor.solid();
         let patch = solid.net();
         let (lo, hi) = xi_range(editor);
@@ -560,7 +556,7 @@ impl View3 {
     /// Brings a volume's surface (remeshed only when the model or the resolution changed; a fine
     /// surface made elsewhere is asked for, with a coarse one drawn meanwhile) and its contour
     /// stack up to date.
-    fn update_volume_caches(&mut self, editor: &ContourView, volume: &Solid3) {
+    fn update_volume_caches(&mut self, editor: &Editor, volume: &Solid3) {
         // A point moving in either view: the coarse surface, and nothing asked of the worker.
         let moving = self.coarse || editor.dragging();
         let resolution = if moving {
@@ -607,7 +603,7 @@ impl View3 {
     /// spheres coloured by ξ (the selected slice's larger), and the selected slice's net and plane.
     fn volume_geometry(
         &self,
-        editor: &ContourView,
+        editor: &Editor,
         volume: &Solid3,
     ) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
         let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
@@ -802,7 +798,7 @@ fn plane_hit(o: DVec3, d: DVec3, p: DVec3, n: DVec3) -> Option<DVec3> {
 }
 
 /// The lowest and highest ξ of the control points.
-fn xi_range(editor: &ContourView) -> (f64, f64) {
+fn xi_range(editor: &Editor) -> (f64, f64) {
     editor
         .solid()
         .net()
@@ -892,8 +888,8 @@ mod tests {
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    fn setup() -> (ContourView, View3) {
-        let editor = ContourView::new(Solid2::fig9());
+    fn setup() -> (Editor, View3) {
+        let editor = Editor::new(Solid2::fig9());
         let mut view = View3::new(&editor);
         view.resize(&editor, 800.0, 600.0);
         (editor, view)
@@ -1145,7 +1141,7 @@ mod tests {
         let _ = there.scene(&editor);
         assert!(there.take_stack_request().is_none() && there.take_request().is_none());
         assert_eq!(there.surface_info().unwrap().1, COARSE_RESOLUTION);
-        editor.pointer_up();
+        editor.end_drag();
         let _ = there.scene(&editor);
         assert_eq!(
             there.take_stack_request(),

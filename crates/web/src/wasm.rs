@@ -1,22 +1,26 @@
 //! The JavaScript face of the modeler: [`start`] brings up wgpu on a canvas and returns a [`Modeler`]
-//! whose methods the page calls on input and on animation frames. Logic stays in [`crate::app`].
+//! whose methods the page calls on input and on animation frames. Logic stays in the plain-Rust
+//! modules ([`crate::editor`], [`crate::view2d`], [`crate::view3d`], …).
 
 use glam::DVec2;
 use wasm_bindgen::prelude::*;
 use web_sys::HtmlCanvasElement;
 
-use crate::app::{ContourView, Mode};
 use crate::document;
+use crate::editor::{Editor, Mode};
+use crate::frame2d::frame;
 use crate::freeform::{Display, FreeForm};
 use crate::render::Renderer;
 use crate::render3d::Renderer3;
+use crate::view2d::View2;
 use crate::view3d::View3;
 use bezsolid_core::{Axis, Solid2};
 
 /// The modeler on one canvas: the contour view's state and the GPU that draws it.
 #[wasm_bindgen]
 pub struct Modeler {
-    view: ContourView,
+    editor: Editor,
+    view2: View2,
     view3: View3,
     renderer: Renderer,
     surface: wgpu::Surface<'static>,
@@ -335,12 +339,13 @@ pub async fn start(canvas: HtmlCanvasElement, backend: &str) -> Result<Modeler, 
     let gpu = Gpu::bring_up(&canvas, backend).await?;
     let renderer = Renderer::new(gpu.device, gpu.queue, &gpu.adapter, gpu.config.format);
     gpu.surface.configure(renderer.device(), &gpu.config);
-    let view = ContourView::new(Solid2::fig9());
-    let view3 = View3::new(&view);
+    let editor = Editor::new(Solid2::fig9());
+    let view3 = View3::new(&editor);
     let (surface, config, max_size, backend, info) =
         (gpu.surface, gpu.config, gpu.max_size, gpu.backend, gpu.info);
     Ok(Modeler {
-        view,
+        editor,
+        view2: View2::new(),
         view3,
         renderer,
         surface,
@@ -371,8 +376,8 @@ impl Modeler {
     /// The canvas's size in CSS pixels and the device pixel ratio. Returns the size in device pixels
     /// that the canvas's `width`/`height` must have (the page sets them).
     pub fn resize(&mut self, width: f64, height: f64, dpr: f64) -> Vec<u32> {
-        self.view.resize(width, height, dpr);
-        let (w, h) = self.view.device_size();
+        self.view2.resize(width, height, dpr);
+        let (w, h) = self.view2.device_size();
         // Past the largest texture, shrink both sides by one factor: the picture keeps its shape.
         let shrink = (f64::from(self.max_size) / f64::from(w.max(h))).min(1.0);
         let (w, h) = (
@@ -390,7 +395,8 @@ impl Modeler {
 
     /// Draws the current state.
     pub fn render(&mut self) {
-        let frame = self.view.frame();
+        self.view2.sync(&self.editor);
+        let frame = frame(&self.editor, &self.view2);
         self.range = frame.range;
         self.loops = frame.contours.len();
         self.folded = frame.folded;
@@ -431,51 +437,54 @@ impl Modeler {
     /// Pointer pressed at CSS pixel `(x, y)` of the canvas, with the modifier that gives the other
     /// drag mode held or not; returns whether a point was grabbed.
     pub fn pointer_down(&mut self, x: f64, y: f64, other_mode: bool) -> bool {
-        self.view.pointer_down(DVec2::new(x, y), other_mode)
+        self.view2
+            .pointer_down(&mut self.editor, DVec2::new(x, y), other_mode)
     }
 
     /// Pointer moved; returns whether the solid changed.
     pub fn pointer_move(&mut self, x: f64, y: f64) -> bool {
-        self.view.pointer_move(DVec2::new(x, y))
+        self.view2.pointer_move(&mut self.editor, DVec2::new(x, y))
     }
 
     /// Pointer released or cancelled.
     pub fn pointer_up(&mut self) {
-        self.view.pointer_up();
+        self.view2.pointer_up(&mut self.editor);
     }
 
     /// Whether a point is being dragged.
     #[must_use]
     pub fn dragging(&self) -> bool {
-        self.view.dragging()
+        self.editor.dragging()
     }
 
     /// Whether a control point is under CSS pixel `(x, y)` (for the cursor).
     #[must_use]
     pub fn hit(&self, x: f64, y: f64) -> bool {
-        self.view.pick(DVec2::new(x, y)).is_some()
+        self.view2.pick(&self.editor, DVec2::new(x, y)).is_some()
     }
 
     /// Wheel with `deltaY`; returns whether the solid changed.
     pub fn wheel(&mut self, delta_y: f64) -> bool {
-        self.view.wheel(delta_y)
+        self.view2.wheel(&mut self.editor, delta_y)
     }
 
     /// A key (`KeyboardEvent.key`); returns whether the view used it.
     pub fn key(&mut self, key: &str, shift: bool) -> bool {
-        self.view.key(key, shift)
+        self.view2.key(&mut self.editor, key, shift)
     }
 
     /// `[i, j]` of the selected control point, or `undefined`.
     #[must_use]
     pub fn selected(&self) -> Option<Vec<u32>> {
-        self.view.selected().map(|(i, j)| vec![i as u32, j as u32])
+        self.editor
+            .selected()
+            .map(|(i, j)| vec![i as u32, j as u32])
     }
 
     /// ξ of the selected point, or `undefined`.
     #[must_use]
     pub fn selected_xi(&self) -> Option<f64> {
-        self.view.selected_xi()
+        self.editor.selected_xi()
     }
 
     /// Sets ξ of the selected point.
@@ -484,28 +493,30 @@ impl Modeler {
     ///
     /// When nothing is selected or the value is not a finite number.
     pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), JsError> {
-        self.view.set_selected_xi(xi).map_err(|e| JsError::new(&e))
+        self.editor
+            .set_selected_xi(xi)
+            .map_err(|e| JsError::new(&e))
     }
 
     /// The world point `[x, y]` and `f` there, under CSS pixel `(x, y)`.
     #[must_use]
     pub fn probe(&self, x: f64, y: f64) -> Vec<f64> {
         let q = DVec2::new(x, y);
-        let p = self.view.to_world(q);
-        vec![p.x, p.y, self.view.probe(q)]
+        let p = self.view2.to_world(&self.editor, q);
+        vec![p.x, p.y, self.view2.probe(&self.editor, q)]
     }
 
     /// The degree `[n, m]` of the patch.
     #[must_use]
     pub fn degree(&self) -> Vec<u32> {
-        let [n, m] = self.view.solid().degree();
+        let [n, m] = self.editor.solid().degree();
         vec![n as u32, m as u32]
     }
 
     /// `"function"` (drags change ξ) or `"space"` (drags move points in the plane).
     #[must_use]
     pub fn mode(&self) -> String {
-        match self.view.mode() {
+        match self.editor.mode() {
             Mode::Function => "function",
             Mode::Space => "space",
         }
@@ -518,7 +529,7 @@ impl Modeler {
     ///
     /// For another name.
     pub fn set_mode(&mut self, mode: &str) -> Result<(), JsError> {
-        self.view.set_mode(match mode {
+        self.editor.set_mode(match mode {
             "function" => Mode::Function,
             "space" => Mode::Space,
             other => return Err(JsError::new(&format!("unknown mode {other:?}"))),
@@ -528,35 +539,35 @@ impl Modeler {
 
     /// Undoes the last step; returns whether there was one.
     pub fn undo(&mut self) -> bool {
-        self.view.undo()
+        self.editor.undo()
     }
 
     /// Redoes the last undone step; returns whether there was one.
     pub fn redo(&mut self) -> bool {
-        self.view.redo()
+        self.editor.redo()
     }
 
     /// Forgets the undo history (after restoring the autosaved model at start-up).
     pub fn forget_history(&mut self) {
-        self.view.forget_history();
+        self.editor.forget_history();
     }
 
     /// Whether there is a step to undo.
     #[must_use]
     pub fn can_undo(&self) -> bool {
-        self.view.can_undo()
+        self.editor.can_undo()
     }
 
     /// Whether there is a step to redo.
     #[must_use]
     pub fn can_redo(&self) -> bool {
-        self.view.can_redo()
+        self.editor.can_redo()
     }
 
     /// `[x, y, ξ]` of the selected point, or `undefined`.
     #[must_use]
     pub fn selected_point(&self) -> Option<Vec<f64>> {
-        self.view.selected_point().map(|p| p.to_array().to_vec())
+        self.editor.selected_point().map(|p| p.to_array().to_vec())
     }
 
     /// Moves the selected point to `(x, y)`.
@@ -565,7 +576,7 @@ impl Modeler {
     ///
     /// When nothing is selected or a coordinate is not a finite number in range.
     pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), JsError> {
-        self.view
+        self.editor
             .set_selected_xy(x, y)
             .map_err(|e| JsError::new(&e))
     }
@@ -582,7 +593,7 @@ impl Modeler {
             2 => Axis::W,
             _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
         };
-        self.view.elevate(axis).map_err(|e| JsError::new(&e))
+        self.editor.elevate(axis).map_err(|e| JsError::new(&e))
     }
 
     /// A new flat grid of `nu × nv` control points.
@@ -591,10 +602,10 @@ impl Modeler {
     ///
     /// For a size outside 2 to 16.
     pub fn reset_grid(&mut self, nu: u32, nv: u32) -> Result<(), JsError> {
-        self.view
+        self.editor
             .reset_grid(nu as usize, nv as usize)
             .map_err(|e| JsError::new(&e))?;
-        self.view3.fit(&self.view);
+        self.view3.fit(&self.editor);
         Ok(())
     }
 
@@ -604,10 +615,10 @@ impl Modeler {
     ///
     /// For a size outside 2 to 16.
     pub fn new_volume(&mut self, nu: u32, nv: u32, nw: u32) -> Result<(), JsError> {
-        self.view
+        self.editor
             .new_volume(nu as usize, nv as usize, nw as usize)
             .map_err(|e| JsError::new(&e))?;
-        self.view3.fit(&self.view);
+        self.view3.fit(&self.editor);
         Ok(())
     }
 
@@ -625,15 +636,15 @@ impl Modeler {
             ),
             _ => document::preset(name).map_err(|e| JsError::new(&e))?,
         };
-        document::open(&mut self.view, solid);
-        self.view3.fit(&self.view);
+        document::open(&mut self.editor, solid);
+        self.view3.fit(&self.editor);
         Ok(())
     }
 
     /// The model file (JSON).
     #[must_use]
     pub fn model_json(&self) -> String {
-        document::model_json(&self.view)
+        document::model_json(&self.editor)
     }
 
     /// Opens a model file's text (an undo step); on error the model is unchanged.
@@ -643,8 +654,8 @@ impl Modeler {
     /// What is wrong with the file.
     pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
         let solid = document::read_model(text).map_err(|e| JsError::new(&e))?;
-        document::open(&mut self.view, solid);
-        self.view3.fit(&self.view);
+        document::open(&mut self.editor, solid);
+        self.view3.fit(&self.editor);
         Ok(())
     }
 
@@ -654,7 +665,7 @@ impl Modeler {
     ///
     /// When the model is too large for a link.
     pub fn link(&self) -> Result<String, JsError> {
-        document::share_fragment(&self.view).map_err(|e| JsError::new(&e))
+        document::share_fragment(&self.editor).map_err(|e| JsError::new(&e))
     }
 
     /// Opens a share link (a whole URL or its fragment; an undo step); on error the model is
@@ -665,15 +676,15 @@ impl Modeler {
     /// What is wrong with the link.
     pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
         let solid = document::open_link(link).map_err(|e| JsError::new(&e))?;
-        document::open(&mut self.view, solid);
-        self.view3.fit(&self.view);
+        document::open(&mut self.editor, solid);
+        self.view3.fit(&self.editor);
         Ok(())
     }
 
     /// The zero contours of the patch (or of the volume's selected slice) as SVG.
     #[must_use]
     pub fn svg(&self) -> String {
-        document::svg(self.view.solid())
+        document::svg(self.editor.solid())
     }
 
     /// The HyperFun model.
@@ -682,28 +693,28 @@ impl Modeler {
     ///
     /// For a space-mapped model, which HyperFun cannot express.
     pub fn hyperfun(&self) -> Result<String, JsError> {
-        document::hyperfun(&self.view).map_err(|e| JsError::new(&e))
+        document::hyperfun(&self.editor).map_err(|e| JsError::new(&e))
     }
 
     /// Whether the control points are moved off a regular grid (a space mapping).
     #[must_use]
     pub fn space_mapped(&self) -> bool {
-        match self.view.volume() {
+        match self.editor.volume() {
             Some(v) => v.inverse().is_some(),
-            None => self.view.solid().inverse().is_some(),
+            None => self.editor.solid().inverse().is_some(),
         }
     }
 
     /// The |ξ| that colours full blue or red in the 3D view: the largest |ξ| of the control points.
     #[must_use]
     pub fn xi_extent(&self) -> f64 {
-        match self.view.volume() {
+        match self.editor.volume() {
             Some(v) => v
                 .net()
                 .points()
                 .iter()
                 .fold(1e-12f64, |m, p| m.max(p.w.abs())),
-            None => self.view.xi_scale(),
+            None => self.editor.xi_scale(),
         }
     }
 
@@ -716,13 +727,13 @@ impl Modeler {
     /// Whether the model is a volume.
     #[must_use]
     pub fn is_volume(&self) -> bool {
-        self.view.volume().is_some()
+        self.editor.volume().is_some()
     }
 
     /// The volume's degree `[n, m, l]`, or `undefined` for a patch.
     #[must_use]
     pub fn volume_degree(&self) -> Option<Vec<u32>> {
-        self.view.volume().map(|v| {
+        self.editor.volume().map(|v| {
             let [n, m, l] = v.degree();
             vec![n as u32, m as u32, l as u32]
         })
@@ -732,7 +743,7 @@ impl Modeler {
     /// `undefined` for a patch.
     #[must_use]
     pub fn slice(&self) -> Option<Vec<u32>> {
-        self.view.slice().map(|(axis, index)| {
+        self.editor.slice().map(|(axis, index)| {
             let a = match axis {
                 Axis::U => 0,
                 Axis::V => 1,
@@ -754,7 +765,7 @@ impl Modeler {
             2 => Axis::W,
             _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
         };
-        self.view
+        self.editor
             .set_slice(axis, index as usize)
             .map_err(|e| JsError::new(&e))
     }
@@ -792,7 +803,7 @@ impl Modeler {
     /// A number that changes whenever the model does (what the worker's requests are keyed by).
     #[must_use]
     pub fn revision(&self) -> f64 {
-        self.view.revision() as f64
+        self.editor.revision() as f64
     }
 
     /// The contour stack wanted since the last call, `[revision, axis]` (axis 0 = u, 1 = v,
@@ -808,7 +819,7 @@ impl Modeler {
     pub fn set_stack(&mut self, revision: f64, axis: u32, data: &[f64]) -> bool {
         bezsolid_core::Axis::from_index(axis as usize).is_some_and(|axis| {
             self.view3
-                .set_stack(&self.view, revision as u64, axis, data)
+                .set_stack(&self.editor, revision as u64, axis, data)
         })
     }
 
@@ -817,7 +828,7 @@ impl Modeler {
     #[must_use]
     pub fn stack_info(&self) -> Option<Vec<u32>> {
         self.view3
-            .stack_info(&self.view)
+            .stack_info(&self.editor)
             .map(|(segments, current)| vec![segments as u32, u32::from(current)])
     }
 
@@ -825,7 +836,7 @@ impl Modeler {
     /// slice): what the worker makes the SVG export of.
     #[must_use]
     pub fn patch_json(&self) -> String {
-        document::patch_json(&self.view)
+        document::patch_json(&self.editor)
     }
 
     /// The fine surface wanted since the last call, `[revision, resolution]`, or `undefined`.
@@ -839,7 +850,7 @@ impl Modeler {
     /// position, normal); returns whether it was taken (not when the model has changed since).
     pub fn set_surface(&mut self, revision: f64, resolution: u32, data: &[f32]) -> bool {
         self.view3
-            .set_surface(&self.view, revision as u64, resolution as usize, data)
+            .set_surface(&self.editor, revision as u64, resolution as usize, data)
     }
 
     /// A mesh file of the volume's surface at the resolution set: `"stl"`, `"obj"` or `"ply"`.
@@ -849,7 +860,7 @@ impl Modeler {
     /// For a patch model or another format.
     pub fn mesh_file(&self, format: &str) -> Result<Vec<u8>, JsError> {
         let mesh =
-            document::mesh(&self.view, self.view3.resolution()).map_err(|e| JsError::new(&e))?;
+            document::mesh(&self.editor, self.view3.resolution()).map_err(|e| JsError::new(&e))?;
         document::mesh_file(&mesh, format).map_err(|e| JsError::new(&e))
     }
 
@@ -859,7 +870,7 @@ impl Modeler {
     ///
     /// For a patch model.
     pub fn mesh_triangles(&self) -> Result<usize, JsError> {
-        document::mesh(&self.view, self.view3.resolution())
+        document::mesh(&self.editor, self.view3.resolution())
             .map(|m| m.triangles.len())
             .map_err(|e| JsError::new(&e))
     }
@@ -873,37 +884,41 @@ impl Modeler {
         height: f64,
         dpr: f64,
     ) -> Vec<u32> {
-        self.view3.resize(&self.view, width, height);
+        self.view3.resize(&self.editor, width, height);
         viewer.fit_canvas(width, height, dpr)
     }
 
     /// Draws the 3D view.
     pub fn render_3d(&mut self, viewer: &mut Viewer3) {
-        let scene = self.view3.scene(&self.view);
+        let scene = self.view3.scene(&self.editor);
         viewer.present(&scene);
     }
 
     /// Pointer pressed in the 3D view: `pan` for the right button; `shift` pans on empty space and
     /// gives the other drag mode on a control point. Returns whether a point was grabbed.
     pub fn pointer_down_3d(&mut self, x: f64, y: f64, pan: bool, shift: bool) -> bool {
-        self.view3
-            .pointer_down(&mut self.view, DVec2::new(x, y), pan, shift)
+        let grabbed = self
+            .view3
+            .pointer_down(&mut self.editor, DVec2::new(x, y), pan, shift);
+        // The contour view holds still from the start of the drag, as for its own drags.
+        self.view2.sync(&self.editor);
+        grabbed
     }
 
     /// Pointer moved in the 3D view; returns whether the camera or the model changed.
     pub fn pointer_move_3d(&mut self, x: f64, y: f64) -> bool {
-        self.view3.pointer_move(&mut self.view, DVec2::new(x, y))
+        self.view3.pointer_move(&mut self.editor, DVec2::new(x, y))
     }
 
     /// Pointer released in the 3D view.
     pub fn pointer_up_3d(&mut self) {
-        self.view3.pointer_up(&mut self.view);
+        self.view3.pointer_up(&mut self.editor);
     }
 
     /// Whether a control point is being dragged (in either view).
     #[must_use]
     pub fn editing_3d(&self) -> bool {
-        self.view.dragging() || self.view.volume_dragged().is_some()
+        self.editor.dragging() || self.editor.volume_dragged().is_some()
     }
 
     /// Whether a 3D gesture (orbit, pan or point drag) is under way.
@@ -915,7 +930,7 @@ impl Modeler {
     /// Whether a control point's sphere is under CSS pixel `(x, y)` of the 3D view.
     #[must_use]
     pub fn hit_3d(&self, x: f64, y: f64) -> bool {
-        self.view3.pick(&self.view, DVec2::new(x, y)).is_some()
+        self.view3.pick(&self.editor, DVec2::new(x, y)).is_some()
     }
 
     /// The wheel over the 3D view: zooms.
@@ -928,13 +943,13 @@ impl Modeler {
     #[must_use]
     pub fn sphere_screen_3d(&self, index: usize) -> Option<Vec<f64>> {
         self.view3
-            .screen_of(&self.view, index)
+            .screen_of(&self.editor, index)
             .map(|q| q.to_array().to_vec())
     }
 
     /// Frames the model in the 3D view again.
     pub fn fit_3d(&mut self) {
-        self.view3.fit(&self.view);
+        self.view3.fit(&self.editor);
     }
 }
 

@@ -1,0 +1,370 @@
+//! The 2D view's picture, as data: the field sampled over the view and coloured on the diverging
+//! scale ([`FieldImage`]), the zero contour, the control grid, points and selection as coloured
+//! triangles ([`ShapeVertex`], laid out by a pen of strokes and discs): everything but the GPU
+//! upload, tested natively.
+
+use bezsolid_core::Patch;
+use bezsolid_core::contour::{Grid2, Polyline, contour, sheet_contour, solid_contour};
+use bezsolid_core::rfunc::clip2;
+use glam::{DVec2, DVec3};
+
+use crate::color::{Rgba, diverging};
+use crate::editor::Editor;
+use crate::view2d::{POINT_RADIUS, View2};
+
+/// Samples of the field along the view's longer side (the texture is filtered up to the canvas).
+const FIELD_SAMPLES: usize = 320;
+/// Accuracy to which contour vertices are refined onto f = 0, relative to the largest |f| sampled.
+pub const CONTOUR_ACCURACY: f64 = 1e-9;
+/// Cells per side of the parameter-space mesh that draws a space mapping's field (mapped forward).
+const MAPPED_MESH_CELLS: usize = 96;
+/// Cells per side of the parameter square in which a space mapping's contour is traced.
+const MAPPED_CONTOUR_CELLS: usize = 192;
+/// Samples along each boundary curve of the domain's outline.
+const OUTLINE_SAMPLES: usize = 64;
+
+const CONTOUR_COLOR: Rgba = [0.06, 0.06, 0.08, 1.0];
+const GRID_COLOR: Rgba = [0.18, 0.2, 0.24, 0.75];
+const BOX_COLOR: Rgba = [0.3, 0.32, 0.36, 0.6];
+const OUTLINE_COLOR: Rgba = [0.08, 0.08, 0.1, 1.0];
+const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
+
+/// One vertex of the overlay geometry: a position in normalised device coordinates and a colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeVertex {
+    /// x, y in `[−1, 1]`, y up.
+    pub position: [f32; 2],
+    /// Straight (not premultiplied) RGBA.
+    pub color: Rgba,
+}
+
+impl ShapeVertex {
+    /// Bytes of one vertex: 6 little-endian `f32`.
+    pub const SIZE: usize = 24;
+
+    /// Appends the vertex's bytes, in the layout of the shape pipeline (`float32x2`, `float32x4`).
+    pub fn write(&self, out: &mut Vec<u8>) {
+        for x in self.position.iter().chain(&self.color) {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+}
+
+/// The function field as an image covering the whole view: row 0 at the top, RGBA8.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldImage {
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `width · height · 4` bytes.
+    pub rgba: Vec<u8>,
+}
+
+/// Everything one redraw needs.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Drawn first, filtered to the whole target.
+    pub field: FieldImage,
+    /// Drawn over the field, as a triangle list with alpha blending.
+    pub shapes: Vec<ShapeVertex>,
+    /// The zero contour in world coordinates (what the black line shows).
+    pub contours: Vec<Polyline>,
+    /// The lowest and highest `f` sampled inside the domain box (full blue and full red; the
+    /// legend's ends).
+    pub range: (f64, f64),
+    /// The net may fold: the contour shows the zero lines of every sheet (see
+    /// [`frame`]).
+    pub folded: bool,
+}
+
+/// Builds the frame of `editor`'s model in `view`: samples the field over the view, colours it,
+/// traces the zero contour and lays out the control grid, the points and the selection ring. A
+/// space mapping is drawn in parameter space and mapped forward (`frame_mapped`).
+#[must_use]
+pub fn frame(editor: &Editor, view: &View2) -> Frame {
+    if editor.solid().inverse().is_some() {
+        return frame_mapped(editor, view);
+    }
+    let (w, h) = field_size(view, FIELD_SAMPLES);
+    let (grid, values) = sample_view(editor, view, w, h);
+    let (xs, ys) = (grid.xs(), grid.ys());
+
+    // Each sign is scaled to its own extreme, so the whole blue-white-red range is in use and zero
+    // stays white whatever the magnitudes.
+    // The range is taken inside the domain box: outside it the clipping falls off steeply and
+    // would wash out the interior; those samples clamp to full blue.
+    let (dmin, dmax) = editor.solid().domain();
+    let mut range = (0.0f64, 0.0f64);
+    for (b, &y) in ys.iter().enumerate() {
+        for (a, &x) in xs.iter().enumerate() {
+            if (dmin.x..=dmax.x).contains(&x) && (dmin.y..=dmax.y).contains(&y) {
+                let v = values[b * w + a];
+                range = (range.0.min(v), range.1.max(v));
+            }
+        }
+    }
+    let field = field_image(w, h, &values, range);
+    let magnitude = values.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let contours = contour(
+        &grid,
+        &values,
+        |p| editor.solid().f(p),
+        CONTOUR_ACCURACY * magnitude,
+    );
+    let shapes = shapes(editor, view, &contours);
+    Frame {
+        field,
+        shapes,
+        contours,
+        range,
+        folded: false,
+    }
+}
+
+/// Field samples `(w, h)` of the view with `long` along its longer side.
+fn field_size(view: &View2, long: usize) -> (usize, usize) {
+    let aspect = view.size().x / view.size().y;
+    if aspect >= 1.0 {
+        (long, ((long as f64 / aspect).round() as usize).max(2))
+    } else {
+        (((long as f64 * aspect).round() as usize).max(2), long)
+    }
+}
+
+/// `f` sampled at the texel centres of a `w × h` image of the view (so the filtered texture and
+/// the contour agree), with the grid.
+fn sample_view(editor: &Editor, view: &View2, w: usize, h: usize) -> (Grid2, Vec<f64>) {
+    let (vmin, vmax) = view.view_box(editor);
+    let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
+    let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+    let values = editor.solid().f_grid([&grid.xs(), &grid.ys()]);
+    (grid, values)
+}
+
+/// The frame of a space mapping. The inverse map at every pixel would cost a Newton solve per
+/// pixel; instead a parameter-space mesh of the patch is mapped forward (`S(u, v)`, exact at its
+/// vertices) and coloured by the clipped `S_ξ`, drawn in increasing `f` so that where the net
+/// folds the larger value (the max over preimages) is on top. Outside the image `f` is negative
+/// everywhere; it is drawn flat full blue: proving that a point has no preimage takes Bézier
+/// clipping over the whole domain (40 ms for a coarse 96-pixel image of a 16×16 net, natively).
+/// The contour is traced in parameter space and mapped forward.
+///
+/// Where the net may fold (no injectivity certificate) the exact contour would need the inverse
+/// map at every sample, seconds per frame at degree 15: the live view draws the zero lines of
+/// every sheet ([`sheet_contour`]) and [`Frame::folded`] says so. Exports use the exact `f`.
+fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
+    let injective = editor.solid().inverse().is_some_and(|m| m.injective());
+    let (w, h) = (2, 2);
+    let cells = MAPPED_MESH_CELLS;
+    let ts: Vec<f64> = (0..=cells).map(|k| k as f64 / cells as f64).collect();
+    let net = editor.solid().net().eval_grid([&ts, &ts]);
+    let side = cells + 1;
+    let fs: Vec<f64> = net
+        .iter()
+        .enumerate()
+        .map(|(k, p)| clip2(p.z, ts[k % side], ts[k / side]))
+        .collect();
+    let range = fs
+        .iter()
+        .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
+    let values = vec![range.0.min(-1e-300); w * h];
+    let field = field_image(w, h, &values, range);
+
+    let mut pen = Pen {
+        out: Vec::with_capacity(cells * cells * 6),
+        size: view.size(),
+        dpr: view.dpr(),
+    };
+    let mut triangles: Vec<(f64, [usize; 3])> = Vec::with_capacity(cells * cells * 2);
+    for b in 0..cells {
+        for a in 0..cells {
+            let k = b * side + a;
+            for tri in [[k, k + 1, k + side + 1], [k, k + side + 1, k + side]] {
+                let top = tri.iter().map(|&i| fs[i]).fold(f64::NEG_INFINITY, f64::max);
+                triangles.push((top, tri));
+            }
+        }
+    }
+    triangles.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let colour = |v: f64| diverging(normalise(v, range));
+    for (_, tri) in &triangles {
+        for &i in tri {
+            let q = view.to_screen(editor, net[i].truncate());
+            pen.out.push(ShapeVertex {
+                position: pen.ndc(q),
+                color: colour(fs[i]),
+            });
+        }
+    }
+    let magnitude = fs.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let accuracy = CONTOUR_ACCURACY * magnitude;
+    let contours = if injective {
+        solid_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
+    } else {
+        sheet_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
+    };
+    let mut drawn = pen.out;
+    drawn.extend(shapes(editor, view, &contours));
+    Frame {
+        field,
+        shapes: drawn,
+        contours,
+        range,
+        folded: !injective,
+    }
+}
+
+fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVertex> {
+    let scale = editor.xi_scale();
+    let mut pen = Pen {
+        out: Vec::new(),
+        size: view.size(),
+        dpr: view.dpr(),
+    };
+    let patch = editor.solid().net();
+    // The domain's outline: the patch's four boundary curves (the box of a regular grid).
+    for line in outline(patch) {
+        for w in line.windows(2) {
+            pen.segment(
+                view.to_screen(editor, w[0]),
+                view.to_screen(editor, w[1]),
+                1.25,
+                BOX_COLOR,
+            );
+        }
+    }
+    let [n, m] = editor.solid().degree();
+    let selected = editor.selected().map(|(i, j)| i * (m + 1) + j);
+    let at = |i: usize, j: usize| view.to_screen(editor, patch[[i, j]].truncate());
+    for i in 0..=n {
+        for j in 0..=m {
+            if i < n {
+                pen.segment(at(i, j), at(i + 1, j), 1.5, GRID_COLOR);
+            }
+            if j < m {
+                pen.segment(at(i, j), at(i, j + 1), 1.5, GRID_COLOR);
+            }
+        }
+    }
+    for line in contours {
+        let pts: Vec<DVec2> = line
+            .points
+            .iter()
+            .map(|&p| view.to_screen(editor, p))
+            .collect();
+        let count = if line.closed {
+            pts.len()
+        } else {
+            pts.len().saturating_sub(1)
+        };
+        for k in 0..count {
+            pen.segment(pts[k], pts[(k + 1) % pts.len()], 2.5, CONTOUR_COLOR);
+        }
+        for &p in &pts {
+            pen.disc(p, 1.25, CONTOUR_COLOR);
+        }
+    }
+    for (k, p) in patch.points().iter().enumerate() {
+        let q = view.to_screen(editor, p.truncate());
+        if selected == Some(k) {
+            pen.disc(q, POINT_RADIUS + 5.0, SELECT_COLOR);
+        }
+        pen.disc(q, POINT_RADIUS + 1.5, OUTLINE_COLOR);
+        pen.disc(q, POINT_RADIUS, diverging(p.z / scale));
+    }
+    pen.out
+}
+
+/// `v` on the colour scale's `[−1, 1]`: each sign scaled to its own extreme of `range`.
+fn normalise(v: f64, range: (f64, f64)) -> f64 {
+    if v >= 0.0 {
+        v / range.1.max(1e-300)
+    } else {
+        v / -range.0.min(-1e-300)
+    }
+}
+
+/// The `w × h` samples `values` (row-major from the bottom) as an image (row 0 at the top).
+fn field_image(w: usize, h: usize, values: &[f64], range: (f64, f64)) -> FieldImage {
+    let mut rgba = Vec::with_capacity(w * h * 4);
+    for row in (0..h).rev() {
+        for &v in &values[row * w..(row + 1) * w] {
+            rgba.extend(diverging(normalise(v, range)).map(|c| (c * 255.0).round() as u8));
+        }
+    }
+    FieldImage {
+        width: w as u32,
+        height: h as u32,
+        rgba,
+    }
+}
+
+/// The four boundary curves of a patch in the plane, `S(u, 0)`, `S(1, v)`, `S(u, 1)`, `S(0, v)`, as
+/// polylines in world coordinates.
+#[must_use]
+pub fn outline(patch: &Patch<DVec3>) -> [Vec<DVec2>; 4] {
+    let t = |k: usize| k as f64 / OUTLINE_SAMPLES as f64;
+    let curve = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<DVec2> {
+        (0..=OUTLINE_SAMPLES)
+            .map(|k| {
+                let (u, v) = f(t(k));
+                patch.eval([u, v]).truncate()
+            })
+            .collect()
+    };
+    [
+        curve(&|s| (s, 0.0)),
+        curve(&|s| (1.0, s)),
+        curve(&|s| (1.0 - s, 1.0)),
+        curve(&|s| (0.0, 1.0 - s)),
+    ]
+}
+
+/// Turns CSS-pixel strokes and discs into NDC triangles.
+struct Pen {
+    out: Vec<ShapeVertex>,
+    size: DVec2,
+    dpr: f64,
+}
+
+impl Pen {
+    fn ndc(&self, q: DVec2) -> [f32; 2] {
+        let t = q / self.size;
+        [(t.x * 2.0 - 1.0) as f32, (1.0 - t.y * 2.0) as f32]
+    }
+
+    fn triangle(&mut self, a: DVec2, b: DVec2, c: DVec2, color: Rgba) {
+        for p in [a, b, c] {
+            self.out.push(ShapeVertex {
+                position: self.ndc(p),
+                color,
+            });
+        }
+    }
+
+    /// A straight stroke `width` CSS pixels wide (at least one device pixel).
+    fn segment(&mut self, a: DVec2, b: DVec2, width: f64, color: Rgba) {
+        let d = b - a;
+        let len = d.length();
+        if len <= 0.0 || !len.is_finite() {
+            return;
+        }
+        let half = width.max(1.0 / self.dpr) * 0.5;
+        let nrm = DVec2::new(-d.y, d.x) / len * half;
+        self.triangle(a - nrm, b - nrm, b + nrm, color);
+        self.triangle(a - nrm, b + nrm, a + nrm, color);
+    }
+
+    /// A filled disc, with enough sides to look round at its size.
+    fn disc(&mut self, c: DVec2, r: f64, color: Rgba) {
+        let sides = ((r * self.dpr * 2.0) as usize).clamp(6, 40);
+        let at = |k: usize| {
+            let a = core::f64::consts::TAU * k as f64 / sides as f64;
+            c + DVec2::new(a.cos(), a.sin()) * r
+        };
+        for k in 0..sides {
+            self.triangle(c, at(k), at(k + 1), color);
+        }
+    }
+}
