@@ -99,27 +99,6 @@ impl Camera {
         out
     }
 
-    /// A scene of cached triangles seen by this camera in a viewport of `size` CSS pixels, for a
-    /// model of size `extent` (which sets the clip planes).
-    #[must_use]
-    pub fn scene<'a>(
-        &self,
-        opaque: &'a [MeshVertex],
-        translucent: &'a [MeshVertex],
-        generation: u64,
-        size: DVec2,
-        extent: f64,
-    ) -> Scene<'a> {
-        let m = self.view_proj(size.x / size.y, extent);
-        Scene {
-            opaque,
-            translucent,
-            generation,
-            view_proj: m.map(|c| c.map(|x| x as f32)),
-            eye: self.eye().as_vec3().to_array(),
-        }
-    }
-
     /// The ray through CSS pixel `q` of a viewport of `size`: origin (the eye) and unit direction.
     #[must_use]
     pub fn ray(&self, q: DVec2, size: DVec2) -> (DVec3, DVec3) {
@@ -289,7 +268,13 @@ impl OrbitView {
         generation: u64,
         extent: f64,
     ) -> Scene<'a> {
-        self.camera
-            .scene(opaque, translucent, generation, self.size, extent)
+        let m = self.camera.view_proj(self.size.x / self.size.y, extent);
+        Scene {
+            opaque,
+            translucent,
+            generation,
+            view_proj: m.map(|c| c.map(|x| x as f32)),
+            eye: self.camera.eye().as_vec3().to_array(),
+        }
     }
 }
