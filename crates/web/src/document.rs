@@ -12,6 +12,7 @@ use bezsolid_core::mesh::{Format, UnknownFormat};
 use bezsolid_core::model::{ModelFile, ModelSolid};
 
 use crate::editor::Editor;
+use crate::error::Error;
 
 /// Accuracy of exported mesh vertices on f = 0.
 pub const MESH_ACCURACY: f64 = 1e-9;
@@ -52,10 +53,10 @@ pub fn open(editor: &mut Editor, model: ModelSolid) {
 /// # Errors
 ///
 /// For an unknown name.
-pub fn preset(name: &str) -> Result<ModelSolid, String> {
+pub fn preset(name: &str) -> Result<ModelSolid, Error> {
     bezsolid_core::presets::Preset::from_name(name)
         .map(bezsolid_core::presets::Preset::solid)
-        .ok_or_else(|| format!("no preset {name:?}"))
+        .ok_or_else(|| Error::new(format!("no preset {name:?}")))
 }
 
 /// Reads a model file's text.
@@ -63,16 +64,16 @@ pub fn preset(name: &str) -> Result<ModelSolid, String> {
 /// # Errors
 ///
 /// A message that says what is wrong: too large, not JSON, not a model, or an invalid net.
-pub fn read_model(text: &str) -> Result<ModelSolid, String> {
+pub fn read_model(text: &str) -> Result<ModelSolid, Error> {
     if text.len() > MAX_MODEL_BYTES {
-        return Err(format!(
+        return Err(Error::new(format!(
             "the file is {} bytes; a model file is at most {MAX_MODEL_BYTES}",
             text.len()
-        ));
+        )));
     }
-    let file: ModelFile =
-        serde_json::from_str(text).map_err(|e| format!("not a bezsolid model file: {e}"))?;
-    file.to_solid().map_err(|e| e.to_string())
+    let file: ModelFile = serde_json::from_str(text)
+        .map_err(|e| Error::new(format!("not a bezsolid model file: {e}")))?;
+    file.to_solid().map_err(Error::from)
 }
 
 /// The share link fragment `#v1.…` of the editor's model.
@@ -80,8 +81,8 @@ pub fn read_model(text: &str) -> Result<ModelSolid, String> {
 /// # Errors
 ///
 /// When the model is too large for a link.
-pub fn share_fragment(editor: &Editor) -> Result<String, String> {
-    link::encode(&model_file(editor)).map_err(|e| e.to_string())
+pub fn share_fragment(editor: &Editor) -> Result<String, Error> {
+    link::encode(&model_file(editor)).map_err(Error::from)
 }
 
 /// The solid of a share link (a whole URL or its fragment).
@@ -89,8 +90,8 @@ pub fn share_fragment(editor: &Editor) -> Result<String, String> {
 /// # Errors
 ///
 /// A message that says what is wrong with the link.
-pub fn open_link(text: &str) -> Result<ModelSolid, String> {
-    link::decode(text).map_err(|e| e.to_string())
+pub fn open_link(text: &str) -> Result<ModelSolid, Error> {
+    link::decode(text).map_err(Error::from)
 }
 
 /// The model file (JSON) of the patch the 2D view edits: the model itself, or the selected slice
@@ -117,12 +118,12 @@ pub fn svg(solid: &Solid2) -> String {
 /// # Errors
 ///
 /// For a space-mapped model, which HyperFun cannot express.
-pub fn hyperfun(editor: &Editor) -> Result<String, String> {
+pub fn hyperfun(editor: &Editor) -> Result<String, Error> {
     match editor.volume() {
         Some(v) => solid3_hf(v),
         None => solid2_hf(editor.solid()),
     }
-    .map_err(|e| e.to_string())
+    .map_err(Error::from)
 }
 
 /// A model from text that is either a model file (JSON) or a share link (a URL or a fragment).
@@ -130,7 +131,7 @@ pub fn hyperfun(editor: &Editor) -> Result<String, String> {
 /// # Errors
 ///
 /// What is wrong with the file or the link.
-pub fn read_any(text: &str) -> Result<ModelSolid, String> {
+pub fn read_any(text: &str) -> Result<ModelSolid, Error> {
     if text.trim_start().starts_with('{') {
         read_model(text)
     } else {
@@ -142,6 +143,7 @@ pub fn read_any(text: &str) -> Result<ModelSolid, String> {
 /// file out (for node and other headless hosts).
 pub mod headless {
     use super::{Editor, MESH_ACCURACY, mesh_file, model_json, open, read_any, share_fragment};
+    use crate::error::Error;
     use bezsolid_core::Solid2;
     use bezsolid_core::model::ModelSolid;
 
@@ -159,11 +161,11 @@ pub mod headless {
         pub approximate: usize,
     }
 
-    fn volume(text: &str, resolution: usize) -> Result<bezsolid_core::Solid3, String> {
+    fn volume(text: &str, resolution: usize) -> Result<bezsolid_core::Solid3, Error> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
-            return Err(format!(
+            return Err(Error::new(format!(
                 "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
-            ));
+            )));
         }
         match read_any(text)? {
             ModelSolid::Volume(v) => Ok(v),
@@ -171,7 +173,7 @@ pub mod headless {
         }
     }
 
-    fn editor(text: &str) -> Result<Editor, String> {
+    fn editor(text: &str) -> Result<Editor, Error> {
         let mut e = Editor::new(Solid2::fig9());
         open(&mut e, read_any(text)?);
         e.forget_history();
@@ -183,7 +185,7 @@ pub mod headless {
     /// # Errors
     ///
     /// What is wrong with the input.
-    pub fn model(text: &str) -> Result<String, String> {
+    pub fn model(text: &str) -> Result<String, Error> {
         editor(text).map(|e| model_json(&e))
     }
 
@@ -192,7 +194,7 @@ pub mod headless {
     /// # Errors
     ///
     /// What is wrong with the input, or a model too large for a link.
-    pub fn link(text: &str) -> Result<String, String> {
+    pub fn link(text: &str) -> Result<String, Error> {
         share_fragment(&editor(text)?)
     }
 
@@ -203,11 +205,11 @@ pub mod headless {
     ///
     /// What is wrong with the input, a patch model, a resolution outside 2 to 512, or another
     /// format.
-    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Made<Vec<u8>>, String> {
+    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
         let v = volume(text, resolution)?;
         let m = v
             .polygonize(resolution, MESH_ACCURACY)
-            .map_err(|e| e.to_string())?;
+            .map_err(Error::from)?;
         Ok(Made {
             data: mesh_file(&m, format)?,
             approximate: v.exhausted(),
@@ -220,7 +222,7 @@ pub mod headless {
     /// # Errors
     ///
     /// As [`mesh`].
-    pub fn surface(text: &str, resolution: usize) -> Result<Made<Vec<f32>>, String> {
+    pub fn surface(text: &str, resolution: usize) -> Result<Made<Vec<f32>>, Error> {
         let v = volume(text, resolution)?;
         Ok(Made {
             data: crate::view3d::surface_floats(&v, resolution),
@@ -238,7 +240,7 @@ pub mod headless {
         text: &str,
         axis: usize,
         progress: impl FnMut(usize, usize),
-    ) -> Result<Made<Vec<f64>>, String> {
+    ) -> Result<Made<Vec<f64>>, Error> {
         let axis =
             bezsolid_core::Axis::from_index(axis).ok_or("axes are 0 (u), 1 (v) and 2 (w)")?;
         match read_any(text)? {
@@ -257,7 +259,7 @@ pub mod headless {
     /// # Errors
     ///
     /// What is wrong with the input, or a volume model.
-    pub fn svg(text: &str) -> Result<Made<String>, String> {
+    pub fn svg(text: &str) -> Result<Made<String>, Error> {
         match read_any(text)? {
             ModelSolid::Patch(s) => Ok(Made {
                 data: super::svg(&s),
@@ -273,13 +275,13 @@ pub mod headless {
 /// # Errors
 ///
 /// For a patch model, or a resolution out of range.
-pub fn mesh(editor: &Editor, resolution: usize) -> Result<Mesh, String> {
+pub fn mesh(editor: &Editor, resolution: usize) -> Result<Mesh, Error> {
     let volume = editor
         .volume()
         .ok_or("mesh exports are of volume (3D) models; this is a patch: export SVG instead")?;
     volume
         .polygonize(resolution, MESH_ACCURACY)
-        .map_err(|e| e.to_string())
+        .map_err(Error::from)
 }
 
 /// A mesh file: `"stl"` (binary), `"obj"` or `"ply"`.
@@ -287,7 +289,7 @@ pub fn mesh(editor: &Editor, resolution: usize) -> Result<Mesh, String> {
 /// # Errors
 ///
 /// For another format.
-pub fn mesh_file(mesh: &Mesh, format: &str) -> Result<Vec<u8>, String> {
+pub fn mesh_file(mesh: &Mesh, format: &str) -> Result<Vec<u8>, Error> {
     let format: Format = format.parse().map_err(|e: UnknownFormat| e.to_string())?;
     Ok(format.write(mesh))
 }
@@ -362,6 +364,7 @@ mod tests {
         assert!(
             headless::mesh(&model_json(&Editor::new(Solid2::fig9())), "stl", 20)
                 .unwrap_err()
+                .message()
                 .contains("patch")
         );
         let mut calls = Vec::new();
@@ -381,15 +384,18 @@ mod tests {
         assert!(
             read_model("{")
                 .unwrap_err()
+                .message()
                 .contains("not a bezsolid model file")
         );
         assert!(read_model(r#"{"format":"bezsolid","version":9,"solid":{"kind":"patch","degree":[1,1],"points":[]}}"#)
             .unwrap_err()
+            .message()
             .contains("version 9"));
-        assert!(open_link("#v1.AAAA").unwrap_err().contains("damaged"));
+        assert!(open_link("#v1.AAAA").unwrap_err().message().contains("damaged"));
         assert!(
             read_model(&" ".repeat(MAX_MODEL_BYTES + 1))
                 .unwrap_err()
+                .message()
                 .contains("at most")
         );
         assert!(preset("whale").is_err());
@@ -444,7 +450,7 @@ mod tests {
         let made = headless::svg(&patch_json(&e)).unwrap();
         assert_eq!(made.data, svg, "the worker's SVG is the same");
         assert_eq!(made.approximate, 0);
-        assert!(hyperfun(&e).unwrap_err().contains("regular grid"));
+        assert!(hyperfun(&e).unwrap_err().message().contains("regular grid"));
         assert!(
             hyperfun(&Editor::new(Solid2::fig9()))
                 .unwrap()

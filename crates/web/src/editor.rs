@@ -9,6 +9,8 @@ use std::collections::VecDeque;
 use bezsolid_core::{Axis, Patch, Solid2, Solid3, SolidError, Volume};
 use glam::{DVec2, DVec3, DVec4};
 
+use crate::error::Error;
+
 /// ξ change per unit of wheel `deltaY` (a notch of 100 is 0.1; wheel up raises the point).
 pub const XI_PER_WHEEL: f64 = 0.001;
 /// ξ change per arrow-less key press (`PageUp`/`+`); a tenth of it with Shift.
@@ -178,7 +180,7 @@ impl Editor {
     /// # Errors
     ///
     /// When the model is a patch or `index` is past the net along `axis`.
-    pub fn set_slice(&mut self, axis: Axis, index: usize) -> Result<(), String> {
+    pub fn set_slice(&mut self, axis: Axis, index: usize) -> Result<(), Error> {
         let doc = self
             .volume
             .as_mut()
@@ -186,7 +188,9 @@ impl Editor {
         let d = doc.solid.degree();
         let len = d[axis.index()] + 1;
         if index >= len {
-            return Err(format!("the net has {len} slices across that axis"));
+            return Err(Error::new(format!(
+                "the net has {len} slices across that axis"
+            )));
         }
         if self.drag.is_some() || self.volume_drag.is_some() {
             return Err("finish the drag first".into());
@@ -229,13 +233,13 @@ impl Editor {
     }
 
     /// Writes the edited slice back into the volume.
-    fn write_back(&mut self) -> Result<(), String> {
+    fn write_back(&mut self) -> Result<(), Error> {
         let Some(doc) = &mut self.volume else {
             return Ok(());
         };
         doc.solid
             .set_slice(doc.axis, doc.index, &self.solid)
-            .map_err(|e| e.to_string())
+            .map_err(Error::from)
     }
 
     fn keep_selection_in_range(&mut self) {
@@ -250,10 +254,10 @@ impl Editor {
         &mut self,
         step: Step,
         edit: impl FnOnce(&mut Solid2) -> Result<(), SolidError>,
-    ) -> Result<(), String> {
+    ) -> Result<(), Error> {
         let before = self.net();
         let old = self.solid.clone();
-        edit(&mut self.solid).map_err(|e| e.to_string())?;
+        edit(&mut self.solid).map_err(Error::from)?;
         if self.solid.net() != old.net() {
             if let Err(e) = self.write_back() {
                 self.solid = old;
@@ -421,18 +425,18 @@ impl Editor {
     /// # Errors
     ///
     /// Past [`MAX_POINTS_PER_SIDE`] points, or for [`Axis::W`].
-    pub fn elevate(&mut self, axis: Axis) -> Result<(), String> {
+    pub fn elevate(&mut self, axis: Axis) -> Result<(), Error> {
         if let Some(doc) = &self.volume {
             let d = doc.solid.degree();
             let side = d[axis.index()];
             if side + 1 >= MAX_POINTS_PER_SIDE {
-                return Err(format!(
+                return Err(Error::new(format!(
                     "the net has {} points along that axis already; the editor takes at most {MAX_POINTS_PER_SIDE}",
                     side + 1
-                ));
+                )));
             }
-            let net = doc.solid.net().elevate(axis).map_err(|e| e.to_string())?;
-            let solid = Solid3::try_from_net(net).map_err(|e| e.to_string())?;
+            let net = doc.solid.net().elevate(axis).map_err(Error::from)?;
+            let solid = Solid3::try_from_net(net).map_err(Error::from)?;
             let before = self.net();
             if let Some(doc) = &mut self.volume {
                 doc.solid = solid;
@@ -449,10 +453,10 @@ impl Editor {
             Axis::W => return Err("a patch has no third axis".into()),
         };
         if side + 1 >= MAX_POINTS_PER_SIDE {
-            return Err(format!(
+            return Err(Error::new(format!(
                 "the grid has {} points on that side already; the editor takes at most {MAX_POINTS_PER_SIDE}",
                 side + 1
-            ));
+            )));
         }
         self.apply(Step::Other, |s| {
             *s = Solid2::try_from_net(s.net().elevate(axis)?)?;
@@ -467,12 +471,12 @@ impl Editor {
     /// # Errors
     ///
     /// For a size out of range.
-    pub fn reset_grid(&mut self, nu: usize, nv: usize) -> Result<(), String> {
+    pub fn reset_grid(&mut self, nu: usize, nv: usize) -> Result<(), Error> {
         for k in [nu, nv] {
             if !(2..=MAX_POINTS_PER_SIDE).contains(&k) {
-                return Err(format!(
+                return Err(Error::new(format!(
                     "a grid has 2 to {MAX_POINTS_PER_SIDE} points per side, not {k}"
-                ));
+                )));
             }
         }
         if let Some(v) = self.volume() {
@@ -484,7 +488,7 @@ impl Editor {
                 max.truncate(),
                 |[_, _]| 0.25,
             )
-            .map_err(|e| e.to_string())?;
+            .map_err(Error::from)?;
             self.set_solid(patch);
             return Ok(());
         }
@@ -505,12 +509,12 @@ impl Editor {
     /// # Errors
     ///
     /// For a size out of range.
-    pub fn new_volume(&mut self, nu: usize, nv: usize, nw: usize) -> Result<(), String> {
+    pub fn new_volume(&mut self, nu: usize, nv: usize, nw: usize) -> Result<(), Error> {
         for k in [nu, nv, nw] {
             if !(2..=MAX_POINTS_PER_SIDE).contains(&k) {
-                return Err(format!(
+                return Err(Error::new(format!(
                     "a net has 2 to {MAX_POINTS_PER_SIDE} points along each axis, not {k}"
-                ));
+                )));
             }
         }
         let (min, max) = match self.volume() {
@@ -521,7 +525,7 @@ impl Editor {
             }
         };
         let solid = Solid3::regular([nu - 1, nv - 1, nw - 1], min, max, |[_, _, _]| 0.25)
-            .map_err(|e| e.to_string())?;
+            .map_err(Error::from)?;
         self.set_volume(solid);
         Ok(())
     }
@@ -569,7 +573,7 @@ impl Editor {
     /// # Errors
     ///
     /// When nothing is selected or `xi` is not finite; nothing changes then.
-    pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), String> {
+    pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), Error> {
         let k = self.selected.ok_or("no control point is selected")?;
         let (i, j) = self.ij(k);
         self.apply(Step::Input(k), |s| s.set_xi([i, j], xi))
@@ -586,7 +590,7 @@ impl Editor {
     /// # Errors
     ///
     /// When nothing is selected or a coordinate is not finite; nothing changes then.
-    pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), String> {
+    pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), Error> {
         let k = self.selected.ok_or("no control point is selected")?;
         let (i, j) = self.ij(k);
         self.apply(Step::Input(k), |s| s.set_point([i, j], DVec2::new(x, y)))

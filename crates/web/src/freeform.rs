@@ -18,6 +18,7 @@ use glam::DVec3;
 
 use crate::camera::{Camera, OrbitView};
 use crate::color::Rgba;
+use crate::error::Error;
 use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
 use crate::view3d::mesh_floats;
 
@@ -140,8 +141,8 @@ impl FreeForm {
     /// # Errors
     ///
     /// What is wrong with it (the scene is kept).
-    pub fn open(&mut self, file: &ModelFile) -> Result<(), String> {
-        let boolean = file.to_boolean().map_err(|e| e.to_string())?;
+    pub fn open(&mut self, file: &ModelFile) -> Result<(), Error> {
+        let boolean = file.to_boolean().map_err(Error::from)?;
         let SolidSpec::Esc {
             operation,
             operands,
@@ -164,7 +165,7 @@ impl FreeForm {
     }
 
     /// Rebuilds the solids from a changed operand list; on failure the scene stays as it was.
-    fn apply(&mut self, operands: Vec<EscOperand>, operation: Option<Op>) -> Result<(), String> {
+    fn apply(&mut self, operands: Vec<EscOperand>, operation: Option<Op>) -> Result<(), Error> {
         // Solids whose operand is unchanged are kept (moved, not rebuilt or copied): changing the
         // operation rebuilds nothing. On an error they are put back.
         let mut old: Vec<Option<EscSolid>> = core::mem::take(&mut self.boolean.solids)
@@ -188,7 +189,7 @@ impl FreeForm {
                         }
                     }
                     self.boolean.solids = old.into_iter().flatten().collect();
-                    return Err(format!("operand {}: {e}", i + 1));
+                    return Err(Error::new(format!("operand {}: {e}", i + 1)));
                 }
             }
         }
@@ -217,8 +218,9 @@ impl FreeForm {
     /// # Errors
     ///
     /// An unknown example or slot.
-    pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), String> {
-        let example = Example::from_name(name).ok_or_else(|| format!("no example {name:?}"))?;
+    pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), Error> {
+        let example =
+            Example::from_name(name).ok_or_else(|| Error::new(format!("no example {name:?}")))?;
         let offset = self.operands.get(slot).map_or([0.0; 3], |o| o.offset);
         self.replace(slot, name, EscOperand::example(example, offset))
     }
@@ -228,7 +230,7 @@ impl FreeForm {
     /// # Errors
     ///
     /// An unknown slot, or a mesh that cannot bound a solid.
-    pub fn set_mesh(&mut self, slot: usize, name: &str, mesh: &Mesh) -> Result<(), String> {
+    pub fn set_mesh(&mut self, slot: usize, name: &str, mesh: &Mesh) -> Result<(), Error> {
         let op = EscOperand {
             example: None,
             mesh: Some(MeshSpec {
@@ -243,12 +245,12 @@ impl FreeForm {
     }
 
     /// Operand `slot` becomes `op`, named `name`; a new B comes with a union.
-    fn replace(&mut self, slot: usize, name: &str, op: EscOperand) -> Result<(), String> {
+    fn replace(&mut self, slot: usize, name: &str, op: EscOperand) -> Result<(), Error> {
         let mut operands = self.operands.clone();
         match slot {
             _ if slot < operands.len() => operands[slot] = op,
             1 if operands.len() == 1 => operands.push(op),
-            _ => return Err(format!("no operand {}", slot + 1)),
+            _ => return Err(Error::new(format!("no operand {}", slot + 1))),
         }
         let operation = self
             .operation
@@ -270,11 +272,11 @@ impl FreeForm {
     /// # Errors
     ///
     /// An unknown slot or an offset that is not finite.
-    pub fn set_offset(&mut self, slot: usize, offset: [f64; 3]) -> Result<(), String> {
+    pub fn set_offset(&mut self, slot: usize, offset: [f64; 3]) -> Result<(), Error> {
         let mut operands = self.operands.clone();
         let o = operands
             .get_mut(slot)
-            .ok_or_else(|| format!("no operand {}", slot + 1))?;
+            .ok_or_else(|| Error::new(format!("no operand {}", slot + 1)))?;
         o.offset = offset;
         self.apply(operands, self.operation)
     }
@@ -284,7 +286,7 @@ impl FreeForm {
     /// # Errors
     ///
     /// An unknown operation.
-    pub fn set_operation(&mut self, name: &str) -> Result<(), String> {
+    pub fn set_operation(&mut self, name: &str) -> Result<(), Error> {
         let mut operands = self.operands.clone();
         let operation = match name {
             "none" => {
@@ -292,7 +294,8 @@ impl FreeForm {
                 None
             }
             _ => {
-                let op = Op::from_name(name).ok_or_else(|| format!("no operation {name:?}"))?;
+                let op = Op::from_name(name)
+                    .ok_or_else(|| Error::new(format!("no operation {name:?}")))?;
                 if operands.len() == 1 {
                     operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
                 }
@@ -501,18 +504,19 @@ impl FreeForm {
 /// # Errors
 ///
 /// What is wrong with it.
-pub fn read_file(text: &str) -> Result<ModelFile, String> {
+pub fn read_file(text: &str) -> Result<ModelFile, Error> {
     if text.len() > crate::document::MAX_MODEL_BYTES {
-        return Err(format!(
+        return Err(Error::new(format!(
             "the file is {} bytes; a model file is at most {}",
             text.len(),
             crate::document::MAX_MODEL_BYTES
-        ));
+        )));
     }
     if text.trim_start().starts_with('{') {
-        serde_json::from_str(text).map_err(|e| format!("not a bezsolid model file: {e}"))
+        serde_json::from_str(text)
+            .map_err(|e| Error::new(format!("not a bezsolid model file: {e}")))
     } else {
-        bezsolid_core::link::decode_file(text.trim()).map_err(|e| e.to_string())
+        bezsolid_core::link::decode_file(text.trim()).map_err(Error::from)
     }
 }
 
@@ -538,17 +542,18 @@ pub fn is_free_form(text: &str) -> bool {
 /// The page's free-form work without a page (the worker's jobs, and node).
 pub mod headless {
     use super::read_file;
+    use crate::error::Error;
 
     /// The largest resolution of a headless surface or mesh.
     pub const MAX_RESOLUTION: usize = bezsolid_core::esc::draw::MAX_RESOLUTION;
 
-    fn boolean(text: &str, resolution: usize) -> Result<bezsolid_core::esc::Boolean, String> {
+    fn boolean(text: &str, resolution: usize) -> Result<bezsolid_core::esc::Boolean, Error> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
-            return Err(format!(
+            return Err(Error::new(format!(
                 "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
-            ));
+            )));
         }
-        read_file(text)?.to_boolean().map_err(|e| e.to_string())
+        read_file(text)?.to_boolean().map_err(Error::from)
     }
 
     /// The result's surface of a free-form model or link, as [`super::surface_floats`].
@@ -556,7 +561,7 @@ pub mod headless {
     /// # Errors
     ///
     /// What is wrong with the input or the resolution (2 to 160).
-    pub fn surface(text: &str, resolution: usize) -> Result<Vec<f32>, String> {
+    pub fn surface(text: &str, resolution: usize) -> Result<Vec<f32>, Error> {
         Ok(super::surface_floats(
             &boolean(text, resolution)?,
             resolution,
@@ -568,7 +573,7 @@ pub mod headless {
     /// # Errors
     ///
     /// As [`surface`], an empty result, or another format.
-    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, String> {
+    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, Error> {
         let mesh = boolean(text, resolution)?.surface(resolution);
         if mesh.triangles.is_empty() {
             return Err("the result is empty: there is no surface to export".into());

@@ -20,6 +20,7 @@ pub mod camera;
 pub mod color;
 pub mod document;
 pub mod editor;
+pub mod error;
 pub mod frame2d;
 pub mod freeform;
 pub mod scene;

@@ -11,6 +11,7 @@ use serde_json::json;
 
 use crate::camera::OrbitView;
 use crate::color::Rgba;
+use crate::error::Error;
 use crate::freeform::octahedron;
 use crate::scene::{MeshVertex, Scene, next_generation};
 use crate::view3d::prism;
@@ -199,11 +200,11 @@ pub fn draw(complexes: &[&Complex]) -> (Vec<f32>, [usize; 3], Option<String>) {
 ///
 /// The script's error, a script that draws nothing (or no triangles, for STL and PLY), or an
 /// unknown format.
-pub fn export(script: &str, format: &str) -> Result<Vec<u8>, String> {
+pub fn export(script: &str, format: &str) -> Result<Vec<u8>, Error> {
     let mut interp = Interp::new();
     let run = interp.run(script);
     if let Some(e) = run.error {
-        return Err(e.to_string());
+        return Err(Error::new(e.to_string()));
     }
     let complexes: Vec<&Complex> = run.shown.iter().filter_map(|s| s.value.as_pol()).collect();
     if complexes.is_empty() {
@@ -229,11 +230,11 @@ fn is_surface_map(s: &bezsolid_plasm::Shown) -> bool {
 ///
 /// The script's error, a value that is not such a surface, or a map that is no polynomial of
 /// degree at most 16 in each parameter.
-pub fn patch_model(script: &str, index: usize) -> Result<(String, [usize; 2]), String> {
+pub fn patch_model(script: &str, index: usize) -> Result<(String, [usize; 2]), Error> {
     let mut interp = Interp::new();
     let run = interp.run(script);
     if let Some(e) = run.error {
-        return Err(e.to_string());
+        return Err(Error::new(e.to_string()));
     }
     let shown = run
         .shown
@@ -263,7 +264,7 @@ pub fn patch_model(script: &str, index: usize) -> Result<(String, [usize; 2]), S
     })
     .map_err(|e| failure.clone().unwrap_or_else(|| e.to_string()))?;
     let degree = patch.degree();
-    let solid = bezsolid_core::Solid2::try_from_net(patch).map_err(|e| e.to_string())?;
+    let solid = bezsolid_core::Solid2::try_from_net(patch).map_err(Error::from)?;
     let json = serde_json::to_string_pretty(&ModelFile::from_solid2(&solid)).unwrap_or_default();
     Ok((json, degree))
 }
@@ -286,8 +287,8 @@ pub fn model_json(script: &str) -> String {
 /// # Errors
 ///
 /// A script too long for a link (save the model file instead).
-pub fn link(script: &str) -> Result<String, String> {
-    bezsolid_core::link::encode(&ModelFile::from_plasm(script)).map_err(|e| e.to_string())
+pub fn link(script: &str) -> Result<String, Error> {
+    bezsolid_core::link::encode(&ModelFile::from_plasm(script)).map_err(Error::from)
 }
 
 /// The Script mode's view: the last drawing and an orbit camera.
@@ -312,13 +313,13 @@ impl ScriptView {
     /// # Errors
     ///
     /// Data that is not whole triangles of vertices.
-    pub fn set_drawing(&mut self, floats: &[f32], refit: bool) -> Result<(), String> {
+    pub fn set_drawing(&mut self, floats: &[f32], refit: bool) -> Result<(), Error> {
         let per_triangle = 3 * FLOATS_PER_VERTEX;
         if !floats.len().is_multiple_of(per_triangle) {
-            return Err(format!(
+            return Err(Error::new(format!(
                 "a drawing of {} floats is not whole triangles",
                 floats.len()
-            ));
+            )));
         }
         self.vertices = floats
             .chunks_exact(FLOATS_PER_VERTEX)
@@ -443,13 +444,13 @@ mod tests {
             392
         );
         let arc = scripts::example("3.3").expect("3.3").source();
-        assert!(export(&arc, "stl").is_err_and(|e| e.contains("no triangles")));
+        assert!(export(&arc, "stl").is_err_and(|e| e.message().contains("no triangles")));
         assert!(
             String::from_utf8(export(&arc, "obj").expect("obj"))
                 .is_ok_and(|t| t.contains("\nl 1 2\n"))
         );
-        assert!(export("1;", "obj").is_err_and(|e| e.contains("draws nothing")));
-        assert!(export("1 +;", "obj").is_err_and(|e| e.starts_with("line 1, column 3")));
+        assert!(export("1;", "obj").is_err_and(|e| e.message().contains("draws nothing")));
+        assert!(export("1 +;", "obj").is_err_and(|e| e.message().starts_with("line 1, column 3")));
     }
 
     #[test]

@@ -8,6 +8,7 @@ use web_sys::HtmlCanvasElement;
 
 use crate::document;
 use crate::editor::{Editor, Mode};
+use crate::error::Error;
 use crate::frame2d::frame;
 use crate::freeform::{Display, FreeForm};
 use crate::render::Renderer;
@@ -166,7 +167,7 @@ fn device_pixels(width: f64, height: f64, dpr: f64, max_size: u32) -> (u32, u32)
 /// What is wrong with the input.
 #[wasm_bindgen]
 pub fn headless_model(text: &str) -> Result<String, JsError> {
-    document::headless::model(text).map_err(|e| JsError::new(&e))
+    document::headless::model(text).map_err(JsError::from)
 }
 
 /// The share link fragment (`#v1.…`) of a model file or link; no page or GPU needed.
@@ -176,7 +177,7 @@ pub fn headless_model(text: &str) -> Result<String, JsError> {
 /// What is wrong with the input, or a model too large for a link.
 #[wasm_bindgen]
 pub fn headless_link(text: &str) -> Result<String, JsError> {
-    document::headless::link(text).map_err(|e| JsError::new(&e))
+    document::headless::link(text).map_err(JsError::from)
 }
 
 /// The surface of a volume model (a model file or a link) as `"stl"`, `"obj"` or `"ply"` bytes at
@@ -250,10 +251,10 @@ thread_local! {
 
 /// The data of a headless job; its count of approximate evaluations is kept for
 /// [`headless_approximate`] (0 on an error).
-fn made<T>(job: Result<document::headless::Made<T>, String>) -> Result<T, JsError> {
+fn made<T>(job: Result<document::headless::Made<T>, Error>) -> Result<T, JsError> {
     let (data, approximate) = match job {
         Ok(m) => (Ok(m.data), m.approximate),
-        Err(e) => (Err(JsError::new(&e)), 0),
+        Err(e) => (Err(e.into()), 0),
     };
     APPROXIMATE.with(|a| a.set(approximate));
     data
@@ -493,9 +494,7 @@ impl Modeler {
     ///
     /// When nothing is selected or the value is not a finite number.
     pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), JsError> {
-        self.editor
-            .set_selected_xi(xi)
-            .map_err(|e| JsError::new(&e))
+        self.editor.set_selected_xi(xi).map_err(JsError::from)
     }
 
     /// The world point `[x, y]` and `f` there, under CSS pixel `(x, y)`.
@@ -576,9 +575,7 @@ impl Modeler {
     ///
     /// When nothing is selected or a coordinate is not a finite number in range.
     pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), JsError> {
-        self.editor
-            .set_selected_xy(x, y)
-            .map_err(|e| JsError::new(&e))
+        self.editor.set_selected_xy(x, y).map_err(JsError::from)
     }
 
     /// Raises the degree along `u` (`axis` 0) or `v` (1), keeping the shape.
@@ -593,7 +590,7 @@ impl Modeler {
             2 => Axis::W,
             _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
         };
-        self.editor.elevate(axis).map_err(|e| JsError::new(&e))
+        self.editor.elevate(axis).map_err(JsError::from)
     }
 
     /// A new flat grid of `nu × nv` control points.
@@ -602,9 +599,7 @@ impl Modeler {
     ///
     /// For a size outside 2 to 16.
     pub fn reset_grid(&mut self, nu: u32, nv: u32) -> Result<(), JsError> {
-        self.editor
-            .reset_grid(nu as usize, nv as usize)
-            .map_err(|e| JsError::new(&e))?;
+        self.editor.reset_grid(nu as usize, nv as usize)?;
         self.view3.fit(&self.editor);
         Ok(())
     }
@@ -616,8 +611,7 @@ impl Modeler {
     /// For a size outside 2 to 16.
     pub fn new_volume(&mut self, nu: u32, nv: u32, nw: u32) -> Result<(), JsError> {
         self.editor
-            .new_volume(nu as usize, nv as usize, nw as usize)
-            .map_err(|e| JsError::new(&e))?;
+            .new_volume(nu as usize, nv as usize, nw as usize)?;
         self.view3.fit(&self.editor);
         Ok(())
     }
@@ -634,7 +628,7 @@ impl Modeler {
                 Solid2::regular([3, 3], glam::DVec2::ZERO, glam::DVec2::ONE, |[_, _]| 0.25)
                     .map_err(|e| error("preset", e))?,
             ),
-            _ => document::preset(name).map_err(|e| JsError::new(&e))?,
+            _ => document::preset(name)?,
         };
         document::open(&mut self.editor, solid);
         self.view3.fit(&self.editor);
@@ -653,7 +647,7 @@ impl Modeler {
     ///
     /// What is wrong with the file.
     pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
-        let solid = document::read_model(text).map_err(|e| JsError::new(&e))?;
+        let solid = document::read_model(text)?;
         document::open(&mut self.editor, solid);
         self.view3.fit(&self.editor);
         Ok(())
@@ -665,7 +659,7 @@ impl Modeler {
     ///
     /// When the model is too large for a link.
     pub fn link(&self) -> Result<String, JsError> {
-        document::share_fragment(&self.editor).map_err(|e| JsError::new(&e))
+        document::share_fragment(&self.editor).map_err(JsError::from)
     }
 
     /// Opens a share link (a whole URL or its fragment; an undo step); on error the model is
@@ -675,7 +669,7 @@ impl Modeler {
     ///
     /// What is wrong with the link.
     pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
-        let solid = document::open_link(link).map_err(|e| JsError::new(&e))?;
+        let solid = document::open_link(link)?;
         document::open(&mut self.editor, solid);
         self.view3.fit(&self.editor);
         Ok(())
@@ -693,7 +687,7 @@ impl Modeler {
     ///
     /// For a space-mapped model, which HyperFun cannot express.
     pub fn hyperfun(&self) -> Result<String, JsError> {
-        document::hyperfun(&self.editor).map_err(|e| JsError::new(&e))
+        document::hyperfun(&self.editor).map_err(JsError::from)
     }
 
     /// Whether the control points are moved off a regular grid (a space mapping).
@@ -767,7 +761,7 @@ impl Modeler {
         };
         self.editor
             .set_slice(axis, index as usize)
-            .map_err(|e| JsError::new(&e))
+            .map_err(JsError::from)
     }
 
     /// Sets the volume surface's resolution at rest (cells along the longest side); returns the
@@ -859,9 +853,8 @@ impl Modeler {
     ///
     /// For a patch model or another format.
     pub fn mesh_file(&self, format: &str) -> Result<Vec<u8>, JsError> {
-        let mesh =
-            document::mesh(&self.editor, self.view3.resolution()).map_err(|e| JsError::new(&e))?;
-        document::mesh_file(&mesh, format).map_err(|e| JsError::new(&e))
+        let mesh = document::mesh(&self.editor, self.view3.resolution())?;
+        document::mesh_file(&mesh, format).map_err(JsError::from)
     }
 
     /// Triangles of the exported mesh at the resolution set (what `mesh_file` writes).
@@ -872,7 +865,7 @@ impl Modeler {
     pub fn mesh_triangles(&self) -> Result<usize, JsError> {
         document::mesh(&self.editor, self.view3.resolution())
             .map(|m| m.triangles.len())
-            .map_err(|e| JsError::new(&e))
+            .map_err(JsError::from)
     }
 
     /// Sizes the 3D view: CSS pixels and the device pixel ratio; returns the canvas size in device
@@ -1038,9 +1031,7 @@ impl FreeFormView {
     ///
     /// An unknown example or slot.
     pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), JsError> {
-        self.state
-            .set_example(slot, name)
-            .map_err(|e| JsError::new(&e))
+        self.state.set_example(slot, name).map_err(JsError::from)
     }
 
     /// Operand `slot` becomes the mesh in the OBJ or STL file `bytes`, named `name`.
@@ -1064,7 +1055,7 @@ impl FreeFormView {
     pub fn set_offset(&mut self, slot: usize, x: f64, y: f64, z: f64) -> Result<(), JsError> {
         self.state
             .set_offset(slot, [x, y, z])
-            .map_err(|e| JsError::new(&e))
+            .map_err(JsError::from)
     }
 
     /// `union`, `intersection`, `difference`, or `none` (A alone).
@@ -1073,7 +1064,7 @@ impl FreeFormView {
     ///
     /// An unknown operation.
     pub fn set_operation(&mut self, name: &str) -> Result<(), JsError> {
-        self.state.set_operation(name).map_err(|e| JsError::new(&e))
+        self.state.set_operation(name).map_err(JsError::from)
     }
 
     /// The operation, or `none`.
@@ -1183,8 +1174,8 @@ impl FreeFormView {
     ///
     /// What is wrong with it (the scene is kept).
     pub fn open(&mut self, text: &str) -> Result<(), JsError> {
-        let file = crate::freeform::read_file(text).map_err(|e| JsError::new(&e))?;
-        self.state.open(&file).map_err(|e| JsError::new(&e))
+        let file = crate::freeform::read_file(text)?;
+        self.state.open(&file).map_err(JsError::from)
     }
 
     /// The share link fragment `#v1.…`.
@@ -1215,7 +1206,7 @@ pub fn is_free_form(text: &str) -> bool {
 /// What is wrong with the input.
 #[wasm_bindgen]
 pub fn headless_esc_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError> {
-    crate::freeform::headless::surface(text, resolution as usize).map_err(|e| JsError::new(&e))
+    crate::freeform::headless::surface(text, resolution as usize).map_err(JsError::from)
 }
 
 /// A mesh file (`stl`, `obj`, `ply`) of a free-form model's result.
@@ -1225,7 +1216,7 @@ pub fn headless_esc_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsE
 /// What is wrong with the input, an empty result, or another format.
 #[wasm_bindgen]
 pub fn headless_esc_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
-    crate::freeform::headless::mesh(text, format, resolution as usize).map_err(|e| JsError::new(&e))
+    crate::freeform::headless::mesh(text, format, resolution as usize).map_err(JsError::from)
 }
 
 /// The Script mode's view: the drawing of a script's run and an orbit camera.
@@ -1251,9 +1242,7 @@ impl ScriptViewer {
     ///
     /// Data that is not whole triangles.
     pub fn set_drawing(&mut self, floats: &[f32], refit: bool) -> Result<(), JsError> {
-        self.state
-            .set_drawing(floats, refit)
-            .map_err(|e| JsError::new(&e))
+        self.state.set_drawing(floats, refit).map_err(JsError::from)
     }
 
     /// Triangles drawn.
@@ -1302,7 +1291,7 @@ pub fn headless_plasm(script: &str) -> PlasmRun {
 /// The script's error, nothing to export, or another format.
 #[wasm_bindgen]
 pub fn headless_plasm_mesh(script: &str, format: &str) -> Result<Vec<u8>, JsError> {
-    crate::script::export(script, format).map_err(|e| JsError::new(&e))
+    crate::script::export(script, format).map_err(JsError::from)
 }
 
 /// The script of a model file or link, if it holds one.
@@ -1326,7 +1315,7 @@ pub fn script_model_json(script: &str) -> String {
 /// A script too long for a link.
 #[wasm_bindgen]
 pub fn script_link(script: &str) -> Result<String, JsError> {
-    crate::script::link(script).map_err(|e| JsError::new(&e))
+    crate::script::link(script).map_err(JsError::from)
 }
 
 /// The paper's examples, JSON: `[{id, title, source}]`.
@@ -1350,5 +1339,5 @@ pub fn plasm_examples() -> String {
 pub fn script_patch_model(script: &str, index: usize) -> Result<String, JsError> {
     crate::script::patch_model(script, index)
         .map(|(json, _)| json)
-        .map_err(|e| JsError::new(&e))
+        .map_err(JsError::from)
 }
