@@ -174,3 +174,28 @@ test("PLaSM scripts: the paper's examples draw and export; endless recursion sto
   // The module still works after all of that.
   assert.ok(JSON.parse(headless_plasm(examples[0].source).report()).error === null);
 });
+
+test("the worker's protocol: a job as JSON in, one buffer out, as the worker decodes it", () => {
+  const { run_job } = glue;
+  const job = (message, progress = () => {}) => {
+    const bytes = run_job(new TextEncoder().encode(JSON.stringify(message)), progress);
+    const length = new DataView(bytes.buffer, bytes.byteOffset).getUint32(0, true);
+    const header = JSON.parse(new TextDecoder().decode(bytes.subarray(4, 4 + length)));
+    const start = bytes.byteOffset + Math.ceil((4 + length) / 8) * 8;
+    const type = { bytes: Uint8Array, f32: Float32Array, f64: Float64Array }[header.payload];
+    return { header, data: new type(bytes.buffer.slice(start, bytes.byteOffset + bytes.byteLength)) };
+  };
+  const surface = job({ kind: 'surface', model: MODEL, resolution: 16 });
+  assert.equal(surface.header.approximate, 0);
+  assert.deepEqual(surface.data, headless_surface(MODEL, 16));
+  const reports = [];
+  const stack = job({ kind: 'stack', model: MODEL, axis: 2 }, (done, total) => reports.push([done, total]));
+  assert.ok(stack.data instanceof Float64Array && stack.data.length % 6 === 0 && stack.data.length > 0);
+  assert.deepEqual(reports.at(-1), [3, 3]);
+  const stl = job({ kind: 'mesh', model: MODEL, format: 'stl', resolution: 16 }).data;
+  assert.deepEqual(stl, headless_mesh(MODEL, 'stl', 16));
+  const plasm = job({ kind: 'plasm', script: 'MAP:(CONS:<S1, S1>):(Domain:4);' });
+  assert.equal(JSON.parse(plasm.header.report).error, null);
+  assert.throws(() => job({ kind: 'format-disk' }), /not a job/);
+  assert.throws(() => job({ kind: 'surface', model: '{', resolution: 16 }), /model/);
+});

@@ -391,7 +391,12 @@ mod tests {
             .unwrap_err()
             .message()
             .contains("version 9"));
-        assert!(open_link("#v1.AAAA").unwrap_err().message().contains("damaged"));
+        assert!(
+            open_link("#v1.AAAA")
+                .unwrap_err()
+                .message()
+                .contains("damaged")
+        );
         assert!(
             read_model(&" ".repeat(MAX_MODEL_BYTES + 1))
                 .unwrap_err()

@@ -23,6 +23,7 @@ pub mod editor;
 pub mod error;
 pub mod frame2d;
 pub mod freeform;
+pub mod jobs;
 pub mod scene;
 pub mod script;
 pub mod view2d;

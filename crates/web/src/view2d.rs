@@ -589,7 +589,12 @@ mod tests {
         for _ in 0..(MAX_POINTS_PER_SIDE - 2) {
             v.elevate(Axis::U).unwrap();
         }
-        assert!(v.elevate(Axis::U).unwrap_err().message().contains("at most"));
+        assert!(
+            v.elevate(Axis::U)
+                .unwrap_err()
+                .message()
+                .contains("at most")
+        );
         assert_eq!(v.solid().degree()[0], MAX_POINTS_PER_SIDE - 1);
         while v.undo() {}
         assert_eq!(v.solid(), &Solid2::fig9());

@@ -244,6 +244,20 @@ pub fn headless_svg(text: &str) -> Result<String, JsError> {
     made(document::headless::svg(text))
 }
 
+/// The worker's one entry ([`crate::jobs`]): a job as JSON bytes in, its result as one buffer out.
+/// `progress` is called with `(done, total)` by the jobs that come in steps.
+///
+/// # Errors
+///
+/// A job the protocol does not know, or what is wrong with its input.
+#[wasm_bindgen]
+pub fn run_job(job: &[u8], progress: &js_sys::Function) -> Result<Vec<u8>, JsError> {
+    Ok(crate::jobs::run_bytes(job, |done, total| {
+        // A progress report that throws changes nothing in the work.
+        let _ = progress.call2(&JsValue::NULL, &done.into(), &total.into());
+    })?)
+}
+
 thread_local! {
     /// [`headless_approximate`]'s answer.
     static APPROXIMATE: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };

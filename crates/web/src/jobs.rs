@@ -1,0 +1,310 @@
+//! The worker's protocol: the jobs the page hands its Web Worker ([`Job`], JSON as the page sends
+//! it) and what they make ([`Done`]), run by [`run`] and carried as bytes by [`run_bytes`], so that
+//! the worker itself is a few lines of transport and every job is tested natively.
+//!
+//! A result travels as one buffer: a little-endian `u32` header length, the header (JSON: the
+//! payload's element type, and `approximate` or `report` where the job gives them), zeros up to a
+//! multiple of 8 bytes, then the payload's little-endian elements.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Error;
+
+/// A job, as the page posts it (`{"kind": "surface", "model": …, "resolution": 64}`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Job {
+    /// The surface a volume model is drawn with: six `f32` per vertex.
+    Surface {
+        /// A model file or link.
+        model: String,
+        /// Cells along the longest side.
+        resolution: usize,
+    },
+    /// A mesh file of a volume model.
+    Mesh {
+        /// A model file or link.
+        model: String,
+        /// `stl`, `obj` or `ply`.
+        format: String,
+        /// Cells along the longest side.
+        resolution: usize,
+    },
+    /// The zero contour of each slice of a volume across an axis: six `f64` per segment, with a
+    /// progress report after each slice.
+    Stack {
+        /// A model file or link.
+        model: String,
+        /// 0 (u), 1 (v) or 2 (w).
+        axis: usize,
+    },
+    /// The SVG of a patch model's contours.
+    Svg {
+        /// A model file or link.
+        model: String,
+    },
+    /// The surface of a free-form model's result: six `f32` per vertex.
+    EscSurface {
+        /// A free-form model file or link.
+        model: String,
+        /// Cells along the longest side.
+        resolution: usize,
+    },
+    /// A mesh file of a free-form model's result.
+    EscMesh {
+        /// A free-form model file or link.
+        model: String,
+        /// `stl`, `obj` or `ply`.
+        format: String,
+        /// Cells along the longest side.
+        resolution: usize,
+    },
+    /// A script's run: its drawing (`f32` vertices) and its report (JSON).
+    Plasm {
+        /// The script.
+        script: String,
+    },
+    /// A mesh file of a script's results.
+    PlasmMesh {
+        /// The script (named `model` as the page sends it).
+        model: String,
+        /// `obj`, `stl` or `ply`.
+        format: String,
+    },
+    /// The Bézier net of a script's surface: a patch model file.
+    PlasmPatch {
+        /// The script.
+        script: String,
+        /// Which top-level value.
+        index: usize,
+    },
+}
+
+/// What a job made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Done {
+    /// The data.
+    pub payload: Payload,
+    /// For the Bézier models' jobs: how many evaluations ran out of their work budget (where a net
+    /// folds over itself very many times the data is approximate there).
+    pub approximate: Option<usize>,
+    /// For a script's run: its report, JSON.
+    pub report: Option<String>,
+}
+
+/// The data of a result, by element type.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Payload {
+    /// A file.
+    Bytes(Vec<u8>),
+    /// Vertices.
+    F32(Vec<f32>),
+    /// Segments.
+    F64(Vec<f64>),
+}
+
+/// The header of a result on the wire.
+#[derive(Serialize)]
+struct Header<'a> {
+    payload: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    approximate: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    report: Option<&'a str>,
+}
+
+/// Runs `job`; `progress(done, total)` is called on the way by the jobs that come in steps.
+///
+/// # Errors
+///
+/// What is wrong with the job's input.
+pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error> {
+    use crate::document::headless as bezier;
+    let counted = |payload, approximate| Done {
+        payload,
+        approximate: Some(approximate),
+        report: None,
+    };
+    let plain = |payload| Done {
+        payload,
+        approximate: None,
+        report: None,
+    };
+    Ok(match job {
+        Job::Surface { model, resolution } => {
+            let m = bezier::surface(model, *resolution)?;
+            counted(Payload::F32(m.data), m.approximate)
+        }
+        Job::Mesh {
+            model,
+            format,
+            resolution,
+        } => {
+            let m = bezier::mesh(model, format, *resolution)?;
+            counted(Payload::Bytes(m.data), m.approximate)
+        }
+        Job::Stack { model, axis } => {
+            let m = bezier::stack(model, *axis, progress)?;
+            counted(Payload::F64(m.data), m.approximate)
+        }
+        Job::Svg { model } => {
+            let m = bezier::svg(model)?;
+            counted(Payload::Bytes(m.data.into_bytes()), m.approximate)
+        }
+        Job::EscSurface { model, resolution } => plain(Payload::F32(
+            crate::freeform::headless::surface(model, *resolution)?,
+        )),
+        Job::EscMesh {
+            model,
+            format,
+            resolution,
+        } => plain(Payload::Bytes(crate::freeform::headless::mesh(
+            model,
+            format,
+            *resolution,
+        )?)),
+        Job::Plasm { script } => {
+            let drawing = crate::script::run(script);
+            Done {
+                payload: Payload::F32(drawing.floats),
+                approximate: None,
+                report: Some(drawing.report),
+            }
+        }
+        Job::PlasmMesh { model, format } => {
+            plain(Payload::Bytes(crate::script::export(model, format)?))
+        }
+        Job::PlasmPatch { script, index } => plain(Payload::Bytes(
+            crate::script::patch_model(script, *index)?.0.into_bytes(),
+        )),
+    })
+}
+
+/// A result as one buffer (see the module documentation).
+#[must_use]
+pub fn encode(done: &Done) -> Vec<u8> {
+    let (kind, len) = match &done.payload {
+        Payload::Bytes(b) => ("bytes", b.len()),
+        Payload::F32(v) => ("f32", v.len() * 4),
+        Payload::F64(v) => ("f64", v.len() * 8),
+    };
+    let header = serde_json::to_vec(&Header {
+        payload: kind,
+        approximate: done.approximate,
+        report: done.report.as_deref(),
+    })
+    .unwrap_or_default();
+    let start = (4 + header.len()).next_multiple_of(8);
+    let mut out = Vec::with_capacity(start + len);
+    out.extend_from_slice(&(header.len() as u32).to_le_bytes());
+    out.extend_from_slice(&header);
+    out.resize(start, 0);
+    match &done.payload {
+        Payload::Bytes(b) => out.extend_from_slice(b),
+        Payload::F32(v) => v
+            .iter()
+            .for_each(|x| out.extend_from_slice(&x.to_le_bytes())),
+        Payload::F64(v) => v
+            .iter()
+            .for_each(|x| out.extend_from_slice(&x.to_le_bytes())),
+    }
+    out
+}
+
+/// The worker's one entry: a job as JSON bytes in, its result as one buffer out.
+///
+/// # Errors
+///
+/// A job the protocol does not know, or what is wrong with its input.
+pub fn run_bytes(job: &[u8], progress: impl FnMut(usize, usize)) -> Result<Vec<u8>, Error> {
+    let job: Job =
+        serde_json::from_slice(job).map_err(|e| Error::new(format!("not a job: {e}")))?;
+    Ok(encode(&run(&job, progress)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::document::model_json;
+    use crate::editor::Editor;
+    use bezsolid_core::Solid2;
+
+    /// The header and the payload's bytes of an encoded result.
+    fn decode(bytes: &[u8]) -> (serde_json::Value, &[u8]) {
+        let n = u32::from_le_bytes(bytes[..4].try_into().unwrap()) as usize;
+        let header = serde_json::from_slice(&bytes[4..4 + n]).unwrap();
+        let start = (4 + n).next_multiple_of(8);
+        assert!(bytes[4 + n..start].iter().all(|&b| b == 0));
+        (header, &bytes[start..])
+    }
+
+    fn volume() -> String {
+        let mut e = Editor::new(Solid2::fig9());
+        e.new_volume(3, 3, 3).unwrap();
+        model_json(&e)
+    }
+
+    #[test]
+    fn jobs_as_the_page_sends_them_run_and_encode() {
+        let model = volume();
+        let job = |json: serde_json::Value| run_bytes(json.to_string().as_bytes(), |_, _| {});
+        let surface =
+            job(serde_json::json!({"kind": "surface", "model": model, "resolution": 8})).unwrap();
+        let (header, payload) = decode(&surface);
+        assert_eq!(header["payload"], "f32");
+        assert_eq!(header["approximate"], 0);
+        assert!(!payload.is_empty() && payload.len().is_multiple_of(4 * 18));
+        let want = crate::document::headless::surface(&model, 8).unwrap().data;
+        let got: Vec<f32> = payload
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        assert_eq!(got, want);
+
+        let mut steps = Vec::new();
+        let stack = run_bytes(
+            serde_json::json!({"kind": "stack", "model": model, "axis": 2})
+                .to_string()
+                .as_bytes(),
+            |done, total| steps.push((done, total)),
+        )
+        .unwrap();
+        assert_eq!(decode(&stack).0["payload"], "f64");
+        assert_eq!(steps.last(), Some(&(3, 3)), "a progress report per slice");
+
+        let mesh = job(
+            serde_json::json!({"kind": "mesh", "model": model, "format": "stl", "resolution": 8}),
+        )
+        .unwrap();
+        let (_, stl) = decode(&mesh);
+        let mesh = bezsolid_core::mesh::Format::Stl.read(stl).unwrap();
+        mesh.check_closed_manifold().unwrap();
+
+        let plasm =
+            job(serde_json::json!({"kind": "plasm", "script": "MAP:(CONS:<S1, S1>):(Domain:4);"}))
+                .unwrap();
+        let (header, payload) = decode(&plasm);
+        let report: serde_json::Value =
+            serde_json::from_str(header["report"].as_str().unwrap()).unwrap();
+        assert!(report["error"].is_null(), "{report}");
+        assert!(!payload.is_empty());
+        assert!(header.get("approximate").is_none());
+    }
+
+    #[test]
+    fn unknown_jobs_and_bad_inputs_are_errors() {
+        for bad in [
+            &b"not json"[..],
+            br#"{"kind": "format-disk"}"#,
+            br#"{"kind": "surface", "model": "{}"}"#,
+        ] {
+            assert!(run_bytes(bad, |_, _| {}).is_err());
+        }
+        let err = run_bytes(
+            br#"{"kind": "surface", "model": "{", "resolution": 8}"#,
+            |_, _| {},
+        )
+        .unwrap_err();
+        assert!(err.message().contains("model"), "{err}");
+    }
+}
