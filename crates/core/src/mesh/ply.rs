@@ -376,10 +376,13 @@ fn header(bytes: &[u8]) -> Result<(Encoding, Vec<Element>, usize, usize), ReadEr
                 let name = words
                     .next()
                     .ok_or(bad(line_no, "an element needs a name"))?;
-                let count = words
+                // Parsed as u64 on every target; a count past usize saturates (and is refused
+                // at the caps where it matters).
+                let count: u64 = words
                     .next()
                     .and_then(|c| c.parse().ok())
                     .ok_or(bad(line_no, "an element needs a count"))?;
+                let count = usize::try_from(count).unwrap_or(usize::MAX);
                 elements.push(Element {
                     name: name.as_bytes().into(),
                     count,
