@@ -88,6 +88,11 @@ test('a mesh imports by the picker and by a drop, bad ones keep the scene, and t
   await settle(page);
   assert.equal(await page.inputValue('#ff-b'), 'imported');
   assert.match(await page.textContent('#ff-info'), /B: 12 triangles/);
+  // The same cube as an ASCII PLY of six quads: the same 12 triangles.
+  await page.setInputFiles('#ff-import-b', join(FIXTURES, 'cube.ply'));
+  await page.waitForFunction(() => /Imported cube\.ply as solid B/.test(document.getElementById('status').textContent));
+  await settle(page);
+  assert.match(await page.textContent('#ff-info'), /B: 12 triangles/);
   // The cube into the blob, intersected.
   await page.selectOption('#ff-op', 'intersection');
   await page.waitForSelector('body[data-ff-operation="intersection"]');
