@@ -103,7 +103,14 @@ fn saturate(f: f64) -> f64 {
 #[must_use]
 #[inline]
 pub fn clip<const D: usize>(s: f64, t: [f64; D]) -> f64 {
-    saturate(intersect(s, unit_box(t)))
+    clip_to_box(s, unit_box(t))
+}
+
+/// [`clip`] given the box's value `F_s(t)` (for grids, which share it between points).
+#[must_use]
+#[inline]
+pub fn clip_to_box(s: f64, unit_box: f64) -> f64 {
+    saturate(intersect(s, unit_box))
 }
 
 /// [`clip`] of a patch value `S_ξ(u, v)` to the unit square.

@@ -330,12 +330,34 @@ impl<P: ControlPoint, const D: usize> Tensor<P, D> {
     /// `S(t)` with its gradient `[∂S/∂t_0, ∂S/∂t_1, …]`.
     #[must_use]
     pub fn eval_with_gradient(&self, t: [f64; D]) -> (P, [P; D]) {
-        let mut bases = [[0.0; MAX_DEGREE + 1]; D];
-        let mut derivs = [[0.0; MAX_DEGREE + 1]; D];
-        for a in 0..D {
-            basis_and_derivative_into(self.degree[a], t[a], &mut bases[a], &mut derivs[a]);
+        // Patches and volumes, the hot path of every Newton step, have kernels whose sums stay in
+        // registers; other dimensions contract slab by slab.
+        let at = |a: usize| {
+            (
+                self.degree.get(a).copied().unwrap_or(0),
+                t.get(a).copied().unwrap_or(0.0),
+            )
+        };
+        match D {
+            2 => {
+                let ([n, m], [u, v]) = ([at(0).0, at(1).0], [at(0).1, at(1).1]);
+                let (s, su, sv) = partials2(&self.points, [n, m], [u, v]);
+                (s, core::array::from_fn(|a| if a == 0 { su } else { sv }))
+            }
+            3 => {
+                let degree = [at(0).0, at(1).0, at(2).0];
+                let (s, g) = partials3(&self.points, degree, [at(0).1, at(1).1, at(2).1]);
+                (s, core::array::from_fn(|a| g[a % 3]))
+            }
+            _ => {
+                let mut bases = [[0.0; MAX_DEGREE + 1]; D];
+                let mut derivs = [[0.0; MAX_DEGREE + 1]; D];
+                for a in 0..D {
+                    basis_and_derivative_into(self.degree[a], t[a], &mut bases[a], &mut derivs[a]);
+                }
+                contract_with_gradient(&self.points, &self.dims(), &bases, &derivs)
+            }
         }
-        contract_with_gradient(&self.points, &self.dims(), &bases, &derivs)
     }
 
     /// de Casteljau split along `axis` at `t`: the halves over `[0, t]` and `[t, 1]` of that parameter,
@@ -497,7 +519,7 @@ fn contract<P: ControlPoint>(points: &[P], dims: &[usize], bases: &[Row]) -> P {
 
 /// [`contract`] with the partial derivatives along each axis, from the basis rows `b` and their
 /// derivatives `d`: `g[a]` is the derivative along this net's axis `a` (the rest are zero).
-#[inline(always)]
+#[inline]
 fn contract_with_gradient<P: ControlPoint, const D: usize>(
     points: &[P],
     dims: &[usize],
@@ -511,37 +533,6 @@ fn contract_with_gradient<P: ControlPoint, const D: usize>(
             for ((&p, &bk), &dk) in points.iter().zip(b0).zip(d0) {
                 s = s + p * bk;
                 g[0] = g[0] + p * dk;
-            }
-        }
-        ([_, m], [b0, b1, ..], [d0, d1, ..]) => {
-            for ((row, &bi), &di) in points.chunks_exact(*m).zip(b0).zip(d0) {
-                let (mut r, mut rv) = (P::ZERO, P::ZERO);
-                for ((&p, &bj), &dj) in row.iter().zip(b1).zip(d1) {
-                    r = r + p * bj;
-                    rv = rv + p * dj;
-                }
-                s = s + r * bi;
-                g[0] = g[0] + r * di;
-                g[1] = g[1] + rv * bi;
-            }
-        }
-        ([_, m, l], [b0, b1, b2, ..], [d0, d1, d2, ..]) => {
-            for ((slab, &bi), &di) in points.chunks_exact(m * l).zip(b0).zip(d0) {
-                let (mut t, mut tv, mut tw) = (P::ZERO, P::ZERO, P::ZERO);
-                for ((row, &bj), &dj) in slab.chunks_exact(*l).zip(b1).zip(d1) {
-                    let (mut r, mut rw) = (P::ZERO, P::ZERO);
-                    for ((&p, &bk), &dk) in row.iter().zip(b2).zip(d2) {
-                        r = r + p * bk;
-                        rw = rw + p * dk;
-                    }
-                    t = t + r * bj;
-                    tv = tv + r * dj;
-                    tw = tw + rw * bj;
-                }
-                s = s + t * bi;
-                g[0] = g[0] + t * di;
-                g[1] = g[1] + tv * bi;
-                g[2] = g[2] + tw * bi;
             }
         }
         ([_, inner @ ..], _, _) => {
@@ -558,6 +549,58 @@ fn contract_with_gradient<P: ControlPoint, const D: usize>(
         _ => {}
     }
     (s, g)
+}
+
+/// A patch's value and partial derivatives at `(u, v)`.
+#[inline(always)]
+fn partials2<P: ControlPoint>(points: &[P], [n, m]: [usize; 2], [u, v]: [f64; 2]) -> (P, P, P) {
+    let [mut bu, mut du, mut bv, mut dv] = [[0.0; MAX_DEGREE + 1]; 4];
+    basis_and_derivative_into(n, u, &mut bu, &mut du);
+    basis_and_derivative_into(m, v, &mut bv, &mut dv);
+    let (mut s, mut su, mut sv) = (P::ZERO, P::ZERO, P::ZERO);
+    for (i, row) in points.chunks_exact(m + 1).enumerate() {
+        let (mut r, mut rv) = (P::ZERO, P::ZERO);
+        for (j, p) in row.iter().enumerate() {
+            r = r + *p * bv[j];
+            rv = rv + *p * dv[j];
+        }
+        s = s + r * bu[i];
+        su = su + r * du[i];
+        sv = sv + rv * bu[i];
+    }
+    (s, su, sv)
+}
+
+/// A volume's value and gradient at `(u, v, w)`.
+#[inline(always)]
+fn partials3<P: ControlPoint>(
+    points: &[P],
+    [n, m, l]: [usize; 3],
+    [u, v, w]: [f64; 3],
+) -> (P, [P; 3]) {
+    let [mut bu, mut du, mut bv, mut dv, mut bw, mut dw] = [[0.0; MAX_DEGREE + 1]; 6];
+    basis_and_derivative_into(n, u, &mut bu, &mut du);
+    basis_and_derivative_into(m, v, &mut bv, &mut dv);
+    basis_and_derivative_into(l, w, &mut bw, &mut dw);
+    let (mut s, mut su, mut sv, mut sw) = (P::ZERO, P::ZERO, P::ZERO, P::ZERO);
+    for (i, slab) in points.chunks_exact((m + 1) * (l + 1)).enumerate() {
+        let (mut t, mut tv, mut tw) = (P::ZERO, P::ZERO, P::ZERO);
+        for (j, row) in slab.chunks_exact(l + 1).enumerate() {
+            let (mut r, mut rw) = (P::ZERO, P::ZERO);
+            for (k, p) in row.iter().enumerate() {
+                r = r + *p * bw[k];
+                rw = rw + *p * dw[k];
+            }
+            t = t + r * bv[j];
+            tv = tv + r * dv[j];
+            tw = tw + rw * bv[j];
+        }
+        s = s + t * bu[i];
+        su = su + t * du[i];
+        sv = sv + tv * bu[i];
+        sw = sw + tw * bu[i];
+    }
+    (s, [su, sv, sw])
 }
 
 /// de Casteljau over a net: every line along the last axis reduced at its parameter, then the
