@@ -55,10 +55,10 @@ await frame(); await frame();
 const idx = (2 * 5 + 2) * 5 + 4;
 await measure('5×5×5 volume, ξ drag in 3D (coarse 24 while moving)', '#view3d', async (b) => { const [x, y] = await page.evaluate((i) => [...window.bezsolid.modeler.sphere_screen_3d(i)], idx); return [b.x + x, b.y + y]; }, 0, 3);
 const t0 = Date.now();
-await page.waitForFunction(() => window.bezsolid.modeler.surface_resolution() === 64);
+await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64);
 await frame(); await frame();
 const dbg = await page.textContent('#debug');
-console.log(`5×5×5 volume, fine surface at rest (64, in the worker): ${dbg.match(/worker mesh: ([\d.]+)/)[1]} ms in the worker, ${await page.evaluate(() => window.bezsolid.modeler.surface_triangles())} triangles; 3D frame then ${await page.getAttribute('body', 'data-render3-ms')} ms`);
+console.log(`5×5×5 volume, fine surface at rest (64, in the worker): ${dbg.match(/worker mesh: ([\d.]+)/)[1]} ms in the worker, ${await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface[0])} triangles; 3D frame then ${await page.getAttribute('body', 'data-render3-ms')} ms`);
 await page.check('input[name="mode"][value="space"]'); await frame();
 await measure('5×5×5 volume, space drag in 3D (coarse 24 while moving)', '#view3d', async (b) => { const [x, y] = await page.evaluate((i) => [...window.bezsolid.modeler.sphere_screen_3d(i)], idx); return [b.x + x, b.y + y]; }, 2, 0);
 

@@ -372,6 +372,8 @@ async function main() {
     document.body.dataset.ffOperation = op;
   };
   let display = 'result';
+  // What the Bézier panel shows, one snapshot of the editor, its last frame and its 3D view.
+  const panel = () => JSON.parse(modeler.panel());
   const updatePanel = () => {
     if (freeform()) {
       updateFreeForm();
@@ -384,8 +386,9 @@ async function main() {
       return;
     }
     for (const o of document.querySelectorAll('#export option[data-script]')) o.disabled = true;
-    const sel = modeler.selected();
-    const point = modeler.selected_point();
+    const p = panel();
+    const sel = p.selected;
+    const point = p.point;
     if (sel && point) {
       $('point-label').textContent = `P${sel[0]}${sel[1]} (i = ${sel[0]}, j = ${sel[1]})`;
       [inputs.x, inputs.y, inputs.xi].forEach((input, k) => {
@@ -402,17 +405,17 @@ async function main() {
         input.value = '';
       }
     }
-    $('range-min').textContent = fmt(modeler.range_min());
-    $('range-max').textContent = fmt(modeler.range_max());
-    const n = modeler.contour_count();
+    $('range-min').textContent = fmt(p.frame.range[0]);
+    $('range-max').textContent = fmt(p.frame.range[1]);
+    const n = p.frame.contours;
     $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
-      + (modeler.folded() ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
-    const [du, dv] = modeler.degree();
-    const mapped = modeler.space_mapped();
-    const vd = modeler.volume_degree();
+      + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
+    const [du, dv] = p.degree;
+    const mapped = p.space_mapped;
+    const vd = p.volume_degree;
     const volume = !!vd;
     if (volume) {
-      const [axis, index] = modeler.slice();
+      const [axis, index] = p.slice;
       const name = ['u', 'v', 'w'][axis];
       $('model-name').textContent = `Volume solid, ${vd[0] + 1} × ${vd[1] + 1} × ${vd[2] + 1} points${mapped ? ', space-mapped' : ''}`;
       $('model-info').textContent = `Degree ${vd.join(' × ')}; ${mapped ? 'points moved: the inverse map finds (u, v, w)' : 'a regular grid'}. The 2D view edits one slice.`;
@@ -421,11 +424,11 @@ async function main() {
       slider.max = String(vd[axis]);
       if (document.activeElement !== slider) slider.value = String(index);
       $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
-      const t = modeler.surface_triangles();
-      const stack = modeler.stack_info();
-      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${modeler.surface_resolution()}; `
+      const [t, resolution] = p.surface ?? [0, 0];
+      const stack = p.stack;
+      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${resolution}; `
         + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
-      document.body.dataset.stack = stack ? `${stack[0]},${stack[1]}` : '';
+      document.body.dataset.stack = stack ? `${stack[0]},${stack[1] ? 1 : 0}` : '';
     } else {
       $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
       $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
@@ -435,9 +438,9 @@ async function main() {
     for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !volume;
     for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = false;
     document.body.dataset.kind = volume ? 'volume' : 'patch';
-    $('undo').disabled = !modeler.can_undo();
-    $('redo').disabled = !modeler.can_redo();
-    const mode = modeler.mode();
+    $('undo').disabled = !p.can_undo;
+    $('redo').disabled = !p.can_redo;
+    const mode = p.mode;
     for (const r of document.querySelectorAll('input[name="mode"]')) r.checked = r.value === mode;
     canvas.classList.toggle('space', mode === 'space');
     document.body.dataset.selected = sel ? `${sel[0]},${sel[1]}` : '';
@@ -704,9 +707,9 @@ async function main() {
       if (which === 'xi') {
         modeler.set_selected_xi(value);
       } else {
-        const p = modeler.selected_point();
-        if (!p) return;
-        modeler.set_selected_xy(which === 'x' ? value : p[0], which === 'y' ? value : p[1]);
+        const { point } = panel();
+        if (!point) return;
+        modeler.set_selected_xy(which === 'x' ? value : point[0], which === 'y' ? value : point[1]);
       }
       input.removeAttribute('aria-invalid');
       changed();
@@ -757,13 +760,13 @@ async function main() {
     radio.addEventListener('change', () => {
       if (!radio.checked) return;
       const axis = Number(radio.value);
-      const vd = modeler.volume_degree();
+      const vd = panel().volume_degree;
       if (!vd) return;
       attempt('Slice', () => modeler.set_slice(axis, Math.floor(vd[axis] / 2)));
     });
   }
   $('slice-index').addEventListener('input', (e) => {
-    const s = modeler.slice();
+    const s = panel().slice;
     if (s) attempt('Slice', () => modeler.set_slice(s[0], e.target.valueAsNumber));
   });
   $('resolution').addEventListener('change', (e) => {
@@ -1129,7 +1132,7 @@ async function main() {
           setWorkspace('bezier');
           resize();
           resize3();
-          const [n, m] = modeler.degree();
+          const [n, m] = panel().degree;
           say(`Opened the surface of line ${v.line} as a ${n + 1} × ${m + 1}-point patch (ξ = z); Undo brings back the previous model.`);
           changed();
         });

@@ -25,7 +25,7 @@ test('a volume preset draws its surface, and the cross-section chooser changes t
   await openFish(page);
   assert.match(await page.textContent('#model-name'), /Volume solid, 7 × 5 × 3 points/);
   // The fine surface comes from the worker (a coarse one is drawn meanwhile).
-  await page.waitForFunction(() => window.bezsolid.modeler.surface_resolution() === 64, null, { timeout: 30_000 });
+  await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 30_000 });
   await settle(page);
   assert.match(await page.textContent('#surface-info'), /triangles at 64/);
   const shot = await page.locator('#view3d').screenshot();
@@ -64,10 +64,10 @@ test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo
   const { page, errors } = await open(browser);
   await page.selectOption('#preset', 'blob');
   await page.waitForSelector('body[data-kind="volume"]');
-  const fine = () => page.waitForFunction(() => window.bezsolid.modeler.surface_resolution() === 64, null, { timeout: 30_000 });
+  const fine = () => page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 30_000 });
   await fine();
   const before = JSON.parse(await model(page));
-  const triangles = await page.evaluate(() => window.bezsolid.modeler.surface_triangles());
+  const triangles = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface[0]);
   // The centre point of the blob (ξ = 1), index (1·3 + 1)·3 + 1 = 13.
   const box = await page.locator('#view3d').boundingBox();
   const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.sphere_screen_3d(13)]);
@@ -82,7 +82,7 @@ test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo
   // The edited model's fine surface replaces the coarse one drawn during the drag; a lower centre
   // gives a smaller blob, so fewer triangles at the same resolution.
   await fine();
-  const changed = await page.evaluate(() => window.bezsolid.modeler.surface_triangles());
+  const changed = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface[0]);
   assert.ok(changed < triangles, `the surface was meshed again, smaller: ${triangles} → ${changed}`);
   await page.keyboard.press('Control+z');
   await settle(page);

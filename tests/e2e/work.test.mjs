@@ -130,7 +130,7 @@ test('a folded volume: its contour stack runs in the worker, the page keeps draw
   const line = page.locator('#work .task[data-kind="stack"]');
   await page.waitForSelector('#work .task[data-kind="stack"][data-state="running"]', { timeout: 30_000 });
   assert.match(await line.textContent(), /Contour stack across w…/);
-  assert.equal(await page.evaluate(() => window.bezsolid.modeler.stack_info()), undefined, 'no stack drawn yet');
+  assert.equal(await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).stack), null, 'no stack drawn yet');
   assert.match(await page.textContent('#surface-info'), /contour stack: not made yet/);
   await page.locator('#view3d').screenshot({ path: join(ARTIFACTS, 'work-stack.png') });
   await page.locator('#work').screenshot({ path: join(ARTIFACTS, 'work-list.png') });
@@ -186,7 +186,7 @@ test('the stack from the worker is the stack the page made; the previous one sta
   await page.selectOption('#preset', 'fish');
   await page.waitForSelector('body[data-kind="volume"]');
   await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1'), null, { timeout: 30_000 });
-  const [segments] = await page.evaluate(() => window.bezsolid.modeler.stack_info());
+  const [segments] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).stack);
   // The same segments, made here by the function the page used to call on its own thread.
   const here = await page.evaluate(async () => {
     const m = await import(new URL('pkg/bezsolid_web.js', location.href).href);
@@ -200,11 +200,11 @@ test('the stack from the worker is the stack the page made; the previous one sta
   await page.keyboard.press('Tab');
   const info = await page.evaluate(() => {
     window.bezsolid.modeler.set_selected_xi(-2);
-    const stack = [...window.bezsolid.modeler.stack_info()];
+    const { stack } = JSON.parse(window.bezsolid.modeler.panel());
     window.bezsolid.redraw();
     return stack;
   });
-  assert.deepEqual(info, [segments, 0]);
+  assert.deepEqual(info, [segments, false]);
   await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1'), null, { timeout: 30_000 });
   assert.deepEqual(errors, []);
   await page.close();
@@ -216,7 +216,7 @@ test('a volume drawn with its stack and surface from the worker is the picture t
     const { page, errors } = await open(browser);
     if (!worker) await page.evaluate(() => window.bezsolid.modeler.set_external_surface(false));
     await page.selectOption('#preset', 'ring');
-    await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1') && window.bezsolid.modeler.surface_resolution() === 64, null, { timeout: 30_000 });
+    await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1') && JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 30_000 });
     // Closer: the outer slices' contours show around the ring.
     await page.evaluate(() => {
       window.bezsolid.modeler.wheel_3d(-400);

@@ -10,7 +10,9 @@
 //!   contains; [`scene`]: what a 3D view hands the renderer, and the cache of a surface drawn coarse
 //!   now and fine from the worker;
 //! - [`freeform`]: the Free-form mode; [`script`]: the Script mode;
-//! - [`document`]: files, links and exports of the editor's model, and the jobs the worker runs;
+//! - [`panel`]: what the Bézier mode's panel shows, one snapshot per frame;
+//! - [`document`]: files, links and exports of the editor's model; [`jobs`]: the worker's protocol;
+//! - [`error`]: the one error type;
 //! - [`color`]: the colours the views share.
 //!
 //! The wasm-bindgen glue and the wgpu renderer exist only on `wasm32` and are the one place that
@@ -24,6 +26,7 @@ pub mod error;
 pub mod frame2d;
 pub mod freeform;
 pub mod jobs;
+pub mod panel;
 pub mod scene;
 pub mod script;
 pub mod view2d;

@@ -11,6 +11,7 @@ use crate::editor::{Editor, Mode};
 use crate::error::Error;
 use crate::frame2d::frame;
 use crate::freeform::{Display, FreeForm};
+use crate::panel::{FrameFigures, Panel};
 use crate::render::Renderer;
 use crate::render3d::Renderer3;
 use crate::view2d::View2;
@@ -29,9 +30,8 @@ pub struct Modeler {
     max_size: u32,
     backend: &'static str,
     adapter: String,
-    range: (f64, f64),
-    loops: usize,
-    folded: bool,
+    /// The last 2D frame's figures, for the panel.
+    figures: FrameFigures,
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -368,9 +368,7 @@ pub async fn start(canvas: HtmlCanvasElement, backend: &str) -> Result<Modeler, 
         max_size,
         backend,
         adapter: info.name.clone(),
-        range: (0.0, 0.0),
-        loops: 0,
-        folded: false,
+        figures: FrameFigures::default(),
     })
 }
 
@@ -408,13 +406,19 @@ impl Modeler {
         vec![w, h]
     }
 
+    /// What the panel shows, one snapshot as JSON ([`Panel`]): the selection and its point, the last
+    /// frame's range, contour pieces and whether the net folds, the degrees, the slice, the
+    /// volume's surface and contour stack drawn, undo and redo, the drag mode.
+    #[must_use]
+    pub fn panel(&self) -> String {
+        Panel::of(&self.editor, self.figures, &self.view3).to_json()
+    }
+
     /// Draws the current state.
     pub fn render(&mut self) {
         self.view2.sync(&self.editor);
         let frame = frame(&self.editor, &self.view2);
-        self.range = frame.range;
-        self.loops = frame.contours.len();
-        self.folded = frame.folded;
+        self.figures = FrameFigures::from(&frame);
         let Some((texture, view)) =
             frame_texture(&self.surface, self.renderer.device(), &self.config)
         else {
@@ -423,30 +427,6 @@ impl Modeler {
         self.renderer
             .draw(&view, (self.config.width, self.config.height), &frame);
         self.renderer.queue().present(texture);
-    }
-
-    /// The lowest sampled `f` of the last frame (full blue).
-    #[must_use]
-    pub fn range_min(&self) -> f64 {
-        self.range.0
-    }
-
-    /// The highest sampled `f` of the last frame (full red).
-    #[must_use]
-    pub fn range_max(&self) -> f64 {
-        self.range.1
-    }
-
-    /// Whether the last frame's net may fold (its contour then shows every sheet's zero lines).
-    #[must_use]
-    pub fn folded(&self) -> bool {
-        self.folded
-    }
-
-    /// How many pieces the zero contour had in the last frame.
-    #[must_use]
-    pub fn contour_count(&self) -> usize {
-        self.loops
     }
 
     /// Pointer pressed at CSS pixel `(x, y)` of the canvas, with the modifier that gives the other
@@ -488,14 +468,6 @@ impl Modeler {
         self.view2.key(&mut self.editor, key, shift)
     }
 
-    /// `[i, j]` of the selected control point, or `undefined`.
-    #[must_use]
-    pub fn selected(&self) -> Option<Vec<u32>> {
-        self.editor
-            .selected()
-            .map(|(i, j)| vec![i as u32, j as u32])
-    }
-
     /// ξ of the selected point, or `undefined`.
     #[must_use]
     pub fn selected_xi(&self) -> Option<f64> {
@@ -517,23 +489,6 @@ impl Modeler {
         let q = DVec2::new(x, y);
         let p = self.view2.to_world(&self.editor, q);
         vec![p.x, p.y, self.view2.probe(&self.editor, q)]
-    }
-
-    /// The degree `[n, m]` of the patch.
-    #[must_use]
-    pub fn degree(&self) -> Vec<u32> {
-        let [n, m] = self.editor.solid().degree();
-        vec![n as u32, m as u32]
-    }
-
-    /// `"function"` (drags change ξ) or `"space"` (drags move points in the plane).
-    #[must_use]
-    pub fn mode(&self) -> String {
-        match self.editor.mode() {
-            Mode::Function => "function",
-            Mode::Space => "space",
-        }
-        .to_owned()
     }
 
     /// Sets the drag mode: `"function"` or `"space"`.
@@ -563,24 +518,6 @@ impl Modeler {
     /// Forgets the undo history (after restoring the autosaved model at start-up).
     pub fn forget_history(&mut self) {
         self.editor.forget_history();
-    }
-
-    /// Whether there is a step to undo.
-    #[must_use]
-    pub fn can_undo(&self) -> bool {
-        self.editor.can_undo()
-    }
-
-    /// Whether there is a step to redo.
-    #[must_use]
-    pub fn can_redo(&self) -> bool {
-        self.editor.can_redo()
-    }
-
-    /// `[x, y, ξ]` of the selected point, or `undefined`.
-    #[must_use]
-    pub fn selected_point(&self) -> Option<Vec<f64>> {
-        self.editor.selected_point().map(|p| p.to_array().to_vec())
     }
 
     /// Moves the selected point to `(x, y)`.
@@ -704,15 +641,6 @@ impl Modeler {
         document::hyperfun(&self.editor).map_err(JsError::from)
     }
 
-    /// Whether the control points are moved off a regular grid (a space mapping).
-    #[must_use]
-    pub fn space_mapped(&self) -> bool {
-        match self.editor.volume() {
-            Some(v) => v.inverse().is_some(),
-            None => self.editor.solid().inverse().is_some(),
-        }
-    }
-
     /// The |ξ| that colours full blue or red in the 3D view: the largest |ξ| of the control points.
     #[must_use]
     pub fn xi_extent(&self) -> f64 {
@@ -736,29 +664,6 @@ impl Modeler {
     #[must_use]
     pub fn is_volume(&self) -> bool {
         self.editor.volume().is_some()
-    }
-
-    /// The volume's degree `[n, m, l]`, or `undefined` for a patch.
-    #[must_use]
-    pub fn volume_degree(&self) -> Option<Vec<u32>> {
-        self.editor.volume().map(|v| {
-            let [n, m, l] = v.degree();
-            vec![n as u32, m as u32, l as u32]
-        })
-    }
-
-    /// The slice shown in the patch editor: `[axis, index]` (axis 0 = u, 1 = v, 2 = w), or
-    /// `undefined` for a patch.
-    #[must_use]
-    pub fn slice(&self) -> Option<Vec<u32>> {
-        self.editor.slice().map(|(axis, index)| {
-            let a = match axis {
-                Axis::U => 0,
-                Axis::V => 1,
-                Axis::W => 2,
-            };
-            vec![a, index as u32]
-        })
     }
 
     /// Opens slice `index` across `axis` (0 = u, 1 = v, 2 = w) of the volume in the patch editor.
@@ -789,18 +694,6 @@ impl Modeler {
         self.view3.set_coarse(coarse);
     }
 
-    /// Triangles of the volume surface last drawn (0 for a patch).
-    #[must_use]
-    pub fn surface_triangles(&self) -> usize {
-        self.view3.surface_info().map_or(0, |(t, _)| t)
-    }
-
-    /// The resolution of the volume surface last drawn (0 for a patch).
-    #[must_use]
-    pub fn surface_resolution(&self) -> usize {
-        self.view3.surface_info().map_or(0, |(_, r)| r)
-    }
-
     /// Has the fine volume surface and the contour stack made elsewhere (a Web Worker): the view
     /// then draws a coarse surface and the previous stack, and asks for them through
     /// `surface_request` and `stack_request`.
@@ -829,15 +722,6 @@ impl Modeler {
             self.view3
                 .set_stack(&self.editor, revision as u64, axis, data)
         })
-    }
-
-    /// The contour stack drawn now: `[segments, 1]` when it is of the model as it is, `[segments,
-    /// 0]` for the previous one (drawn while the new one is made), `undefined` when none is drawn.
-    #[must_use]
-    pub fn stack_info(&self) -> Option<Vec<u32>> {
-        self.view3
-            .stack_info(&self.editor)
-            .map(|(segments, current)| vec![segments as u32, u32::from(current)])
     }
 
     /// The model file (JSON) of the patch the 2D view edits (the patch, or the volume's selected
