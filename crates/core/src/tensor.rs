@@ -1144,4 +1144,37 @@ mod tests {
         assert_eq!(vol.get([n + 1, 0, 0]), None);
         assert_eq!(vol.get([n, m, l]), Some(vol[[n, m, l]]));
     }
+
+    #[test]
+    fn nets_of_one_and_four_parameters_evaluate_and_differentiate() {
+        let mut rng = Rng::new(28);
+        let curve = Tensor::<f64, 1>::from_fn([5], |_| rng.range(-1.0, 1.0)).unwrap();
+        let net = Tensor::<f64, 4>::from_fn([2, 1, 3, 2], |_| rng.range(-1.0, 1.0)).unwrap();
+        let h = 1e-6;
+        for _ in 0..20 {
+            let t = rng.range(0.0, 1.0);
+            assert_close!(curve.eval([t]), curve.eval_de_casteljau([t]), 1e-12);
+            let (s, [d]) = curve.eval_with_gradient([t]);
+            assert_close!(s, curve.eval([t]), 1e-12);
+            assert_close!(
+                d,
+                (curve.eval([t + h]) - curve.eval([t - h])) / (2.0 * h),
+                1e-6
+            );
+            let p: [f64; 4] = core::array::from_fn(|_| rng.range(0.0, 1.0));
+            assert_close!(net.eval(p), net.eval_de_casteljau(p), 1e-12);
+            let (s, g) = net.eval_with_gradient(p);
+            assert_close!(s, net.eval(p), 1e-12);
+            for (a, &ga) in g.iter().enumerate() {
+                let (mut up, mut down) = (p, p);
+                up[a] += h;
+                down[a] -= h;
+                let fd = (net.eval(up) - net.eval(down)) / (2.0 * h);
+                assert_close!(ga, fd, 1e-6, "axis {a}");
+            }
+            let grid = net.eval_grid([&[p[0], 0.5], &[p[1]], &[p[2], 0.1], &[p[3]]]);
+            assert_close!(grid[0], net.eval(p), 1e-12);
+            assert_close!(grid[3], net.eval([0.5, p[1], 0.1, p[3]]), 1e-12);
+        }
+    }
 }
