@@ -3,6 +3,9 @@
 /// An RGBA colour, components in `[0, 1]`, not premultiplied.
 pub type Rgba = [f32; 4];
 
+/// The selected control point, in every view.
+pub const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
+
 /// The diverging colour scale of the field (the idea of the paper's Fig. 7): `t = −1` blue, `0`
 /// white, `+1` red; `t` is clamped to `[−1, 1]`.
 #[must_use]

@@ -28,12 +28,6 @@ impl Error {
     pub fn message(&self) -> &str {
         &self.0
     }
-
-    /// The same error, with what was being done said first (`"{context}: {message}"`).
-    #[must_use]
-    pub fn context(self, context: impl fmt::Display) -> Self {
-        Self(format!("{context}: {}", self.0))
-    }
 }
 
 impl fmt::Display for Error {

@@ -8,7 +8,7 @@ use bezsolid_core::contour::{Grid2, Polyline, contour, sheet_contour, solid_cont
 use bezsolid_core::rfunc::clip2;
 use glam::{DVec2, DVec3};
 
-use crate::color::{Rgba, diverging};
+use crate::color::{Rgba, SELECT_COLOR, diverging};
 use crate::editor::Editor;
 use crate::view2d::{POINT_RADIUS, View2};
 
@@ -27,7 +27,6 @@ const CONTOUR_COLOR: Rgba = [0.06, 0.06, 0.08, 1.0];
 const GRID_COLOR: Rgba = [0.18, 0.2, 0.24, 0.75];
 const BOX_COLOR: Rgba = [0.3, 0.32, 0.36, 0.6];
 const OUTLINE_COLOR: Rgba = [0.08, 0.08, 0.1, 1.0];
-const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
 
 /// One vertex of the overlay geometry: a position in normalised device coordinates and a colour.
 #[derive(Clone, Copy, Debug, PartialEq)]

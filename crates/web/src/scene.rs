@@ -139,12 +139,6 @@ impl Refined {
         self.request.take()
     }
 
-    /// Whether a fine surface is wanted and not yet taken.
-    #[must_use]
-    pub fn requested(&self) -> bool {
-        self.request.is_some()
-    }
-
     /// Hands in a surface made elsewhere for `revision` at `resolution`, taken only when
     /// `revision` is `current`; returns whether it was.
     pub fn hand_in(
@@ -225,6 +219,6 @@ mod tests {
         // Made here when nothing is made elsewhere.
         r.update(3, 40, 24, false, tris);
         assert_eq!(r.info(3), Some((40, 40)));
-        assert!(!r.requested());
+        assert_eq!(r.take_request(), None, "nothing asked of elsewhere");
     }
 }

@@ -13,7 +13,7 @@ use bezsolid_core::{Axis, Solid3};
 use glam::{DVec2, DVec3, DVec4};
 
 use crate::camera::{Camera, OrbitView};
-use crate::color::{Rgba, diverging};
+use crate::color::{Rgba, SELECT_COLOR, diverging};
 use crate::editor::{Editor, Mode};
 use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
 use crate::view2d::XI_PER_PIXEL;
@@ -24,7 +24,6 @@ const SURFACE_CELLS: usize = 48;
 const SPHERE_RADIUS: f64 = 0.022;
 
 const PLANE_COLOR: Rgba = [0.55, 0.58, 0.64, 0.28];
-const SELECT_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
 const GUIDE_COLOR: Rgba = [0.25, 0.27, 0.32, 1.0];
 const NET_COLOR: Rgba = [0.35, 0.37, 0.42, 1.0];
 const SURFACE_COLOR: Rgba = [0.86, 0.62, 0.42, 1.0];

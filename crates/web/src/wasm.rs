@@ -258,6 +258,11 @@ pub fn run_job(job: &[u8], progress: &js_sys::Function) -> Result<Vec<u8>, JsErr
     })?)
 }
 
+/// The parameter axis the page numbers `axis` (0 = u, 1 = v, 2 = w).
+fn axis_of(axis: u32) -> Result<Axis, Error> {
+    Axis::from_index(axis as usize).ok_or_else(|| Error::new("axes are 0 (u), 1 (v) and 2 (w)"))
+}
+
 thread_local! {
     /// [`headless_approximate`]'s answer.
     static APPROXIMATE: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
@@ -535,12 +540,7 @@ impl Modeler {
     ///
     /// Past the largest grid, or for another axis.
     pub fn elevate(&mut self, axis: u32) -> Result<(), JsError> {
-        let axis = match axis {
-            0 => Axis::U,
-            1 => Axis::V,
-            2 => Axis::W,
-            _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
-        };
+        let axis = axis_of(axis)?;
         self.editor.elevate(axis).map_err(JsError::from)
     }
 
@@ -672,12 +672,7 @@ impl Modeler {
     ///
     /// For a patch model, or an axis or index out of range.
     pub fn set_slice(&mut self, axis: u32, index: u32) -> Result<(), JsError> {
-        let axis = match axis {
-            0 => Axis::U,
-            1 => Axis::V,
-            2 => Axis::W,
-            _ => return Err(JsError::new("axes are 0 (u), 1 (v) and 2 (w)")),
-        };
+        let axis = axis_of(axis)?;
         self.editor
             .set_slice(axis, index as usize)
             .map_err(JsError::from)
