@@ -82,7 +82,9 @@ test("the worker's contour stack of a volume: the slices reported as they are do
   assert.ok(zs.has(0));
   // A progress report that throws changes nothing.
   assert.deepEqual(headless_stack(MODEL, 2, () => { throw new Error('ignored'); }), stack);
-  assert.throws(() => headless_stack(MODEL, 3, () => {}), /axes are 0/);
+  // An axis is a `ParamAxis` (0, 1, 2): the glue refuses another number and the module lives on.
+  assert.throws(() => headless_stack(MODEL, 3, () => {}), /invalid enum value/);
+  assert.deepEqual(headless_stack(MODEL, glue.ParamAxis.W, () => {}), stack);
 });
 
 test('bad input throws a clear error and never kills the module', () => {
@@ -134,6 +136,17 @@ test('a free-form model: its result surface and mesh files, from the file and it
   assert.throws(() => headless_esc_mesh(link, 'gltf', 24), /unknown mesh format/);
   assert.throws(() => headless_esc_surface('#v1.AAAA', 24), /the link is damaged/);
   assert.throws(() => view.open('{"format":"bezsolid","version":1,"solid":{"kind":"esc","operands":[{"example":"teapot"}]}}'), /no example/);
+  // The choices are typed (`Operation`, `FreeFormExample`, `FreeFormDisplay`): another name is a
+  // clear error that changes nothing.
+  assert.equal(view.operation(), 'difference');
+  assert.throws(() => view.set_operation('xor'), /unknown operation: use "union"/);
+  assert.throws(() => view.set_example(0, 'teapot'), /unknown example/);
+  assert.throws(() => view.set_display('wireframe'), /unknown display/);
+  assert.equal(view.link(), link);
+  view.set_operation('none');
+  assert.equal(view.operation(), 'none');
+  view.set_example(0, 'torus');
+  assert.equal(view.operand_name(0), 'torus');
   view.free();
 });
 

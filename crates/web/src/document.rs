@@ -8,7 +8,6 @@ use bezsolid_core::hyperfun::{solid2_hf, solid3_hf};
 use bezsolid_core::link;
 use bezsolid_core::mesh::Mesh;
 use bezsolid_core::mesh::svg::contours_svg;
-use bezsolid_core::mesh::{Format, UnknownFormat};
 use bezsolid_core::model::{ModelFile, ModelSolid};
 
 use crate::editor::Editor;
@@ -142,10 +141,11 @@ pub fn read_any(text: &str) -> Result<ModelSolid, Error> {
 /// The page's module without a page: a model file or a link in, the model file, the link or a mesh
 /// file out (for node and other headless hosts).
 pub mod headless {
-    use super::{Editor, MESH_ACCURACY, mesh_file, model_json, open, read_any, share_fragment};
+    use super::{Editor, MESH_ACCURACY, model_json, open, read_any, share_fragment};
     use crate::error::Error;
-    use bezsolid_core::Solid2;
+    use bezsolid_core::mesh::Format;
     use bezsolid_core::model::ModelSolid;
+    use bezsolid_core::{Axis, Solid2};
 
     /// The largest resolution a headless mesh is made at.
     pub const MAX_RESOLUTION: usize = 512;
@@ -198,20 +198,18 @@ pub mod headless {
         share_fragment(&editor(text)?)
     }
 
-    /// A mesh file (`"stl"`, `"obj"`, `"ply"`) of a volume model at `resolution` cells along the
-    /// longest side.
+    /// A mesh file of a volume model at `resolution` cells along the longest side.
     ///
     /// # Errors
     ///
-    /// What is wrong with the input, a patch model, a resolution outside 2 to 512, or another
-    /// format.
-    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
+    /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
+    pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
         let v = volume(text, resolution)?;
         let m = v
             .polygonize(resolution, MESH_ACCURACY)
             .map_err(Error::from)?;
         Ok(Made {
-            data: mesh_file(&m, format)?,
+            data: format.write(&m),
             approximate: v.exhausted(),
         })
     }
@@ -238,11 +236,9 @@ pub mod headless {
     /// What is wrong with the input, a patch model, or another axis.
     pub fn stack(
         text: &str,
-        axis: usize,
+        axis: Axis,
         progress: impl FnMut(usize, usize),
     ) -> Result<Made<Vec<f64>>, Error> {
-        let axis =
-            bezsolid_core::Axis::from_index(axis).ok_or("axes are 0 (u), 1 (v) and 2 (w)")?;
         match read_any(text)? {
             ModelSolid::Volume(v) => {
                 let (data, approximate) = crate::view3d::stack_segments(&v, axis, progress);
@@ -284,19 +280,11 @@ pub fn mesh(editor: &Editor, resolution: usize) -> Result<Mesh, Error> {
         .map_err(Error::from)
 }
 
-/// A mesh file: `"stl"` (binary), `"obj"` or `"ply"`.
-///
-/// # Errors
-///
-/// For another format.
-pub fn mesh_file(mesh: &Mesh, format: &str) -> Result<Vec<u8>, Error> {
-    let format: Format = format.parse().map_err(|e: UnknownFormat| e.to_string())?;
-    Ok(format.write(mesh))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bezsolid_core::Axis;
+    use bezsolid_core::mesh::Format;
     use glam::DVec2;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -336,9 +324,8 @@ mod tests {
         assert!(same_model(&e, &back));
         let m = mesh(&e, 24).unwrap();
         assert!(m.check_closed_manifold().is_ok());
-        let stl = mesh_file(&m, "stl").unwrap();
+        let stl = Format::Stl.write(&m);
         assert_eq!(stl.len(), 84 + 50 * m.triangles.len());
-        assert!(mesh_file(&m, "xyz").is_err());
         assert!(hyperfun(&e).unwrap().contains("my_model("));
         assert!(mesh(&Editor::new(Solid2::fig9()), 24).is_err());
     }
@@ -355,26 +342,27 @@ mod tests {
         assert_eq!(headless::model(&link).unwrap(), json);
         assert_eq!(headless::model(&json).unwrap(), json);
         assert_eq!(headless::link(&json).unwrap(), link);
-        let stl = headless::mesh(&format!("http://x/{link}"), "stl", 20).unwrap();
+        let stl = headless::mesh(&format!("http://x/{link}"), Format::Stl, 20).unwrap();
         let m = mesh(&e, 20).unwrap();
-        assert_eq!(stl.data, mesh_file(&m, "stl").unwrap());
+        assert_eq!(stl.data, Format::Stl.write(&m));
         assert_eq!(stl.approximate, 0, "a regular net is exact");
-        assert!(headless::mesh(&link, "stl", 1).is_err());
-        assert!(headless::mesh(&link, "stl", 100_000).is_err());
+        assert!(headless::mesh(&link, Format::Stl, 1).is_err());
+        assert!(headless::mesh(&link, Format::Stl, 100_000).is_err());
         assert!(
-            headless::mesh(&model_json(&Editor::new(Solid2::fig9())), "stl", 20)
+            headless::mesh(&model_json(&Editor::new(Solid2::fig9())), Format::Stl, 20)
                 .unwrap_err()
                 .message()
                 .contains("patch")
         );
         let mut calls = Vec::new();
-        let stack = headless::stack(&link, 2, |done, total| calls.push((done, total))).unwrap();
+        let stack =
+            headless::stack(&link, Axis::W, |done, total| calls.push((done, total))).unwrap();
         assert_eq!(calls, [(1, 3), (2, 3), (3, 3)]);
         assert_eq!(
             (stack.data, stack.approximate),
             crate::view3d::stack_segments(e.volume().unwrap(), bezsolid_core::Axis::W, |_, _| {})
         );
-        assert!(headless::stack(&link, 3, |_, _| {}).is_err());
+        assert!(headless::stack(&json, Axis::W, |_, _| {}).is_ok());
         assert!(headless::model("#v1.garbage").is_err());
         assert!(headless::model("{ not json").is_err());
     }
@@ -442,7 +430,7 @@ mod tests {
 
     #[test]
     fn exports_of_nets_that_fold_everywhere_say_they_are_approximate() {
-        let made = headless::mesh(&shuffled_volume(), "stl", 16).unwrap();
+        let made = headless::mesh(&shuffled_volume(), Format::Stl, 16).unwrap();
         assert!(made.data.len() >= 84);
         assert!(made.approximate > 0, "{}", made.approximate);
     }

@@ -52,19 +52,6 @@ pub enum Display {
     Operands,
 }
 
-impl Display {
-    /// By name: `result`, `points`, `operands`.
-    #[must_use]
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "result" => Some(Self::Result),
-            "points" => Some(Self::Points),
-            "operands" => Some(Self::Operands),
-            _ => None,
-        }
-    }
-}
-
 /// What the triangles depend on: the revision, the display, and the surface's revision and
 /// resolution.
 type GeometryKey = (u64, Display, Option<(u64, usize)>);
@@ -213,16 +200,14 @@ impl FreeForm {
         Ok(())
     }
 
-    /// Operand `slot` (0 for A, 1 for B) becomes the built-in example `name`, keeping its offset.
+    /// Operand `slot` (0 for A, 1 for B) becomes a built-in example, keeping its offset.
     ///
     /// # Errors
     ///
-    /// An unknown example or slot.
-    pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), Error> {
-        let example =
-            Example::from_name(name).ok_or_else(|| Error::new(format!("no example {name:?}")))?;
+    /// An unknown slot.
+    pub fn set_example(&mut self, slot: usize, example: Example) -> Result<(), Error> {
         let offset = self.operands.get(slot).map_or([0.0; 3], |o| o.offset);
-        self.replace(slot, name, EscOperand::example(example, offset))
+        self.replace(slot, example.name(), EscOperand::example(example, offset))
     }
 
     /// Operand `slot` becomes an imported mesh (read by [`bezsolid_core::mesh::read`]), named `name`.
@@ -281,27 +266,20 @@ impl FreeForm {
         self.apply(operands, self.operation)
     }
 
-    /// The operation (`union`, `intersection`, `difference`), or `none` for solid A alone.
+    /// The operation on A and B, or `None` for solid A alone (a new B is a torus).
     ///
     /// # Errors
     ///
-    /// An unknown operation.
-    pub fn set_operation(&mut self, name: &str) -> Result<(), Error> {
+    /// When the new model cannot be built.
+    pub fn set_operation(&mut self, operation: Option<Op>) -> Result<(), Error> {
         let mut operands = self.operands.clone();
-        let operation = match name {
-            "none" => {
-                operands.truncate(1);
-                None
+        match operation {
+            None => operands.truncate(1),
+            Some(_) if operands.len() == 1 => {
+                operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
             }
-            _ => {
-                let op = Op::from_name(name)
-                    .ok_or_else(|| Error::new(format!("no operation {name:?}")))?;
-                if operands.len() == 1 {
-                    operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
-                }
-                Some(op)
-            }
-        };
+            Some(_) => {}
+        }
         self.apply(operands, operation)
     }
 
@@ -311,10 +289,10 @@ impl FreeForm {
         self.revision
     }
 
-    /// The operation's name, or `none`.
+    /// The operation on A and B, or `None` for solid A alone.
     #[must_use]
-    pub fn operation(&self) -> &'static str {
-        self.operation.map_or("none", Op::name)
+    pub fn operation(&self) -> Option<Op> {
+        self.operation
     }
 
     /// Operand `slot`: its name (an example's, or the imported file's) and offset.
@@ -543,6 +521,7 @@ pub fn is_free_form(text: &str) -> bool {
 pub mod headless {
     use super::read_file;
     use crate::error::Error;
+    use bezsolid_core::mesh::Format;
 
     /// The largest resolution of a headless surface or mesh.
     pub const MAX_RESOLUTION: usize = bezsolid_core::esc::draw::MAX_RESOLUTION;
@@ -568,17 +547,17 @@ pub mod headless {
         ))
     }
 
-    /// A mesh file (`"stl"`, `"obj"`, `"ply"`) of the result's surface.
+    /// A mesh file of the result's surface.
     ///
     /// # Errors
     ///
-    /// As [`surface`], an empty result, or another format.
-    pub fn mesh(text: &str, format: &str, resolution: usize) -> Result<Vec<u8>, Error> {
+    /// As [`surface`], or an empty result.
+    pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Vec<u8>, Error> {
         let mesh = boolean(text, resolution)?.surface(resolution);
         if mesh.triangles.is_empty() {
             return Err("the result is empty: there is no surface to export".into());
         }
-        crate::document::mesh_file(&mesh, format)
+        Ok(format.write(&mesh))
     }
 }
 
@@ -646,6 +625,7 @@ pub(crate) fn octahedron(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgb
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bezsolid_core::mesh::Format;
     use glam::DVec2;
 
     #[test]
@@ -664,25 +644,24 @@ mod tests {
         assert!(f.set_surface(revision, resolution, &fine));
         assert_eq!(f.surface_info().map(|s| s.1), Some(DEFAULT_RESOLUTION));
         // A stale surface is refused.
-        f.set_operation("union").unwrap();
+        f.set_operation(Some(Op::Union)).unwrap();
         assert!(!f.set_surface(revision, resolution, &fine));
     }
 
     #[test]
     fn edits_round_trip_through_the_model_file_and_bad_ones_keep_the_scene() {
         let mut f = FreeForm::new();
-        f.set_example(0, "icosphere").unwrap();
+        f.set_example(0, Example::Icosphere).unwrap();
         f.set_offset(1, [0.5, 0.0, 0.0]).unwrap();
-        f.set_operation("intersection").unwrap();
+        f.set_operation(Some(Op::Intersection)).unwrap();
         let file = f.model_file();
         let mut g = FreeForm::new();
         g.open(&file).unwrap();
         assert_eq!(g.model_file(), file);
-        assert_eq!(g.operation(), "intersection");
+        assert_eq!(g.operation(), Some(Op::Intersection));
         let before = f.model_file();
-        assert!(f.set_example(0, "teapot").is_err());
+        assert!(f.set_example(2, Example::Blob).is_err(), "no third operand");
         assert!(f.set_offset(1, [f64::NAN, 0.0, 0.0]).is_err());
-        assert!(f.set_operation("xor").is_err());
         let open = bezsolid_core::esc::examples::icosphere(1);
         let mut broken = open.clone();
         broken.triangles.pop();
@@ -694,7 +673,7 @@ mod tests {
         f.set_mesh(1, "ball.obj", &open).unwrap();
         assert_eq!(f.operand(1).map(|o| o.0), Some("ball.obj".into()));
         // One operand alone.
-        f.set_operation("none").unwrap();
+        f.set_operation(None).unwrap();
         assert_eq!(f.boolean().solids.len(), 1);
     }
 
@@ -709,11 +688,11 @@ mod tests {
         assert_eq!(a, headless::surface(&link, 16).unwrap());
         assert!(a.len() > 18 * 100);
         // The export is the closed mesh of the same resolution.
-        let stl = headless::mesh(&link, "stl", 16).unwrap();
+        let stl = headless::mesh(&link, Format::Stl, 16).unwrap();
         let closed = f.boolean().surface(16);
         closed.check_closed_manifold().unwrap();
         assert_eq!(stl.len(), 84 + 50 * closed.triangles.len());
-        assert!(headless::mesh(&link, "gltf", 16).is_err());
+        assert!(headless::mesh(&link, Format::Stl, 1000).is_err());
         assert!(headless::surface(&link, 1000).is_err());
         assert!(headless::surface("#v1.garbage", 16).is_err());
     }
@@ -732,14 +711,14 @@ mod tests {
     #[test]
     fn operand_names_follow_the_operands() {
         let mut f = FreeForm::new();
-        f.set_example(1, "icosphere").unwrap();
-        f.set_operation("none").unwrap();
-        f.set_operation("union").unwrap();
+        f.set_example(1, Example::Icosphere).unwrap();
+        f.set_operation(None).unwrap();
+        f.set_operation(Some(Op::Union)).unwrap();
         assert_eq!(f.operand(1).map(|o| o.0), Some("torus".into()));
         f.set_mesh(1, "ball.obj", &bezsolid_core::esc::examples::icosphere(1))
             .unwrap();
         assert_eq!(f.operand(1).map(|o| o.0), Some("ball.obj".into()));
-        f.set_example(1, "blob").unwrap();
+        f.set_example(1, Example::Blob).unwrap();
         assert_eq!(
             f.operand(1).map(|o| (o.0, o.2)),
             Some(("blob".into(), true))

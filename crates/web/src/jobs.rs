@@ -8,6 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use bezsolid_core::Axis;
+use bezsolid_core::mesh::Format;
+
 use crate::error::Error;
 
 /// A job, as the page posts it (`{"kind": "surface", "model": …, "resolution": 64}`).
@@ -26,7 +29,7 @@ pub enum Job {
         /// A model file or link.
         model: String,
         /// `stl`, `obj` or `ply`.
-        format: String,
+        format: Format,
         /// Cells along the longest side.
         resolution: usize,
     },
@@ -36,7 +39,8 @@ pub enum Job {
         /// A model file or link.
         model: String,
         /// 0 (u), 1 (v) or 2 (w).
-        axis: usize,
+        #[serde(with = "axis_index")]
+        axis: Axis,
     },
     /// The SVG of a patch model's contours.
     Svg {
@@ -55,7 +59,7 @@ pub enum Job {
         /// A free-form model file or link.
         model: String,
         /// `stl`, `obj` or `ply`.
-        format: String,
+        format: Format,
         /// Cells along the longest side.
         resolution: usize,
     },
@@ -69,7 +73,7 @@ pub enum Job {
         /// The script (named `model` as the page sends it).
         model: String,
         /// `obj`, `stl` or `ply`.
-        format: String,
+        format: Format,
     },
     /// The Bézier net of a script's surface: a patch model file.
     PlasmPatch {
@@ -78,6 +82,24 @@ pub enum Job {
         /// Which top-level value.
         index: usize,
     },
+}
+
+/// An axis on the wire: its number, 0 (u), 1 (v) or 2 (w), as the page numbers axes.
+mod axis_index {
+    use bezsolid_core::Axis;
+    use serde::{Deserialize, Deserializer, Serializer, de::Error as _};
+
+    pub(super) fn serialize<S: Serializer>(axis: &Axis, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_u64(axis.index() as u64)
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Axis, D::Error> {
+        let n = u64::deserialize(d)?;
+        usize::try_from(n)
+            .ok()
+            .and_then(Axis::from_index)
+            .ok_or_else(|| D::Error::custom("axes are 0 (u), 1 (v) and 2 (w)"))
+    }
 }
 
 /// What a job made.
@@ -140,7 +162,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             format,
             resolution,
         } => {
-            let m = bezier::mesh(model, format, *resolution)?;
+            let m = bezier::mesh(model, *format, *resolution)?;
             counted(Payload::Bytes(m.data), m.approximate)
         }
         Job::Stack { model, axis } => {
@@ -160,7 +182,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             resolution,
         } => plain(Payload::Bytes(crate::freeform::headless::mesh(
             model,
-            format,
+            *format,
             *resolution,
         )?)),
         Job::Plasm { script } => {
@@ -172,7 +194,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             }
         }
         Job::PlasmMesh { model, format } => {
-            plain(Payload::Bytes(crate::script::export(model, format)?))
+            plain(Payload::Bytes(crate::script::export(model, *format)?))
         }
         Job::PlasmPatch { script, index } => plain(Payload::Bytes(
             crate::script::patch_model(script, *index)?.0.into_bytes(),
@@ -297,6 +319,9 @@ mod tests {
             &b"not json"[..],
             br#"{"kind": "format-disk"}"#,
             br#"{"kind": "surface", "model": "{}"}"#,
+            br#"{"kind": "mesh", "model": "{}", "format": "gltf", "resolution": 8}"#,
+            br#"{"kind": "stack", "model": "{}", "axis": 3}"#,
+            br#"{"kind": "stack", "model": "{}", "axis": -1}"#,
         ] {
             assert!(run_bytes(bad, |_, _| {}).is_err());
         }
@@ -306,5 +331,44 @@ mod tests {
         )
         .unwrap_err();
         assert!(err.message().contains("model"), "{err}");
+        let err =
+            run_bytes(br#"{"kind": "stack", "model": "{}", "axis": 7}"#, |_, _| {}).unwrap_err();
+        assert!(err.message().contains("axes are 0 (u)"), "{err}");
+        let err = run_bytes(
+            br#"{"kind": "plasm-mesh", "model": "", "format": "3mf"}"#,
+            |_, _| {},
+        )
+        .unwrap_err();
+        assert!(
+            err.message().contains("obj"),
+            "the formats are named: {err}"
+        );
+    }
+
+    #[test]
+    fn jobs_round_trip_through_json() {
+        let jobs = [
+            Job::Stack {
+                model: "m".into(),
+                axis: Axis::V,
+            },
+            Job::EscMesh {
+                model: "m".into(),
+                format: Format::Ply,
+                resolution: 12,
+            },
+        ];
+        for job in jobs {
+            let json = serde_json::to_string(&job).unwrap();
+            assert_eq!(serde_json::from_str::<Job>(&json).unwrap(), job, "{json}");
+        }
+        assert_eq!(
+            serde_json::to_value(Job::Stack {
+                model: "m".into(),
+                axis: Axis::W
+            })
+            .unwrap()["axis"],
+            2
+        );
     }
 }

@@ -2,7 +2,7 @@
 //! expressions give is drawn in the 3D view: surfaces shaded with their triangles' edges, curves
 //! as thin tubes, points as small spheres, one colour per result.
 
-use bezsolid_core::mesh::{Format, UnknownFormat};
+use bezsolid_core::mesh::Format;
 use bezsolid_core::model::ModelFile;
 use bezsolid_plasm::mesh::{Geometry, embed};
 use bezsolid_plasm::{Complex, Interp, scripts};
@@ -198,9 +198,8 @@ pub fn draw(complexes: &[&Complex]) -> (Vec<f32>, [usize; 3], Option<String>) {
 ///
 /// # Errors
 ///
-/// The script's error, a script that draws nothing (or no triangles, for STL and PLY), or an
-/// unknown format.
-pub fn export(script: &str, format: &str) -> Result<Vec<u8>, Error> {
+/// The script's error, or a script that draws nothing (or no triangles, for STL and PLY).
+pub fn export(script: &str, format: Format) -> Result<Vec<u8>, Error> {
     let mut interp = Interp::new();
     let run = interp.run(script);
     if let Some(e) = run.error {
@@ -210,7 +209,6 @@ pub fn export(script: &str, format: &str) -> Result<Vec<u8>, Error> {
     if complexes.is_empty() {
         return Err("the script draws nothing: no top-level expression gives a complex".into());
     }
-    let format: Format = format.parse().map_err(|e: UnknownFormat| e.to_string())?;
     bezsolid_plasm::mesh::export(complexes, format)
         .map_err(|_| "the script draws no triangles (only curves or points): export OBJ".into())
 }
@@ -436,21 +434,23 @@ mod tests {
     #[test]
     fn exports_parse_back() {
         let src = scripts::example("4.6").expect("4.6").source();
-        let obj = String::from_utf8(export(&src, "obj").expect("obj")).expect("text");
+        let obj = String::from_utf8(export(&src, Format::Obj).expect("obj")).expect("text");
         assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 392);
-        let stl = export(&src, "stl").expect("stl");
+        let stl = export(&src, Format::Stl).expect("stl");
         assert_eq!(
             u32::from_le_bytes(stl[80..84].try_into().expect("4 bytes")),
             392
         );
         let arc = scripts::example("3.3").expect("3.3").source();
-        assert!(export(&arc, "stl").is_err_and(|e| e.message().contains("no triangles")));
+        assert!(export(&arc, Format::Stl).is_err_and(|e| e.message().contains("no triangles")));
         assert!(
-            String::from_utf8(export(&arc, "obj").expect("obj"))
+            String::from_utf8(export(&arc, Format::Obj).expect("obj"))
                 .is_ok_and(|t| t.contains("\nl 1 2\n"))
         );
-        assert!(export("1;", "obj").is_err_and(|e| e.message().contains("draws nothing")));
-        assert!(export("1 +;", "obj").is_err_and(|e| e.message().starts_with("line 1, column 3")));
+        assert!(export("1;", Format::Obj).is_err_and(|e| e.message().contains("draws nothing")));
+        assert!(
+            export("1 +;", Format::Obj).is_err_and(|e| e.message().starts_with("line 1, column 3"))
+        );
     }
 
     #[test]

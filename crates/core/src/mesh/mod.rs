@@ -30,7 +30,10 @@ pub use read::{
 };
 
 /// A mesh file format: what the command line, the page and scripts export to and import from.
+/// With the `serde` feature it is written as its extension (`"obj"`, `"stl"`, `"ply"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Format {
     /// Wavefront OBJ (text): positions, normals, faces.
     Obj,

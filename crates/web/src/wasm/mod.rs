@@ -1,22 +1,30 @@
 //! The JavaScript face of the modeler: [`start`] brings up wgpu on a canvas and returns a [`Modeler`]
 //! whose methods the page calls on input and on animation frames. Logic stays in the plain-Rust
-//! modules ([`crate::editor`], [`crate::view2d`], [`crate::view3d`], …).
+//! modules ([`crate::editor`], [`crate::view2d`], [`crate::view3d`], …); the choices the page
+//! names (drag modes, axes, formats, operations, displays) are the enums of [`names`].
+
+mod names;
+
+pub use names::{
+    Backend, DragMode, FreeFormDisplay, FreeFormExample, MeshFormat, Operation, ParamAxis,
+};
 
 use glam::DVec2;
 use wasm_bindgen::prelude::*;
 use web_sys::HtmlCanvasElement;
 
 use crate::document;
-use crate::editor::{Editor, Mode};
+use crate::editor::Editor;
 use crate::error::Error;
 use crate::frame2d::frame;
-use crate::freeform::{Display, FreeForm};
+use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
 use crate::render::Renderer;
 use crate::render3d::Renderer3;
 use crate::view2d::View2;
 use crate::view3d::View3;
-use bezsolid_core::{Axis, Solid2};
+use bezsolid_core::Solid2;
+use bezsolid_core::mesh::Format;
 
 /// The modeler on one canvas: the contour view's state and the GPU that draws it.
 #[wasm_bindgen]
@@ -74,17 +82,8 @@ struct Gpu {
 impl Gpu {
     /// An adapter and device for `canvas` on `backend` (`"auto"`, `"webgpu"` or `"webgl2"`). Each
     /// canvas gets its own: a WebGL2 device draws only on the canvas it was made for.
-    async fn bring_up(canvas: &HtmlCanvasElement, backend: &str) -> Result<Self, JsError> {
-        let backends = match backend {
-            "webgpu" => wgpu::Backends::BROWSER_WEBGPU,
-            "webgl2" => wgpu::Backends::GL,
-            "auto" => wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL,
-            other => {
-                return Err(JsError::new(&format!(
-                    "unknown backend {other:?}: use auto, webgpu or webgl2"
-                )));
-            }
-        };
+    async fn bring_up(canvas: &HtmlCanvasElement, backend: Backend) -> Result<Self, JsError> {
+        let backends = wgpu::Backends::try_from(backend)?;
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = backends;
         let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
@@ -187,8 +186,12 @@ pub fn headless_link(text: &str) -> Result<String, JsError> {
 ///
 /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
 #[wasm_bindgen]
-pub fn headless_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
-    made(document::headless::mesh(text, format, resolution as usize))
+pub fn headless_mesh(text: &str, format: MeshFormat, resolution: u32) -> Result<Vec<u8>, JsError> {
+    made(document::headless::mesh(
+        text,
+        format.try_into()?,
+        resolution as usize,
+    ))
 }
 
 /// The surface a volume model (a model file or link) is drawn with at `resolution`, as six `f32`
@@ -213,12 +216,12 @@ pub fn headless_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsError
 #[wasm_bindgen]
 pub fn headless_stack(
     text: &str,
-    axis: u32,
+    axis: ParamAxis,
     progress: &js_sys::Function,
 ) -> Result<Vec<f64>, JsError> {
     made(document::headless::stack(
         text,
-        axis as usize,
+        axis.into(),
         |done, total| {
             // A progress report that throws changes nothing in the work.
             let _ = progress.call2(&JsValue::NULL, &done.into(), &total.into());
@@ -256,11 +259,6 @@ pub fn run_job(job: &[u8], progress: &js_sys::Function) -> Result<Vec<u8>, JsErr
         // A progress report that throws changes nothing in the work.
         let _ = progress.call2(&JsValue::NULL, &done.into(), &total.into());
     })?)
-}
-
-/// The parameter axis the page numbers `axis` (0 = u, 1 = v, 2 = w).
-fn axis_of(axis: u32) -> Result<Axis, Error> {
-    Axis::from_index(axis as usize).ok_or_else(|| Error::new("axes are 0 (u), 1 (v) and 2 (w)"))
 }
 
 thread_local! {
@@ -332,7 +330,7 @@ impl Viewer3 {
 ///
 /// When no adapter or device can be had on the requested backend.
 #[wasm_bindgen]
-pub async fn start_3d(canvas: HtmlCanvasElement, backend: &str) -> Result<Viewer3, JsError> {
+pub async fn start_3d(canvas: HtmlCanvasElement, backend: Backend) -> Result<Viewer3, JsError> {
     let gpu = Gpu::bring_up(&canvas, backend).await?;
     let renderer = Renderer3::new(gpu.device, gpu.queue, &gpu.adapter, gpu.config.format);
     gpu.surface.configure(renderer.device(), &gpu.config);
@@ -354,7 +352,7 @@ pub async fn start_3d(canvas: HtmlCanvasElement, backend: &str) -> Result<Viewer
 ///
 /// When no adapter or device can be had on the requested backend.
 #[wasm_bindgen]
-pub async fn start(canvas: HtmlCanvasElement, backend: &str) -> Result<Modeler, JsError> {
+pub async fn start(canvas: HtmlCanvasElement, backend: Backend) -> Result<Modeler, JsError> {
     console_error_panic_hook::set_once();
     let gpu = Gpu::bring_up(&canvas, backend).await?;
     let renderer = Renderer::new(gpu.device, gpu.queue, &gpu.adapter, gpu.config.format);
@@ -501,12 +499,8 @@ impl Modeler {
     /// # Errors
     ///
     /// For another name.
-    pub fn set_mode(&mut self, mode: &str) -> Result<(), JsError> {
-        self.editor.set_mode(match mode {
-            "function" => Mode::Function,
-            "space" => Mode::Space,
-            other => return Err(JsError::new(&format!("unknown mode {other:?}"))),
-        });
+    pub fn set_mode(&mut self, mode: DragMode) -> Result<(), JsError> {
+        self.editor.set_mode(mode.try_into()?);
         Ok(())
     }
 
@@ -539,9 +533,8 @@ impl Modeler {
     /// # Errors
     ///
     /// Past the largest grid, or for another axis.
-    pub fn elevate(&mut self, axis: u32) -> Result<(), JsError> {
-        let axis = axis_of(axis)?;
-        self.editor.elevate(axis).map_err(JsError::from)
+    pub fn elevate(&mut self, axis: ParamAxis) -> Result<(), JsError> {
+        Ok(self.editor.elevate(axis.into())?)
     }
 
     /// A new flat grid of `nu × nv` control points.
@@ -671,11 +664,8 @@ impl Modeler {
     /// # Errors
     ///
     /// For a patch model, or an axis or index out of range.
-    pub fn set_slice(&mut self, axis: u32, index: u32) -> Result<(), JsError> {
-        let axis = axis_of(axis)?;
-        self.editor
-            .set_slice(axis, index as usize)
-            .map_err(JsError::from)
+    pub fn set_slice(&mut self, axis: ParamAxis, index: u32) -> Result<(), JsError> {
+        Ok(self.editor.set_slice(axis.into(), index as usize)?)
     }
 
     /// Sets the volume surface's resolution at rest (cells along the longest side); returns the
@@ -712,11 +702,9 @@ impl Modeler {
 
     /// A contour stack made elsewhere ([`headless_stack`]) for model `revision` across `axis`;
     /// returns whether it was taken (not when the model or the axis has changed since).
-    pub fn set_stack(&mut self, revision: f64, axis: u32, data: &[f64]) -> bool {
-        bezsolid_core::Axis::from_index(axis as usize).is_some_and(|axis| {
-            self.view3
-                .set_stack(&self.editor, revision as u64, axis, data)
-        })
+    pub fn set_stack(&mut self, revision: f64, axis: ParamAxis, data: &[f64]) -> bool {
+        self.view3
+            .set_stack(&self.editor, revision as u64, axis.into(), data)
     }
 
     /// The model file (JSON) of the patch the 2D view edits (the patch, or the volume's selected
@@ -745,9 +733,10 @@ impl Modeler {
     /// # Errors
     ///
     /// For a patch model or another format.
-    pub fn mesh_file(&self, format: &str) -> Result<Vec<u8>, JsError> {
+    pub fn mesh_file(&self, format: MeshFormat) -> Result<Vec<u8>, JsError> {
+        let format = Format::try_from(format)?;
         let mesh = document::mesh(&self.editor, self.view3.resolution())?;
-        document::mesh_file(&mesh, format).map_err(JsError::from)
+        Ok(format.write(&mesh))
     }
 
     /// Triangles of the exported mesh at the resolution set (what `mesh_file` writes).
@@ -918,13 +907,13 @@ impl FreeFormView {
         }
     }
 
-    /// Operand `slot` (0: A, 1: B) becomes the built-in example `name`.
+    /// Operand `slot` (0: A, 1: B) becomes a built-in example.
     ///
     /// # Errors
     ///
     /// An unknown example or slot.
-    pub fn set_example(&mut self, slot: usize, name: &str) -> Result<(), JsError> {
-        self.state.set_example(slot, name).map_err(JsError::from)
+    pub fn set_example(&mut self, slot: usize, example: FreeFormExample) -> Result<(), JsError> {
+        Ok(self.state.set_example(slot, example.try_into()?)?)
     }
 
     /// Operand `slot` becomes the mesh in the OBJ or STL file `bytes`, named `name`.
@@ -956,14 +945,14 @@ impl FreeFormView {
     /// # Errors
     ///
     /// An unknown operation.
-    pub fn set_operation(&mut self, name: &str) -> Result<(), JsError> {
-        self.state.set_operation(name).map_err(JsError::from)
+    pub fn set_operation(&mut self, operation: Operation) -> Result<(), JsError> {
+        Ok(self.state.set_operation(operation.op()?)?)
     }
 
     /// The operation, or `none`.
     #[must_use]
-    pub fn operation(&self) -> String {
-        self.state.operation().into()
+    pub fn operation(&self) -> Operation {
+        Operation::of(self.state.operation())
     }
 
     /// Operand `slot`'s name (an example's or the imported file's), or `undefined`.
@@ -1000,10 +989,8 @@ impl FreeFormView {
     /// # Errors
     ///
     /// Another name.
-    pub fn set_display(&mut self, name: &str) -> Result<(), JsError> {
-        let d = Display::from_name(name)
-            .ok_or_else(|| JsError::new(&format!("no display {name:?}")))?;
-        self.state.set_display(d);
+    pub fn set_display(&mut self, display: FreeFormDisplay) -> Result<(), JsError> {
+        self.state.set_display(display.try_into()?);
         Ok(())
     }
 
@@ -1108,8 +1095,16 @@ pub fn headless_esc_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsE
 ///
 /// What is wrong with the input, an empty result, or another format.
 #[wasm_bindgen]
-pub fn headless_esc_mesh(text: &str, format: &str, resolution: u32) -> Result<Vec<u8>, JsError> {
-    crate::freeform::headless::mesh(text, format, resolution as usize).map_err(JsError::from)
+pub fn headless_esc_mesh(
+    text: &str,
+    format: MeshFormat,
+    resolution: u32,
+) -> Result<Vec<u8>, JsError> {
+    Ok(crate::freeform::headless::mesh(
+        text,
+        format.try_into()?,
+        resolution as usize,
+    )?)
 }
 
 /// The Script mode's view: the drawing of a script's run and an orbit camera.
@@ -1183,8 +1178,8 @@ pub fn headless_plasm(script: &str) -> PlasmRun {
 ///
 /// The script's error, nothing to export, or another format.
 #[wasm_bindgen]
-pub fn headless_plasm_mesh(script: &str, format: &str) -> Result<Vec<u8>, JsError> {
-    crate::script::export(script, format).map_err(JsError::from)
+pub fn headless_plasm_mesh(script: &str, format: MeshFormat) -> Result<Vec<u8>, JsError> {
+    Ok(crate::script::export(script, format.try_into()?)?)
 }
 
 /// The script of a model file or link, if it holds one.
