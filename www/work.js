@@ -7,6 +7,12 @@
 //
 // The work list shows every job the user waits for: what it is, how far it got (a fraction where
 // the work comes in steps), how long it has run, and a Cancel button.
+//
+// A follower keeps one kind of result up to date with the model (a volume's fine surface, its
+// contour stack, a free-form result's surface): it asks for what the model wants now, and drops
+// what the model has moved past.
+
+import { say } from './ui.js';
 
 const cancelled = () => Object.assign(new Error('cancelled'), { cancelled: true });
 
@@ -187,5 +193,85 @@ export function workList(container) {
         },
       };
     },
+  };
+}
+
+/** A runner made on first use (most visits never open a volume or a script); null when `enabled` is false or the browser refuses. */
+export function lazyRunner(enabled) {
+  let made;
+  return () => {
+    if (made === undefined) {
+      try {
+        made = enabled ? runner() : null;
+      } catch {
+        made = null;
+      }
+    }
+    return made;
+  };
+}
+
+/**
+ * Work that follows the model. `request()` says what is wanted now (an array whose first entry is
+ * the model's revision, or undefined), `job(request)` the worker's message for it, and
+ * `accept(request, reply)` hands the result in (false when the model moved on); `onAccepted()`
+ * runs after a result was taken. A newer request cancels the job under way, and so does any change
+ * of the model (`revision()`: its result would be dropped); one the user cancelled is not asked
+ * again until the model changes. `label(request)` names the job in `list`, `unit` its steps, and
+ * `failed` starts the message of an error.
+ */
+export function follower({ list, worker, request, revision, job, accept, onAccepted, label, unit, failed }) {
+  let busy = ''; // the request in flight, as a key
+  let busyRevision = null;
+  let declined = '';
+  let lastMs = 0;
+  let inFlight = null;
+  const send = async (wanted) => {
+    const key = wanted.join(',');
+    busy = key;
+    busyRevision = wanted[0];
+    inFlight?.cancel();
+    const message = job(wanted);
+    const task = list.start(message.kind, label(wanted), () => {
+      declined = key;
+      inFlight?.cancel();
+    });
+    const running = worker().run(message, {
+      onProgress: (done, total) => task.progress(done, total, unit),
+      onStart: () => task.started(),
+    });
+    inFlight = running;
+    try {
+      const reply = await running;
+      if (accept(wanted, reply)) {
+        lastMs = reply.ms;
+        onAccepted();
+      }
+    } catch (err) {
+      if (!err.cancelled) say(`${failed}: ${err.message}`, 'error');
+    } finally {
+      task.end();
+      if (busy === key) busy = '';
+      if (inFlight === running) {
+        inFlight = null;
+        busyRevision = null;
+      }
+    }
+  };
+  return {
+    /** Asks for what the model wants, unless it is in flight or was cancelled. */
+    check() {
+      const wanted = request();
+      if (!wanted) return;
+      const key = wanted.join(',');
+      if (key === busy || key === declined) return;
+      send(wanted);
+    },
+    /** Cancels the job under way if the model has changed since it was asked for. */
+    prune() {
+      if (inFlight && busyRevision !== revision()) inFlight.cancel();
+    },
+    /** How long the last result took in the worker, in ms. */
+    lastMs: () => lastMs,
   };
 }

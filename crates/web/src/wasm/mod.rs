@@ -946,13 +946,13 @@ impl FreeFormView {
     ///
     /// An unknown operation.
     pub fn set_operation(&mut self, operation: Operation) -> Result<(), JsError> {
-        Ok(self.state.set_operation(operation.op()?)?)
+        Ok(self.state.set_operation(operation.try_into()?)?)
     }
 
     /// The operation, or `none`.
     #[must_use]
     pub fn operation(&self) -> Operation {
-        Operation::of(self.state.operation())
+        self.state.operation().into()
     }
 
     /// Operand `slot`'s name (an example's or the imported file's), or `undefined`.

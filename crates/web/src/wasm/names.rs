@@ -3,9 +3,9 @@
 //! and the glue turns it into the domain's type here, in one place.
 //!
 //! A string enum that JavaScript fills with any other string arrives as a hidden `__Invalid`
-//! variant (wasm-bindgen's encoding), so every conversion below is a `TryFrom` whose error names
-//! the strings that are taken. The axis is a numeric enum (the page numbers axes 0, 1, 2), which
-//! the glue checks itself: any other number throws before the call runs.
+//! variant (wasm-bindgen's encoding), so every conversion is a `TryFrom` whose error names the
+//! strings that are taken. The axis is a numeric enum (the page numbers axes 0, 1, 2), which the
+//! glue checks itself: any other number throws before the call runs.
 
 // wasm-bindgen adds the hidden variant and a `from_js_value` to each string enum, undocumented.
 #![allow(missing_docs)]
@@ -19,25 +19,99 @@ use crate::editor::Mode;
 use crate::error::Error;
 use crate::freeform::Display;
 
-/// What a drag in the 2D view moves: a control point's defining value (`"function"`) or the point
-/// in space (`"space"`, the inverse mapping).
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DragMode {
-    Function = "function",
-    Space = "space",
+/// The error for a string that is none of `names`: "unknown mesh format: use "obj", "stl" or "ply"".
+fn unknown(what: &str, names: &[&str]) -> Error {
+    let quoted: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+    let list = match quoted.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    Error::new(format!("unknown {what}: use {list}"))
 }
 
-impl TryFrom<DragMode> for Mode {
-    type Error = Error;
+/// String enums for the page and their conversions: `Name => DomainType, "what it is" { Variant =
+/// "string" => domain value, … }`.
+macro_rules! page_names {
+    ($(
+        $(#[$meta:meta])*
+        $name:ident => $domain:ty, $what:literal {
+            $($variant:ident = $text:literal => $value:expr,)+
+        }
+    )+) => {$(
+        $(#[$meta])*
+        #[wasm_bindgen]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum $name {
+            $($variant = $text,)+
+        }
 
-    fn try_from(mode: DragMode) -> Result<Self, Error> {
-        match mode {
-            DragMode::Function => Ok(Self::Function),
-            DragMode::Space => Ok(Self::Space),
-            _ => Err(Error::new(
-                "unknown drag mode: use \"function\" or \"space\"",
-            )),
+        impl TryFrom<$name> for $domain {
+            type Error = Error;
+
+            fn try_from(name: $name) -> Result<Self, Error> {
+                match name {
+                    $($name::$variant => Ok($value),)+
+                    _ => Err(unknown($what, &[$($text),+])),
+                }
+            }
+        }
+    )+};
+}
+
+page_names! {
+    /// What a drag in the 2D view moves: a control point's defining value (`"function"`) or the
+    /// point in space (`"space"`, the inverse mapping).
+    DragMode => Mode, "drag mode" {
+        Function = "function" => Mode::Function,
+        Space = "space" => Mode::Space,
+    }
+
+    /// A mesh file format.
+    MeshFormat => Format, "mesh format" {
+        Obj = "obj" => Format::Obj,
+        Stl = "stl" => Format::Stl,
+        Ply = "ply" => Format::Ply,
+    }
+
+    /// The Free-form mode's operation on solids A and B, or `"none"` for A alone.
+    Operation => Option<Op>, "operation" {
+        Union = "union" => Some(Op::Union),
+        Intersection = "intersection" => Some(Op::Intersection),
+        Difference = "difference" => Some(Op::Difference),
+        None = "none" => None,
+    }
+
+    /// What the Free-form view shows: the result, the paper's point mesh, or the operands.
+    FreeFormDisplay => Display, "display" {
+        Result = "result" => Display::Result,
+        Points = "points" => Display::Points,
+        Operands = "operands" => Display::Operands,
+    }
+
+    /// A built-in free-form solid.
+    FreeFormExample => Example, "example" {
+        Icosphere = "icosphere" => Example::Icosphere,
+        Torus = "torus" => Example::Torus,
+        Blob = "blob" => Example::Blob,
+    }
+
+    /// Which graphics API a view asks for: `"auto"` (WebGPU where the browser has it, else
+    /// WebGL2), `"webgpu"` or `"webgl2"`.
+    Backend => wgpu::Backends, "graphics backend" {
+        Auto = "auto" => wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL,
+        Webgpu = "webgpu" => wgpu::Backends::BROWSER_WEBGPU,
+        Webgl2 = "webgl2" => wgpu::Backends::GL,
+    }
+}
+
+impl From<Option<Op>> for Operation {
+    fn from(op: Option<Op>) -> Self {
+        match op {
+            Some(Op::Union) => Self::Union,
+            Some(Op::Intersection) => Self::Intersection,
+            Some(Op::Difference) => Self::Difference,
+            None => Self::None,
         }
     }
 }
@@ -60,138 +134,6 @@ impl From<ParamAxis> for Axis {
             ParamAxis::U => Self::U,
             ParamAxis::V => Self::V,
             ParamAxis::W => Self::W,
-        }
-    }
-}
-
-/// A mesh file format: `"obj"`, `"stl"` or `"ply"`.
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MeshFormat {
-    Obj = "obj",
-    Stl = "stl",
-    Ply = "ply",
-}
-
-impl TryFrom<MeshFormat> for Format {
-    type Error = Error;
-
-    fn try_from(format: MeshFormat) -> Result<Self, Error> {
-        match format {
-            MeshFormat::Obj => Ok(Self::Obj),
-            MeshFormat::Stl => Ok(Self::Stl),
-            MeshFormat::Ply => Ok(Self::Ply),
-            _ => Err(Error::new(
-                "unknown mesh format: use \"obj\", \"stl\" or \"ply\"",
-            )),
-        }
-    }
-}
-
-/// The Free-form mode's operation on solids A and B, or `"none"` for A alone.
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Operation {
-    Union = "union",
-    Intersection = "intersection",
-    Difference = "difference",
-    None = "none",
-}
-
-impl Operation {
-    /// The operation, `None` for A alone.
-    pub(super) fn op(self) -> Result<Option<Op>, Error> {
-        match self {
-            Self::Union => Ok(Some(Op::Union)),
-            Self::Intersection => Ok(Some(Op::Intersection)),
-            Self::Difference => Ok(Some(Op::Difference)),
-            Self::None => Ok(None),
-            _ => Err(Error::new(
-                "unknown operation: use \"union\", \"intersection\", \"difference\" or \"none\"",
-            )),
-        }
-    }
-
-    /// The name of `op`, `None` for A alone.
-    pub(super) fn of(op: Option<Op>) -> Self {
-        match op {
-            Some(Op::Union) => Self::Union,
-            Some(Op::Intersection) => Self::Intersection,
-            Some(Op::Difference) => Self::Difference,
-            None => Self::None,
-        }
-    }
-}
-
-/// What the Free-form view shows: the result, the paper's point mesh, or the operands.
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FreeFormDisplay {
-    Result = "result",
-    Points = "points",
-    Operands = "operands",
-}
-
-impl TryFrom<FreeFormDisplay> for Display {
-    type Error = Error;
-
-    fn try_from(display: FreeFormDisplay) -> Result<Self, Error> {
-        match display {
-            FreeFormDisplay::Result => Ok(Self::Result),
-            FreeFormDisplay::Points => Ok(Self::Points),
-            FreeFormDisplay::Operands => Ok(Self::Operands),
-            _ => Err(Error::new(
-                "unknown display: use \"result\", \"points\" or \"operands\"",
-            )),
-        }
-    }
-}
-
-/// A built-in free-form solid.
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FreeFormExample {
-    Icosphere = "icosphere",
-    Torus = "torus",
-    Blob = "blob",
-}
-
-impl TryFrom<FreeFormExample> for Example {
-    type Error = Error;
-
-    fn try_from(example: FreeFormExample) -> Result<Self, Error> {
-        match example {
-            FreeFormExample::Icosphere => Ok(Self::Icosphere),
-            FreeFormExample::Torus => Ok(Self::Torus),
-            FreeFormExample::Blob => Ok(Self::Blob),
-            _ => Err(Error::new(
-                "unknown example: use \"icosphere\", \"torus\" or \"blob\"",
-            )),
-        }
-    }
-}
-
-/// Which graphics API a view asks for: `"auto"` (WebGPU where the browser has it, else WebGL2),
-/// `"webgpu"` or `"webgl2"`.
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    Auto = "auto",
-    Webgpu = "webgpu",
-    Webgl2 = "webgl2",
-}
-
-impl TryFrom<Backend> for wgpu::Backends {
-    type Error = Error;
-
-    fn try_from(backend: Backend) -> Result<Self, Error> {
-        match backend {
-            Backend::Auto => Ok(Self::BROWSER_WEBGPU | Self::GL),
-            Backend::Webgpu => Ok(Self::BROWSER_WEBGPU),
-            Backend::Webgl2 => Ok(Self::GL),
-            _ => Err(Error::new(
-                "unknown graphics backend: use \"auto\", \"webgpu\" or \"webgl2\"",
-            )),
         }
     }
 }

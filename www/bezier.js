@@ -1,0 +1,291 @@
+// The Bézier mode: the 2D contour view's input, the side panel (the selected point, the model, a
+// volume's slice and surface), the model's controls, and the work that follows a volume (its fine
+// surface and contour stack, made in workers while the view draws a coarse one).
+import { $, fmt, say, messageOf } from './ui.js';
+import { follower, lazyRunner } from './work.js';
+
+/** Sets up the mode on `app` (see main.js); returns what the page asks of it. */
+export function setupBezier(app) {
+  const { modeler, canvas, VIEW2, VIEW3 } = app;
+  const inputs = { x: $('px'), y: $('py'), xi: $('xi') };
+
+  // The volume's fine surface and contour stack, each following the model in a worker.
+  const mesher = app.runners.surface && follower({
+    list: app.work,
+    worker: () => app.runners.surface,
+    request: () => modeler.surface_request(),
+    revision: () => modeler.revision(),
+    job: ([, resolution]) => ({ kind: 'surface', model: modeler.model_json(), resolution }),
+    accept: ([revision, resolution], { data }) => modeler.set_surface(revision, resolution, data),
+    onAccepted: () => app.redraw(VIEW3),
+    label: ([, resolution]) => `Meshing the surface at ${resolution}`,
+    failed: 'The surface could not be meshed',
+  });
+  const stacker = app.runners.surface && follower({
+    list: app.work,
+    worker: lazyRunner(true),
+    request: () => modeler.stack_request(),
+    revision: () => modeler.revision(),
+    job: ([, axis]) => ({ kind: 'stack', model: modeler.model_json(), axis }),
+    accept: ([revision, axis], { data }) => modeler.set_stack(revision, axis, data),
+    onAccepted: () => app.redraw(VIEW3),
+    label: ([, axis]) => `Contour stack across ${'uvw'[axis]}`,
+    unit: 'slices',
+    failed: 'The contour stack could not be made',
+  });
+
+  // The 2D view: select and drag points, the wheel and the keys change ξ; f under the pointer.
+  const local = (e) => {
+    const rect = canvas.getBoundingClientRect();
+    return [e.clientX - rect.left, e.clientY - rect.top];
+  };
+  canvas.addEventListener('pointerdown', (e) => {
+    if (e.button !== 0) return;
+    canvas.focus();
+    const [x, y] = local(e);
+    if (modeler.pointer_down(x, y, e.shiftKey)) {
+      canvas.setPointerCapture(e.pointerId);
+      canvas.classList.add('dragging');
+      e.preventDefault();
+    }
+    app.redraw();
+  });
+  let probeAt = [0, 0];
+  let probePending = false;
+  canvas.addEventListener('pointermove', (e) => {
+    const [x, y] = local(e);
+    if (modeler.dragging()) {
+      if (modeler.pointer_move(x, y)) {
+        app.stats.lastEdit = performance.now();
+        app.redraw();
+      }
+      return;
+    }
+    canvas.classList.toggle('over-point', modeler.hit(x, y));
+    // f under the pointer, once a frame at most (a folded net's inverse map costs milliseconds).
+    probeAt = [x, y];
+    if (!probePending) {
+      probePending = true;
+      requestAnimationFrame(() => {
+        probePending = false;
+        const [px, py, f] = modeler.probe(...probeAt);
+        $('probe').textContent = `f(${px.toFixed(3)}, ${py.toFixed(3)}) = ${f.toFixed(4)} (${f >= 0 ? 'inside' : 'outside'})`;
+      });
+    }
+  });
+  const endDrag = (e) => {
+    if (!modeler.dragging()) return;
+    modeler.pointer_up();
+    canvas.classList.remove('dragging');
+    if (canvas.hasPointerCapture(e.pointerId)) canvas.releasePointerCapture(e.pointerId);
+    app.changed();
+  };
+  canvas.addEventListener('pointerup', endDrag);
+  canvas.addEventListener('pointercancel', endDrag);
+  canvas.addEventListener('lostpointercapture', endDrag);
+  canvas.addEventListener('wheel', (e) => {
+    // deltaMode 1 counts lines: about 33 pixels each.
+    const dy = e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY;
+    if (modeler.wheel(dy)) {
+      e.preventDefault();
+      app.stats.lastEdit = performance.now();
+      app.changed();
+    }
+  }, { passive: false });
+  canvas.addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key === 'd' || e.key === 'D') {
+      app.toggleDebug();
+      e.preventDefault();
+      return;
+    }
+    const wasDragging = modeler.dragging();
+    if (modeler.key(e.key, e.shiftKey)) {
+      e.preventDefault();
+      if (wasDragging && !modeler.dragging()) canvas.classList.remove('dragging');
+      app.changed();
+    }
+  });
+
+  // Undo and redo: the buttons, and the shortcuts anywhere but in a text field (which keeps its own).
+  const act = (f) => {
+    if (f()) app.changed();
+  };
+  $('undo').addEventListener('click', () => act(() => modeler.undo()));
+  $('redo').addEventListener('click', () => act(() => modeler.redo()));
+  document.addEventListener('keydown', (e) => {
+    if (!(e.ctrlKey || e.metaKey) || e.altKey || app.workspace() !== 'bezier') return;
+    const tag = e.target?.tagName;
+    if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
+    const key = e.key.toLowerCase();
+    if (key === 'z' && !e.shiftKey) {
+      e.preventDefault();
+      act(() => modeler.undo());
+    } else if ((key === 'z' && e.shiftKey) || key === 'y') {
+      e.preventDefault();
+      act(() => modeler.redo());
+    }
+  });
+
+  for (const radio of document.querySelectorAll('input[name="mode"]')) {
+    radio.addEventListener('change', () => {
+      if (radio.checked) {
+        modeler.set_mode(radio.value);
+        app.redraw();
+      }
+    });
+  }
+
+  // Numeric entry for the selected point: ξ, and x and y (space mapping).
+  const applyInput = (which) => {
+    const input = inputs[which];
+    const value = input.valueAsNumber;
+    if (!Number.isFinite(value)) {
+      input.setAttribute('aria-invalid', 'true');
+      return;
+    }
+    try {
+      if (which === 'xi') {
+        modeler.set_selected_xi(value);
+      } else {
+        const { point } = app.panel();
+        if (!point) return;
+        modeler.set_selected_xy(which === 'x' ? value : point[0], which === 'y' ? value : point[1]);
+      }
+      input.removeAttribute('aria-invalid');
+      app.changed();
+    } catch (err) {
+      input.setAttribute('aria-invalid', 'true');
+      say(messageOf(err), 'error');
+    }
+  };
+  for (const which of Object.keys(inputs)) {
+    inputs[which].addEventListener('input', () => applyInput(which));
+    inputs[which].addEventListener('change', () => {
+      applyInput(which);
+      update();
+    });
+  }
+
+  // The model: presets, a new grid, elevation.
+  $('preset').addEventListener('change', (e) => {
+    const name = e.target.value;
+    e.target.value = '';
+    if (name) app.attempt('Preset', () => modeler.load_preset(name)) && say('Opened the preset; Undo brings back the previous model.');
+  });
+  $('reset-grid').addEventListener('click', () => {
+    app.attempt('New grid', () => modeler.reset_grid($('grid-u').valueAsNumber, $('grid-v').valueAsNumber));
+  });
+  for (const [id, axis] of [['elevate-u', 0], ['elevate-v', 1], ['elevate-w', 2]]) {
+    $(id).addEventListener('click', () => app.attempt('Elevate', () => modeler.elevate(axis)));
+  }
+  $('new-volume').addEventListener('click', () => {
+    app.attempt('New volume', () => modeler.new_volume($('grid-u').valueAsNumber, $('grid-v').valueAsNumber, $('grid-w').valueAsNumber));
+  });
+
+  // A volume: the slice in the 2D view, and the surface's resolution.
+  for (const radio of document.querySelectorAll('input[name="slice-axis"]')) {
+    radio.addEventListener('change', () => {
+      if (!radio.checked) return;
+      const axis = Number(radio.value);
+      const vd = app.panel().volume_degree;
+      if (!vd) return;
+      app.attempt('Slice', () => modeler.set_slice(axis, Math.floor(vd[axis] / 2)));
+    });
+  }
+  $('slice-index').addEventListener('input', (e) => {
+    const s = app.panel().slice;
+    if (s) app.attempt('Slice', () => modeler.set_slice(s[0], e.target.valueAsNumber));
+  });
+  $('resolution').addEventListener('change', (e) => {
+    const v = e.target.valueAsNumber;
+    if (!Number.isFinite(v)) return;
+    e.target.value = String(modeler.set_resolution(v));
+    app.redraw(VIEW3);
+  });
+
+  // The panel, from one snapshot of the editor, its last frame and its 3D view.
+  const update = () => {
+    for (const o of document.querySelectorAll('#export option[data-script]')) o.disabled = true;
+    const p = app.panel();
+    const sel = p.selected;
+    const point = p.point;
+    if (sel && point) {
+      $('point-label').textContent = `P${sel[0]}${sel[1]} (i = ${sel[0]}, j = ${sel[1]})`;
+      [inputs.x, inputs.y, inputs.xi].forEach((input, k) => {
+        input.disabled = false;
+        if (document.activeElement !== input) {
+          input.value = String(Math.round(point[k] * 1e6) / 1e6);
+          input.removeAttribute('aria-invalid');
+        }
+      });
+    } else {
+      $('point-label').textContent = 'None selected: click a point or press Tab in the view.';
+      for (const input of Object.values(inputs)) {
+        input.disabled = true;
+        input.value = '';
+      }
+    }
+    $('range-min').textContent = fmt(p.frame.range[0]);
+    $('range-max').textContent = fmt(p.frame.range[1]);
+    const n = p.frame.contours;
+    $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
+      + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
+    const [du, dv] = p.degree;
+    const mapped = p.space_mapped;
+    const vd = p.volume_degree;
+    const volume = !!vd;
+    if (volume) {
+      const [axis, index] = p.slice;
+      const name = ['u', 'v', 'w'][axis];
+      $('model-name').textContent = `Volume solid, ${vd[0] + 1} × ${vd[1] + 1} × ${vd[2] + 1} points${mapped ? ', space-mapped' : ''}`;
+      $('model-info').textContent = `Degree ${vd.join(' × ')}; ${mapped ? 'points moved: the inverse map finds (u, v, w)' : 'a regular grid'}. The 2D view edits one slice.`;
+      for (const r of document.querySelectorAll('input[name="slice-axis"]')) r.checked = Number(r.value) === axis;
+      const slider = $('slice-index');
+      slider.max = String(vd[axis]);
+      if (document.activeElement !== slider) slider.value = String(index);
+      $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
+      const [t, resolution] = p.surface ?? [0, 0];
+      const stack = p.stack;
+      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${resolution}; `
+        + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
+      document.body.dataset.stack = stack ? `${stack[0]},${stack[1] ? 1 : 0}` : '';
+    } else {
+      $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
+      $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
+    }
+    $('volume-controls').hidden = !volume;
+    $('elevate-w').disabled = !volume;
+    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !volume;
+    for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = false;
+    document.body.dataset.kind = volume ? 'volume' : 'patch';
+    $('undo').disabled = !p.can_undo;
+    $('redo').disabled = !p.can_redo;
+    const mode = p.mode;
+    for (const r of document.querySelectorAll('input[name="mode"]')) r.checked = r.value === mode;
+    canvas.classList.toggle('space', mode === 'space');
+    document.body.dataset.selected = sel ? `${sel[0]},${sel[1]}` : '';
+    document.body.dataset.mode = mode;
+  };
+
+  return {
+    update,
+    /** Draws the 3D view. */
+    render3d: (viewer) => modeler.render_3d(viewer),
+    /** After a 3D frame: asks the workers for what the frame lacks; the ξ scale. */
+    follow: () => {
+      mesher?.check();
+      stacker?.check();
+      const xi = modeler.xi_extent();
+      $('xi-min').textContent = fmt(-xi);
+      $('xi-max').textContent = fmt(xi);
+    },
+    /** Cancels the work the model has moved past. */
+    prune: () => {
+      mesher?.prune();
+      stacker?.prune();
+    },
+    /** The workers' last times, for the debug overlay. */
+    timings: () => [['worker mesh', mesher], ['worker contour stack', stacker]],
+  };
+}

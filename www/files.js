@@ -1,0 +1,213 @@
+// Models in and out of the page: links (the address's fragment, the Share button), files (the
+// picker, a drop) and exports (model files, meshes, contours, HyperFun, pictures). An export that
+// takes time runs in the export worker, in the work list with a Cancel.
+import { headless_esc_mesh, headless_plasm_mesh, is_free_form, script_link, script_model_json, script_of } from './pkg/bezsolid_web.js';
+import { $, say, messageOf, download, capture } from './ui.js';
+
+const MESH_FILE = /\.(obj|stl|ply)$/i;
+const MESH_FORMATS = ['stl', 'obj', 'ply'];
+const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream' };
+
+/** Sets up links, files and exports on `app` (see main.js); returns what the page asks of them. */
+export function setupFiles(app) {
+  const { modeler, ff, sv } = app;
+  const freeform = () => app.workspace() === 'freeform';
+  const scripting = () => app.workspace() === 'script';
+
+  // Opens a link in the address over the model (a script, a free-form scene or a Bézier model).
+  // The fragment is removed once opened: the model lives on in the autosave, so a reload brings
+  // back the edits rather than the link's original. Returns whether something was opened.
+  const openFromAddress = () => {
+    if (!location.hash || location.hash === '#') return false;
+    const script = script_of(location.href);
+    const free = script === undefined && is_free_form(location.href);
+    let opened = false;
+    try {
+      if (script !== undefined) {
+        app.script.load(script);
+        app.setWorkspace('script');
+        say('Opened the script from the link.');
+        opened = true;
+      } else {
+        if (free) ff.open(location.href);
+        else modeler.open_link(location.href);
+        app.setWorkspace(free ? 'freeform' : 'bezier');
+        say(`Opened the ${free ? 'free-form ' : ''}model from the link.`);
+        opened = true;
+      }
+    } catch (err) {
+      say(`This link could not be opened, so the current model was kept: ${messageOf(err)}`, 'error');
+    }
+    history.replaceState(null, '', location.pathname + location.search);
+    return opened;
+  };
+  addEventListener('hashchange', () => {
+    if (openFromAddress()) {
+      app.changed();
+      if (scripting()) app.script.runIfNew();
+    }
+  });
+
+  // Share: the link goes into the box (always) and the clipboard (where allowed).
+  $('copy-link').addEventListener('click', async () => {
+    let fragment;
+    try {
+      fragment = scripting() ? script_link(app.script.text()) : freeform() ? ff.link() : modeler.link();
+    } catch (err) {
+      say(messageOf(err), 'error');
+      return;
+    }
+    const url = location.origin + location.pathname + location.search + fragment;
+    const box = $('share-url');
+    box.value = url;
+    document.body.dataset.link = url;
+    try {
+      await navigator.clipboard.writeText(url);
+      say(`Link copied (${url.length} characters).`);
+    } catch {
+      box.focus();
+      box.select();
+      say('The browser did not allow copying: the link is selected in the box, copy it from there.', 'warn');
+    }
+  });
+
+  // Files: open by the picker or a drop. A mesh goes to the Free-form mode (a drop with Shift
+  // there makes it solid B).
+  const openFile = async (file) => {
+    if (!file) return;
+    if (MESH_FILE.test(file.name)) {
+      app.freeform.importMesh(0, file);
+      return;
+    }
+    if (file.size > 16 * 1024 * 1024) {
+      say(`${file.name} is too large for a model file (${file.size} bytes).`, 'error');
+      return;
+    }
+    try {
+      const text = await file.text();
+      const script = /\.psm$/i.test(file.name) ? text : script_of(text);
+      if (script !== undefined) {
+        app.script.open(script, `Opened ${file.name}.`);
+        return;
+      }
+      if (is_free_form(text)) {
+        ff.open(text);
+        app.setWorkspace('freeform');
+        app.resize3();
+        say(`Opened ${file.name}.`);
+        app.changed();
+        return;
+      }
+      modeler.load_model(text);
+      app.setWorkspace('bezier');
+      say(`Opened ${file.name}; Undo brings back the previous model.`);
+      app.changed();
+    } catch (err) {
+      say(`${file.name} could not be opened, so the current model was kept: ${messageOf(err)}`, 'error');
+    }
+  };
+  $('open-file').addEventListener('change', (e) => {
+    openFile(e.target.files?.[0]);
+    e.target.value = '';
+  });
+  const drop = $('drop');
+  addEventListener('dragover', (e) => {
+    if (![...(e.dataTransfer?.types ?? [])].includes('Files')) return;
+    e.preventDefault();
+    drop.hidden = false;
+  });
+  addEventListener('dragleave', (e) => { if (!e.relatedTarget) drop.hidden = true; });
+  addEventListener('drop', (e) => {
+    if (!e.dataTransfer?.files?.length) return;
+    e.preventDefault();
+    drop.hidden = true;
+    const file = e.dataTransfer.files[0];
+    if (MESH_FILE.test(file.name)) app.freeform.importMesh(freeform() && e.shiftKey ? 1 : 0, file);
+    else openFile(file);
+  });
+
+  // A file made in the export worker (in the work list while it runs, with a Cancel), or on the
+  // page without one (`here`).
+  const exportJob = async (name, type, label, message, here) => {
+    const worker = app.runners.export;
+    if (!worker) {
+      download(name, new Blob([here()], { type }));
+      return;
+    }
+    const running = worker.run(message, {
+      onProgress: (done, total) => task.progress(done, total),
+      onStart: () => task.started(),
+    });
+    const task = app.work.start('export', label, () => running.cancel());
+    try {
+      const { data, approximate } = await running;
+      download(name, new Blob([data], { type }));
+      if (approximate) {
+        say(`Saved ${name}, approximate where the net folds over itself very many times: `
+          + `${approximate} ${approximate === 1 ? 'evaluation' : 'evaluations'} ran out of their work budget.`, 'warn');
+      }
+    } catch (err) {
+      if (err.cancelled) say(`${label} was cancelled; nothing was saved.`);
+      else say(`Export failed, nothing was changed: ${messageOf(err)}`, 'error');
+    } finally {
+      task.end();
+    }
+  };
+  const exportMesh = (name, kind, format, model, resolution, here) => exportJob(
+    name, MESH_TYPES[format], `Exporting ${format.toUpperCase()}`, { kind, model, format, resolution }, here);
+
+  // What each mode exports, by the value of the Export menu's options.
+  const bezierExports = {
+    model: () => download('bezsolid.bsolid.json', new Blob([modeler.model_json()], { type: 'application/json' })),
+    // The exact contour: on a folded net, the inverse map at every sample (seconds).
+    svg: () => exportJob('bezsolid-contours.svg', 'image/svg+xml', 'Exporting SVG', { kind: 'svg', model: modeler.patch_json() }, () => modeler.svg()),
+    hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
+    ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => exportMesh(
+      `bezsolid.${format}`, 'mesh', format, modeler.model_json(), modeler.resolution(), () => modeler.mesh_file(format))])),
+    // The canvas is read in the same task as the frame is drawn, before the browser clears it.
+    png: () => {
+      modeler.render();
+      capture(app.canvas, 'bezsolid-view.png');
+    },
+  };
+  const freeformExports = {
+    model: () => download('bezsolid.bsolid.json', new Blob([ff.model_json()], { type: 'application/json' })),
+    // The result's closed mesh at the chosen resolution.
+    ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
+      const model = ff.model_json();
+      const resolution = ff.resolution();
+      exportMesh(`bezsolid-result.${format}`, 'esc-mesh', format, model, resolution, () => headless_esc_mesh(model, format, resolution));
+    }])),
+    png: () => {
+      if (!app.viewer) return;
+      ff.render(app.viewer);
+      capture(app.canvas3, 'bezsolid-free-form.png');
+    },
+  };
+  const scriptExports = {
+    model: () => download('bezsolid-script.bsolid.json', new Blob([script_model_json(app.script.text())], { type: 'application/json' })),
+    psm: () => download('bezsolid.psm', new Blob([app.script.text()], { type: 'text/plain' })),
+    ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
+      const script = app.script.text();
+      exportMesh(`bezsolid-script.${format}`, 'plasm-mesh', format, script, 0, () => headless_plasm_mesh(script, format));
+    }])),
+    png: () => {
+      if (!app.viewer) return;
+      sv.render(app.viewer);
+      capture(app.canvas3, 'bezsolid-script.png');
+    },
+  };
+  $('export').addEventListener('change', (e) => {
+    const kind = e.target.value;
+    e.target.value = '';
+    const exporters = scripting() ? scriptExports : freeform() ? freeformExports : bezierExports;
+    if (!Object.hasOwn(exporters, kind)) return;
+    try {
+      exporters[kind]();
+    } catch (err) {
+      say(`Export failed, nothing was changed: ${messageOf(err)}`, 'error');
+    }
+  });
+
+  return { openFromAddress };
+}

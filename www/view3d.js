@@ -1,0 +1,100 @@
+// The 3D view's input, shared by the modes: orbit (drag), pan (right drag or Shift), zoom (wheel),
+// fit (F or the button); in the Bézier mode a drag on a sphere moves that control point, one undo
+// step as in 2D, with the volume's surface meshed coarsely while it moves and finely at rest.
+import { $ } from './ui.js';
+
+/** Sets up the input of the 3D view on `app` (see main.js). */
+export function setupView3d(app) {
+  const { modeler, ff, sv, canvas3, VIEW2, VIEW3 } = app;
+  const local = (e) => {
+    const rect = canvas3.getBoundingClientRect();
+    return [e.clientX - rect.left, e.clientY - rect.top];
+  };
+  // The free-form and script views only move their camera.
+  const orbiter = () => ({ freeform: ff, script: sv })[app.workspace()] ?? null;
+  let orbiting = false;
+  let restTimer = 0;
+  canvas3.addEventListener('contextmenu', (e) => e.preventDefault());
+  canvas3.addEventListener('pointerdown', (e) => {
+    if (!app.viewer || (e.button !== 0 && e.button !== 2)) return;
+    canvas3.focus();
+    const [x, y] = local(e);
+    let grabbed = false;
+    if (orbiter()) {
+      orbiter().pointer_down(x, y, e.button === 2 || e.shiftKey);
+      orbiting = true;
+    } else {
+      grabbed = modeler.pointer_down_3d(x, y, e.button === 2, e.shiftKey);
+    }
+    canvas3.setPointerCapture(e.pointerId);
+    canvas3.classList.add('dragging');
+    e.preventDefault();
+    if (!orbiting) app.redraw(grabbed ? VIEW2 | VIEW3 : VIEW3);
+  });
+  canvas3.addEventListener('pointermove', (e) => {
+    if (!app.viewer) return;
+    const [x, y] = local(e);
+    if (orbiter()) {
+      if (orbiting && orbiter().pointer_move(x, y)) app.redraw(VIEW3);
+      return;
+    }
+    if (modeler.busy_3d()) {
+      if (modeler.pointer_move_3d(x, y)) {
+        const editing = modeler.editing_3d();
+        if (editing) {
+          app.stats.lastEdit = performance.now();
+          // A volume's surface is meshed coarsely while the point moves, finely when it rests.
+          modeler.set_coarse(true);
+          clearTimeout(restTimer);
+          restTimer = setTimeout(() => { modeler.set_coarse(false); app.redraw(VIEW3); }, 250);
+        }
+        app.redraw(editing ? VIEW2 | VIEW3 : VIEW3);
+      }
+      return;
+    }
+    canvas3.classList.toggle('over-point', modeler.hit_3d(x, y));
+  });
+  const endDrag = (e) => {
+    if (app.viewer && orbiting) {
+      orbiting = false;
+      orbiter()?.pointer_up();
+      canvas3.classList.remove('dragging');
+      if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+      return;
+    }
+    if (!app.viewer || !modeler.busy_3d()) return;
+    const editing = modeler.editing_3d();
+    clearTimeout(restTimer);
+    modeler.set_coarse(false);
+    modeler.pointer_up_3d();
+    canvas3.classList.remove('dragging');
+    if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+    if (editing) app.changed();
+    else app.redraw(VIEW3);
+  };
+  canvas3.addEventListener('pointerup', endDrag);
+  canvas3.addEventListener('pointercancel', endDrag);
+  canvas3.addEventListener('lostpointercapture', endDrag);
+  canvas3.addEventListener('wheel', (e) => {
+    if (!app.viewer) return;
+    e.preventDefault();
+    // deltaMode 1 counts lines: about 33 pixels each.
+    const dy = e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY;
+    if (orbiter()) orbiter().wheel(dy);
+    else modeler.wheel_3d(dy);
+    app.redraw(VIEW3);
+  }, { passive: false });
+  const fit = () => {
+    if (orbiter()) orbiter().fit();
+    else modeler.fit_3d();
+    app.redraw(VIEW3);
+  };
+  $('fit-3d').addEventListener('click', fit);
+  canvas3.addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key === 'f' || e.key === 'F') {
+      fit();
+      e.preventDefault();
+    }
+  });
+}
