@@ -7,8 +7,8 @@ use anyhow::{Result, anyhow, bail};
 use crate::args::Args;
 use crate::input::{Lines, MAX_POINTS_BYTES};
 use crate::output::Sink;
-use bezsolid_core::inverse::Method;
-use bezsolid_core::model::ModelSolid;
+use anyhow::Context as _;
+use bezsolid_core::tree::{ModelTree, Tree, TreeValue};
 use glam::{DVec2, DVec3};
 
 /// The most points one call evaluates.
@@ -18,10 +18,13 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     let args = Args::parse("eval", args, &["--points", "--output"])?;
     let model = args.model("bezsolid eval MODEL --points FILE.csv")?;
     let points = args.required("--points", "--points FILE.csv")?;
-    let solid = crate::load_model(model)?;
-    let dim = match solid {
-        ModelSolid::Patch(_) => 2,
-        ModelSolid::Volume(_) => 3,
+    // One patch or volume, or a tree of many solids (a single solid is a tree of one leaf).
+    let tree = crate::load_file(model)?
+        .to_tree()
+        .with_context(|| crate::describe(model))?;
+    let dim = match tree {
+        ModelTree::Plane(_) => 2,
+        ModelTree::Space(_) => 3,
     };
     // A map that may fold cuts its atlas for the work to come: about one point per 24 bytes of
     // a file, many where the size is unknown (a pipe).
@@ -29,13 +32,28 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         Ok(len) if len > 0 => usize::try_from(len / 24).unwrap_or(usize::MAX),
         _ => 1 << 16,
     };
-    match &solid {
-        ModelSolid::Patch(s) => s.plan(expected),
-        ModelSolid::Volume(s) => s.plan(expected),
-    }
     let points = Points::open(points, dim)?;
     let mut out = Sink::create(args.value("--output"))?;
-    evaluate(&solid, points, &mut out)?;
+    match &tree {
+        ModelTree::Plane(t) => {
+            t.plan(expected);
+            out.write(format_args!("x,y,f,preimages\n"))?;
+            evaluate(
+                t,
+                points,
+                &mut out,
+                |p| DVec2::new(p[0], p[1]),
+                |p, v| format!("{},{},{},{}\n", p[0], p[1], v.f, v.preimages),
+            )?;
+        }
+        ModelTree::Space(t) => {
+            t.plan(expected);
+            out.write(format_args!("x,y,z,f,preimages\n"))?;
+            evaluate(t, points, &mut out, DVec3::from_array, |p, v| {
+                format!("{},{},{},{},{}\n", p[0], p[1], p[2], v.f, v.preimages)
+            })?;
+        }
+    }
     out.finish()
 }
 
@@ -130,33 +148,26 @@ impl Iterator for Points {
     }
 }
 
-/// The CSV: a header, then `x,y[,z],f,preimages` per point. On a regular grid the map is a scaling,
-/// so a point has one preimage inside the (closed) domain box and none outside; a space mapping
-/// counts the parameter points in the closed unit box that map to it (several where it folds).
-fn evaluate(solid: &ModelSolid, points: Points, out: &mut Sink) -> Result<()> {
+/// The CSV's rows, `x,y[,z],f,preimages` per point. On a regular grid the map is a scaling, so a
+/// point has one preimage inside the (closed) domain box and none outside; a space mapping counts
+/// the parameter points in the closed unit box that map to it (several where it folds); a tree
+/// sums them over its Bézier leaves.
+fn evaluate<const D: usize>(
+    tree: &Tree<D>,
+    points: Points,
+    out: &mut Sink,
+    point: impl Fn([f64; 3]) -> bezsolid_core::Point<D>,
+    row: impl Fn([f64; 3], TreeValue) -> String,
+) -> Result<()>
+where
+    bezsolid_core::Dim<D>: bezsolid_core::Dimension<D>,
+{
     let (mut count, mut exhausted) = (0usize, 0usize);
-    match solid {
-        ModelSolid::Patch(s) => {
-            out.write(format_args!("x,y,f,preimages\n"))?;
-            for p in points {
-                let p = p?;
-                let v = s.evaluate(DVec2::new(p[0], p[1]), Method::Fast);
-                (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
-                out.write(format_args!("{},{},{},{}\n", p[0], p[1], v.f, v.preimages))?;
-            }
-        }
-        ModelSolid::Volume(s) => {
-            out.write(format_args!("x,y,z,f,preimages\n"))?;
-            for p in points {
-                let p = p?;
-                let v = s.evaluate(DVec3::from_array(p), Method::Fast);
-                (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
-                out.write(format_args!(
-                    "{},{},{},{},{}\n",
-                    p[0], p[1], p[2], v.f, v.preimages
-                ))?;
-            }
-        }
+    for p in points {
+        let p = p?;
+        let v = tree.evaluate(point(p));
+        (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
+        out.write(format_args!("{}", row(p, v)))?;
     }
     if exhausted > 0 {
         eprintln!(

@@ -483,3 +483,78 @@ fn eval_stops_at_a_bad_line_and_names_it() {
     let written = std::fs::read_to_string(out_file).unwrap();
     assert_eq!(written.lines().count(), 3, "{written}");
 }
+
+/// The R-function union as HyperFun writes it.
+fn or(f1: f64, f2: f64) -> f64 {
+    f1 + f2 + (f1 * f1 + f2 * f2).sqrt()
+}
+
+#[test]
+fn eval_takes_trees_of_many_solids() {
+    // (sphere ∪ box) moved by (1, 0, 0), blended with a torus: DESIGN §5's formulas, written out.
+    let model = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "blend_union",
+        "a0": 0.5, "a1": 1.0, "a2": 2.0, "of": [
+        {"kind": "transform", "translate": [1, 0, 0], "solid": {"kind": "union", "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+            {"kind": "box", "min": [-0.5, -0.5, -0.5], "max": [2, 0.5, 0.5]}]}},
+        {"kind": "torus", "center": [0, 0, 1], "axis": "z", "major": 1.5, "minor": 0.25}]}}"#;
+    let model = scratch("tree.bsolid.json", model);
+    let pts: Vec<[f64; 3]> = (0..60)
+        .map(|k| {
+            let t = k as f64;
+            [
+                (t * 0.37).sin() * 2.5,
+                (t * 0.91).cos() * 2.0,
+                (t * 0.23).sin() * 1.5,
+            ]
+        })
+        .collect();
+    let csv: String = pts
+        .iter()
+        .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+        .collect();
+    let pts_path = scratch("tree.csv", &format!("x,y,z\n{csv}"));
+    let got = rows(&bezsolid(&[
+        "eval",
+        model.to_str().unwrap(),
+        "--points",
+        pts_path.to_str().unwrap(),
+    ]));
+    assert_eq!(got.len(), pts.len());
+    for (row, p) in got.iter().zip(&pts) {
+        let [x, y, z] = *p;
+        let q = [x - 1.0, y, z];
+        let sphere = 1.0 - (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+        let s = |v: f64, lo: f64, hi: f64| (v - lo) * (hi - v);
+        let bx = and(
+            and(s(q[0], -0.5, 2.0), s(q[1], -0.5, 0.5)),
+            s(q[2], -0.5, 0.5),
+        );
+        let f1 = or(sphere, bx);
+        let ring = (x * x + y * y).sqrt() - 1.5;
+        let f2 = 0.0625 - ring * ring - (z - 1.0) * (z - 1.0);
+        let want = or(f1, f2) + 0.5 / (1.0 + f1 * f1 + (f2 / 2.0) * (f2 / 2.0));
+        assert!(
+            (row[3] - want).abs() <= 1e-9 * want.abs().max(1.0),
+            "{p:?}: {} vs {want}",
+            row[3]
+        );
+        assert_eq!(row[4], 0.0, "no Bézier leaf, no preimages");
+    }
+    // A bad node is named by its path.
+    let bad = scratch(
+        "bad-tree.bsolid.json",
+        r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+            {"kind": "transform", "solid": {"kind": "sphere", "center": [0, 0, 0], "radius": 0}}]}}"#,
+    );
+    let out = bezsolid(&[
+        "eval",
+        bad.to_str().unwrap(),
+        "--points",
+        pts_path.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("solid.of[1].solid.radius"), "{err}");
+}

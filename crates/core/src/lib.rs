@@ -82,6 +82,7 @@ pub mod presets;
 pub mod rfunc;
 mod solid;
 mod tensor;
+pub mod tree;
 pub mod triangular;
 
 pub use bernstein::MAX_DEGREE;

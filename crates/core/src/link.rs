@@ -249,6 +249,11 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
         SolidSpec::Plasm { script } => Wire::Plasm {
             script: script.clone(),
         },
+        _ => {
+            return Err(LinkError::Model(ModelError::Kind(
+                "a model of many solids cannot be carried by a link yet: save a model file",
+            )));
+        }
     };
     // Serialising into a Vec cannot fail for this type.
     let bytes = postcard::to_allocvec(&wire).map_err(|_| LinkError::Decode)?;

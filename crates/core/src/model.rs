@@ -99,6 +99,177 @@ pub enum SolidSpec {
         /// The script's text.
         script: String,
     },
+    /// A disc: `radius² − ‖p − center‖²` (2D trees).
+    Circle {
+        /// The centre.
+        center: [f64; 2],
+        /// The radius, positive.
+        radius: f64,
+    },
+    /// A ball: `radius² − ‖p − center‖²` (3D trees).
+    Sphere {
+        /// The centre.
+        center: [f64; 3],
+        /// The radius, positive.
+        radius: f64,
+    },
+    /// `s_x & s_y`, `s_i = (p_i − min_i)(max_i − p_i)` (2D trees).
+    Rectangle {
+        /// The lower corner.
+        min: [f64; 2],
+        /// The upper corner, above `min` on every axis.
+        max: [f64; 2],
+    },
+    /// `s_x & s_y & s_z`, `s_i = (p_i − min_i)(max_i − p_i)` (3D trees).
+    Box {
+        /// The lower corner.
+        min: [f64; 3],
+        /// The upper corner, above `min` on every axis.
+        max: [f64; 3],
+    },
+    /// An infinite cylinder: `radius²` less the squared distance from the line along `axis` through
+    /// `center` (3D trees).
+    Cylinder {
+        /// A point of the axis line.
+        center: [f64; 3],
+        /// The line's direction.
+        axis: CoordAxis,
+        /// The radius, positive.
+        radius: f64,
+    },
+    /// A torus around the line along `axis` through `center`:
+    /// `minor² − (sqrt(a² + b²) − major)² − c²`, `c` along the axis, `a, b` across it (3D trees).
+    Torus {
+        /// The centre.
+        center: [f64; 3],
+        /// The axis of revolution.
+        axis: CoordAxis,
+        /// The distance from the axis to the tube's centre line, positive.
+        major: f64,
+        /// The tube's radius, positive.
+        minor: f64,
+    },
+    /// `offset − normal · p` (2D trees).
+    Halfplane {
+        /// The outward normal, not zero.
+        normal: [f64; 2],
+        /// The offset.
+        offset: f64,
+    },
+    /// `offset − normal · p` (3D trees).
+    Halfspace {
+        /// The outward normal, not zero.
+        normal: [f64; 3],
+        /// The offset.
+        offset: f64,
+    },
+    /// `f1 | f2 | …` left to right.
+    Union {
+        /// Two or more nodes.
+        of: Vec<SolidSpec>,
+    },
+    /// `f1 & f2 & …` left to right.
+    Intersection {
+        /// Two or more nodes.
+        of: Vec<SolidSpec>,
+    },
+    /// `f1 & (−f2) & (−f3) …` left to right.
+    Difference {
+        /// Two or more nodes.
+        of: Vec<SolidSpec>,
+    },
+    /// `(f1 | f2) + a0 / (1 + (f1/a1)² + (f2/a2)²)` (Pasko and Savchenko's blending union,
+    /// HyperFun's `hfBlendUni`).
+    #[cfg_attr(feature = "serde", serde(rename = "blend_union"))]
+    BlendUnion {
+        /// Two nodes.
+        of: Vec<SolidSpec>,
+        /// The blend's height.
+        a0: f64,
+        /// How far it reaches into the first operand, not zero.
+        a1: f64,
+        /// How far it reaches into the second operand, not zero.
+        a2: f64,
+    },
+    /// `(f1 & f2) + a0 / (1 + (f1/a1)² + (f2/a2)²)` (HyperFun's `hfBlendInt`).
+    #[cfg_attr(feature = "serde", serde(rename = "blend_intersection"))]
+    BlendIntersection {
+        /// Two nodes.
+        of: Vec<SolidSpec>,
+        /// The blend's height.
+        a0: f64,
+        /// How far it reaches into the first operand, not zero.
+        a1: f64,
+        /// How far it reaches into the second operand, not zero.
+        a2: f64,
+    },
+    /// `(1 − t) f1 + t f2` (metamorphosis).
+    Morph {
+        /// Two nodes.
+        of: Vec<SolidSpec>,
+        /// The morph's parameter: 0 is the first node, 1 the second.
+        t: f64,
+    },
+    /// The solid moved by `M = T · Rz · Ry · Rx · S`: `f(p) = f_solid(M⁻¹ p)`.
+    Transform {
+        /// The node moved.
+        solid: alloc::boxed::Box<SolidSpec>,
+        /// `T`: a 2D or 3D offset.
+        #[cfg_attr(
+            feature = "serde",
+            serde(default, skip_serializing_if = "Option::is_none")
+        )]
+        translate: Option<Vec<f64>>,
+        /// `R`, in degrees: one angle in 2D, `[rx, ry, rz]` in 3D.
+        #[cfg_attr(
+            feature = "serde",
+            serde(default, skip_serializing_if = "Option::is_none")
+        )]
+        rotate: Option<Rotation>,
+        /// `S`, per axis, no component zero.
+        #[cfg_attr(
+            feature = "serde",
+            serde(default, skip_serializing_if = "Option::is_none")
+        )]
+        scale: Option<Vec<f64>>,
+    },
+}
+
+/// A coordinate axis of space, as a cylinder or a torus names its axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum CoordAxis {
+    /// `x`.
+    X,
+    /// `y`.
+    Y,
+    /// `z`.
+    Z,
+}
+
+impl CoordAxis {
+    /// 0, 1 or 2.
+    #[must_use]
+    pub const fn index(self) -> usize {
+        match self {
+            Self::X => 0,
+            Self::Y => 1,
+            Self::Z => 2,
+        }
+    }
+}
+
+/// A transform's rotation in degrees: one angle (2D, about the origin, counter-clockwise) or
+/// `[rx, ry, rz]` about the axes (3D, applied x first).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(untagged))]
+pub enum Rotation {
+    /// A 2D rotation.
+    Angle(f64),
+    /// A 3D rotation.
+    Angles([f64; 3]),
 }
 
 /// One solid of a free-form model: a built-in example or a triangle mesh, moved by `offset`.
@@ -163,6 +334,8 @@ pub enum ModelError {
     Esc(String),
     /// A script past [`MAX_SCRIPT_BYTES`]: its length.
     ScriptTooLong(usize),
+    /// A tree of many solids that breaks a rule: the node's path and what is wrong.
+    Tree(crate::tree::TreeError),
     /// A free-form model's mesh past a count cap, found before anything is built.
     MeshTooLarge {
         /// The operand, from 1.
@@ -192,6 +365,7 @@ impl fmt::Display for ModelError {
             Self::Solid(e) => write!(f, "invalid solid: {e}"),
             Self::Kind(why) => f.write_str(why),
             Self::Esc(why) => write!(f, "invalid free-form model: {why}"),
+            Self::Tree(e) => write!(f, "invalid model: {e}"),
             Self::ScriptTooLong(len) => write!(
                 f,
                 "the script is {len} bytes; a model file holds at most {MAX_SCRIPT_BYTES}"
@@ -245,6 +419,12 @@ impl ModelFile {
         })
     }
 
+    /// The model file of any solid: a tree, or one of the single kinds.
+    #[must_use]
+    pub fn from_spec(solid: SolidSpec) -> Self {
+        Self::new(solid)
+    }
+
     fn new(solid: SolidSpec) -> Self {
         Self {
             format: FORMAT.into(),
@@ -283,10 +463,16 @@ impl ModelFile {
                     "this is a PLaSM script (run it with `bezsolid plasm`), not a Bézier solid",
                 ));
             }
+            _ => {
+                return Err(ModelError::Kind(
+                    "this is a model of many solids (a tree of primitives, Bézier solids and \
+                     operations), not one Bézier solid",
+                ));
+            }
         })
     }
 
-    fn check_header(&self) -> Result<(), ModelError> {
+    pub(crate) fn check_header(&self) -> Result<(), ModelError> {
         if self.format != FORMAT {
             return Err(ModelError::Format(self.format.clone()));
         }

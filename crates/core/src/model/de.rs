@@ -24,11 +24,31 @@ use serde::de::{
 };
 use serde::{Deserialize, forward_to_deserialize_any};
 
-use super::{EscOperand, SolidSpec};
+use super::{CoordAxis, EscOperand, Rotation, SolidSpec};
 use crate::mesh::{MAX_TRIANGLES, MAX_VERTICES};
 
 /// The `kind` names, in variant order.
-const KINDS: &[&str] = &["patch", "volume", "esc", "plasm"];
+const KINDS: &[&str] = &[
+    "patch",
+    "volume",
+    "esc",
+    "plasm",
+    "circle",
+    "sphere",
+    "rectangle",
+    "box",
+    "cylinder",
+    "torus",
+    "halfplane",
+    "halfspace",
+    "union",
+    "intersection",
+    "difference",
+    "blend_union",
+    "blend_intersection",
+    "morph",
+    "transform",
+];
 
 /// The most values kept from the fields before `kind` (every number, string and list counts one):
 /// enough for the largest valid solid, two meshes at both caps, each vertex and triangle a list of
@@ -99,6 +119,8 @@ enum Kind {
     Volume,
     Esc,
     Plasm,
+    /// A node of a tree other than a Bézier leaf: its index in [`KINDS`].
+    Node(usize),
 }
 
 impl<'de> Deserialize<'de> for Kind {
@@ -115,7 +137,11 @@ impl<'de> Deserialize<'de> for Kind {
                     "volume" => Ok(Kind::Volume),
                     "esc" => Ok(Kind::Esc),
                     "plasm" => Ok(Kind::Plasm),
-                    _ => Err(E::unknown_variant(v, KINDS)),
+                    _ => KINDS
+                        .iter()
+                        .position(|&k| k == v)
+                        .map(Kind::Node)
+                        .ok_or_else(|| E::unknown_variant(v, KINDS)),
                 }
             }
             fn visit_bytes<E: de::Error>(self, v: &[u8]) -> Result<Kind, E> {
@@ -138,9 +164,33 @@ enum Key {
     Operation,
     Operands,
     Script,
+    /// A field of a tree's node: its index in [`NODE_KEYS`].
+    Node(usize),
     /// A field no kind has (ignored, as serde ignores unknown fields).
     Other,
 }
+
+/// The fields of a tree's nodes (other than the Bézier leaves'), in [`NodeFields`]' order.
+const NODE_KEYS: &[&str] = &[
+    "center",
+    "radius",
+    "min",
+    "max",
+    "axis",
+    "major",
+    "minor",
+    "normal",
+    "offset",
+    "of",
+    "a0",
+    "a1",
+    "a2",
+    "t",
+    "solid",
+    "translate",
+    "rotate",
+    "scale",
+];
 
 impl Key {
     fn name(self) -> &'static str {
@@ -151,6 +201,7 @@ impl Key {
             Self::Operation => "operation",
             Self::Operands => "operands",
             Self::Script => "script",
+            Self::Node(i) => NODE_KEYS[i],
             Self::Other => "",
         }
     }
@@ -172,7 +223,10 @@ impl<'de> Deserialize<'de> for Key {
                     "operation" => Key::Operation,
                     "operands" => Key::Operands,
                     "script" => Key::Script,
-                    _ => Key::Other,
+                    _ => NODE_KEYS
+                        .iter()
+                        .position(|&k| k == v)
+                        .map_or(Key::Other, Key::Node),
                 })
             }
             fn visit_bytes<E: de::Error>(self, v: &[u8]) -> Result<Key, E> {
@@ -204,6 +258,147 @@ enum Fields {
     Plasm {
         script: Option<String>,
     },
+    /// A tree's node: its kind's index in [`KINDS`] and its fields.
+    Node(usize, alloc::boxed::Box<NodeFields>),
+}
+
+/// The fields a tree's node may have, each read as it comes and checked for its kind at the end.
+#[derive(Default)]
+struct NodeFields {
+    center: Option<Vec<f64>>,
+    radius: Option<f64>,
+    min: Option<Vec<f64>>,
+    max: Option<Vec<f64>>,
+    axis: Option<CoordAxis>,
+    major: Option<f64>,
+    minor: Option<f64>,
+    normal: Option<Vec<f64>>,
+    offset: Option<f64>,
+    of: Option<Vec<SolidSpec>>,
+    a0: Option<f64>,
+    a1: Option<f64>,
+    a2: Option<f64>,
+    t: Option<f64>,
+    solid: Option<alloc::boxed::Box<SolidSpec>>,
+    translate: Option<Vec<f64>>,
+    rotate: Option<Rotation>,
+    scale: Option<Vec<f64>>,
+}
+
+impl NodeFields {
+    /// Reads the value of field `index` ([`NODE_KEYS`]).
+    fn fill<'de, D: Deserializer<'de>>(&mut self, index: usize, d: D) -> Result<(), D::Error> {
+        let key = Key::Node(index);
+        match index {
+            0 => fill(&mut self.center, key, d),
+            1 => fill(&mut self.radius, key, d),
+            2 => fill(&mut self.min, key, d),
+            3 => fill(&mut self.max, key, d),
+            4 => fill(&mut self.axis, key, d),
+            5 => fill(&mut self.major, key, d),
+            6 => fill(&mut self.minor, key, d),
+            7 => fill(&mut self.normal, key, d),
+            8 => fill(&mut self.offset, key, d),
+            9 => fill(&mut self.of, key, d),
+            10 => fill(&mut self.a0, key, d),
+            11 => fill(&mut self.a1, key, d),
+            12 => fill(&mut self.a2, key, d),
+            13 => fill(&mut self.t, key, d),
+            14 => fill(&mut self.solid, key, d),
+            15 => fill(&mut self.translate, key, d),
+            16 => fill(&mut self.rotate, key, d),
+            _ => fill(&mut self.scale, key, d),
+        }
+    }
+
+    /// The node of kind `kind` ([`KINDS`]), or the first of its fields that is missing or of the
+    /// wrong length.
+    fn finish<E: de::Error>(self, kind: usize) -> Result<SolidSpec, E> {
+        fn need<T, E: de::Error>(v: Option<T>, name: &'static str) -> Result<T, E> {
+            v.ok_or_else(|| E::missing_field(name))
+        }
+        fn array<const N: usize, E: de::Error>(
+            v: Option<Vec<f64>>,
+            name: &'static str,
+        ) -> Result<[f64; N], E> {
+            let v = need::<_, E>(v, name)?;
+            <[f64; N]>::try_from(v.as_slice()).map_err(|_| {
+                E::custom(format_args!(
+                    "\"{name}\" has {} numbers; this kind takes {N}",
+                    v.len()
+                ))
+            })
+        }
+        let f = self;
+        Ok(match KINDS[kind] {
+            "circle" => SolidSpec::Circle {
+                center: array(f.center, "center")?,
+                radius: need(f.radius, "radius")?,
+            },
+            "sphere" => SolidSpec::Sphere {
+                center: array(f.center, "center")?,
+                radius: need(f.radius, "radius")?,
+            },
+            "rectangle" => SolidSpec::Rectangle {
+                min: array(f.min, "min")?,
+                max: array(f.max, "max")?,
+            },
+            "box" => SolidSpec::Box {
+                min: array(f.min, "min")?,
+                max: array(f.max, "max")?,
+            },
+            "cylinder" => SolidSpec::Cylinder {
+                center: array(f.center, "center")?,
+                axis: need(f.axis, "axis")?,
+                radius: need(f.radius, "radius")?,
+            },
+            "torus" => SolidSpec::Torus {
+                center: array(f.center, "center")?,
+                axis: need(f.axis, "axis")?,
+                major: need(f.major, "major")?,
+                minor: need(f.minor, "minor")?,
+            },
+            "halfplane" => SolidSpec::Halfplane {
+                normal: array(f.normal, "normal")?,
+                offset: need(f.offset, "offset")?,
+            },
+            "halfspace" => SolidSpec::Halfspace {
+                normal: array(f.normal, "normal")?,
+                offset: need(f.offset, "offset")?,
+            },
+            "union" => SolidSpec::Union {
+                of: need(f.of, "of")?,
+            },
+            "intersection" => SolidSpec::Intersection {
+                of: need(f.of, "of")?,
+            },
+            "difference" => SolidSpec::Difference {
+                of: need(f.of, "of")?,
+            },
+            "blend_union" => SolidSpec::BlendUnion {
+                of: need(f.of, "of")?,
+                a0: need(f.a0, "a0")?,
+                a1: need(f.a1, "a1")?,
+                a2: need(f.a2, "a2")?,
+            },
+            "blend_intersection" => SolidSpec::BlendIntersection {
+                of: need(f.of, "of")?,
+                a0: need(f.a0, "a0")?,
+                a1: need(f.a1, "a1")?,
+                a2: need(f.a2, "a2")?,
+            },
+            "morph" => SolidSpec::Morph {
+                of: need(f.of, "of")?,
+                t: need(f.t, "t")?,
+            },
+            _ => SolidSpec::Transform {
+                solid: need(f.solid, "solid")?,
+                translate: f.translate,
+                rotate: f.rotate,
+                scale: f.scale,
+            },
+        })
+    }
 }
 
 impl Fields {
@@ -222,6 +417,7 @@ impl Fields {
                 operands: None,
             },
             Kind::Plasm => Self::Plasm { script: None },
+            Kind::Node(kind) => Self::Node(kind, alloc::boxed::Box::default()),
         }
     }
 
@@ -247,6 +443,7 @@ impl Fields {
             Self::Plasm { script } => SolidSpec::Plasm {
                 script: script.ok_or_else(|| missing(Key::Script))?,
             },
+            Self::Node(kind, fields) => fields.finish(kind)?,
         })
     }
 }
@@ -284,6 +481,7 @@ impl<'de> DeserializeSeed<'de> for Field<'_> {
             (Fields::Esc { operation, .. }, Key::Operation) => fill(operation, key, d),
             (Fields::Esc { operands, .. }, Key::Operands) => fill(operands, key, d),
             (Fields::Plasm { script }, Key::Script) => fill(script, key, d),
+            (Fields::Node(_, fields), Key::Node(index)) => fields.fill(index, d),
             _ => IgnoredAny::deserialize(d).map(drop),
         }
     }
@@ -358,6 +556,12 @@ impl<'de> Visitor<'de> for SolidVisitor {
             Kind::Plasm => SolidSpec::Plasm {
                 script: element(&mut seq, 1)?,
             },
+            Kind::Node(kind) => {
+                return Err(de::Error::custom(format_args!(
+                    "a \"{}\" node is written as an object with a \"kind\"",
+                    KINDS[kind]
+                )));
+            }
         };
         if seq.next_element::<IgnoredAny>()?.is_some() {
             return Err(de::Error::custom(

@@ -1,0 +1,1270 @@
+//! Models of many solids (DESIGN §5): Bézier solids beside primitives, combined by R-function set
+//! operations, blends and morphs, and moved by transforms.
+//!
+//! A model file's `solid` may be a tree of [`SolidSpec`] nodes. [`ModelFile::to_tree`] checks it
+//! (caps, finite numbers, one dimension, positive radii, …; an error names the node's path, such
+//! as `solid.of[2].solid.radius`) and compiles it into a [`Tree`]: its leaves, each with the affine
+//! map from space to the leaf's own coordinates that the transforms above it compose to, and the
+//! operations as a postfix program over them. Evaluation runs the program on a small stack, so a
+//! tree of any allowed shape costs no recursion.
+//!
+//! Every node's `f` is the formula of DESIGN §5, with `&` and `|` the R-functions
+//! `f1 & f2 = f1 + f2 − √(f1² + f2²)` and `f1 | f2 = f1 + f2 + √(f1² + f2²)` ([`crate::rfunc`]).
+//! A single patch or volume is a tree of one leaf, with the same `f` and preimages.
+//!
+//! ```
+//! use bezsolid_core::model::{ModelFile, SolidSpec};
+//! use bezsolid_core::tree::ModelTree;
+//!
+//! // {"kind": "union", "of": [{"kind": "circle", …}, {"kind": "rectangle", …}]}
+//! let file = ModelFile::from_spec(SolidSpec::Union {
+//!     of: vec![
+//!         SolidSpec::Circle { center: [0.0, 0.0], radius: 1.0 },
+//!         SolidSpec::Rectangle { min: [0.0, -0.5], max: [2.0, 0.5] },
+//!     ],
+//! });
+//! let ModelTree::Plane(tree) = file.to_tree().unwrap() else { unreachable!() };
+//! assert!(tree.f(glam::DVec2::new(1.5, 0.0)) > 0.0);
+//! assert!(tree.f(glam::DVec2::new(0.0, 2.0)) < 0.0);
+//! ```
+
+use alloc::boxed::Box;
+use alloc::format;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt;
+
+use crate::dim::{Dim, Dimension, Point};
+use crate::inverse::Method;
+use crate::math::sqrt;
+use crate::model::{CoordAxis, ModelError, ModelFile, Rotation, SolidSpec};
+use crate::rfunc::{intersect, union};
+use crate::solid::Solid;
+use crate::tensor::Tensor;
+
+/// The deepest a tree may be: a node and its children count 2.
+pub const MAX_DEPTH: usize = 32;
+/// The most nodes a tree may have (every node counts, leaves and operations).
+pub const MAX_NODES: usize = 256;
+
+/// A checked tree of a model file: all 2D or all 3D.
+#[derive(Clone, Debug)]
+pub enum ModelTree {
+    /// A 2D tree (patches, circles, rectangles, half-planes).
+    Plane(Tree<2>),
+    /// A 3D tree (volumes, spheres, boxes, cylinders, tori, half-spaces).
+    Space(Tree<3>),
+}
+
+/// Why a tree was refused: the node's path in the model file and what is wrong there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TreeError {
+    /// The path of the node or field, as in `solid.of[2].solid.radius`.
+    pub path: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for TreeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path, self.message)
+    }
+}
+
+impl core::error::Error for TreeError {}
+
+/// An affine map `x ↦ m·x + t` of space into a leaf's own coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Affine<const D: usize> {
+    m: [[f64; D]; D],
+    t: [f64; D],
+}
+
+impl<const D: usize> Affine<D> {
+    const IDENTITY: Self = Self {
+        m: {
+            let mut m = [[0.0; D]; D];
+            let mut i = 0;
+            while i < D {
+                m[i][i] = 1.0;
+                i += 1;
+            }
+            m
+        },
+        t: [0.0; D],
+    };
+
+    fn apply(&self, x: [f64; D]) -> [f64; D] {
+        core::array::from_fn(|r| {
+            let mut s = self.t[r];
+            for (c, xc) in x.iter().enumerate() {
+                s += self.m[r][c] * xc;
+            }
+            s
+        })
+    }
+
+    /// `self ∘ other`: first `other`, then `self`.
+    fn after(&self, other: &Self) -> Self {
+        let m = core::array::from_fn(|r| {
+            core::array::from_fn(|c| (0..D).map(|k| self.m[r][k] * other.m[k][c]).sum())
+        });
+        Self {
+            m,
+            t: self.apply(other.t),
+        }
+    }
+}
+
+/// What a leaf is, in its own coordinates.
+#[derive(Clone, Debug)]
+enum Shape<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// A patch or volume solid.
+    Bezier(Box<Solid<D>>),
+    /// `radius² − ‖p − center‖²`.
+    Ball { center: [f64; D], radius: f64 },
+    /// `s_0 & s_1 (& s_2)`, `s_i = (p_i − min_i)(max_i − p_i)`.
+    Box { min: [f64; D], max: [f64; D] },
+    /// `radius²` less the squared distance from the line along axis `axis` through `center`.
+    Cylinder {
+        center: [f64; D],
+        axis: usize,
+        radius: f64,
+    },
+    /// `minor² − (√(a² + b²) − major)² − c²`.
+    Torus {
+        center: [f64; D],
+        axis: usize,
+        major: f64,
+        minor: f64,
+    },
+    /// `offset − normal · p`.
+    Half { normal: [f64; D], offset: f64 },
+}
+
+impl<const D: usize> Shape<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// `f` at `p` (in the leaf's coordinates) and, for a Bézier leaf, its preimages and whether
+    /// the query ran out of its work budget.
+    fn eval(&self, p: [f64; D]) -> (f64, usize, bool) {
+        let (f, n) = match self {
+            Self::Bezier(solid) => {
+                let v = solid.evaluate(Dim::<D>::point(p), Method::Fast);
+                return (v.f, v.preimages, v.exhausted);
+            }
+            Self::Ball { center, radius } => {
+                let d2: f64 = (0..D)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                (radius * radius - d2, 0)
+            }
+            Self::Box { min, max } => {
+                let s = |i: usize| (p[i] - min[i]) * (max[i] - p[i]);
+                let f = (1..D).fold(s(0), |f, i| intersect(f, s(i)));
+                (f, 0)
+            }
+            Self::Cylinder {
+                center,
+                axis,
+                radius,
+            } => {
+                let d2: f64 = (0..D)
+                    .filter(|&i| i != *axis)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                (radius * radius - d2, 0)
+            }
+            Self::Torus {
+                center,
+                axis,
+                major,
+                minor,
+            } => {
+                let across: f64 = (0..D)
+                    .filter(|&i| i != *axis)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                let along = p[*axis] - center[*axis];
+                let ring = sqrt(across) - major;
+                (minor * minor - ring * ring - along * along, 0)
+            }
+            Self::Half { normal, offset } => {
+                let dot: f64 = (0..D).map(|i| normal[i] * p[i]).sum();
+                (offset - dot, 0)
+            }
+        };
+        (f, n, false)
+    }
+}
+
+/// A leaf and the map from space into its coordinates.
+#[derive(Clone, Debug)]
+struct Leaf<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    shape: Shape<D>,
+    map: Option<Affine<D>>,
+}
+
+/// One instruction of the postfix program.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Step {
+    /// Push leaf `i`'s value.
+    Leaf(usize),
+    /// Pop `n` values, push `f1 | f2 | …`.
+    Union(usize),
+    /// Pop `n` values, push `f1 & f2 & …`.
+    Intersection(usize),
+    /// Pop `n` values, push `f1 & (−f2) & …`.
+    Difference(usize),
+    /// Pop 2, push `(f1 | f2)` (or `&` when not `union`) `+ a0 / (1 + (f1/a1)² + (f2/a2)²)`.
+    Blend {
+        union: bool,
+        a0: f64,
+        a1: f64,
+        a2: f64,
+    },
+    /// Pop 2, push `(1 − t) f1 + t f2`.
+    Morph(f64),
+}
+
+/// A checked tree of `D` dimensions, ready to evaluate.
+#[derive(Clone, Debug)]
+pub struct Tree<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    leaves: Vec<Leaf<D>>,
+    steps: Vec<Step>,
+    /// The deepest the evaluation stack gets.
+    stack: usize,
+}
+
+/// `f` and the preimages of one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreeValue {
+    /// The defining function: positive inside.
+    pub f: f64,
+    /// The number of preimages summed over the Bézier leaves.
+    pub preimages: usize,
+    /// Whether a Bézier leaf's query ran out of its work budget (a net that folds very many
+    /// times): its preimages, and so `f`, may be incomplete.
+    pub exhausted: bool,
+}
+
+impl<const D: usize> Tree<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// `f(p)` and the preimages of `p` summed over the Bézier leaves.
+    #[must_use]
+    pub fn evaluate(&self, p: Point<D>) -> TreeValue {
+        let p = Dim::<D>::coords(p);
+        let mut stack: Vec<f64> = Vec::with_capacity(self.stack);
+        let mut preimages = 0;
+        let mut exhausted = false;
+        for step in &self.steps {
+            match *step {
+                Step::Leaf(i) => {
+                    let leaf = &self.leaves[i];
+                    let q = leaf.map.map_or(p, |m| m.apply(p));
+                    let (f, n, out) = leaf.shape.eval(q);
+                    preimages += n;
+                    exhausted |= out;
+                    stack.push(f);
+                }
+                Step::Union(n) => fold(&mut stack, n, union),
+                Step::Intersection(n) => fold(&mut stack, n, intersect),
+                Step::Difference(n) => fold(&mut stack, n, |a, b| intersect(a, -b)),
+                Step::Blend {
+                    union: u,
+                    a0,
+                    a1,
+                    a2,
+                } => {
+                    let f2 = stack.pop().unwrap_or(f64::NAN);
+                    let f1 = stack.pop().unwrap_or(f64::NAN);
+                    let base = if u { union(f1, f2) } else { intersect(f1, f2) };
+                    let (r1, r2) = (f1 / a1, f2 / a2);
+                    stack.push(base + a0 / (1.0 + r1 * r1 + r2 * r2));
+                }
+                Step::Morph(t) => {
+                    let f2 = stack.pop().unwrap_or(f64::NAN);
+                    let f1 = stack.pop().unwrap_or(f64::NAN);
+                    stack.push((1.0 - t) * f1 + t * f2);
+                }
+            }
+        }
+        TreeValue {
+            f: stack.pop().unwrap_or(f64::NAN),
+            preimages,
+            exhausted,
+        }
+    }
+
+    /// Prepares the Bézier leaves for about `queries` evaluations (see [`Solid::plan`]).
+    pub fn plan(&self, queries: usize) {
+        for leaf in &self.leaves {
+            if let Shape::Bezier(s) = &leaf.shape {
+                s.plan(queries);
+            }
+        }
+    }
+
+    /// The defining function at `p`: positive inside.
+    #[must_use]
+    pub fn f(&self, p: Point<D>) -> f64 {
+        self.evaluate(p).f
+    }
+
+    /// How many leaves the tree has.
+    #[must_use]
+    pub fn leaf_count(&self) -> usize {
+        self.leaves.len()
+    }
+
+    /// How many of its leaves are Bézier solids.
+    #[must_use]
+    pub fn bezier_count(&self) -> usize {
+        self.leaves
+            .iter()
+            .filter(|l| matches!(l.shape, Shape::Bezier(_)))
+            .count()
+    }
+
+    /// The tree's one leaf when it is a single Bézier solid with no transform.
+    #[must_use]
+    pub fn as_solid(&self) -> Option<&Solid<D>> {
+        match (&self.leaves[..], &self.steps[..]) {
+            (
+                [
+                    Leaf {
+                        shape: Shape::Bezier(s),
+                        map: None,
+                    },
+                ],
+                [Step::Leaf(0)],
+            ) => Some(s),
+            _ => None,
+        }
+    }
+}
+
+/// Pops `n` values and pushes them folded left to right by `op`.
+fn fold(stack: &mut Vec<f64>, n: usize, op: impl Fn(f64, f64) -> f64) {
+    let start = stack.len().saturating_sub(n);
+    let folded = stack[start..]
+        .iter()
+        .copied()
+        .reduce(op)
+        .unwrap_or(f64::NAN);
+    stack.truncate(start);
+    stack.push(folded);
+}
+
+impl ModelFile {
+    /// Checks the header and the tree of `solid` (a single patch or volume is a tree of one leaf)
+    /// and compiles it.
+    ///
+    /// # Errors
+    ///
+    /// [`ModelError`] for another format or version, a free-form model or a script
+    /// ([`ModelError::Kind`]), or a tree that breaks a rule ([`ModelError::Tree`], naming the
+    /// node's path).
+    pub fn to_tree(&self) -> Result<ModelTree, ModelError> {
+        self.check_header()?;
+        let dimension = dimension_of(&self.solid).map_err(ModelError::Tree)?;
+        Ok(if dimension == 2 {
+            ModelTree::Plane(Builder::<2>::build(&self.solid)?)
+        } else {
+            ModelTree::Space(Builder::<3>::build(&self.solid)?)
+        })
+    }
+}
+
+/// The dimension of a node's kind: `Some(2)`, `Some(3)`, or `None` for an operation or transform.
+fn kind_dimension(spec: &SolidSpec) -> Result<Option<usize>, &'static str> {
+    Ok(match spec {
+        SolidSpec::Patch { .. }
+        | SolidSpec::Circle { .. }
+        | SolidSpec::Rectangle { .. }
+        | SolidSpec::Halfplane { .. } => Some(2),
+        SolidSpec::Volume { .. }
+        | SolidSpec::Sphere { .. }
+        | SolidSpec::Box { .. }
+        | SolidSpec::Cylinder { .. }
+        | SolidSpec::Torus { .. }
+        | SolidSpec::Halfspace { .. } => Some(3),
+        SolidSpec::Esc { .. } => {
+            return Err("a free-form model is a model of its own, not a node of a tree");
+        }
+        SolidSpec::Plasm { .. } => {
+            return Err("a PLaSM script is a model of its own, not a node of a tree");
+        }
+        _ => None,
+    })
+}
+
+/// The children of a node, each with its path's step.
+fn children(spec: &SolidSpec) -> Vec<(String, &SolidSpec)> {
+    match spec {
+        SolidSpec::Union { of }
+        | SolidSpec::Intersection { of }
+        | SolidSpec::Difference { of }
+        | SolidSpec::BlendUnion { of, .. }
+        | SolidSpec::BlendIntersection { of, .. }
+        | SolidSpec::Morph { of, .. } => of
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (format!(".of[{i}]"), c))
+            .collect(),
+        SolidSpec::Transform { solid, .. } => alloc::vec![(String::from(".solid"), &**solid)],
+        _ => Vec::new(),
+    }
+}
+
+/// The dimension of the tree: that of its first leaf, found depth-first (without recursion; the
+/// builder checks the caps and names the node past them).
+fn dimension_of(root: &SolidSpec) -> Result<usize, TreeError> {
+    let mut todo = alloc::vec![(String::from("solid"), root)];
+    while let Some((path, spec)) = todo.pop() {
+        match kind_dimension(spec) {
+            Err(message) => return Err(error(&path, message)),
+            Ok(Some(d)) => return Ok(d),
+            Ok(None) => {
+                let mut kids = children(spec);
+                kids.reverse();
+                for (step, child) in kids {
+                    todo.push((format!("{path}{step}"), child));
+                }
+            }
+        }
+    }
+    Err(error(
+        "solid",
+        "the tree has no solid in it (an operation needs nodes in \"of\")",
+    ))
+}
+
+fn error(path: &str, message: impl Into<String>) -> TreeError {
+    TreeError {
+        path: path.into(),
+        message: message.into(),
+    }
+}
+
+/// Compiles a tree of `D` dimensions, checking each node on the way.
+struct Builder<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    leaves: Vec<Leaf<D>>,
+    steps: Vec<Step>,
+    nodes: usize,
+    depth: usize,
+    stack: usize,
+}
+
+impl<const D: usize> Builder<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn build(root: &SolidSpec) -> Result<Tree<D>, ModelError> {
+        let mut b = Self {
+            leaves: Vec::new(),
+            steps: Vec::new(),
+            nodes: 0,
+            depth: 0,
+            stack: 0,
+        };
+        b.node(root, "solid", None, 1)?;
+        Ok(Tree {
+            leaves: b.leaves,
+            steps: b.steps,
+            stack: b.stack,
+        })
+    }
+
+    /// Compiles `spec` at `path`, `depth` deep, under the map `map` (space to this node's
+    /// coordinates). `height` is the evaluation stack's height after it pushes its value.
+    fn node(
+        &mut self,
+        spec: &SolidSpec,
+        path: &str,
+        map: Option<Affine<D>>,
+        height: usize,
+    ) -> Result<(), ModelError> {
+        let tree_error = |p: &str, m: String| ModelError::Tree(error(p, m));
+        self.nodes += 1;
+        if self.nodes > MAX_NODES {
+            return Err(tree_error(
+                path,
+                format!("the tree has more than {MAX_NODES} nodes"),
+            ));
+        }
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(tree_error(
+                path,
+                format!("the tree is more than {MAX_DEPTH} nodes deep"),
+            ));
+        }
+        self.stack = self.stack.max(height);
+        match kind_dimension(spec) {
+            Err(m) => return Err(tree_error(path, m.into())),
+            Ok(Some(d)) if d != D => {
+                return Err(tree_error(
+                    path,
+                    format!("a {d}D node in a {D}D tree: a tree is all 2D or all 3D"),
+                ));
+            }
+            _ => {}
+        }
+        let field = |name: &str| format!("{path}.{name}");
+        match spec {
+            SolidSpec::Patch { .. } | SolidSpec::Volume { .. } => {
+                // A single solid's error reads as it always has; a leaf's names its path.
+                let solid = bezier::<D>(spec).map_err(|e| match path {
+                    "solid" => ModelError::Solid(e),
+                    _ => tree_error(path, format!("invalid solid: {e}")),
+                })?;
+                self.leaf(Shape::Bezier(Box::new(solid)), map);
+            }
+            SolidSpec::Circle { center, radius } => self.ball(center, *radius, path, map)?,
+            SolidSpec::Sphere { center, radius } => self.ball(center, *radius, path, map)?,
+            SolidSpec::Rectangle { min, max } => self.cuboid(min, max, path, map)?,
+            SolidSpec::Box { min, max } => self.cuboid(min, max, path, map)?,
+            SolidSpec::Cylinder {
+                center,
+                axis,
+                radius,
+            } => {
+                let center = finite_array::<D>(center, &field("center"))?;
+                positive(*radius, &field("radius"))?;
+                self.leaf(
+                    Shape::Cylinder {
+                        center,
+                        axis: axis_index(*axis),
+                        radius: *radius,
+                    },
+                    map,
+                );
+            }
+            SolidSpec::Torus {
+                center,
+                axis,
+                major,
+                minor,
+            } => {
+                let center = finite_array::<D>(center, &field("center"))?;
+                positive(*major, &field("major"))?;
+                positive(*minor, &field("minor"))?;
+                self.leaf(
+                    Shape::Torus {
+                        center,
+                        axis: axis_index(*axis),
+                        major: *major,
+                        minor: *minor,
+                    },
+                    map,
+                );
+            }
+            SolidSpec::Halfplane { normal, offset } => self.half(normal, *offset, path, map)?,
+            SolidSpec::Halfspace { normal, offset } => self.half(normal, *offset, path, map)?,
+            SolidSpec::Union { of } => self.operation(of, path, map, height, 2, Step::Union)?,
+            SolidSpec::Intersection { of } => {
+                self.operation(of, path, map, height, 2, Step::Intersection)?;
+            }
+            SolidSpec::Difference { of } => {
+                self.operation(of, path, map, height, 2, Step::Difference)?;
+            }
+            SolidSpec::BlendUnion { of, a0, a1, a2 }
+            | SolidSpec::BlendIntersection { of, a0, a1, a2 } => {
+                finite(*a0, &field("a0"))?;
+                non_zero(*a1, &field("a1"))?;
+                non_zero(*a2, &field("a2"))?;
+                let union = matches!(spec, SolidSpec::BlendUnion { .. });
+                let step = Step::Blend {
+                    union,
+                    a0: *a0,
+                    a1: *a1,
+                    a2: *a2,
+                };
+                self.operation(of, path, map, height, 0, |_| step)?;
+            }
+            SolidSpec::Morph { of, t } => {
+                finite(*t, &field("t"))?;
+                let t = *t;
+                self.operation(of, path, map, height, 0, |_| Step::Morph(t))?;
+            }
+            SolidSpec::Transform {
+                solid,
+                translate,
+                rotate,
+                scale,
+            } => {
+                let inverse = transform_inverse::<D>(path, translate, rotate, scale)?;
+                let map = Some(map.map_or(inverse, |outer| inverse.after(&outer)));
+                self.node(solid, &field("solid"), map, height)?;
+            }
+            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
+                unreachable!("refused by kind_dimension")
+            }
+        }
+        self.depth -= 1;
+        Ok(())
+    }
+
+    fn ball(
+        &mut self,
+        center: &[f64],
+        radius: f64,
+        path: &str,
+        map: Option<Affine<D>>,
+    ) -> Result<(), ModelError> {
+        let center = finite_array::<D>(center, &format!("{path}.center"))?;
+        positive(radius, &format!("{path}.radius"))?;
+        self.leaf(Shape::Ball { center, radius }, map);
+        Ok(())
+    }
+
+    fn cuboid(
+        &mut self,
+        min: &[f64],
+        max: &[f64],
+        path: &str,
+        map: Option<Affine<D>>,
+    ) -> Result<(), ModelError> {
+        let lo = finite_array::<D>(min, &format!("{path}.min"))?;
+        let hi = finite_array::<D>(max, &format!("{path}.max"))?;
+        if (0..D).any(|i| lo[i] >= hi[i]) {
+            return Err(ModelError::Tree(error(
+                &format!("{path}.max"),
+                "every coordinate of max must be above min's",
+            )));
+        }
+        self.leaf(Shape::Box { min: lo, max: hi }, map);
+        Ok(())
+    }
+
+    fn half(
+        &mut self,
+        normal: &[f64],
+        offset: f64,
+        path: &str,
+        map: Option<Affine<D>>,
+    ) -> Result<(), ModelError> {
+        let normal = finite_array::<D>(normal, &format!("{path}.normal"))?;
+        if normal.iter().all(|&n| n == 0.0) {
+            return Err(ModelError::Tree(error(
+                &format!("{path}.normal"),
+                "the normal is zero",
+            )));
+        }
+        finite(offset, &format!("{path}.offset"))?;
+        self.leaf(Shape::Half { normal, offset }, map);
+        Ok(())
+    }
+
+    fn leaf(&mut self, shape: Shape<D>, map: Option<Affine<D>>) {
+        self.steps.push(Step::Leaf(self.leaves.len()));
+        self.leaves.push(Leaf { shape, map });
+    }
+
+    /// An operation over `of`: at least `min` nodes (exactly 2 where `min` is 0).
+    fn operation(
+        &mut self,
+        of: &[SolidSpec],
+        path: &str,
+        map: Option<Affine<D>>,
+        height: usize,
+        min: usize,
+        step: impl Fn(usize) -> Step,
+    ) -> Result<(), ModelError> {
+        let count_ok = if min == 0 {
+            of.len() == 2
+        } else {
+            of.len() >= min
+        };
+        if !count_ok {
+            let want = if min == 0 { "exactly 2" } else { "2 or more" };
+            return Err(ModelError::Tree(error(
+                &format!("{path}.of"),
+                format!("{} nodes; this operation takes {want}", of.len()),
+            )));
+        }
+        for (i, child) in of.iter().enumerate() {
+            self.node(child, &format!("{path}.of[{i}]"), map, height + i)?;
+        }
+        self.steps.push(step(of.len()));
+        Ok(())
+    }
+}
+
+fn axis_index(axis: CoordAxis) -> usize {
+    axis.index()
+}
+
+/// A Bézier leaf's solid, as a single-solid model file builds it.
+fn bezier<const D: usize>(spec: &SolidSpec) -> Result<Solid<D>, crate::solid::SolidError>
+where
+    Dim<D>: Dimension<D>,
+{
+    use crate::solid::SolidError;
+    let (degree, points): (&[usize], Vec<&[f64]>) = match spec {
+        SolidSpec::Patch { degree, points } => (degree, points.iter().map(|p| &p[..]).collect()),
+        SolidSpec::Volume { degree, points } => (degree, points.iter().map(|p| &p[..]).collect()),
+        _ => unreachable!("a Bézier leaf"),
+    };
+    // The kind's dimension was checked against the tree's.
+    let degree: [usize; D] = degree.try_into().map_err(|_| SolidError::Index {
+        index: degree.len(),
+        len: D,
+    })?;
+    let controls = points
+        .iter()
+        .map(|p| Dim::<D>::control(core::array::from_fn(|c| p[c]), p[D]))
+        .collect();
+    let net = Tensor::try_new(degree, controls).map_err(SolidError::from)?;
+    Solid::try_from_net(net)
+}
+
+fn finite(v: f64, path: &str) -> Result<(), ModelError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(ModelError::Tree(error(
+            path,
+            format!("{v} is not a finite number"),
+        )))
+    }
+}
+
+fn positive(v: f64, path: &str) -> Result<(), ModelError> {
+    finite(v, path)?;
+    if v > 0.0 {
+        Ok(())
+    } else {
+        Err(ModelError::Tree(error(
+            path,
+            format!("must be positive (it is {v})"),
+        )))
+    }
+}
+
+fn non_zero(v: f64, path: &str) -> Result<(), ModelError> {
+    finite(v, path)?;
+    if v == 0.0 {
+        Err(ModelError::Tree(error(path, "must not be zero")))
+    } else {
+        Ok(())
+    }
+}
+
+/// `values` as `D` finite numbers.
+fn finite_array<const D: usize>(values: &[f64], path: &str) -> Result<[f64; D], ModelError> {
+    let array: [f64; D] = values.try_into().map_err(|_| {
+        ModelError::Tree(error(
+            path,
+            format!("{} numbers where a {D}D tree takes {D}", values.len()),
+        ))
+    })?;
+    for (i, v) in array.iter().enumerate() {
+        finite(*v, &format!("{path}[{i}]"))?;
+    }
+    Ok(array)
+}
+
+/// `M⁻¹` of the transform `M = T · Rz · Ry · Rx · S` (in 2D `T · R · S`).
+fn transform_inverse<const D: usize>(
+    path: &str,
+    translate: &Option<Vec<f64>>,
+    rotate: &Option<Rotation>,
+    scale: &Option<Vec<f64>>,
+) -> Result<Affine<D>, ModelError> {
+    let t = match translate {
+        Some(t) => finite_array::<D>(t, &format!("{path}.translate"))?,
+        None => [0.0; D],
+    };
+    let s = match scale {
+        Some(s) => {
+            let s = finite_array::<D>(s, &format!("{path}.scale"))?;
+            for (i, v) in s.iter().enumerate() {
+                non_zero(*v, &format!("{path}.scale[{i}]"))?;
+            }
+            s
+        }
+        None => [1.0; D],
+    };
+    // R as a matrix (row-major), from the angles in degrees.
+    let rotation_path = format!("{path}.rotate");
+    let mut r = Affine::<D>::IDENTITY.m;
+    match (rotate, D) {
+        (None, _) => {}
+        (Some(Rotation::Angle(a)), 2) => {
+            finite(*a, &rotation_path)?;
+            let (sin, cos) = sin_cos(*a);
+            r[0][0] = cos;
+            r[0][1] = -sin;
+            r[1][0] = sin;
+            r[1][1] = cos;
+        }
+        (Some(Rotation::Angles(angles)), 3) => {
+            for (i, a) in angles.iter().enumerate() {
+                finite(*a, &format!("{rotation_path}[{i}]"))?;
+            }
+            let m = rotation3(*angles);
+            for (row, m_row) in r.iter_mut().zip(m) {
+                row.copy_from_slice(&m_row);
+            }
+        }
+        (Some(_), _) => {
+            return Err(ModelError::Tree(error(
+                &rotation_path,
+                if D == 2 {
+                    "a 2D rotation is one angle in degrees"
+                } else {
+                    "a 3D rotation is [rx, ry, rz] in degrees"
+                },
+            )));
+        }
+    }
+    // M⁻¹ p = S⁻¹ Rᵀ (p − t).
+    let m: [[f64; D]; D] = core::array::from_fn(|i| core::array::from_fn(|j| r[j][i] / s[i]));
+    let shift: [f64; D] = core::array::from_fn(|i| -(0..D).map(|j| m[i][j] * t[j]).sum::<f64>());
+    Ok(Affine { m, t: shift })
+}
+
+/// `(sin, cos)` of `degrees`.
+fn sin_cos(degrees: f64) -> (f64, f64) {
+    let radians = degrees.to_radians();
+    #[cfg(feature = "std")]
+    {
+        radians.sin_cos()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        (libm::sin(radians), libm::cos(radians))
+    }
+}
+
+/// `Rz · Ry · Rx` of angles `[rx, ry, rz]` in degrees.
+fn rotation3([rx, ry, rz]: [f64; 3]) -> [[f64; 3]; 3] {
+    let (sx, cx) = sin_cos(rx);
+    let (sy, cy) = sin_cos(ry);
+    let (sz, cz) = sin_cos(rz);
+    let x = [[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]];
+    let y = [[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]];
+    let z = [[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]];
+    let mul = |a: [[f64; 3]; 3], b: [[f64; 3]; 3]| -> [[f64; 3]; 3] {
+        core::array::from_fn(|i| core::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+    };
+    mul(mul(z, y), x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::SolidSpec as S;
+    use crate::solid::Solid2;
+    use crate::testutil::{Rng, assert_close};
+    use alloc::vec;
+    use glam::{DVec2, DVec3};
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    // The formulas of DESIGN §5, written out again here.
+    fn and(a: f64, b: f64) -> f64 {
+        a + b - (a * a + b * b).sqrt()
+    }
+    fn or(a: f64, b: f64) -> f64 {
+        a + b + (a * a + b * b).sqrt()
+    }
+
+    fn plane(spec: S) -> Tree<2> {
+        match ModelFile::from_spec(spec).to_tree().unwrap() {
+            ModelTree::Plane(t) => t,
+            ModelTree::Space(_) => panic!("a 3D tree"),
+        }
+    }
+
+    fn space(spec: S) -> Tree<3> {
+        match ModelFile::from_spec(spec).to_tree().unwrap() {
+            ModelTree::Space(t) => t,
+            ModelTree::Plane(_) => panic!("a 2D tree"),
+        }
+    }
+
+    fn refused(spec: S) -> TreeError {
+        match ModelFile::from_spec(spec).to_tree() {
+            Err(ModelError::Tree(e)) => e,
+            other => panic!("not refused as a tree: {other:?}"),
+        }
+    }
+
+    fn sphere(c: [f64; 3], r: f64) -> S {
+        S::Sphere {
+            center: c,
+            radius: r,
+        }
+    }
+
+    fn circle(c: [f64; 2], r: f64) -> S {
+        S::Circle {
+            center: c,
+            radius: r,
+        }
+    }
+
+    fn points3(seed: u64, n: usize) -> Vec<DVec3> {
+        let mut rng = Rng::new(seed);
+        (0..n)
+            .map(|_| {
+                DVec3::new(
+                    rng.range(-3.0, 3.0),
+                    rng.range(-3.0, 3.0),
+                    rng.range(-3.0, 3.0),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_primitive_is_its_formula() {
+        let sp = space(sphere([0.5, -1.0, 2.0], 1.5));
+        let bx = space(S::Box {
+            min: [-1.0, -2.0, 0.0],
+            max: [1.0, 0.5, 3.0],
+        });
+        let cyl = space(S::Cylinder {
+            center: [1.0, 2.0, 3.0],
+            axis: CoordAxis::Y,
+            radius: 0.75,
+        });
+        let tor = space(S::Torus {
+            center: [0.0, 0.5, -0.5],
+            axis: CoordAxis::X,
+            major: 2.0,
+            minor: 0.5,
+        });
+        let half = space(S::Halfspace {
+            normal: [1.0, -2.0, 0.5],
+            offset: 0.25,
+        });
+        for p in points3(1, 200) {
+            let [x, y, z] = p.to_array();
+            let want = 1.5 * 1.5 - ((x - 0.5).powi(2) + (y + 1.0).powi(2) + (z - 2.0).powi(2));
+            assert_close!(sp.f(p), want, 1e-12);
+            let s = |v: f64, lo: f64, hi: f64| (v - lo) * (hi - v);
+            let want = and(and(s(x, -1.0, 1.0), s(y, -2.0, 0.5)), s(z, 0.0, 3.0));
+            assert_close!(bx.f(p), want, 1e-12);
+            let want = 0.75 * 0.75 - ((x - 1.0).powi(2) + (z - 3.0).powi(2));
+            assert_close!(cyl.f(p), want, 1e-12);
+            let (a, b, c) = (y - 0.5, z + 0.5, x);
+            let want = 0.25 - ((a * a + b * b).sqrt() - 2.0).powi(2) - c * c;
+            assert_close!(tor.f(p), want, 1e-12);
+            assert_close!(half.f(p), 0.25 - (x - 2.0 * y + 0.5 * z), 1e-12);
+        }
+        let ci = plane(circle([1.0, 1.0], 2.0));
+        let re = plane(S::Rectangle {
+            min: [0.0, 0.0],
+            max: [1.0, 2.0],
+        });
+        let hp = plane(S::Halfplane {
+            normal: [0.0, 1.0],
+            offset: 1.0,
+        });
+        for p in points3(2, 100) {
+            let q = p.truncate();
+            assert_close!(
+                ci.f(q),
+                4.0 - ((q.x - 1.0).powi(2) + (q.y - 1.0).powi(2)),
+                1e-12
+            );
+            assert_close!(re.f(q), and(q.x * (1.0 - q.x), q.y * (2.0 - q.y)), 1e-12);
+            assert_close!(hp.f(q), 1.0 - q.y, 1e-12);
+        }
+    }
+
+    #[test]
+    fn operations_fold_left_to_right_and_agree_in_sign_with_max_and_min() {
+        let parts = || {
+            vec![
+                sphere([0.0, 0.0, 0.0], 1.0),
+                sphere([1.0, 0.0, 0.0], 0.8),
+                sphere([0.0, 1.2, 0.3], 0.6),
+            ]
+        };
+        let u = space(S::Union { of: parts() });
+        let i = space(S::Intersection { of: parts() });
+        let d = space(S::Difference { of: parts() });
+        let leaves: Vec<Tree<3>> = parts().into_iter().map(space).collect();
+        for p in points3(3, 300) {
+            let f: Vec<f64> = leaves.iter().map(|t| t.f(p)).collect();
+            assert_close!(u.f(p), or(or(f[0], f[1]), f[2]), 1e-12);
+            assert_close!(i.f(p), and(and(f[0], f[1]), f[2]), 1e-12);
+            assert_close!(d.f(p), and(and(f[0], -f[1]), -f[2]), 1e-12);
+            let max = f.iter().copied().fold(f64::MIN, f64::max);
+            let min = f.iter().copied().fold(f64::MAX, f64::min);
+            if max.abs() > 1e-9 {
+                assert_eq!(u.f(p) > 0.0, max > 0.0, "{p}");
+            }
+            if min.abs() > 1e-9 {
+                assert_eq!(i.f(p) > 0.0, min > 0.0, "{p}");
+            }
+        }
+    }
+
+    #[test]
+    fn blends_and_morphs_are_their_formulas() {
+        let two = || vec![sphere([0.0, 0.0, 0.0], 1.0), sphere([1.5, 0.0, 0.0], 1.0)];
+        let (a0, a1, a2) = (0.5, 1.5, 0.75);
+        let bu = space(S::BlendUnion {
+            of: two(),
+            a0,
+            a1,
+            a2,
+        });
+        let bi = space(S::BlendIntersection {
+            of: two(),
+            a0,
+            a1,
+            a2,
+        });
+        let mo = space(S::Morph { of: two(), t: 0.3 });
+        let (f1, f2) = (
+            space(sphere([0.0, 0.0, 0.0], 1.0)),
+            space(sphere([1.5, 0.0, 0.0], 1.0)),
+        );
+        for p in points3(4, 200) {
+            let (g1, g2) = (f1.f(p), f2.f(p));
+            let disp = a0 / (1.0 + (g1 / a1).powi(2) + (g2 / a2).powi(2));
+            assert_close!(bu.f(p), or(g1, g2) + disp, 1e-12);
+            assert_close!(bi.f(p), and(g1, g2) + disp, 1e-12);
+            assert_close!(mo.f(p), 0.7 * g1 + 0.3 * g2, 1e-12);
+        }
+    }
+
+    #[test]
+    fn transforms_move_the_solid_by_t_rz_ry_rx_s() {
+        let (t, r, s) = ([0.5, -1.0, 2.0], [30.0, -45.0, 60.0], [2.0, 0.5, -1.5]);
+        let moved = space(S::Transform {
+            solid: Box::new(S::Box {
+                min: [-1.0, -1.0, -1.0],
+                max: [1.0, 0.5, 2.0],
+            }),
+            translate: Some(t.to_vec()),
+            rotate: Some(Rotation::Angles(r)),
+            scale: Some(s.to_vec()),
+        });
+        let plain = space(S::Box {
+            min: [-1.0, -1.0, -1.0],
+            max: [1.0, 0.5, 2.0],
+        });
+        // M q for points q of the solid's own space, built from glam's rotations: f(M q) = f0(q).
+        let rot = glam::DMat3::from_rotation_z(r[2].to_radians())
+            * glam::DMat3::from_rotation_y(r[1].to_radians())
+            * glam::DMat3::from_rotation_x(r[0].to_radians());
+        for q in points3(5, 200) {
+            let p = rot * (q * DVec3::from_array(s)) + DVec3::from_array(t);
+            assert_close!(moved.f(p), plain.f(q), 1e-9);
+        }
+        // 2D: one angle, counter-clockwise; nested transforms compose (outer last).
+        let inner = S::Transform {
+            solid: Box::new(circle([1.0, 0.0], 0.25)),
+            translate: None,
+            rotate: Some(Rotation::Angle(90.0)),
+            scale: None,
+        };
+        let outer = plane(S::Transform {
+            solid: Box::new(inner),
+            translate: Some(vec![10.0, 0.0]),
+            rotate: None,
+            scale: Some(vec![2.0, 2.0]),
+        });
+        // The circle's centre (1, 0) turns to (0, 1), scales to (0, 2) and moves to (10, 2);
+        // its radius scales to 0.5.
+        assert!(outer.f(DVec2::new(10.0, 2.0)) > 0.0);
+        assert!(outer.f(DVec2::new(10.0, 2.45)) > 0.0);
+        assert!(outer.f(DVec2::new(10.0, 2.55)) < 0.0);
+        assert!(outer.f(DVec2::new(2.0, 0.0)) < 0.0);
+    }
+
+    #[test]
+    fn a_bezier_leaf_is_the_single_solid_and_preimages_add_up() {
+        let fig9 = Solid2::fig9();
+        let spec = match ModelFile::from_solid2(&fig9).solid {
+            s @ S::Patch { .. } => s,
+            _ => unreachable!(),
+        };
+        let one = plane(spec.clone());
+        assert!(one.as_solid().is_some());
+        let two = plane(S::Union {
+            of: vec![spec.clone(), circle([5.0, 5.0], 1.0), spec],
+        });
+        assert!(two.as_solid().is_none());
+        let mut rng = Rng::new(6);
+        for _ in 0..100 {
+            let p = DVec2::new(rng.range(-0.5, 1.5), rng.range(-0.5, 1.5));
+            let v = fig9.evaluate(p, Method::Fast);
+            let t = one.evaluate(p);
+            assert_eq!((t.f, t.preimages), (v.f, v.preimages));
+            let c = 1.0 - ((p.x - 5.0).powi(2) + (p.y - 5.0).powi(2));
+            assert_close!(two.f(p), or(or(v.f, c), v.f), 1e-12);
+            assert_eq!(two.evaluate(p).preimages, 2 * v.preimages);
+        }
+    }
+
+    #[test]
+    fn bad_trees_are_refused_with_the_node_path() {
+        let e = refused(S::Union {
+            of: vec![
+                sphere([0.0; 3], 1.0),
+                S::Transform {
+                    solid: Box::new(sphere([0.0; 3], 0.0)),
+                    translate: None,
+                    rotate: None,
+                    scale: None,
+                },
+            ],
+        });
+        assert_eq!(e.path, "solid.of[1].solid.radius");
+        let e = refused(S::Union {
+            of: vec![sphere([0.0; 3], 1.0), circle([0.0; 2], 1.0)],
+        });
+        assert_eq!(e.path, "solid.of[1]");
+        assert!(e.message.contains("2D node in a 3D tree"), "{e}");
+        let e = refused(S::Intersection {
+            of: vec![sphere([f64::NAN, 0.0, 0.0], 1.0), sphere([0.0; 3], 1.0)],
+        });
+        assert_eq!(e.path, "solid.of[0].center[0]");
+        let e = refused(S::Transform {
+            solid: Box::new(sphere([0.0; 3], 1.0)),
+            translate: None,
+            rotate: None,
+            scale: Some(vec![1.0, 0.0, 1.0]),
+        });
+        assert_eq!(e.path, "solid.scale[1]");
+        let e = refused(S::Transform {
+            solid: Box::new(sphere([0.0; 3], 1.0)),
+            translate: Some(vec![1.0, 2.0]),
+            rotate: None,
+            scale: None,
+        });
+        assert_eq!(e.path, "solid.translate");
+        let e = refused(S::Morph {
+            of: vec![sphere([0.0; 3], 1.0)],
+            t: 0.5,
+        });
+        assert_eq!(e.path, "solid.of");
+        let e = refused(S::BlendUnion {
+            of: vec![sphere([0.0; 3], 1.0), sphere([1.0; 3], 1.0)],
+            a0: 1.0,
+            a1: 0.0,
+            a2: 1.0,
+        });
+        assert_eq!(e.path, "solid.a1");
+        let e = refused(S::Union {
+            of: vec![
+                sphere([0.0; 3], 1.0),
+                S::Esc {
+                    operation: None,
+                    operands: Vec::new(),
+                },
+            ],
+        });
+        assert_eq!(e.path, "solid.of[1]");
+        let e = refused(S::Union { of: Vec::new() });
+        assert_eq!(e.path, "solid");
+    }
+
+    #[test]
+    fn the_caps_hold_for_deep_and_wide_trees() {
+        let mut deep = sphere([0.0; 3], 1.0);
+        for _ in 0..MAX_DEPTH - 1 {
+            deep = S::Transform {
+                solid: Box::new(deep),
+                translate: Some(vec![0.01, 0.0, 0.0]),
+                rotate: None,
+                scale: None,
+            };
+        }
+        let t = space(deep.clone());
+        assert!(t.f(DVec3::new(0.31, 0.0, 0.0)) > 0.0);
+        let too_deep = S::Transform {
+            solid: Box::new(deep),
+            translate: None,
+            rotate: None,
+            scale: None,
+        };
+        let e = refused(too_deep);
+        assert!(e.message.contains("deep"), "{e}");
+        let wide = S::Union {
+            of: (0..MAX_NODES - 1)
+                .map(|i| sphere([i as f64, 0.0, 0.0], 0.5))
+                .collect(),
+        };
+        let t = space(wide);
+        assert_eq!(t.leaf_count(), MAX_NODES - 1);
+        assert!(t.f(DVec3::new(200.0, 0.0, 0.0)) > 0.0);
+        let too_wide = S::Union {
+            of: (0..MAX_NODES)
+                .map(|i| sphere([i as f64, 0.0, 0.0], 0.5))
+                .collect(),
+        };
+        let e = refused(too_wide);
+        assert_eq!(e.path, format!("solid.of[{}]", MAX_NODES - 1));
+    }
+
+    #[cfg(feature = "serde")]
+    #[test]
+    fn trees_read_and_write_as_model_files() {
+        use alloc::string::ToString;
+        let text = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "difference", "of": [
+            {"of": [{"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+                    {"kind": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
+             "kind": "blend_union", "a0": 0.5, "a1": 1, "a2": 1},
+            {"kind": "transform", "rotate": [0, 90, 0], "translate": [0, 0, 1],
+             "solid": {"kind": "cylinder", "center": [0, 0, 0], "axis": "z", "radius": 0.25}},
+            {"kind": "morph", "t": 0.5, "of": [
+                {"kind": "torus", "center": [0, 0, 0], "axis": "y", "major": 1, "minor": 0.2},
+                {"kind": "halfspace", "normal": [0, 0, 1], "offset": -2, "unknown": [1, 2]}]}]}}"#;
+        let file: ModelFile = serde_json::from_str(text).unwrap();
+        let ModelTree::Space(tree) = file.to_tree().unwrap() else {
+            panic!("a 3D tree")
+        };
+        assert_eq!(tree.leaf_count(), 5);
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(json.contains(r#""kind":"blend_union""#), "{json}");
+        let again: ModelFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(again, file);
+        for (bad, says) in [
+            (
+                r#"{"kind": "sphere", "center": [0, 0], "radius": 1}"#,
+                "has 2 numbers",
+            ),
+            (r#"{"kind": "sphere", "center": [0, 0, 0]}"#, "radius"),
+            (
+                r#"{"kind": "cylinder", "center": [0, 0, 0], "axis": "w", "radius": 1}"#,
+                "w",
+            ),
+            (r#"{"kind": "blob"}"#, "blend_union"),
+        ] {
+            let text = format!(r#"{{"format": "bezsolid", "version": 1, "solid": {bad}}}"#);
+            let e = serde_json::from_str::<ModelFile>(&text)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
+        // A very deep file is refused by the reader's nesting limit, not the stack.
+        let deep = "{\"kind\": \"union\", \"of\": [".repeat(10_000);
+        let text = format!(r#"{{"format": "bezsolid", "version": 1, "solid": {deep}"#);
+        assert!(serde_json::from_str::<ModelFile>(&text).is_err());
+    }
+}
