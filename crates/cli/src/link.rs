@@ -20,7 +20,8 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     match file.solid {
         SolidSpec::Esc { .. } => file.to_boolean().map(drop),
         SolidSpec::Plasm { .. } => file.to_script().map(drop),
-        _ => file.to_solid().map(drop),
+        // One patch or volume, or a tree of many solids.
+        _ => file.to_tree().map(drop),
     }
     .with_context(|| crate::describe(model))?;
     println!("{base}{}", bezsolid_core::link::encode(&file)?);

@@ -11,7 +11,10 @@
 //!
 //! - variant `0`, a patch: `degree: [u8; 2]`, then three sequences of `(n + 1)(m + 1)` numbers: all
 //!   `x`, all `y`, all `ξ`, each in the model file's point order;
-//! - variant `1`, a volume: `degree: [u8; 3]`, then four sequences: `x`, `y`, `z`, `ξ`.
+//! - variant `1`, a volume: `degree: [u8; 3]`, then four sequences: `x`, `y`, `z`, `ξ`;
+//! - variant `2`, a free-form model; variant `3`, a PLaSM script, as text;
+//! - variant `4`, a tree of many solids: its nodes in prefix order, each without its children
+//!   (an operation says how many follow it), patches and volumes laid out as above.
 //!
 //! One sequence per coordinate (rather than per point) puts like numbers together, which deflate
 //! turns into shorter links: the paper's Fig. 9 model gives a link of about 100 characters.
@@ -36,6 +39,8 @@ use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
 
 use crate::esc::bool::Op;
+
+mod tree;
 use crate::model::{EscOperand, MeshSpec, ModelError, ModelFile, ModelSolid, SolidSpec};
 
 /// The version tag this build writes, with its separator.
@@ -70,6 +75,8 @@ enum Wire {
     },
     /// A PLaSM script, as text.
     Plasm { script: String },
+    /// A tree of many solids: its nodes in prefix order ([`tree`]).
+    Tree { nodes: Vec<tree::Node> },
 }
 
 /// One operand of [`Wire::Esc`]: `example` 1, 2, 3 for icosphere, torus, blob, or 0 with a mesh
@@ -249,11 +256,9 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
         SolidSpec::Plasm { script } => Wire::Plasm {
             script: script.clone(),
         },
-        _ => {
-            return Err(LinkError::Model(ModelError::Kind(
-                "a model of many solids cannot be carried by a link yet: save a model file",
-            )));
-        }
+        tree => Wire::Tree {
+            nodes: tree::flatten(tree)?,
+        },
     };
     // Serialising into a Vec cannot fail for this type.
     let bytes = postcard::to_allocvec(&wire).map_err(|_| LinkError::Decode)?;
@@ -377,6 +382,7 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
                 .collect::<Result<_, _>>()?,
         },
         Wire::Plasm { script } => SolidSpec::Plasm { script },
+        Wire::Tree { nodes } => tree::build(nodes)?,
     };
     Ok(ModelFile {
         format: crate::model::FORMAT.into(),
