@@ -72,4 +72,35 @@ impl<'a> Args<'a> {
                 .with_context(|| format!("{name} {v} is not a valid number here")),
         }
     }
+
+    /// The box of option `name`, `x0,y0[,z0],x1,y1[,z1]` (`D` coordinates per corner), if given.
+    pub(crate) fn bounds<const D: usize>(
+        &self,
+        name: &str,
+    ) -> Result<Option<([f64; D], [f64; D])>> {
+        let Some(text) = self.value(name) else {
+            return Ok(None);
+        };
+        let usage = || {
+            let corner = ["x", "y", "z"][..D].join(",");
+            format!(
+                "{name} takes {} numbers: {corner} of the low corner, then of the high",
+                2 * D
+            )
+        };
+        let numbers = text
+            .split(',')
+            .map(|v| v.trim().parse::<f64>())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|_| anyhow::anyhow!("{}: {text:?}", usage()))?;
+        if numbers.len() != 2 * D {
+            bail!("{}: {text:?}", usage());
+        }
+        let lo = core::array::from_fn(|i| numbers[i]);
+        let hi = core::array::from_fn(|i| numbers[D + i]);
+        if (0..D).any(|i| !(lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i])) {
+            bail!("{name}: every coordinate must be finite, the low corner's below the high one's");
+        }
+        Ok(Some((lo, hi)))
+    }
 }

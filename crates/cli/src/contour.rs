@@ -1,4 +1,5 @@
-//! `bezsolid contour MODEL --res N -o OUT.svg [--accuracy A]`: the zero contour of a patch solid.
+//! `bezsolid contour MODEL --res N -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]`: the zero contour
+//! of a patch solid, or of a 2D tree of many solids (within its bounds, or within the box).
 
 use anyhow::{Context, Result, bail};
 
@@ -6,12 +7,18 @@ use crate::args::Args;
 use bezsolid_core::contour::solid_contour;
 use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::model::ModelSolid;
+use bezsolid_core::tree::{ModelTree, TreeMeshError};
+use glam::DVec2;
 
 /// The largest `--res`: 4096² samples is already 16 M evaluations.
 const MAX_RES: usize = 4096;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("contour", args, &["--res", "--accuracy", "--output"])?;
+    let args = Args::parse(
+        "contour",
+        args,
+        &["--res", "--accuracy", "--output", "--box"],
+    )?;
     let model = args.model("bezsolid contour MODEL --res N -o OUT.svg")?;
     let out = args.required("--output", "-o OUT.svg")?;
     let res: usize = args.number("--res", 256)?;
@@ -22,7 +29,32 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     if !(accuracy.is_finite() && accuracy > 0.0) {
         bail!("--accuracy must be a positive number");
     }
-    let ModelSolid::Patch(solid) = crate::load_model(model)? else {
+    let file = crate::load_file(model)?;
+    if file.solid.is_tree() {
+        let region = args.bounds::<2>("--box")?;
+        let ModelTree::Plane(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
+            bail!("contour draws 2D models; for a 3D tree use `bezsolid mesh`");
+        };
+        let lines = match tree.contour(res, accuracy, region) {
+            Err(TreeMeshError::Unbounded) => bail!(
+                "{}: the model may be unbounded (a half-plane, a morph past 0..1 or a blend of a \
+                 space-mapped solid): draw it within --box X0,Y0,X1,Y1",
+                crate::describe(model)
+            ),
+            other => other.with_context(|| crate::describe(model))?,
+        };
+        let (lo, hi) = region
+            .or(tree.bounds())
+            .map_or((DVec2::ZERO, DVec2::ONE), |(lo, hi)| {
+                (DVec2::from_array(lo), DVec2::from_array(hi))
+            });
+        let cell = (hi - lo) / res as f64;
+        std::fs::write(out, contours_svg(&lines, lo - cell, hi + cell))
+            .with_context(|| format!("cannot write {out}"))?;
+        eprintln!("bezsolid: {} contour pieces written to {out}", lines.len());
+        return Ok(());
+    }
+    let ModelSolid::Patch(solid) = file.to_solid().with_context(|| crate::describe(model))? else {
         bail!("contour draws patch (2D) models; for a volume use `bezsolid mesh`");
     };
     let (lo, hi) = solid.domain();

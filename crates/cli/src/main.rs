@@ -1,7 +1,8 @@
 //! `bezsolid`: the command line of bezsolid (DESIGN §5).
 //!
-//! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a patch
-//! model as SVG, `mesh` the closed boundary mesh of a volume model as STL, OBJ or PLY, and `hf` either
+//! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a 2D
+//! model as SVG, `mesh` the closed boundary mesh of a 3D model as STL, OBJ or PLY (a model is one
+//! patch or volume, or a tree of many solids), and `hf` either
 //! as HyperFun, and `link` prints the share link of a model; `esc` classifies points against
 //! solids bounded by PN triangles over triangle meshes, and their Booleans; `plasm` runs a PLaSM
 //! script and writes what it draws; `bench` is `cargo xtask bench` for now.
@@ -34,13 +35,15 @@ commands (DESIGN §5):
                                    (FILE.csv: one point a line, at most 256 MiB and 10 million
                                    points; rows are written as points are read, and a bad line
                                    stops the output there)
-  contour MODEL [--res N] -o OUT.svg [--accuracy A]
-                                   zero contours of a patch solid (N cells per side, default
-                                   256; vertices refined to |f| <= A, default 1e-9)
-  mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A]
-                                   closed boundary mesh of a volume solid (N cells along the
-                                   longest side, default 64; vertices refined to |f| <= A,
-                                   default 1e-9)
+  contour MODEL [--res N] -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]
+                                   zero contours of a patch solid or a 2D tree (N cells per
+                                   side, default 256; vertices refined to |f| <= A, default
+                                   1e-9; a tree that may be unbounded needs --box)
+  mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
+                                   closed boundary mesh of a volume solid or a 3D tree (N cells
+                                   along the longest side, default 64; vertices refined to
+                                   |f| <= A, default 1e-9; a tree that may be unbounded, such as
+                                   a half-space, needs --box, and is cut by it)
   hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum)
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
                                    the page of `cargo xtask serve`) + #v1.<model>
@@ -57,7 +60,8 @@ commands (DESIGN §5):
                                    the value of each top-level expression
   bench                            benchmarks                          (run `cargo xtask bench`)
 
-MODEL is a model file (.bsolid.json), a share link (the whole URL or its #v1. fragment; quote it
+MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many solids: primitives,
+Bézier solids, set operations, blends, morphs and transforms, DESIGN §5), a share link (the whole URL or its #v1. fragment; quote it
 in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. MESH, A and B are mesh files or
 built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
 links (`mesh` writes the surface of a free-form model's result). SCRIPT is a script file (.psm),

@@ -1,5 +1,6 @@
-//! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A]`: the closed boundary mesh of a
-//! volume solid, or of the result of a free-form model.
+//! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]`:
+//! the closed boundary mesh of a volume solid, of a 3D tree of many solids (within its bounds, or
+//! within the box, cut by it), or of the result of a free-form model.
 
 use anyhow::{Context, Result, bail};
 
@@ -7,9 +8,10 @@ use crate::args::Args;
 use bezsolid_core::esc::draw::MAX_RESOLUTION as ESC_MAX_RESOLUTION;
 use bezsolid_core::mesh::{Format, MAX_RESOLUTION};
 use bezsolid_core::model::{ModelSolid, SolidSpec};
+use bezsolid_core::tree::{ModelTree, TreeMeshError};
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("mesh", args, &["--res", "--accuracy", "--output"])?;
+    let args = Args::parse("mesh", args, &["--res", "--accuracy", "--output", "--box"])?;
     let model = args.model("bezsolid mesh MODEL --res N -o OUT.stl")?;
     let out = args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?;
     let res: usize = args.number("--res", 64)?;
@@ -33,6 +35,19 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             bail!("mesh: the result is empty");
         }
         mesh
+    } else if file.solid.is_tree() {
+        let region = args.bounds::<3>("--box")?;
+        let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
+            bail!("mesh polygonizes 3D models; for a 2D tree use `bezsolid contour`");
+        };
+        match tree.polygonize(res, accuracy, region) {
+            Err(TreeMeshError::Unbounded) => bail!(
+                "{}: the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
+                 blend of a space-mapped solid): mesh it within --box X0,Y0,Z0,X1,Y1,Z1",
+                crate::describe(model)
+            ),
+            other => other.with_context(|| crate::describe(model))?,
+        }
     } else {
         let solid = file.to_solid().with_context(|| crate::describe(model))?;
         let ModelSolid::Volume(solid) = solid else {

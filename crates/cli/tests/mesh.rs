@@ -231,3 +231,120 @@ fn mapped_models_mesh_and_contour() {
     let text = std::fs::read_to_string(&svg).unwrap();
     assert_eq!(text.matches("<path").count(), 1, "one loop: {text}");
 }
+
+/// Trees of many solids: a 3D tree meshes closed within its own bounds, a half-space needs `--box`
+/// and is cut by it, a 2D tree draws its contour.
+#[test]
+fn trees_mesh_and_contour() {
+    let tree = out_path("tree3.bsolid.json");
+    std::fs::write(
+        &tree,
+        r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "blend_union", "a0": 0.3,
+            "a1": 1, "a2": 1, "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+            {"kind": "transform", "rotate": [0, 0, 30], "translate": [1, 0, 0],
+             "solid": {"kind": "box", "min": [-0.3, -1, -0.3], "max": [0.3, 1, 0.3]}}]}}"#,
+    )
+    .unwrap();
+    let obj = out_path("tree3.obj");
+    let run = |args: &[&str]| {
+        let out = bezsolid(args);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(&[
+        "mesh",
+        tree.to_str().unwrap(),
+        "--res",
+        "48",
+        "-o",
+        obj.to_str().unwrap(),
+    ]);
+    let mesh = read_obj(&std::fs::read_to_string(&obj).unwrap());
+    mesh.check_closed_manifold().unwrap();
+    assert_eq!(mesh.euler_characteristic(), 2, "one blob, no hole");
+    // The volume, against a Monte Carlo estimate from `eval` in the cube [-2.5, 2.5]³.
+    let v = mesh.volume();
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 5.0 - 2.5
+    };
+    let n = 100_000;
+    let csv: String = (0..n)
+        .map(|_| format!("{},{},{}\n", next(), next(), next()))
+        .collect();
+    let pts = out_path("tree3-points.csv");
+    std::fs::write(&pts, csv).unwrap();
+    let out = bezsolid(&[
+        "eval",
+        tree.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let inside = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').nth(3).unwrap().parse::<f64>().unwrap() > 0.0)
+        .count();
+    let mc = 125.0 * inside as f64 / f64::from(n);
+    assert!((v - mc).abs() < 0.05 * mc, "mesh {v}, Monte Carlo {mc}");
+
+    let half = out_path("half.bsolid.json");
+    std::fs::write(
+        &half,
+        r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0.5}}"#,
+    )
+    .unwrap();
+    let out = bezsolid(&["mesh", half.to_str().unwrap(), "-o", obj.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--box"));
+    run(&[
+        "mesh",
+        half.to_str().unwrap(),
+        "--res",
+        "16",
+        "--box",
+        "-1,-1,-1,1,1,1",
+        "-o",
+        obj.to_str().unwrap(),
+    ]);
+    let mesh = read_obj(&std::fs::read_to_string(&obj).unwrap());
+    mesh.check_closed_manifold().unwrap();
+    assert!(
+        (mesh.volume() - 6.0).abs() < 0.05,
+        "z below 0.5 in the box: {}",
+        mesh.volume()
+    );
+
+    let plane = out_path("tree2.bsolid.json");
+    std::fs::write(
+        &plane,
+        r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "difference", "of": [
+            {"kind": "circle", "center": [0, 0], "radius": 1},
+            {"kind": "circle", "center": [0, 0], "radius": 0.5}]}}"#,
+    )
+    .unwrap();
+    let svg = out_path("tree2.svg");
+    run(&[
+        "contour",
+        plane.to_str().unwrap(),
+        "--res",
+        "64",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("<svg"), "{text}");
+    let loops = text.matches("<path").count()
+        + text.matches("<polygon").count()
+        + text.matches("<polyline").count();
+    assert!(loops >= 2, "two loops: {text}");
+}

@@ -235,6 +235,18 @@ pub enum SolidSpec {
     },
 }
 
+impl SolidSpec {
+    /// Whether this is a kind only a tree of many solids has: a primitive, an operation or a
+    /// transform (a single patch or volume is also a tree, of one leaf, but reads as itself).
+    #[must_use]
+    pub fn is_tree(&self) -> bool {
+        !matches!(
+            self,
+            Self::Patch { .. } | Self::Volume { .. } | Self::Esc { .. } | Self::Plasm { .. }
+        )
+    }
+}
+
 /// A coordinate axis of space, as a cylinder or a torus names its axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -207,13 +207,12 @@ pub(super) fn flatten(root: &SolidSpec) -> Result<Vec<Node>, LinkError> {
         // A blend or morph of another number of nodes is carried as it is; the reader takes two.
         if matches!(
             spec,
-            SolidSpec::BlendUnion { .. } | SolidSpec::BlendIntersection { .. } | SolidSpec::Morph { .. }
+            SolidSpec::BlendUnion { .. }
+                | SolidSpec::BlendIntersection { .. }
+                | SolidSpec::Morph { .. }
         ) && children.len() != 2
         {
-            return Err(refused(
-                "solid",
-                "a blend or a morph takes exactly 2 nodes",
-            ));
+            return Err(refused("solid", "a blend or a morph takes exactly 2 nodes"));
         }
         todo.extend(children.iter().rev());
     }

@@ -42,6 +42,11 @@ use crate::rfunc::{intersect, union};
 use crate::solid::Solid;
 use crate::tensor::Tensor;
 
+mod bounds;
+mod mesh;
+
+pub use mesh::{MAX_RESOLUTION, TreeMeshError};
+
 /// The deepest a tree may be: a node and its children count 2.
 pub const MAX_DEPTH: usize = 32;
 /// The most nodes a tree may have (every node counts, leaves and operations).
@@ -202,6 +207,80 @@ where
     }
 }
 
+impl<const D: usize> Shape<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// `f` and `∇f` at `p`, in the leaf's coordinates.
+    fn gradient(&self, p: [f64; D]) -> (f64, [f64; D]) {
+        match self {
+            Self::Bezier(solid) => {
+                let (f, g) = solid.f_with_gradient(Dim::<D>::point(p));
+                (f, Dim::<D>::coords(g))
+            }
+            Self::Ball { center, .. } => (
+                self.eval(p).0,
+                core::array::from_fn(|i| -2.0 * (p[i] - center[i])),
+            ),
+            Self::Box { min, max } => {
+                let s = |i: usize| (p[i] - min[i]) * (max[i] - p[i]);
+                let ds = |i: usize| max[i] + min[i] - 2.0 * p[i];
+                let mut f = s(0);
+                let mut g = [0.0; D];
+                g[0] = ds(0);
+                for i in 1..D {
+                    let (v, da, db) = crate::rfunc::intersect_with_partials(f, s(i));
+                    for gc in &mut g {
+                        *gc *= da;
+                    }
+                    g[i] = db * ds(i);
+                    f = v;
+                }
+                (f, g)
+            }
+            Self::Cylinder { center, axis, .. } => (
+                self.eval(p).0,
+                core::array::from_fn(|i| {
+                    if i == *axis {
+                        0.0
+                    } else {
+                        -2.0 * (p[i] - center[i])
+                    }
+                }),
+            ),
+            Self::Torus {
+                center,
+                axis,
+                major,
+                ..
+            } => {
+                let across: f64 = (0..D)
+                    .filter(|&i| i != *axis)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                let rho = sqrt(across);
+                let ring = rho - major;
+                (
+                    self.eval(p).0,
+                    core::array::from_fn(|i| {
+                        if i == *axis {
+                            -2.0 * (p[i] - center[i])
+                        } else if rho == 0.0 {
+                            0.0
+                        } else {
+                            -2.0 * ring * (p[i] - center[i]) / rho
+                        }
+                    }),
+                )
+            }
+            Self::Half { normal, offset } => {
+                let dot: f64 = (0..D).map(|i| normal[i] * p[i]).sum();
+                (offset - dot, core::array::from_fn(|i| -normal[i]))
+            }
+        }
+    }
+}
+
 /// A leaf and the map from space into its coordinates.
 #[derive(Clone, Debug)]
 struct Leaf<const D: usize>
@@ -244,6 +323,8 @@ where
     steps: Vec<Step>,
     /// The deepest the evaluation stack gets.
     stack: usize,
+    /// A box outside of which `f ≤ 0` (`None`: the solid may be unbounded).
+    bounds: Option<bounds::Aabb<D>>,
 }
 
 /// `f` and the preimages of one point.
@@ -265,8 +346,12 @@ where
     /// `f(p)` and the preimages of `p` summed over the Bézier leaves.
     #[must_use]
     pub fn evaluate(&self, p: Point<D>) -> TreeValue {
-        let p = Dim::<D>::coords(p);
-        let mut stack: Vec<f64> = Vec::with_capacity(self.stack);
+        self.evaluate_with(Dim::<D>::coords(p), &mut Vec::with_capacity(self.stack))
+    }
+
+    /// [`Tree::evaluate`] with the caller's stack (emptied first), for many points in a row.
+    pub(crate) fn evaluate_with(&self, p: [f64; D], stack: &mut Vec<f64>) -> TreeValue {
+        stack.clear();
         let mut preimages = 0;
         let mut exhausted = false;
         for step in &self.steps {
@@ -279,9 +364,9 @@ where
                     exhausted |= out;
                     stack.push(f);
                 }
-                Step::Union(n) => fold(&mut stack, n, union),
-                Step::Intersection(n) => fold(&mut stack, n, intersect),
-                Step::Difference(n) => fold(&mut stack, n, |a, b| intersect(a, -b)),
+                Step::Union(n) => fold(stack, n, union),
+                Step::Intersection(n) => fold(stack, n, intersect),
+                Step::Difference(n) => fold(stack, n, |a, b| intersect(a, -b)),
                 Step::Blend {
                     union: u,
                     a0,
@@ -323,6 +408,92 @@ where
         self.evaluate(p).f
     }
 
+    /// `f(p)` and its gradient `∇f(p)`: the chain rule through the operations, the transforms
+    /// (`∇_p = Aᵀ ∇_q` for a leaf's map `q = A p + t`) and each leaf's own gradient (a Bézier
+    /// leaf's as [`Solid::f_with_gradient`] gives it).
+    #[must_use]
+    pub fn f_with_gradient(&self, p: Point<D>) -> (f64, Point<D>) {
+        let p = Dim::<D>::coords(p);
+        let mut stack: Vec<(f64, [f64; D])> = Vec::with_capacity(self.stack);
+        for step in &self.steps {
+            match *step {
+                Step::Leaf(i) => {
+                    let leaf = &self.leaves[i];
+                    let q = leaf.map.map_or(p, |m| m.apply(p));
+                    let (f, gq) = leaf.shape.gradient(q);
+                    let g = match &leaf.map {
+                        None => gq,
+                        Some(m) => {
+                            core::array::from_fn(|j| (0..D).map(|i| m.m[i][j] * gq[i]).sum())
+                        }
+                    };
+                    stack.push((f, g));
+                }
+                Step::Union(n) => fold_gradient(&mut stack, n, |a, b| {
+                    let h = crate::math::hypot(a, b);
+                    if h == 0.0 {
+                        (0.0, 1.0, 1.0)
+                    } else {
+                        (union(a, b), 1.0 + a / h, 1.0 + b / h)
+                    }
+                }),
+                Step::Intersection(n) => {
+                    fold_gradient(&mut stack, n, crate::rfunc::intersect_with_partials);
+                }
+                Step::Difference(n) => fold_gradient(&mut stack, n, |a, b| {
+                    let (f, da, db) = crate::rfunc::intersect_with_partials(a, -b);
+                    (f, da, -db)
+                }),
+                Step::Blend {
+                    union: u,
+                    a0,
+                    a1,
+                    a2,
+                } => {
+                    let (f2, g2) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
+                    let (f1, g1) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
+                    let (base, d1, d2) = if u {
+                        let h = crate::math::hypot(f1, f2);
+                        if h == 0.0 {
+                            (0.0, 1.0, 1.0)
+                        } else {
+                            (union(f1, f2), 1.0 + f1 / h, 1.0 + f2 / h)
+                        }
+                    } else {
+                        crate::rfunc::intersect_with_partials(f1, f2)
+                    };
+                    let (r1, r2) = (f1 / a1, f2 / a2);
+                    let den = 1.0 + r1 * r1 + r2 * r2;
+                    let f = base + a0 / den;
+                    let e1 = d1 - a0 * 2.0 * r1 / a1 / (den * den);
+                    let e2 = d2 - a0 * 2.0 * r2 / a2 / (den * den);
+                    stack.push((f, core::array::from_fn(|c| e1 * g1[c] + e2 * g2[c])));
+                }
+                Step::Morph(t) => {
+                    let (f2, g2) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
+                    let (f1, g1) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
+                    stack.push((
+                        (1.0 - t) * f1 + t * f2,
+                        core::array::from_fn(|c| (1.0 - t) * g1[c] + t * g2[c]),
+                    ));
+                }
+            }
+        }
+        let (f, g) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
+        (f, Dim::<D>::point(g))
+    }
+
+    /// A box `[lo, hi]` outside of which `f ≤ 0`, by the rules of DESIGN §5 (union: the hull,
+    /// intersection: the overlap, difference: the first operand, transform: the moved box) and,
+    /// for blends and morphs, bounds of the operands at the level they must pass. `None` where the
+    /// solid may be unbounded (a half-space or a cylinder not cut by a bounded intersection, a
+    /// morph with `t` outside `[0, 1]`, a blend of a space-mapped leaf); `lo > hi` on some axis for
+    /// an empty solid.
+    #[must_use]
+    pub fn bounds(&self) -> Option<([f64; D], [f64; D])> {
+        self.bounds.map(|b| (b.lo, b.hi))
+    }
+
     /// How many leaves the tree has.
     #[must_use]
     pub fn leaf_count(&self) -> usize {
@@ -354,6 +525,23 @@ where
             _ => None,
         }
     }
+}
+
+/// Pops `n` values with their gradients and pushes them folded left to right by `op`, which gives
+/// the value and its two partial derivatives.
+fn fold_gradient<const D: usize>(
+    stack: &mut Vec<(f64, [f64; D])>,
+    n: usize,
+    op: impl Fn(f64, f64) -> (f64, f64, f64),
+) {
+    let start = stack.len().saturating_sub(n);
+    let mut items = stack.drain(start..);
+    let first = items.next().unwrap_or((f64::NAN, [f64::NAN; D]));
+    let folded = items.fold(first, |(a, ga), (b, gb)| {
+        let (f, da, db) = op(a, b);
+        (f, core::array::from_fn(|c| da * ga[c] + db * gb[c]))
+    });
+    stack.push(folded);
 }
 
 /// Pops `n` values and pushes them folded left to right by `op`.
@@ -484,10 +672,12 @@ where
             stack: 0,
         };
         b.node(root, "solid", None, 1)?;
+        let bounds = bounds::bounds(root, 0.0, &Affine::IDENTITY, &mut b.leaves.iter());
         Ok(Tree {
             leaves: b.leaves,
             steps: b.steps,
             stack: b.stack,
+            bounds,
         })
     }
 

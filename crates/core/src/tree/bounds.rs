@@ -1,0 +1,262 @@
+//! Bounds of a tree: a box outside of which `f ≤ 0`, from DESIGN §5's rules (union: the hull;
+//! intersection: the overlap; difference: the first operand; transform: the moved box) made sound
+//! for blends and morphs, which can reach past their operands.
+//!
+//! Each node is bounded at a level `L ≤ 0`: a box holding every point where its `f > L`. The root
+//! is bounded at 0. A node passes its children the level their values must pass for its own to
+//! pass `L`:
+//!
+//! - `f1 & f2 ≤ min(f1, f2)`, so an intersection's children (and a difference's first) keep `L`;
+//! - for `f1, f2 ≤ 0`, `f1 | f2 ≤ (2 − √2)·max(f1, f2)`, so a union's children get `L / (2 − √2)`
+//!   (once per fold: `((f1 | f2) | f3)`'s first two get it twice);
+//! - a blend adds at most `max(a0, 0)`, so its R-function must pass `L − max(a0, 0)`;
+//! - a morph with `0 ≤ t ≤ 1` is at most the larger operand; with `t` outside it is unbounded.
+//!
+//! Leaves at level `L`: a ball of radius `√(r² − L)`, a box whose half-sides `h` grow to
+//! `√(h² − L)`, a torus whose tube grows to `√(minor² − L)`; a regular Bézier leaf is at most its
+//! clipping function `F_s`, whose strips `t(1 − t)` pass `L` within `|t − ½| < √(¼ − L)` of the
+//! middle of its box; a space-mapped one is bounded (by its net's hull) at level 0 only, and
+//! cylinders and half-spaces not at all.
+
+use crate::dim::{Dim, Dimension};
+use crate::math::sqrt;
+use crate::model::{Rotation, SolidSpec};
+
+use super::{Affine, Leaf, Shape, rotation3, sin_cos};
+
+/// A box `[lo, hi]`; empty where `lo > hi` on some axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Aabb<const D: usize> {
+    pub(super) lo: [f64; D],
+    pub(super) hi: [f64; D],
+}
+
+impl<const D: usize> Aabb<D> {
+    fn empty() -> Self {
+        Self {
+            lo: [f64::INFINITY; D],
+            hi: [f64::NEG_INFINITY; D],
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        (0..D).any(|i| self.lo[i] > self.hi[i])
+    }
+
+    fn hull(self, other: Self) -> Self {
+        Self {
+            lo: core::array::from_fn(|i| self.lo[i].min(other.lo[i])),
+            hi: core::array::from_fn(|i| self.hi[i].max(other.hi[i])),
+        }
+    }
+
+    fn overlap(self, other: Self) -> Self {
+        Self {
+            lo: core::array::from_fn(|i| self.lo[i].max(other.lo[i])),
+            hi: core::array::from_fn(|i| self.hi[i].min(other.hi[i])),
+        }
+    }
+
+    /// The box around the image of this one under `map`.
+    fn mapped(self, map: &Affine<D>) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        let mut out = Self::empty();
+        for corner in 0..1usize << D {
+            let p: [f64; D] = core::array::from_fn(|i| {
+                if corner >> i & 1 == 0 {
+                    self.lo[i]
+                } else {
+                    self.hi[i]
+                }
+            });
+            let q = map.apply(p);
+            out = out.hull(Self { lo: q, hi: q });
+        }
+        out
+    }
+}
+
+/// `1 / (2 − √2)`: how much further a union's operands must pass a negative level.
+const UNION_LEVEL: f64 = 1.707_106_781_186_547_5;
+
+/// `UNION_LEVEL` to the power `folds`.
+fn grow_level(folds: usize) -> f64 {
+    (0..folds).fold(1.0, |k, _| k * UNION_LEVEL)
+}
+
+/// The bounds of `spec` at `level` in space, given `forward` (the node's coordinates to space)
+/// and its leaves, in the order the builder compiled them.
+pub(super) fn bounds<'a, const D: usize>(
+    spec: &SolidSpec,
+    level: f64,
+    forward: &Affine<D>,
+    leaves: &mut impl Iterator<Item = &'a Leaf<D>>,
+) -> Option<Aabb<D>>
+where
+    Dim<D>: Dimension<D>,
+{
+    match spec {
+        SolidSpec::Union { of } => {
+            let n = of.len();
+            let mut hull = Some(Aabb::empty());
+            for (i, child) in of.iter().enumerate() {
+                let folds = n - i.max(1);
+                let b = bounds(child, level * grow_level(folds), forward, leaves);
+                hull = match (hull, b) {
+                    (Some(h), Some(b)) => Some(h.hull(b)),
+                    _ => None,
+                };
+            }
+            hull
+        }
+        SolidSpec::Intersection { of } => {
+            let mut overlap: Option<Aabb<D>> = None;
+            for child in of {
+                if let Some(b) = bounds(child, level, forward, leaves) {
+                    overlap = Some(overlap.map_or(b, |o| o.overlap(b)));
+                }
+            }
+            overlap
+        }
+        SolidSpec::Difference { of } => {
+            let mut first = None;
+            for (i, child) in of.iter().enumerate() {
+                let b = bounds(child, level, forward, leaves);
+                if i == 0 {
+                    first = b;
+                }
+            }
+            first
+        }
+        SolidSpec::BlendUnion { of, a0, .. } | SolidSpec::BlendIntersection { of, a0, .. } => {
+            let mut level = level - a0.max(0.0);
+            let union = matches!(spec, SolidSpec::BlendUnion { .. });
+            if union {
+                level *= UNION_LEVEL;
+            }
+            let mut parts = of.iter().map(|c| bounds(c, level, forward, leaves));
+            let (a, b) = (parts.next().flatten(), parts.next().flatten());
+            match (union, a, b) {
+                (true, Some(a), Some(b)) => Some(a.hull(b)),
+                (true, _, _) => None,
+                (false, Some(a), Some(b)) => Some(a.overlap(b)),
+                (false, a, b) => a.or(b),
+            }
+        }
+        SolidSpec::Morph { of, t } => {
+            let parts: alloc::vec::Vec<_> = of
+                .iter()
+                .map(|c| bounds(c, level, forward, leaves))
+                .collect();
+            if !(0.0..=1.0).contains(t) {
+                return None;
+            }
+            parts
+                .into_iter()
+                .try_fold(Aabb::empty(), |h, b| b.map(|b| h.hull(b)))
+        }
+        SolidSpec::Transform {
+            solid,
+            translate,
+            rotate,
+            scale,
+        } => {
+            let m = transform_forward::<D>(translate, rotate, scale);
+            bounds(solid, level, &forward.after(&m), leaves)
+        }
+        _ => {
+            let leaf = leaves.next()?;
+            leaf_bounds(&leaf.shape, level).map(|b| b.mapped(forward))
+        }
+    }
+}
+
+/// A leaf's bounds at `level` in its own coordinates.
+fn leaf_bounds<const D: usize>(shape: &Shape<D>, level: f64) -> Option<Aabb<D>>
+where
+    Dim<D>: Dimension<D>,
+{
+    let grow = |h: f64| sqrt(h * h - level);
+    Some(match shape {
+        Shape::Ball { center, radius } => {
+            let r = grow(*radius);
+            Aabb {
+                lo: core::array::from_fn(|i| center[i] - r),
+                hi: core::array::from_fn(|i| center[i] + r),
+            }
+        }
+        Shape::Box { min, max } => Aabb {
+            lo: core::array::from_fn(|i| (min[i] + max[i]) / 2.0 - grow((max[i] - min[i]) / 2.0)),
+            hi: core::array::from_fn(|i| (min[i] + max[i]) / 2.0 + grow((max[i] - min[i]) / 2.0)),
+        },
+        Shape::Torus {
+            center,
+            axis,
+            major,
+            minor,
+        } => {
+            let tube = grow(*minor);
+            let reach = |i: usize| if i == *axis { tube } else { major + tube };
+            Aabb {
+                lo: core::array::from_fn(|i| center[i] - reach(i)),
+                hi: core::array::from_fn(|i| center[i] + reach(i)),
+            }
+        }
+        Shape::Bezier(solid) => {
+            let (lo, hi) = solid.domain();
+            let (lo, hi) = (Dim::<D>::coords(lo), Dim::<D>::coords(hi));
+            if solid.inverse().is_some() {
+                // A space mapping: negative outside its net's hull, and no more is known.
+                if level < 0.0 {
+                    return None;
+                }
+                Aabb { lo, hi }
+            } else {
+                let s = sqrt(0.25 - level);
+                Aabb {
+                    lo: core::array::from_fn(|i| lo[i] + (0.5 - s) * (hi[i] - lo[i])),
+                    hi: core::array::from_fn(|i| lo[i] + (0.5 + s) * (hi[i] - lo[i])),
+                }
+            }
+        }
+        Shape::Cylinder { .. } | Shape::Half { .. } => return None,
+    })
+}
+
+/// `M = T · Rz · Ry · Rx · S` (in 2D `T · R · S`) of a checked transform.
+fn transform_forward<const D: usize>(
+    translate: &Option<alloc::vec::Vec<f64>>,
+    rotate: &Option<Rotation>,
+    scale: &Option<alloc::vec::Vec<f64>>,
+) -> Affine<D> {
+    let t: [f64; D] = translate
+        .as_deref()
+        .and_then(|t| t.try_into().ok())
+        .unwrap_or([0.0; D]);
+    let s: [f64; D] = scale
+        .as_deref()
+        .and_then(|s| s.try_into().ok())
+        .unwrap_or([1.0; D]);
+    let mut r = Affine::<D>::IDENTITY.m;
+    match rotate {
+        Some(Rotation::Angle(a)) if D == 2 => {
+            let (sin, cos) = sin_cos(*a);
+            r[0][0] = cos;
+            r[0][1] = -sin;
+            r[1][0] = sin;
+            r[1][1] = cos;
+        }
+        Some(Rotation::Angles(angles)) if D == 3 => {
+            for (row, m_row) in r.iter_mut().zip(rotation3(*angles)) {
+                row.copy_from_slice(&m_row);
+            }
+        }
+        _ => {}
+    }
+    Affine {
+        m: core::array::from_fn(|i| core::array::from_fn(|j| r[i][j] * s[j])),
+        t,
+    }
+}

@@ -1,0 +1,518 @@
+//! The boundary of a tree: a closed triangle mesh of a 3D tree, the zero contour of a 2D one.
+//!
+//! The region is the tree's bounds ([`Tree::bounds`]) or a box the caller gives (for a tree that
+//! may be unbounded). `f` is sampled on a grid half a cell past the region on every side (a cell
+//! for contours), marched, and every vertex put on `f = 0` by a root search along its grid edge.
+//! Within its own bounds a tree is negative on the outer samples, so the mesh is closed; within a
+//! given box the field is `f & box` (the R-function intersection with the box's own function),
+//! which is negative outside the box, so the mesh is closed there too, cut by the box's faces.
+
+use alloc::vec::Vec;
+use core::fmt;
+
+use glam::{DVec2, DVec3};
+
+use super::{Shape, Tree};
+use crate::contour::{Grid2, Polyline, contour_grid};
+use crate::dim::{Dim, Dimension};
+use crate::math::{illinois, sampling_box};
+use crate::mesh::Mesh;
+use crate::mesh::{EdgeRoots, SampleGrid, polygonize};
+use crate::rfunc::{intersect, intersect_with_partials};
+
+/// The most cells along the longest side of the region.
+pub const MAX_RESOLUTION: usize = 512;
+
+/// Why a tree could not be meshed or contoured.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TreeMeshError {
+    /// The tree has no finite bounds (a half-space, a cylinder, a morph past `[0, 1]`, a blend of
+    /// a space-mapped solid) and no box was given.
+    Unbounded,
+    /// The box given is not finite, or empty.
+    Region,
+    /// The resolution is 0 or above [`MAX_RESOLUTION`].
+    Resolution {
+        /// The resolution given.
+        got: usize,
+    },
+    /// The accuracy is not a positive finite number.
+    Accuracy,
+}
+
+impl fmt::Display for TreeMeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Unbounded => f.write_str(
+                "the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
+                 blend of a space-mapped solid reaches past any box): give a box to mesh it in",
+            ),
+            Self::Region => f.write_str("the box must be finite, with min below max on every axis"),
+            Self::Resolution { got } => {
+                write!(f, "resolution {got} is outside 1..={MAX_RESOLUTION}")
+            }
+            Self::Accuracy => f.write_str("the accuracy must be a positive finite number"),
+        }
+    }
+}
+
+impl core::error::Error for TreeMeshError {}
+
+/// The box to sample and, for a box the caller gave, the box's own function to cut by.
+struct Region<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    lo: [f64; D],
+    hi: [f64; D],
+    clip: Option<Shape<D>>,
+}
+
+/// The region to sample (`None` for an empty solid).
+fn region<const D: usize>(
+    bounds: Option<([f64; D], [f64; D])>,
+    given: Option<([f64; D], [f64; D])>,
+    resolution: usize,
+    accuracy: f64,
+) -> Result<Option<Region<D>>, TreeMeshError>
+where
+    Dim<D>: Dimension<D>,
+{
+    if resolution == 0 || resolution > MAX_RESOLUTION {
+        return Err(TreeMeshError::Resolution { got: resolution });
+    }
+    if !(accuracy.is_finite() && accuracy > 0.0) {
+        return Err(TreeMeshError::Accuracy);
+    }
+    match given {
+        Some((lo, hi)) => {
+            if (0..D).any(|i| !(lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i])) {
+                return Err(TreeMeshError::Region);
+            }
+            // Only as much of the box as the tree can fill, when it is bounded.
+            let (lo, hi) = match bounds {
+                Some((blo, bhi)) => (
+                    core::array::from_fn(|i| lo[i].max(blo[i])),
+                    core::array::from_fn(|i| hi[i].min(bhi[i])),
+                ),
+                None => (lo, hi),
+            };
+            if (0..D).any(|i| lo[i] > hi[i]) {
+                return Ok(None);
+            }
+            let clip = Some(Shape::Box { min: lo, max: hi });
+            let (lo, hi) = sampling_box(lo, hi);
+            Ok(Some(Region { lo, hi, clip }))
+        }
+        None => {
+            let (lo, hi) = bounds.ok_or(TreeMeshError::Unbounded)?;
+            if (0..D).any(|i| lo[i] > hi[i]) {
+                return Ok(None); // an empty solid
+            }
+            let (lo, hi) = sampling_box(lo, hi);
+            Ok(Some(Region { lo, hi, clip: None }))
+        }
+    }
+}
+
+/// `f` (and its gradient) of the tree, cut by `clip` where a box was given.
+struct Field<'a, const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    tree: &'a Tree<D>,
+    clip: Option<Shape<D>>,
+    stack: Vec<f64>,
+}
+
+impl<const D: usize> Field<'_, D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn f(&mut self, p: [f64; D]) -> f64 {
+        let f = self.tree.evaluate_with(p, &mut self.stack).f;
+        match &self.clip {
+            None => f,
+            Some(b) => intersect(f, b.eval(p).0),
+        }
+    }
+
+    /// The outward unit normal `−∇f/|∇f|` (zero where the gradient vanishes).
+    fn normal(&self, p: [f64; D]) -> [f64; D] {
+        let (f, g) = self.tree.f_with_gradient(Dim::<D>::point(p));
+        let g = Dim::<D>::coords(g);
+        let g = match &self.clip {
+            None => g,
+            Some(b) => {
+                let (fb, gb) = b.gradient(p);
+                let (_, da, db) = intersect_with_partials(f, fb);
+                core::array::from_fn(|i| da * g[i] + db * gb[i])
+            }
+        };
+        let len = crate::math::sqrt(g.iter().map(|v| v * v).sum());
+        if len > 0.0 && len.is_finite() {
+            core::array::from_fn(|i| -g[i] / len)
+        } else {
+            [0.0; D]
+        }
+    }
+}
+
+struct Roots<'a> {
+    field: Field<'a, 3>,
+    grid: SampleGrid,
+    accuracy: f64,
+}
+
+impl EdgeRoots for Roots<'_> {
+    fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
+        let a = self.grid.point(lower[0], lower[1], lower[2]);
+        let mut step = DVec3::ZERO;
+        step[axis] = self.grid.step[axis];
+        let b = a + step;
+        let field = &mut self.field;
+        let t = illinois(|t| field.f(a.lerp(b, t).to_array()), f0, f1, self.accuracy);
+        let p = a.lerp(b, t);
+        (t, DVec3::from_array(self.field.normal(p.to_array())))
+    }
+}
+
+impl Tree<3> {
+    /// The closed, outward-oriented triangle mesh of the solid's boundary at `resolution` cells
+    /// along the longest side of its bounds (or of `region`, a box `[lo, hi]` to mesh within, cut
+    /// by its faces): vertices on `f = 0` to within `accuracy` (in `f`), normals `−∇f`. An empty
+    /// solid gives an empty mesh.
+    ///
+    /// # Errors
+    ///
+    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy.
+    pub fn polygonize(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<Mesh, TreeMeshError> {
+        let Some(Region { lo, hi, clip }) =
+            self::region(self.bounds(), region, resolution, accuracy)?
+        else {
+            return Ok(Mesh::default());
+        };
+        let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
+        let size = hi - lo;
+        let cell = size.max_element() / resolution as f64;
+        let cells = (size / cell)
+            .ceil()
+            .max(DVec3::ONE)
+            .min(DVec3::splat(resolution as f64));
+        let step = size / cells;
+        let grid = SampleGrid {
+            origin: lo - step * 0.5,
+            step,
+            dims: cells.to_array().map(|c| c as usize + 2),
+        };
+        let mut field = Field {
+            tree: self,
+            clip,
+            stack: Vec::with_capacity(self.stack),
+        };
+        let [nx, ny, nz] = grid.dims;
+        let mut values = Vec::with_capacity(nx * ny * nz);
+        for c in 0..nz {
+            for b in 0..ny {
+                for a in 0..nx {
+                    values.push(field.f(grid.point(a, b, c).to_array()));
+                }
+            }
+        }
+        let mut roots = Roots {
+            field,
+            grid,
+            accuracy,
+        };
+        Ok(polygonize(&grid, &values, &mut roots))
+    }
+}
+
+impl Tree<2> {
+    /// The zero contour of the solid, solid on the left, from a grid of `resolution` cells per
+    /// side of its bounds (or of `region`, cut by it) with a cell of margin, vertices refined to
+    /// `|f| ≤ accuracy`. An empty solid has no lines.
+    ///
+    /// # Errors
+    ///
+    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy.
+    pub fn contour(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 2], [f64; 2])>,
+    ) -> Result<Vec<Polyline>, TreeMeshError> {
+        let Some(Region { lo, hi, clip }) =
+            self::region(self.bounds(), region, resolution, accuracy)?
+        else {
+            return Ok(Vec::new());
+        };
+        let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
+        let cell = (hi - lo) / resolution as f64;
+        let grid = Grid2::new(lo - cell, hi + cell, resolution + 3, resolution + 3);
+        let mut field = Field {
+            tree: self,
+            clip,
+            stack: Vec::with_capacity(self.stack),
+        };
+        Ok(contour_grid(&grid, |p| field.f(p.to_array()), accuracy))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{CoordAxis, ModelFile, Rotation, SolidSpec as S};
+    use crate::testutil::Rng;
+    use crate::tree::ModelTree;
+    use alloc::boxed::Box;
+    use alloc::vec;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn point(rng: &mut Rng, r: f64) -> [f64; 3] {
+        [rng.range(-r, r), rng.range(-r, r), rng.range(-r, r)]
+    }
+
+    /// A random bounded 3D tree: primitives, regular volumes, operations, blends, morphs and
+    /// transforms, `depth` levels at most.
+    pub(crate) fn random_tree(rng: &mut Rng, depth: usize) -> S {
+        let leaf = rng.int(0, 4);
+        if depth == 0 || rng.int(0, 3) == 0 {
+            return match leaf {
+                0 => S::Sphere {
+                    center: point(rng, 0.8),
+                    radius: rng.range(0.4, 1.0),
+                },
+                1 => {
+                    let c = point(rng, 0.6);
+                    let h = [
+                        rng.range(0.3, 0.8),
+                        rng.range(0.3, 0.8),
+                        rng.range(0.3, 0.8),
+                    ];
+                    S::Box {
+                        min: core::array::from_fn(|i| c[i] - h[i]),
+                        max: core::array::from_fn(|i| c[i] + h[i]),
+                    }
+                }
+                2 => S::Torus {
+                    center: point(rng, 0.5),
+                    axis: [CoordAxis::X, CoordAxis::Y, CoordAxis::Z][rng.int(0, 2)],
+                    major: rng.range(0.6, 0.9),
+                    minor: rng.range(0.25, 0.4),
+                },
+                3 => S::Intersection {
+                    of: vec![
+                        S::Cylinder {
+                            center: point(rng, 0.3),
+                            axis: CoordAxis::Z,
+                            radius: rng.range(0.3, 0.7),
+                        },
+                        S::Box {
+                            min: [-1.0, -1.0, -0.7],
+                            max: [1.0, 1.0, 0.7],
+                        },
+                    ],
+                },
+                _ => {
+                    let c = point(rng, 0.3);
+                    let v = crate::Solid3::regular(
+                        [2, 2, 2],
+                        glam::DVec3::from_array(c) - 0.8,
+                        glam::DVec3::from_array(c) + 0.8,
+                        |[i, j, k]| if (i, j, k) == (1, 1, 1) { 1.0 } else { -0.2 },
+                    )
+                    .unwrap();
+                    ModelFile::from_solid3(&v).solid
+                }
+            };
+        }
+        let two = |rng: &mut Rng| vec![random_tree(rng, depth - 1), random_tree(rng, depth - 1)];
+        match rng.int(0, 6) {
+            0 => S::Union { of: two(rng) },
+            1 => S::Intersection { of: two(rng) },
+            2 => S::Difference { of: two(rng) },
+            3 => S::BlendUnion {
+                of: two(rng),
+                a0: rng.range(0.05, 0.3),
+                a1: rng.range(0.5, 1.5),
+                a2: rng.range(0.5, 1.5),
+            },
+            4 => S::BlendIntersection {
+                of: two(rng),
+                a0: rng.range(-0.2, 0.2),
+                a1: rng.range(0.5, 1.5),
+                a2: rng.range(0.5, 1.5),
+            },
+            5 => S::Morph {
+                of: two(rng),
+                t: rng.range(0.0, 1.0),
+            },
+            _ => S::Transform {
+                solid: Box::new(random_tree(rng, depth - 1)),
+                translate: Some(point(rng, 0.5).to_vec()),
+                rotate: Some(Rotation::Angles(point(rng, 180.0))),
+                scale: Some(vec![
+                    rng.range(0.6, 1.4),
+                    rng.range(0.6, 1.4),
+                    rng.range(0.6, 1.4),
+                ]),
+            },
+        }
+    }
+
+    fn space(spec: S) -> Tree<3> {
+        match ModelFile::from_spec(spec).to_tree().unwrap() {
+            ModelTree::Space(t) => t,
+            ModelTree::Plane(_) => panic!("2D"),
+        }
+    }
+
+    #[test]
+    fn bounds_hold_every_inside_point_of_random_trees() {
+        let mut rng = Rng::new(11);
+        for _ in 0..60 {
+            let tree = space(random_tree(&mut rng, 3));
+            let (lo, hi) = tree.bounds().expect("a bounded tree");
+            for _ in 0..2000 {
+                let p = point(&mut rng, 4.0);
+                if tree.f(glam::DVec3::from_array(p)) > 0.0 {
+                    assert!(
+                        (0..3).all(|i| lo[i] <= p[i] && p[i] <= hi[i]),
+                        "{p:?} is inside but outside the bounds {lo:?} .. {hi:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_match_finite_differences() {
+        let mut rng = Rng::new(12);
+        for _ in 0..40 {
+            let tree = space(random_tree(&mut rng, 3));
+            for _ in 0..20 {
+                let p = glam::DVec3::from_array(point(&mut rng, 1.5));
+                let (f, g) = tree.f_with_gradient(p);
+                assert_eq!(f, tree.f(p));
+                let h = 1e-6;
+                let fd = glam::DVec3::new(
+                    tree.f(p + glam::DVec3::X * h) - tree.f(p - glam::DVec3::X * h),
+                    tree.f(p + glam::DVec3::Y * h) - tree.f(p - glam::DVec3::Y * h),
+                    tree.f(p + glam::DVec3::Z * h) - tree.f(p - glam::DVec3::Z * h),
+                ) / (2.0 * h);
+                assert!(
+                    (g - fd).length() <= 1e-4 * fd.length().max(1.0),
+                    "{p}: {g} vs {fd}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn meshes_of_random_trees_are_closed_and_hold_their_volume() {
+        let mut rng = Rng::new(13);
+        let mut checked = 0;
+        while checked < 6 {
+            let tree = space(random_tree(&mut rng, 2));
+            let (lo, hi) = tree.bounds().unwrap();
+            if (0..3).any(|i| lo[i] > hi[i]) {
+                continue;
+            }
+            // Monte Carlo volume in the bounds.
+            let n = 60_000;
+            let inside = (0..n)
+                .filter(|_| {
+                    let p = core::array::from_fn(|i| rng.range(lo[i], hi[i]));
+                    tree.f(glam::DVec3::from_array(p)) > 0.0
+                })
+                .count();
+            let box_volume: f64 = (0..3).map(|i| hi[i] - lo[i]).product();
+            let mc = box_volume * inside as f64 / n as f64;
+            if inside < n / 20 {
+                continue; // too thin a solid for a fair comparison
+            }
+            let mesh = tree.polygonize(64, 1e-10, None).unwrap();
+            mesh.check_closed_manifold().unwrap();
+            let v = mesh.volume();
+            // The Monte Carlo estimate's own error is under 1.5 % at these counts (3 sigma).
+            assert!((v - mc).abs() <= 0.03 * mc, "mesh {v} vs Monte Carlo {mc}");
+            for (k, p) in mesh.positions.iter().enumerate().step_by(97) {
+                let (f, g) = tree.f_with_gradient(*p);
+                assert!(f.abs() <= 1e-9 * g.length().max(1.0), "vertex {k}: f = {f}");
+            }
+            checked += 1;
+        }
+    }
+
+    #[test]
+    fn a_box_meshes_unbounded_trees_and_cuts_them_closed() {
+        let half = space(S::Halfspace {
+            normal: [0.0, 0.0, 1.0],
+            offset: 0.0,
+        });
+        assert_eq!(half.bounds(), None);
+        assert_eq!(
+            half.polygonize(8, 1e-9, None),
+            Err(TreeMeshError::Unbounded)
+        );
+        let mesh = half
+            .polygonize(16, 1e-9, Some(([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0])))
+            .unwrap();
+        mesh.check_closed_manifold().unwrap();
+        // The lower half of the box: volume 4.
+        assert!((mesh.volume() - 4.0).abs() < 0.05, "{}", mesh.volume());
+        assert!(half.polygonize(0, 1e-9, None).is_err());
+        assert_eq!(
+            half.polygonize(8, 1e-9, Some(([0.0; 3], [0.0; 3]))),
+            Err(TreeMeshError::Region)
+        );
+    }
+
+    #[test]
+    fn contours_of_2d_trees_lie_on_the_zero_set() {
+        let tree = match ModelFile::from_spec(S::BlendUnion {
+            of: vec![
+                S::Circle {
+                    center: [0.0, 0.0],
+                    radius: 1.0,
+                },
+                S::Transform {
+                    solid: Box::new(S::Rectangle {
+                        min: [-0.3, -1.5],
+                        max: [0.3, 1.5],
+                    }),
+                    translate: Some(vec![1.0, 0.0]),
+                    rotate: Some(Rotation::Angle(30.0)),
+                    scale: None,
+                },
+            ],
+            a0: 0.3,
+            a1: 1.0,
+            a2: 1.0,
+        })
+        .to_tree()
+        .unwrap()
+        {
+            ModelTree::Plane(t) => t,
+            ModelTree::Space(_) => panic!("3D"),
+        };
+        let lines = tree.contour(128, 1e-12, None).unwrap();
+        assert_eq!(lines.len(), 1, "one outline");
+        assert!(lines[0].closed);
+        assert!(
+            lines[0].signed_area() > 3.0,
+            "counter-clockwise around the solid"
+        );
+        for p in &lines[0].points {
+            let (f, g) = tree.f_with_gradient(*p);
+            assert!(f.abs() <= 1e-9 * g.length().max(1.0), "{p}: {f}");
+        }
+    }
+}
