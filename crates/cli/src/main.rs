@@ -44,7 +44,8 @@ commands (DESIGN §5):
                                    along the longest side, default 64; vertices refined to
                                    |f| <= A, default 1e-9; a tree that may be unbounded, such as
                                    a half-space, needs --box, and is cut by it)
-  hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum)
+  hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum; a tree with
+                                   HyperFun's set operations, blends and primitives)
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
                                    the page of `cargo xtask serve`) + #v1.<model>
   esc classify MESH --points FILE.csv [-o OUT]
@@ -130,11 +131,6 @@ pub(crate) fn warn_exhausted(count: usize) {
              reached the work limit of a query; pieces of the drawing may be missing"
         );
     }
-}
-
-/// Reads and validates a model file, a share link, or a preset (`preset:NAME`).
-pub(crate) fn load_model(arg: &str) -> Result<ModelSolid> {
-    load_file(arg)?.to_solid().with_context(|| describe(arg))
 }
 
 /// How messages name the model `arg`: its path, or for a link (too long to quote) what it is.

@@ -324,6 +324,16 @@ fn trees_mesh_and_contour() {
         mesh.volume()
     );
 
+    // HyperFun: the tree with HyperFun's own blend (its numbers are checked against eval by the
+    // core's test interpreter).
+    let hf = out_path("tree3.hf");
+    run(&["hf", tree.to_str().unwrap(), "-o", hf.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&hf).unwrap();
+    assert!(
+        text.contains("my_model(x[3], a[1])") && text.contains("hfBlendUni("),
+        "{text}"
+    );
+
     let plane = out_path("tree2.bsolid.json");
     std::fs::write(
         &plane,

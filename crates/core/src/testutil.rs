@@ -90,3 +90,99 @@ macro_rules! assert_close {
     }};
 }
 pub(crate) use assert_close;
+
+/// A point in the cube `[-r, r]³`.
+pub(crate) fn random_point(rng: &mut Rng, r: f64) -> [f64; 3] {
+    [rng.range(-r, r), rng.range(-r, r), rng.range(-r, r)]
+}
+
+/// A random bounded 3D tree: primitives, regular volumes, operations, blends, morphs and
+/// transforms, `depth` levels at most.
+pub(crate) fn random_tree(rng: &mut Rng, depth: usize) -> crate::model::SolidSpec {
+    use crate::model::{CoordAxis, ModelFile, Rotation, SolidSpec as S};
+    use alloc::boxed::Box;
+    use alloc::vec;
+    let leaf = rng.int(0, 4);
+    if depth == 0 || rng.int(0, 3) == 0 {
+        return match leaf {
+            0 => S::Sphere {
+                center: random_point(rng, 0.8),
+                radius: rng.range(0.4, 1.0),
+            },
+            1 => {
+                let c = random_point(rng, 0.6);
+                let h = [
+                    rng.range(0.3, 0.8),
+                    rng.range(0.3, 0.8),
+                    rng.range(0.3, 0.8),
+                ];
+                S::Box {
+                    min: core::array::from_fn(|i| c[i] - h[i]),
+                    max: core::array::from_fn(|i| c[i] + h[i]),
+                }
+            }
+            2 => S::Torus {
+                center: random_point(rng, 0.5),
+                axis: [CoordAxis::X, CoordAxis::Y, CoordAxis::Z][rng.int(0, 2)],
+                major: rng.range(0.6, 0.9),
+                minor: rng.range(0.25, 0.4),
+            },
+            3 => S::Intersection {
+                of: vec![
+                    S::Cylinder {
+                        center: random_point(rng, 0.3),
+                        axis: CoordAxis::Z,
+                        radius: rng.range(0.3, 0.7),
+                    },
+                    S::Box {
+                        min: [-1.0, -1.0, -0.7],
+                        max: [1.0, 1.0, 0.7],
+                    },
+                ],
+            },
+            _ => {
+                let c = random_point(rng, 0.3);
+                let v = crate::Solid3::regular(
+                    [2, 2, 2],
+                    glam::DVec3::from_array(c) - 0.8,
+                    glam::DVec3::from_array(c) + 0.8,
+                    |[i, j, k]| if (i, j, k) == (1, 1, 1) { 1.0 } else { -0.2 },
+                )
+                .unwrap();
+                ModelFile::from_solid3(&v).solid
+            }
+        };
+    }
+    let two = |rng: &mut Rng| vec![random_tree(rng, depth - 1), random_tree(rng, depth - 1)];
+    match rng.int(0, 6) {
+        0 => S::Union { of: two(rng) },
+        1 => S::Intersection { of: two(rng) },
+        2 => S::Difference { of: two(rng) },
+        3 => S::BlendUnion {
+            of: two(rng),
+            a0: rng.range(0.05, 0.3),
+            a1: rng.range(0.5, 1.5),
+            a2: rng.range(0.5, 1.5),
+        },
+        4 => S::BlendIntersection {
+            of: two(rng),
+            a0: rng.range(-0.2, 0.2),
+            a1: rng.range(0.5, 1.5),
+            a2: rng.range(0.5, 1.5),
+        },
+        5 => S::Morph {
+            of: two(rng),
+            t: rng.range(0.0, 1.0),
+        },
+        _ => S::Transform {
+            solid: Box::new(random_tree(rng, depth - 1)),
+            translate: Some(random_point(rng, 0.5).to_vec()),
+            rotate: Some(Rotation::Angles(random_point(rng, 180.0))),
+            scale: Some(vec![
+                rng.range(0.6, 1.4),
+                rng.range(0.6, 1.4),
+                rng.range(0.6, 1.4),
+            ]),
+        },
+    }
+}

@@ -1032,7 +1032,7 @@ fn transform_inverse<const D: usize>(
 }
 
 /// `(sin, cos)` of `degrees`.
-fn sin_cos(degrees: f64) -> (f64, f64) {
+pub(crate) fn sin_cos(degrees: f64) -> (f64, f64) {
     let radians = degrees.to_radians();
     #[cfg(feature = "std")]
     {
@@ -1045,7 +1045,7 @@ fn sin_cos(degrees: f64) -> (f64, f64) {
 }
 
 /// `Rz · Ry · Rx` of angles `[rx, ry, rz]` in degrees.
-fn rotation3([rx, ry, rz]: [f64; 3]) -> [[f64; 3]; 3] {
+pub(crate) fn rotation3([rx, ry, rz]: [f64; 3]) -> [[f64; 3]; 3] {
     let (sx, cx) = sin_cos(rx);
     let (sy, cy) = sin_cos(ry);
     let (sz, cz) = sin_cos(rz);

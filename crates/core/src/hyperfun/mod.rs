@@ -21,6 +21,10 @@ use glam::{DVec2, DVec3};
 use crate::bernstein::binomial;
 use crate::{Solid2, Solid3};
 
+mod tree;
+
+pub use tree::{TreeHfError, tree_hf};
+
 /// A number as a HyperFun literal: negative ones in parentheses, so `a*(-0.5)` parses.
 fn num(x: f64) -> String {
     if x < 0.0 {

@@ -1,0 +1,800 @@
+//! HyperFun export of a tree of many solids: one `my_model` whose body computes every node in turn,
+//! with HyperFun's own set operations (`|`, `&`, `\`, which it defines as the R-functions of
+//! DESIGN §5), its blends `hfBlendUni` and `hfBlendInt` (`(f1 | f2)` or `(f1 & f2)` plus
+//! `a0 / (1 + (f1/a1)² + (f2/a2)²)`), its primitives `hfSphere` and `hfCylinderX/Y/Z` (whose
+//! definitions are DESIGN's sphere and cylinder), and plain arithmetic for the rest: boxes,
+//! tori, half-spaces, morphs, 2D primitives, and regular Bézier leaves as the explicit Bernstein
+//! sum of a single solid's export. A transform's node sees its own coordinates, an array
+//! `M⁻¹ x` computed from its parent's. Every operand is parenthesised, so the file means the
+//! same whatever the precedence of the set operations. 2D trees are prisms along z (`x[3]`
+//! unused).
+
+use alloc::format;
+use alloc::string::String;
+use alloc::vec::Vec;
+use core::fmt::{self, Write as _};
+
+use super::{basis_term, num};
+use crate::model::{CoordAxis, ModelError, ModelFile, Rotation, SolidSpec};
+use crate::solid::Solid;
+use crate::tree::ModelTree;
+
+/// Why a tree has no HyperFun export.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TreeHfError {
+    /// The model is not a valid tree.
+    Model(ModelError),
+    /// A Bézier leaf is space-mapped (its inverse map has no closed form): its path.
+    SpaceMapped(String),
+}
+
+impl fmt::Display for TreeHfError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Model(e) => e.fmt(f),
+            Self::SpaceMapped(path) => write!(
+                f,
+                "{path}: HyperFun export needs a regular grid of control points: this solid is \
+                 space-mapped (moved points), and its inverse map has no closed form in HyperFun"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for TreeHfError {}
+
+/// The HyperFun model of a model file's tree (a single patch or volume too).
+///
+/// # Errors
+///
+/// [`TreeHfError`]: an invalid tree, or a space-mapped Bézier leaf.
+pub fn tree_hf(file: &ModelFile) -> Result<String, TreeHfError> {
+    let dim = match file.to_tree().map_err(TreeHfError::Model)? {
+        ModelTree::Plane(_) => 2,
+        ModelTree::Space(_) => 3,
+    };
+    let mut w = Writer {
+        dim,
+        body: String::new(),
+        arrays: Vec::new(),
+        next: 0,
+    };
+    let root = w.node(&file.solid, "solid", "x")?;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "-- A model of many solids ({dim}D), exported by bezsolid: every node of the tree in turn."
+    );
+    if dim == 2 {
+        let _ = writeln!(out, "-- A 2D model: x[3] is unused (a prism along z).");
+    }
+    let _ = writeln!(out, "my_model(x[3], a[1])\n{{");
+    for (name, len) in &w.arrays {
+        let _ = writeln!(out, "  array {name}[{len}];");
+    }
+    out.push_str(&w.body);
+    let _ = writeln!(out, "  my_model = {root};\n}}");
+    Ok(out)
+}
+
+struct Writer {
+    dim: usize,
+    body: String,
+    /// Arrays to declare: name and length.
+    arrays: Vec<(String, usize)>,
+    next: usize,
+}
+
+impl Writer {
+    fn name(&mut self, prefix: &str) -> String {
+        self.next += 1;
+        format!("{prefix}{}", self.next)
+    }
+
+    /// `value` in a new variable; its name.
+    fn set(&mut self, what: &str, value: &str) -> String {
+        let name = self.name("n");
+        let _ = writeln!(self.body, "  -- {what}\n  {name} = {value};");
+        name
+    }
+
+    /// An array holding `values`; its name.
+    fn array(&mut self, prefix: &str, values: &[f64]) -> String {
+        let name = self.name(prefix);
+        self.arrays.push((name.clone(), 3));
+        let mut v: Vec<String> = values.iter().map(|&x| num(x)).collect();
+        v.resize(3, String::from("0"));
+        let _ = writeln!(self.body, "  {name} = [{}];", v.join(", "));
+        name
+    }
+
+    /// `(q[i] - c)²` as a product.
+    fn square_off(q: &str, i: usize, c: f64) -> String {
+        format!("(({q}[{i}] - {c}) * ({q}[{i}] - {c}))", c = num(c))
+    }
+
+    /// The variable of node `spec` at `path`, in the coordinates of array `q`.
+    fn node(&mut self, spec: &SolidSpec, path: &str, q: &str) -> Result<String, TreeHfError> {
+        Ok(match spec {
+            SolidSpec::Sphere { center, radius } => {
+                let c = self.array("c", center);
+                self.set(path, &format!("hfSphere({q}, {c}, {})", num(*radius)))
+            }
+            SolidSpec::Circle { center, radius } => {
+                let terms: Vec<String> = (0..2)
+                    .map(|i| Self::square_off(q, i + 1, center[i]))
+                    .collect();
+                let r = num(*radius);
+                self.set(path, &format!("{r} * {r} - ({})", terms.join(" + ")))
+            }
+            SolidSpec::Box { min, max } => self.cuboid(path, q, min, max),
+            SolidSpec::Rectangle { min, max } => self.cuboid(path, q, min, max),
+            SolidSpec::Cylinder {
+                center,
+                axis,
+                radius,
+            } => {
+                let c = self.array("c", center);
+                let name = ["X", "Y", "Z"][axis.index()];
+                self.set(
+                    path,
+                    &format!("hfCylinder{name}({q}, {c}, {})", num(*radius)),
+                )
+            }
+            SolidSpec::Torus {
+                center,
+                axis,
+                major,
+                minor,
+            } => {
+                let k = axis.index();
+                let across: Vec<String> = (0..3)
+                    .filter(|&i| i != k)
+                    .map(|i| Self::square_off(q, i + 1, center[i]))
+                    .collect();
+                let ring = self.name("t");
+                let _ = writeln!(
+                    self.body,
+                    "  {ring} = sqrt({}) - {};",
+                    across.join(" + "),
+                    num(*major)
+                );
+                let (m, along) = (num(*minor), Self::square_off(q, k + 1, center[k]));
+                self.set(
+                    &format!("{path} (torus about {})", axis_name(*axis)),
+                    &format!("{m} * {m} - {ring} * {ring} - {along}"),
+                )
+            }
+            SolidSpec::Halfspace { normal, offset } => self.half(path, q, normal, *offset),
+            SolidSpec::Halfplane { normal, offset } => self.half(path, q, normal, *offset),
+            SolidSpec::Union { of } => self.fold(path, q, of, "|")?,
+            SolidSpec::Intersection { of } => self.fold(path, q, of, "&")?,
+            SolidSpec::Difference { of } => self.fold(path, q, of, "\\")?,
+            SolidSpec::BlendUnion { of, a0, a1, a2 }
+            | SolidSpec::BlendIntersection { of, a0, a1, a2 } => {
+                let f1 = self.node(&of[0], &format!("{path}.of[0]"), q)?;
+                let f2 = self.node(&of[1], &format!("{path}.of[1]"), q)?;
+                let call = if matches!(spec, SolidSpec::BlendUnion { .. }) {
+                    "hfBlendUni"
+                } else {
+                    "hfBlendInt"
+                };
+                self.set(
+                    path,
+                    &format!(
+                        "{call}({f1}, {f2}, {}, {}, {})",
+                        num(*a0),
+                        num(*a1),
+                        num(*a2)
+                    ),
+                )
+            }
+            SolidSpec::Morph { of, t } => {
+                let f1 = self.node(&of[0], &format!("{path}.of[0]"), q)?;
+                let f2 = self.node(&of[1], &format!("{path}.of[1]"), q)?;
+                let t = num(*t);
+                self.set(path, &format!("(1 - {t}) * {f1} + {t} * {f2}"))
+            }
+            SolidSpec::Transform {
+                solid,
+                translate,
+                rotate,
+                scale,
+            } => {
+                let inner = self.inverse_coordinates(q, translate, rotate, scale);
+                self.node(solid, &format!("{path}.solid"), &inner)?
+            }
+            SolidSpec::Patch { .. } | SolidSpec::Volume { .. } => self.bezier(spec, path, q)?,
+            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
+                unreachable!("refused by the tree's validation")
+            }
+        })
+    }
+
+    fn cuboid(&mut self, path: &str, q: &str, min: &[f64], max: &[f64]) -> String {
+        let strips: Vec<String> = (0..min.len())
+            .map(|i| {
+                format!(
+                    "(({q}[{k}] - {lo}) * ({hi} - {q}[{k}]))",
+                    k = i + 1,
+                    lo = num(min[i]),
+                    hi = num(max[i])
+                )
+            })
+            .collect();
+        let value = strips
+            .into_iter()
+            .reduce(|a, b| format!("({a} & {b})"))
+            .unwrap_or_default();
+        self.set(path, &value)
+    }
+
+    fn half(&mut self, path: &str, q: &str, normal: &[f64], offset: f64) -> String {
+        let dot: Vec<String> = normal
+            .iter()
+            .enumerate()
+            .map(|(i, &n)| format!("{} * {q}[{}]", num(n), i + 1))
+            .collect();
+        self.set(path, &format!("{} - ({})", num(offset), dot.join(" + ")))
+    }
+
+    fn fold(
+        &mut self,
+        path: &str,
+        q: &str,
+        of: &[SolidSpec],
+        op: &str,
+    ) -> Result<String, TreeHfError> {
+        let mut names = Vec::with_capacity(of.len());
+        for (i, child) in of.iter().enumerate() {
+            names.push(self.node(child, &format!("{path}.of[{i}]"), q)?);
+        }
+        let value = names
+            .into_iter()
+            .reduce(|a, b| format!("({a} {op} {b})"))
+            .unwrap_or_default();
+        Ok(self.set(path, &value))
+    }
+
+    /// An array of the coordinates `M⁻¹ q` (`M = T · Rz · Ry · Rx · S`); its name.
+    fn inverse_coordinates(
+        &mut self,
+        q: &str,
+        translate: &Option<Vec<f64>>,
+        rotate: &Option<Rotation>,
+        scale: &Option<Vec<f64>>,
+    ) -> String {
+        let d = self.dim;
+        let t: Vec<f64> = translate.clone().unwrap_or_else(|| alloc::vec![0.0; d]);
+        let s: Vec<f64> = scale.clone().unwrap_or_else(|| alloc::vec![1.0; d]);
+        let mut r = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        match rotate {
+            Some(Rotation::Angle(a)) => {
+                let (sin, cos) = crate::tree::sin_cos(*a);
+                r[0][0] = cos;
+                r[0][1] = -sin;
+                r[1][0] = sin;
+                r[1][1] = cos;
+            }
+            Some(Rotation::Angles(a)) => r = crate::tree::rotation3(*a),
+            None => {}
+        }
+        let name = self.name("q");
+        self.arrays.push((name.clone(), 3));
+        // (M⁻¹ q)_i = (Σ_j R_ji (q_j − t_j)) / s_i.
+        for i in 0..3 {
+            let value = if i < d {
+                let terms: Vec<String> = (0..d)
+                    .map(|j| format!("{} * ({q}[{}] - {})", num(r[j][i]), j + 1, num(t[j])))
+                    .collect();
+                format!("({}) / {}", terms.join(" + "), num(s[i]))
+            } else {
+                format!("{q}[{}]", i + 1)
+            };
+            let _ = writeln!(self.body, "  {name}[{}] = {value};", i + 1);
+        }
+        name
+    }
+
+    /// A regular Bézier leaf: the explicit Bernstein sum, clipped to its box, in coordinates `q`.
+    fn bezier(&mut self, spec: &SolidSpec, path: &str, q: &str) -> Result<String, TreeHfError> {
+        let solo = ModelFile::from_spec(spec.clone());
+        let mapped = || TreeHfError::SpaceMapped(String::from(path));
+        let (degree, lo, hi, xi): (Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) =
+            match solo.to_tree().map_err(TreeHfError::Model)? {
+                ModelTree::Plane(t) => {
+                    let s: &Solid<2> = t.as_solid().ok_or_else(mapped)?;
+                    if s.inverse().is_some() {
+                        return Err(mapped());
+                    }
+                    let (lo, hi) = s.domain();
+                    (
+                        s.degree().to_vec(),
+                        lo.to_array().to_vec(),
+                        hi.to_array().to_vec(),
+                        s.xi_net().points().to_vec(),
+                    )
+                }
+                ModelTree::Space(t) => {
+                    let s: &Solid<3> = t.as_solid().ok_or_else(mapped)?;
+                    if s.inverse().is_some() {
+                        return Err(mapped());
+                    }
+                    let (lo, hi) = s.domain();
+                    (
+                        s.degree().to_vec(),
+                        lo.to_array().to_vec(),
+                        hi.to_array().to_vec(),
+                        s.xi_net().points().to_vec(),
+                    )
+                }
+            };
+        let tag = self.name("b");
+        let mut params = Vec::new();
+        for (k, &n) in degree.iter().enumerate() {
+            let t = format!("{tag}{}", ["u", "v", "w"][k]);
+            let _ = writeln!(
+                self.body,
+                "  {t} = ({q}[{}] - {}) / {};",
+                k + 1,
+                num(lo[k]),
+                num(hi[k] - lo[k])
+            );
+            let _ = writeln!(self.body, "  {t}s = 1 - {t};");
+            for i in 0..=n {
+                let _ = writeln!(
+                    self.body,
+                    "  {t}{i} = {};",
+                    basis_term(n, i, &t, &format!("{t}s"))
+                );
+            }
+            params.push(t);
+        }
+        // Σ over the net in its index order, the last index fastest.
+        let mut terms = Vec::with_capacity(xi.len());
+        let mut index = alloc::vec![0usize; degree.len()];
+        for &value in &xi {
+            let factors: Vec<String> = index
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| format!("{}{i}", params[k]))
+                .collect();
+            terms.push(format!("{}*{}", factors.join("*"), num(value)));
+            for k in (0..degree.len()).rev() {
+                index[k] += 1;
+                if index[k] <= degree[k] {
+                    break;
+                }
+                index[k] = 0;
+            }
+        }
+        let sum = self.name("s");
+        let _ = writeln!(self.body, "  {sum} = {};", terms.join("\n    + "));
+        let clip = params
+            .iter()
+            .map(|t| format!("({t}*{t}s)"))
+            .reduce(|a, b| format!("({a} & {b})"))
+            .unwrap_or_default();
+        Ok(self.set(path, &format!("{sum} & {clip}")))
+    }
+}
+
+fn axis_name(axis: CoordAxis) -> &'static str {
+    ["x", "y", "z"][axis.index()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::SolidSpec as S;
+    use crate::testutil::{Rng, random_point, random_tree};
+    use alloc::boxed::Box;
+    use alloc::vec;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// A HyperFun interpreter for the subset the export writes, from the language's definitions:
+    /// `|`, `&`, `\` are the R-functions, the library's `hfSphere`, `hfCylinderX/Y/Z`,
+    /// `hfBlendUni` and `hfBlendInt` as the HyperFun library defines them.
+    mod hf {
+        use alloc::collections::BTreeMap;
+        use alloc::string::String;
+        use alloc::vec::Vec;
+
+        #[derive(Clone, Debug, PartialEq)]
+        enum Tok {
+            Num(f64),
+            Id(String),
+            Sym(char),
+        }
+
+        fn lex(text: &str) -> Vec<Tok> {
+            let mut out = Vec::new();
+            let c: Vec<char> = text.chars().collect();
+            let mut i = 0;
+            while i < c.len() {
+                match c[i] {
+                    ' ' | '\n' | '\t' | '\r' => i += 1,
+                    '-' if c.get(i + 1) == Some(&'-') => {
+                        while i < c.len() && c[i] != '\n' {
+                            i += 1;
+                        }
+                    }
+                    d if d.is_ascii_digit() || d == '.' => {
+                        let start = i;
+                        while i < c.len()
+                            && (c[i].is_ascii_digit()
+                                || c[i] == '.'
+                                || c[i] == 'e'
+                                || ((c[i] == '-' || c[i] == '+') && c[i - 1] == 'e'))
+                        {
+                            i += 1;
+                        }
+                        let s: String = c[start..i].iter().collect();
+                        out.push(Tok::Num(s.parse().unwrap()));
+                    }
+                    a if a.is_ascii_alphabetic() || a == '_' => {
+                        let start = i;
+                        while i < c.len() && (c[i].is_ascii_alphanumeric() || c[i] == '_') {
+                            i += 1;
+                        }
+                        out.push(Tok::Id(c[start..i].iter().collect()));
+                    }
+                    s => {
+                        out.push(Tok::Sym(s));
+                        i += 1;
+                    }
+                }
+            }
+            out
+        }
+
+        #[derive(Clone, Debug)]
+        enum Val {
+            Num(f64),
+            Arr(Vec<f64>),
+        }
+
+        impl Val {
+            fn num(&self) -> f64 {
+                match self {
+                    Val::Num(v) => *v,
+                    Val::Arr(_) => panic!("an array where a number is wanted"),
+                }
+            }
+            fn arr(&self) -> &[f64] {
+                match self {
+                    Val::Arr(a) => a,
+                    Val::Num(_) => panic!("a number where an array is wanted"),
+                }
+            }
+        }
+
+        fn or(a: f64, b: f64) -> f64 {
+            a + b + (a * a + b * b).sqrt()
+        }
+        fn and(a: f64, b: f64) -> f64 {
+            a + b - (a * a + b * b).sqrt()
+        }
+
+        struct Run<'a> {
+            t: &'a [Tok],
+            i: usize,
+            vars: BTreeMap<String, Val>,
+        }
+
+        impl Run<'_> {
+            fn peek(&self) -> Option<&Tok> {
+                self.t.get(self.i)
+            }
+            fn eat(&mut self, s: char) -> bool {
+                if self.peek() == Some(&Tok::Sym(s)) {
+                    self.i += 1;
+                    true
+                } else {
+                    false
+                }
+            }
+            fn expect(&mut self, s: char) {
+                assert!(self.eat(s), "expected {s:?} at token {:?}", self.peek());
+            }
+            fn id(&mut self) -> String {
+                match self.t[self.i].clone() {
+                    Tok::Id(s) => {
+                        self.i += 1;
+                        s
+                    }
+                    t => panic!("expected a name, found {t:?}"),
+                }
+            }
+            fn set_ops(&mut self) -> Val {
+                let mut a = self.sum();
+                loop {
+                    let op = match self.peek() {
+                        Some(Tok::Sym(c @ ('|' | '&' | '\\'))) => *c,
+                        _ => return a,
+                    };
+                    self.i += 1;
+                    let (x, y) = (a.num(), self.sum().num());
+                    a = Val::Num(match op {
+                        '|' => or(x, y),
+                        '&' => and(x, y),
+                        _ => and(x, -y),
+                    });
+                }
+            }
+            fn sum(&mut self) -> Val {
+                let mut a = self.product();
+                loop {
+                    if self.eat('+') {
+                        a = Val::Num(a.num() + self.product().num());
+                    } else if self.eat('-') {
+                        a = Val::Num(a.num() - self.product().num());
+                    } else {
+                        return a;
+                    }
+                }
+            }
+            fn product(&mut self) -> Val {
+                let mut a = self.unary();
+                loop {
+                    if self.eat('*') {
+                        a = Val::Num(a.num() * self.unary().num());
+                    } else if self.eat('/') {
+                        a = Val::Num(a.num() / self.unary().num());
+                    } else {
+                        return a;
+                    }
+                }
+            }
+            fn unary(&mut self) -> Val {
+                if self.eat('-') {
+                    return Val::Num(-self.unary().num());
+                }
+                let base = self.primary();
+                if self.eat('^') {
+                    let e = self.unary().num();
+                    return Val::Num(base.num().powf(e));
+                }
+                base
+            }
+            fn primary(&mut self) -> Val {
+                match self.t[self.i].clone() {
+                    Tok::Num(v) => {
+                        self.i += 1;
+                        Val::Num(v)
+                    }
+                    Tok::Sym('(') => {
+                        self.i += 1;
+                        let v = self.set_ops();
+                        self.expect(')');
+                        v
+                    }
+                    Tok::Id(name) => {
+                        self.i += 1;
+                        if self.eat('(') {
+                            let mut args = Vec::new();
+                            if !self.eat(')') {
+                                loop {
+                                    args.push(self.set_ops());
+                                    if self.eat(')') {
+                                        break;
+                                    }
+                                    self.expect(',');
+                                }
+                            }
+                            return Val::Num(call(&name, &args));
+                        }
+                        let value = self
+                            .vars
+                            .get(&name)
+                            .cloned()
+                            .unwrap_or_else(|| panic!("{name} is used before it is set"));
+                        if self.eat('[') {
+                            let k = self.set_ops().num() as usize;
+                            self.expect(']');
+                            return Val::Num(value.arr()[k - 1]);
+                        }
+                        value
+                    }
+                    t => panic!("unexpected {t:?}"),
+                }
+            }
+        }
+
+        fn call(name: &str, a: &[Val]) -> f64 {
+            let sq = |v: f64| v * v;
+            match name {
+                "sqrt" => a[0].num().sqrt(),
+                "hfSphere" => {
+                    let (x, c, r) = (a[0].arr(), a[1].arr(), a[2].num());
+                    r * r - (0..3).map(|i| sq(x[i] - c[i])).sum::<f64>()
+                }
+                "hfCylinderX" | "hfCylinderY" | "hfCylinderZ" => {
+                    let skip = ["hfCylinderX", "hfCylinderY", "hfCylinderZ"]
+                        .iter()
+                        .position(|n| *n == name)
+                        .unwrap();
+                    let (x, c, r) = (a[0].arr(), a[1].arr(), a[2].num());
+                    r * r
+                        - (0..3)
+                            .filter(|&i| i != skip)
+                            .map(|i| sq(x[i] - c[i]))
+                            .sum::<f64>()
+                }
+                "hfBlendUni" | "hfBlendInt" => {
+                    let [f1, f2, a0, a1, a2] = [0, 1, 2, 3, 4].map(|k| a[k].num());
+                    let base = if name == "hfBlendUni" {
+                        or(f1, f2)
+                    } else {
+                        and(f1, f2)
+                    };
+                    base + a0 / (1.0 + sq(f1 / a1) + sq(f2 / a2))
+                }
+                _ => panic!("no function {name}"),
+            }
+        }
+
+        /// `my_model` of the file at the point `x`.
+        pub(super) fn eval(text: &str, x: [f64; 3]) -> f64 {
+            let t = lex(text);
+            let open = t.iter().position(|k| *k == Tok::Sym('{')).expect("a body");
+            let mut run = Run {
+                t: &t,
+                i: open + 1,
+                vars: BTreeMap::new(),
+            };
+            run.vars.insert("x".into(), Val::Arr(x.to_vec()));
+            while !run.eat('}') {
+                let name = run.id();
+                if name == "array" {
+                    let array = run.id();
+                    run.expect('[');
+                    let Val::Num(n) = run.primary() else { panic!() };
+                    run.expect(']');
+                    run.expect(';');
+                    run.vars.insert(array, Val::Arr(vec_of(n as usize)));
+                    continue;
+                }
+                if run.eat('[') {
+                    let k = run.set_ops().num() as usize;
+                    run.expect(']');
+                    run.expect('=');
+                    let v = run.set_ops().num();
+                    run.expect(';');
+                    match run.vars.get_mut(&name) {
+                        Some(Val::Arr(a)) => a[k - 1] = v,
+                        _ => panic!("{name} is not an array"),
+                    }
+                    continue;
+                }
+                run.expect('=');
+                let value = if run.eat('[') {
+                    let mut items = Vec::new();
+                    loop {
+                        items.push(run.set_ops().num());
+                        if run.eat(']') {
+                            break;
+                        }
+                        run.expect(',');
+                    }
+                    Val::Arr(items)
+                } else {
+                    run.set_ops()
+                };
+                run.expect(';');
+                run.vars.insert(name, value);
+            }
+            run.vars["my_model"].num()
+        }
+
+        fn vec_of(n: usize) -> Vec<f64> {
+            alloc::vec![0.0; n]
+        }
+    }
+
+    fn agree(file: &ModelFile, points: &[[f64; 3]]) {
+        let text = tree_hf(file).unwrap();
+        let tree = file.to_tree().unwrap();
+        for &p in points {
+            let want = match &tree {
+                ModelTree::Plane(t) => t.f(glam::DVec2::new(p[0], p[1])),
+                ModelTree::Space(t) => t.f(glam::DVec3::from_array(p)),
+            };
+            let got = hf::eval(&text, p);
+            assert!(
+                (got - want).abs() <= 1e-9 * want.abs().max(1.0),
+                "{p:?}: HyperFun {got}, eval {want}\n{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_export_of_random_trees_evaluates_as_eval() {
+        let mut rng = Rng::new(21);
+        for _ in 0..40 {
+            let file = ModelFile::from_spec(random_tree(&mut rng, 3));
+            let points: Vec<[f64; 3]> = (0..30).map(|_| random_point(&mut rng, 2.0)).collect();
+            agree(&file, &points);
+        }
+    }
+
+    #[test]
+    fn the_export_of_2d_trees_and_every_kind_evaluates_as_eval() {
+        let patch = ModelFile::from_solid2(&crate::Solid2::fig9()).solid;
+        let file = ModelFile::from_spec(S::Transform {
+            solid: Box::new(S::Difference {
+                of: vec![
+                    S::BlendIntersection {
+                        of: vec![
+                            patch,
+                            S::Circle {
+                                center: [0.5, 0.5],
+                                radius: 0.6,
+                            },
+                        ],
+                        a0: 0.1,
+                        a1: 0.5,
+                        a2: 2.0,
+                    },
+                    S::Rectangle {
+                        min: [0.0, 0.0],
+                        max: [0.3, 0.2],
+                    },
+                    S::Halfplane {
+                        normal: [1.0, -1.0],
+                        offset: 0.6,
+                    },
+                    S::Morph {
+                        of: vec![
+                            S::Circle {
+                                center: [1.0, 1.0],
+                                radius: 0.2,
+                            },
+                            S::Circle {
+                                center: [0.0, 1.0],
+                                radius: 0.3,
+                            },
+                        ],
+                        t: 0.25,
+                    },
+                ],
+            }),
+            translate: Some(vec![0.25, -0.5]),
+            rotate: Some(Rotation::Angle(-20.0)),
+            scale: Some(vec![1.5, -0.75]),
+        });
+        let mut rng = Rng::new(22);
+        let points: Vec<[f64; 3]> = (0..200)
+            .map(|_| {
+                let p = random_point(&mut rng, 1.5);
+                [p[0], p[1], 0.0]
+            })
+            .collect();
+        agree(&file, &points);
+        let text = tree_hf(&file).unwrap();
+        assert!(
+            text.contains("hfBlendInt(") && text.contains(" \\ "),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn space_mapped_leaves_are_refused_with_their_path() {
+        let mut fig9 = crate::Solid2::fig9();
+        fig9.set_point([1, 1], glam::DVec2::new(0.6, 0.4)).unwrap();
+        let file = ModelFile::from_spec(S::Union {
+            of: vec![
+                S::Circle {
+                    center: [0.0, 0.0],
+                    radius: 1.0,
+                },
+                ModelFile::from_solid2(&fig9).solid,
+            ],
+        });
+        assert_eq!(
+            tree_hf(&file),
+            Err(TreeHfError::SpaceMapped("solid.of[1]".into()))
+        );
+    }
+}
