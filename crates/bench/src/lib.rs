@@ -5,6 +5,7 @@
 pub mod esc;
 pub mod inverse;
 pub mod plasm;
+pub mod tree;
 
 use bezsolid_core::mesh::{LinearRoots, Mesh, SampleGrid, polygonize};
 use bezsolid_core::{Axis, Solid3, Volume};
@@ -144,6 +145,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(inverse::suite(clock, quick));
     rows.extend(esc::suite(clock, quick));
     rows.extend(plasm::suite(clock, quick));
+    rows.extend(tree::suite(clock, quick));
     let mesh_sizes: &[usize] = if quick { &[20] } else { &[20, 64, 128, 256] };
     for &n in mesh_sizes {
         let (ms, runs, mesh) = time(clock, budget, || {

@@ -22,6 +22,15 @@ fn main() {
         println!("{}", serde_json::to_string(&rows).unwrap_or_default());
         return;
     }
+    // `--tree`: only the model of many solids.
+    if std::env::args().any(|a| a == "--tree") {
+        #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
+        let mut rows = bezsolid_bench::tree::suite(&mut clock, quick);
+        #[cfg(feature = "peers")]
+        rows.extend(peers::tree_peer(&mut clock, quick));
+        println!("{}", serde_json::to_string(&rows).unwrap_or_default());
+        return;
+    }
     // `--inverse`: only the space-mapping cases, folded nets included.
     if std::env::args().any(|a| a == "--inverse") {
         let rows = bezsolid_bench::inverse::suite(&mut clock, quick);

@@ -3,6 +3,7 @@
 //! fidget expression, at the same resolution (its whole pipeline: it evaluates as it meshes).
 
 use bezsolid_bench::{Clock, Row, bench_solid, sampled, time};
+use bezsolid_core::model::SolidSpec;
 use fast_surface_nets::ndshape::RuntimeShape;
 use fast_surface_nets::{SurfaceNetsBuffer, surface_nets};
 use fidget::context::Tree;
@@ -64,7 +65,152 @@ pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
     }
+    rows.extend(tree_peer(clock, quick));
     rows
+}
+
+/// fidget meshing the benchmark's tree of 20 solids ([`bezsolid_bench::tree`]), built from the
+/// same formulas (DESIGN §5), at 2^depth cells along the longest side of the tree's bounds.
+pub(crate) fn tree_peer(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let file = bezsolid_bench::tree::bench_tree();
+    let Some((lo, hi)) = bezsolid_bench::tree::tree().bounds() else {
+        return Vec::new();
+    };
+    let shape: fidget::jit::JitShape = fidget::shape::Shape::from(-fidget_tree(&file.solid));
+    let Ok(bound) = shape.try_into() else {
+        eprintln!("bezsolid-bench: fidget refused the tree");
+        return Vec::new();
+    };
+    let centre = nalgebra::Vector3::from_fn(|i, _| ((lo[i] + hi[i]) / 2.0) as f32);
+    let half = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max) as f32 / 2.0;
+    let to_model =
+        nalgebra::Matrix4::new_translation(&centre) * nalgebra::Matrix4::new_scaling(half);
+    let depths: &[u8] = if quick { &[6] } else { &[7, 8] };
+    let mut rows = Vec::new();
+    for &depth in depths {
+        let settings = Settings {
+            depth,
+            world_to_model: to_model,
+            threads: None,
+            ..Default::default()
+        };
+        let (ms, runs, triangles) = time(clock, budget, || {
+            Octree::build(&bound, &settings)
+                .map(|o| o.walk_dual().triangles.len())
+                .unwrap_or(0)
+        });
+        rows.push(Row {
+            case: "tree of 20 solids: polygonize".into(),
+            who: "fidget 0.5.1 (JIT, 1 thread; adaptive dual contouring)".into(),
+            n: 1 << depth,
+            ms,
+            runs,
+            extra: triangles as f64,
+            note: String::new(),
+        });
+    }
+    rows
+}
+
+/// A node of the tree as a fidget expression, from DESIGN §5's formulas (the kinds the benchmark's
+/// tree has: unions, blended unions, regular volumes, spheres, boxes, tori).
+fn fidget_tree(spec: &SolidSpec) -> Tree {
+    let c = |v: f64| Tree::constant(v as f32);
+    let and = |a: Tree, b: Tree| a.clone() + b.clone() - (a.square() + b.square()).sqrt();
+    let or = |a: Tree, b: Tree| a.clone() + b.clone() + (a.square() + b.square()).sqrt();
+    let xyz = [Tree::x(), Tree::y(), Tree::z()];
+    match spec {
+        SolidSpec::Union { of } => of
+            .iter()
+            .map(fidget_tree)
+            .reduce(or)
+            .unwrap_or_else(|| c(-1.0)),
+        SolidSpec::BlendUnion { of, a0, a1, a2 } => {
+            let (f1, f2) = (fidget_tree(&of[0]), fidget_tree(&of[1]));
+            let den = c(1.0) + (f1.clone() / c(*a1)).square() + (f2.clone() / c(*a2)).square();
+            or(f1, f2) + c(*a0) / den
+        }
+        SolidSpec::Sphere { center, radius } => {
+            let d = (0..3)
+                .map(|i| (xyz[i].clone() - c(center[i])).square())
+                .reduce(|a, b| a + b)
+                .unwrap_or_else(|| c(0.0));
+            c(radius * radius) - d
+        }
+        SolidSpec::Box { min, max } => (0..3)
+            .map(|i| (xyz[i].clone() - c(min[i])) * (c(max[i]) - xyz[i].clone()))
+            .reduce(and)
+            .unwrap_or_else(|| c(-1.0)),
+        SolidSpec::Torus {
+            center,
+            axis,
+            major,
+            minor,
+        } => {
+            let k = axis.index();
+            let across = (0..3)
+                .filter(|&i| i != k)
+                .map(|i| (xyz[i].clone() - c(center[i])).square())
+                .reduce(|a, b| a + b)
+                .unwrap_or_else(|| c(0.0));
+            c(minor * minor)
+                - (across.sqrt() - c(*major)).square()
+                - (xyz[k].clone() - c(center[k])).square()
+        }
+        SolidSpec::Volume { degree, points } => {
+            let [n, m, l] = *degree;
+            let lo: [f64; 3] =
+                core::array::from_fn(|i| points.iter().map(|p| p[i]).fold(f64::INFINITY, f64::min));
+            let hi: [f64; 3] = core::array::from_fn(|i| {
+                points
+                    .iter()
+                    .map(|p| p[i])
+                    .fold(f64::NEG_INFINITY, f64::max)
+            });
+            let t: Vec<Tree> = (0..3)
+                .map(|i| (xyz[i].clone() - c(lo[i])) / c(hi[i] - lo[i]))
+                .collect();
+            let basis = |axis: &Tree, degree: usize| -> Vec<Tree> {
+                let rest = c(1.0) - axis.clone();
+                (0..=degree)
+                    .map(|i| {
+                        c(bezsolid_core::bernstein::binomial(degree, i))
+                            * (axis.clone().pow(i as i64) * rest.clone().pow((degree - i) as i64))
+                    })
+                    .collect()
+            };
+            let (bu, bv, bw) = (basis(&t[0], n), basis(&t[1], m), basis(&t[2], l));
+            let sum = |terms: Vec<Tree>| {
+                terms
+                    .into_iter()
+                    .reduce(|a, b| a + b)
+                    .unwrap_or_else(|| c(0.0))
+            };
+            let mut outer = Vec::new();
+            for (i, bu_i) in bu.iter().enumerate() {
+                let mut middle = Vec::new();
+                for (j, bv_j) in bv.iter().enumerate() {
+                    let inner: Vec<Tree> = bw
+                        .iter()
+                        .enumerate()
+                        .map(|(k, bw_k)| {
+                            c(points[(i * (m + 1) + j) * (l + 1) + k][3]) * bw_k.clone()
+                        })
+                        .collect();
+                    middle.push(bv_j.clone() * sum(inner));
+                }
+                outer.push(bu_i.clone() * sum(middle));
+            }
+            let strips = t
+                .iter()
+                .map(|ti| ti.clone() * (c(1.0) - ti.clone()))
+                .reduce(and)
+                .unwrap_or_else(|| c(1.0));
+            and(sum(outer), strips)
+        }
+        _ => c(-1.0),
+    }
 }
 
 /// `S_ξ` of the benchmark solid as a fidget tree: `Σ_i Bu_i (Σ_j Bv_j (Σ_k c_ijk Bw_k))` over

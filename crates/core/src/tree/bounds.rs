@@ -204,7 +204,7 @@ where
                 hi: core::array::from_fn(|i| center[i] + reach(i)),
             }
         }
-        Shape::Bezier(solid) => {
+        Shape::Bezier(solid, _) => {
             let (lo, hi) = solid.domain();
             let (lo, hi) = (Dim::<D>::coords(lo), Dim::<D>::coords(hi));
             if solid.inverse().is_some() {

@@ -177,6 +177,20 @@ impl EdgeRoots for Roots<'_> {
     }
 }
 
+/// What meshing a tree did: how much of the grid the interval bounds let it skip.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MeshStats {
+    /// Cells of the grid.
+    pub cells: usize,
+    /// Cells in boxes where the interval bounds proved one sign (no surface, no evaluation).
+    pub skipped: usize,
+    /// Samples evaluated.
+    pub evaluated: usize,
+}
+
+/// Boxes of at most this many cells per side are sampled whole rather than bounded again.
+const LEAF_CELLS: usize = 4;
+
 impl Tree<3> {
     /// The closed, outward-oriented triangle mesh of the solid's boundary at `resolution` cells
     /// along the longest side of its bounds (or of `region`, a box `[lo, hi]` to mesh within, cut
@@ -192,10 +206,25 @@ impl Tree<3> {
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
     ) -> Result<Mesh, TreeMeshError> {
+        self.polygonize_with_stats(resolution, accuracy, region)
+            .map(|(mesh, _)| mesh)
+    }
+
+    /// [`Tree::polygonize`], with how much of the grid it skipped.
+    ///
+    /// # Errors
+    ///
+    /// As [`Tree::polygonize`].
+    pub fn polygonize_with_stats(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<(Mesh, MeshStats), TreeMeshError> {
         let Some(Region { lo, hi, clip }) =
             self::region(self.bounds(), region, resolution, accuracy)?
         else {
-            return Ok(Mesh::default());
+            return Ok((Mesh::default(), MeshStats::default()));
         };
         let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
         let size = hi - lo;
@@ -216,11 +245,71 @@ impl Tree<3> {
             stack: Vec::with_capacity(self.stack),
         };
         let [nx, ny, nz] = grid.dims;
-        let mut values = Vec::with_capacity(nx * ny * nz);
-        for c in 0..nz {
-            for b in 0..ny {
-                for a in 0..nx {
-                    values.push(field.f(grid.point(a, b, c).to_array()));
+        let mut values = alloc::vec![f64::NAN; nx * ny * nz];
+        let mut stats = MeshStats {
+            cells: (nx - 1) * (ny - 1) * (nz - 1),
+            ..MeshStats::default()
+        };
+        // Boxes of cells, bounded by intervals: one sign, a placeholder of that sign on samples
+        // not yet evaluated (the marching only needs signs there, and a vertex's root search
+        // only needs the bracket's signs); else split in eight, down to boxes sampled whole.
+        let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
+        while let Some((lo, hi)) = todo.pop() {
+            let (plo, phi) = (
+                grid.point(lo[0], lo[1], lo[2]),
+                grid.point(hi[0], hi[1], hi[2]),
+            );
+            let mut range = self.interval(plo.to_array(), phi.to_array());
+            if let Some(b) = &field.clip {
+                let (blo, bhi) = (plo.to_array(), phi.to_array());
+                range = range.intersect_box(b, blo, bhi);
+            }
+            let sign = if range.hi < 0.0 {
+                Some(-1.0)
+            } else if range.lo > 0.0 {
+                Some(1.0)
+            } else {
+                None
+            };
+            let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
+            if let Some(sign) = sign {
+                stats.skipped += size.iter().product::<usize>();
+                for c in lo[2]..=hi[2] {
+                    for b in lo[1]..=hi[1] {
+                        let row = (c * ny + b) * nx;
+                        for v in &mut values[row + lo[0]..=row + hi[0]] {
+                            if v.is_nan() {
+                                *v = sign;
+                            }
+                        }
+                    }
+                }
+            } else if size.iter().all(|&s| s <= LEAF_CELLS) {
+                for c in lo[2]..=hi[2] {
+                    for b in lo[1]..=hi[1] {
+                        for a in lo[0]..=hi[0] {
+                            let k = (c * ny + b) * nx + a;
+                            if values[k].is_nan() || values[k].abs() == 1.0 {
+                                values[k] = field.f(grid.point(a, b, c).to_array());
+                                stats.evaluated += 1;
+                            }
+                        }
+                    }
+                }
+            } else {
+                let mid = [0, 1, 2].map(|k| lo[k] + size[k] / 2);
+                for corner in 0..8 {
+                    let pick = |k: usize| {
+                        if corner >> k & 1 == 0 {
+                            (lo[k], mid[k])
+                        } else {
+                            (mid[k], hi[k])
+                        }
+                    };
+                    let (a, b, c) = (pick(0), pick(1), pick(2));
+                    if a.0 < a.1 && b.0 < b.1 && c.0 < c.1 {
+                        todo.push(([a.0, b.0, c.0], [a.1, b.1, c.1]));
+                    }
                 }
             }
         }
@@ -229,7 +318,7 @@ impl Tree<3> {
             grid,
             accuracy,
         };
-        Ok(polygonize(&grid, &values, &mut roots))
+        Ok((polygonize(&grid, &values, &mut roots), stats))
     }
 }
 
@@ -298,6 +387,54 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn intervals_hold_every_value_in_their_box() {
+        let mut rng = Rng::new(14);
+        for _ in 0..60 {
+            let tree = space(random_tree(&mut rng, 3));
+            for _ in 0..20 {
+                let c = point(&mut rng, 1.5);
+                let h = [
+                    rng.range(0.01, 0.8),
+                    rng.range(0.01, 0.8),
+                    rng.range(0.01, 0.8),
+                ];
+                let lo: [f64; 3] = core::array::from_fn(|i| c[i] - h[i]);
+                let hi: [f64; 3] = core::array::from_fn(|i| c[i] + h[i]);
+                let range = tree.interval(lo, hi);
+                for _ in 0..50 {
+                    let p: [f64; 3] = core::array::from_fn(|i| rng.range(lo[i], hi[i]));
+                    let f = tree.f(glam::DVec3::from_array(p));
+                    let slack = 1e-9 * f.abs().max(1.0);
+                    assert!(
+                        range.lo - slack <= f && f <= range.hi + slack,
+                        "{p:?}: f = {f} outside {range:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn skipping_cells_changes_nothing_but_the_work() {
+        let mut rng = Rng::new(15);
+        let mut skipped = 0;
+        for _ in 0..8 {
+            let tree = space(random_tree(&mut rng, 3));
+            let (mesh, stats) = tree.polygonize_with_stats(40, 1e-10, None).unwrap();
+            mesh.check_closed_manifold().unwrap();
+            assert!(stats.skipped <= stats.cells);
+            skipped += stats.skipped;
+            // Every vertex is on the surface (a wrong skip would leave a hole or a stray piece,
+            // which the closed-manifold check and this catch).
+            for p in mesh.positions.iter().step_by(31) {
+                let (f, g) = tree.f_with_gradient(*p);
+                assert!(f.abs() <= 1e-9 * g.length().max(1.0), "{p}: {f}");
+            }
+        }
+        assert!(skipped > 0, "the bounds skip some cells");
     }
 
     #[test]

@@ -43,9 +43,11 @@ use crate::solid::Solid;
 use crate::tensor::Tensor;
 
 mod bounds;
+mod interval;
 mod mesh;
 
-pub use mesh::{MAX_RESOLUTION, TreeMeshError};
+pub use interval::Interval;
+pub use mesh::{MAX_RESOLUTION, MeshStats, TreeMeshError};
 
 /// The deepest a tree may be: a node and its children count 2.
 pub const MAX_DEPTH: usize = 32;
@@ -127,8 +129,8 @@ enum Shape<const D: usize>
 where
     Dim<D>: Dimension<D>,
 {
-    /// A patch or volume solid.
-    Bezier(Box<Solid<D>>),
+    /// A patch or volume solid; a regular one keeps its `ξ` net apart, to evaluate `ξ` alone.
+    Bezier(Box<Solid<D>>, Option<Box<Regular<D>>>),
     /// `radius² − ‖p − center‖²`.
     Ball { center: [f64; D], radius: f64 },
     /// `s_0 & s_1 (& s_2)`, `s_i = (p_i − min_i)(max_i − p_i)`.
@@ -158,7 +160,16 @@ where
     /// the query ran out of its work budget.
     fn eval(&self, p: [f64; D]) -> (f64, usize, bool) {
         let (f, n) = match self {
-            Self::Bezier(solid) => {
+            Self::Bezier(_, Some(r)) => {
+                let t = r.scaled(p);
+                let inside = t.iter().all(|&x| (0.0..=1.0).contains(&x));
+                return (
+                    crate::rfunc::clip(r.xi.eval(t), t),
+                    usize::from(inside),
+                    false,
+                );
+            }
+            Self::Bezier(solid, None) => {
                 let v = solid.evaluate(Dim::<D>::point(p), Method::Fast);
                 return (v.f, v.preimages, v.exhausted);
             }
@@ -214,7 +225,7 @@ where
     /// `f` and `∇f` at `p`, in the leaf's coordinates.
     fn gradient(&self, p: [f64; D]) -> (f64, [f64; D]) {
         match self {
-            Self::Bezier(solid) => {
+            Self::Bezier(solid, _) => {
                 let (f, g) = solid.f_with_gradient(Dim::<D>::point(p));
                 (f, Dim::<D>::coords(g))
             }
@@ -278,6 +289,38 @@ where
                 (offset - dot, core::array::from_fn(|i| -normal[i]))
             }
         }
+    }
+}
+
+/// A regular Bézier leaf's `ξ` net and box: `f = S_ξ(t) & F_s(t)` with `t` the point scaled to
+/// the box, computed as the solid computes it (the same sums in the same order), without its
+/// `x, y, z` components.
+#[derive(Clone, Debug)]
+struct Regular<const D: usize> {
+    xi: Tensor<f64, D>,
+    min: [f64; D],
+    max: [f64; D],
+}
+
+impl<const D: usize> Regular<D> {
+    fn of(solid: &Solid<D>) -> Option<Self>
+    where
+        Dim<D>: Dimension<D>,
+    {
+        if solid.inverse().is_some() {
+            return None;
+        }
+        let (min, max) = solid.domain();
+        Some(Self {
+            xi: solid.xi_net(),
+            min: Dim::<D>::coords(min),
+            max: Dim::<D>::coords(max),
+        })
+    }
+
+    /// The parameters of `p` (any point, inside the box or not).
+    fn scaled(&self, p: [f64; D]) -> [f64; D] {
+        core::array::from_fn(|c| (p[c] - self.min[c]) / (self.max[c] - self.min[c]))
     }
 }
 
@@ -396,7 +439,7 @@ where
     /// Prepares the Bézier leaves for about `queries` evaluations (see [`Solid::plan`]).
     pub fn plan(&self, queries: usize) {
         for leaf in &self.leaves {
-            if let Shape::Bezier(s) = &leaf.shape {
+            if let Shape::Bezier(s, None) = &leaf.shape {
                 s.plan(queries);
             }
         }
@@ -505,7 +548,7 @@ where
     pub fn bezier_count(&self) -> usize {
         self.leaves
             .iter()
-            .filter(|l| matches!(l.shape, Shape::Bezier(_)))
+            .filter(|l| matches!(l.shape, Shape::Bezier(..)))
             .count()
     }
 
@@ -516,7 +559,7 @@ where
             (
                 [
                     Leaf {
-                        shape: Shape::Bezier(s),
+                        shape: Shape::Bezier(s, _),
                         map: None,
                     },
                 ],
@@ -724,7 +767,8 @@ where
                     "solid" => ModelError::Solid(e),
                     _ => tree_error(path, format!("invalid solid: {e}")),
                 })?;
-                self.leaf(Shape::Bezier(Box::new(solid)), map);
+                let regular = Regular::of(&solid).map(Box::new);
+                self.leaf(Shape::Bezier(Box::new(solid), regular), map);
             }
             SolidSpec::Circle { center, radius } => self.ball(center, *radius, path, map)?,
             SolidSpec::Sphere { center, radius } => self.ball(center, *radius, path, map)?,

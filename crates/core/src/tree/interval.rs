@@ -1,0 +1,342 @@
+//! Interval arithmetic over a tree: a range `[lo, hi]` that holds `f` at every point of a box, so
+//! that a mesher can skip the boxes where `f` keeps one sign.
+//!
+//! Each leaf bounds its own formula over the box mapped into its coordinates (the box around the
+//! mapped corners, which holds the mapped box). A regular Bézier leaf restricts its `ξ` net to the
+//! box's parameters (de Casteljau, axis by axis): the restricted coefficients bound `S_ξ` there
+//! (convex hull property), and its strips bound the clipping function; a space-mapped one is
+//! known only to be negative outside its net's hull. The R-functions are increasing in both
+//! arguments, so they map the ends of their operands' ranges to the ends of theirs; a blend adds a
+//! range for its displacement; a morph is linear.
+
+use alloc::vec::Vec;
+
+use super::{Leaf, Shape, Step, Tree};
+use crate::dim::{Dim, Dimension};
+use crate::math::sqrt;
+use crate::rfunc::{intersect, union};
+
+/// Where nothing finer is known: large enough to say nothing, small enough that squares and the
+/// R-functions stay finite.
+const UNKNOWN: f64 = 1e150;
+
+/// A range of values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// The least value.
+    pub lo: f64,
+    /// The greatest value.
+    pub hi: f64,
+}
+
+impl Interval {
+    const ANY: Self = Self {
+        lo: -UNKNOWN,
+        hi: UNKNOWN,
+    };
+
+    fn new(lo: f64, hi: f64) -> Self {
+        Self {
+            lo: lo.clamp(-UNKNOWN, UNKNOWN),
+            hi: hi.clamp(-UNKNOWN, UNKNOWN),
+        }
+    }
+
+    fn add(self, o: Self) -> Self {
+        Self::new(self.lo + o.lo, self.hi + o.hi)
+    }
+
+    fn neg(self) -> Self {
+        Self::new(-self.hi, -self.lo)
+    }
+
+    fn scale(self, k: f64) -> Self {
+        if k >= 0.0 {
+            Self::new(k * self.lo, k * self.hi)
+        } else {
+            Self::new(k * self.hi, k * self.lo)
+        }
+    }
+
+    /// `x²` for `x` in the range.
+    fn square(self) -> Self {
+        let (a, b) = (self.lo * self.lo, self.hi * self.hi);
+        if self.lo <= 0.0 && self.hi >= 0.0 {
+            Self::new(0.0, a.max(b))
+        } else {
+            Self::new(a.min(b), a.max(b))
+        }
+    }
+
+    fn sqrt(self) -> Self {
+        Self::new(sqrt(self.lo.max(0.0)), sqrt(self.hi.max(0.0)))
+    }
+
+    fn union(self, o: Self) -> Self {
+        Self::new(union(self.lo, o.lo), union(self.hi, o.hi))
+    }
+
+    fn intersect(self, o: Self) -> Self {
+        Self::new(intersect(self.lo, o.lo), intersect(self.hi, o.hi))
+    }
+}
+
+impl Interval {
+    /// This range cut by the box `b` (the R-function intersection with its function) over the
+    /// box `[lo, hi]`.
+    pub(super) fn intersect_box<const D: usize>(
+        self,
+        b: &Shape<D>,
+        lo: [f64; D],
+        hi: [f64; D],
+    ) -> Self
+    where
+        Dim<D>: Dimension<D>,
+    {
+        self.intersect(leaf_interval(b, lo, hi, &mut Vec::new()))
+    }
+}
+
+/// `(x − c)²` for `x` in `[lo, hi]`.
+fn offset_square(lo: f64, hi: f64, c: f64) -> Interval {
+    Interval::new(lo - c, hi - c).square()
+}
+
+impl<const D: usize> Tree<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// A range holding `f` at every point of the box `[lo, hi]`.
+    #[must_use]
+    pub fn interval(&self, lo: [f64; D], hi: [f64; D]) -> Interval {
+        let mut stack: Vec<Interval> = Vec::with_capacity(self.stack);
+        let mut scratch = Vec::new();
+        for step in &self.steps {
+            match *step {
+                Step::Leaf(i) => {
+                    let leaf = &self.leaves[i];
+                    let (llo, lhi) = mapped_box(leaf, lo, hi);
+                    stack.push(leaf_interval(&leaf.shape, llo, lhi, &mut scratch));
+                }
+                Step::Union(n) => fold(&mut stack, n, Interval::union),
+                Step::Intersection(n) => fold(&mut stack, n, Interval::intersect),
+                Step::Difference(n) => fold(&mut stack, n, |a, b| a.intersect(b.neg())),
+                Step::Blend {
+                    union: u,
+                    a0,
+                    a1,
+                    a2,
+                } => {
+                    let f2 = stack.pop().unwrap_or(Interval::ANY);
+                    let f1 = stack.pop().unwrap_or(Interval::ANY);
+                    let base = if u { f1.union(f2) } else { f1.intersect(f2) };
+                    let den = Interval::new(1.0, 1.0)
+                        .add(f1.scale(1.0 / a1).square())
+                        .add(f2.scale(1.0 / a2).square());
+                    let shift = if a0 >= 0.0 {
+                        Interval::new(a0 / den.hi, a0 / den.lo)
+                    } else {
+                        Interval::new(a0 / den.lo, a0 / den.hi)
+                    };
+                    stack.push(base.add(shift));
+                }
+                Step::Morph(t) => {
+                    let f2 = stack.pop().unwrap_or(Interval::ANY);
+                    let f1 = stack.pop().unwrap_or(Interval::ANY);
+                    stack.push(f1.scale(1.0 - t).add(f2.scale(t)));
+                }
+            }
+        }
+        stack.pop().unwrap_or(Interval::ANY)
+    }
+}
+
+fn fold(stack: &mut Vec<Interval>, n: usize, op: impl Fn(Interval, Interval) -> Interval) {
+    let start = stack.len().saturating_sub(n);
+    let folded = stack[start..]
+        .iter()
+        .copied()
+        .reduce(op)
+        .unwrap_or(Interval::ANY);
+    stack.truncate(start);
+    stack.push(folded);
+}
+
+/// The box `[lo, hi]` in a leaf's coordinates: around the images of its corners.
+fn mapped_box<const D: usize>(leaf: &Leaf<D>, lo: [f64; D], hi: [f64; D]) -> ([f64; D], [f64; D])
+where
+    Dim<D>: Dimension<D>,
+{
+    let Some(m) = &leaf.map else {
+        return (lo, hi);
+    };
+    // Per output coordinate: the linear part's extremes over the box, plus the shift.
+    let mut out_lo = m.t;
+    let mut out_hi = m.t;
+    for r in 0..D {
+        for c in 0..D {
+            let (a, b) = (m.m[r][c] * lo[c], m.m[r][c] * hi[c]);
+            out_lo[r] += a.min(b);
+            out_hi[r] += a.max(b);
+        }
+    }
+    (out_lo, out_hi)
+}
+
+fn leaf_interval<const D: usize>(
+    shape: &Shape<D>,
+    lo: [f64; D],
+    hi: [f64; D],
+    scratch: &mut Vec<f64>,
+) -> Interval
+where
+    Dim<D>: Dimension<D>,
+{
+    match shape {
+        Shape::Ball { center, radius } => {
+            let d = (0..D).fold(Interval::new(0.0, 0.0), |s, i| {
+                s.add(offset_square(lo[i], hi[i], center[i]))
+            });
+            Interval::new(radius * radius, radius * radius).add(d.neg())
+        }
+        Shape::Box { min, max } => {
+            let strip = |i: usize| {
+                let mid = (min[i] + max[i]) / 2.0;
+                let h = (max[i] - min[i]) / 2.0;
+                Interval::new(h * h, h * h).add(offset_square(lo[i], hi[i], mid).neg())
+            };
+            (1..D).fold(strip(0), |f, i| f.intersect(strip(i)))
+        }
+        Shape::Cylinder {
+            center,
+            axis,
+            radius,
+        } => {
+            let d = (0..D)
+                .filter(|i| i != axis)
+                .fold(Interval::new(0.0, 0.0), |s, i| {
+                    s.add(offset_square(lo[i], hi[i], center[i]))
+                });
+            Interval::new(radius * radius, radius * radius).add(d.neg())
+        }
+        Shape::Torus {
+            center,
+            axis,
+            major,
+            minor,
+        } => {
+            let across = (0..D)
+                .filter(|i| i != axis)
+                .fold(Interval::new(0.0, 0.0), |s, i| {
+                    s.add(offset_square(lo[i], hi[i], center[i]))
+                });
+            let ring = across.sqrt().add(Interval::new(-major, -major)).square();
+            let along = offset_square(lo[*axis], hi[*axis], center[*axis]);
+            Interval::new(minor * minor, minor * minor)
+                .add(ring.neg())
+                .add(along.neg())
+        }
+        Shape::Half { normal, offset } => {
+            let dot = (0..D).fold(Interval::new(0.0, 0.0), |s, i| {
+                let (a, b) = (normal[i] * lo[i], normal[i] * hi[i]);
+                s.add(Interval::new(a.min(b), a.max(b)))
+            });
+            Interval::new(*offset, *offset).add(dot.neg())
+        }
+        Shape::Bezier(solid, None) => {
+            // A space mapping: negative outside its net's hull, and no more is known.
+            let (min, max) = solid.domain();
+            let (min, max) = (Dim::<D>::coords(min), Dim::<D>::coords(max));
+            if (0..D).any(|i| hi[i] < min[i] || lo[i] > max[i]) {
+                return Interval::new(-UNKNOWN, -f64::MIN_POSITIVE);
+            }
+            Interval::ANY
+        }
+        Shape::Bezier(_, Some(r)) => {
+            let tlo = r.scaled(lo);
+            let thi = r.scaled(hi);
+            let strip =
+                |i: usize| Interval::new(0.25, 0.25).add(offset_square(tlo[i], thi[i], 0.5).neg());
+            let clip = (1..D).fold(strip(0), |f, i| f.intersect(strip(i)));
+            if clip.hi < 0.0 {
+                // Outside the unit box of the parameters: f = S & F_s ≤ F_s < 0, whatever S is.
+                return Interval::new(-UNKNOWN, clip.hi);
+            }
+            // Inside: the polynomial's coefficients over the box's parameters bound S there.
+            scratch.clear();
+            scratch.extend_from_slice(r.xi.points());
+            let dims = r.xi.dims();
+            for axis in 0..D {
+                restrict(scratch, &dims, axis, tlo[axis], thi[axis]);
+            }
+            let s =
+                scratch
+                    .iter()
+                    .fold(Interval::new(f64::INFINITY, f64::NEG_INFINITY), |r, &c| {
+                        Interval {
+                            lo: r.lo.min(c),
+                            hi: r.hi.max(c),
+                        }
+                    });
+            s.intersect(clip)
+        }
+    }
+}
+
+/// Restricts the Bernstein coefficients `c` (a net of `dims`, last axis fastest) along `axis` from
+/// `[0, 1]` to `[a, b]`.
+fn restrict(c: &mut [f64], dims: &[usize], axis: usize, a: f64, b: f64) {
+    let n = dims[axis];
+    let stride: usize = dims[axis + 1..].iter().product();
+    let outer: usize = dims[..axis].iter().product();
+    let mut line = [0.0; crate::bernstein::MAX_DEGREE + 1];
+    for o in 0..outer {
+        for s in 0..stride {
+            let at = |k: usize| o * n * stride + k * stride + s;
+            for (k, l) in line[..n].iter_mut().enumerate() {
+                *l = c[at(k)];
+            }
+            restrict_line(&mut line[..n], a, b);
+            for (k, l) in line[..n].iter().enumerate() {
+                c[at(k)] = *l;
+            }
+        }
+    }
+}
+
+/// One curve's Bernstein coefficients restricted from `[0, 1]` to `[a, b]`.
+fn restrict_line(p: &mut [f64], a: f64, b: f64) {
+    let n = p.len();
+    if n < 2 {
+        return;
+    }
+    if b.abs() >= (1.0 - a).abs() {
+        // Keep [0, b] (de Casteljau at b, the left half), then [a/b, 1] of that.
+        left_part(p, b);
+        right_part(p, a / b);
+    } else {
+        // Keep [a, 1], then [0, (b − a)/(1 − a)] of that.
+        right_part(p, a);
+        left_part(p, (b - a) / (1.0 - a));
+    }
+}
+
+/// The coefficients of `[0, t]`.
+fn left_part(p: &mut [f64], t: f64) {
+    let n = p.len();
+    for r in 1..n {
+        for k in (r..n).rev() {
+            p[k] = (1.0 - t) * p[k - 1] + t * p[k];
+        }
+    }
+}
+
+/// The coefficients of `[t, 1]`.
+fn right_part(p: &mut [f64], t: f64) {
+    let n = p.len();
+    for r in 1..n {
+        for k in 0..n - r {
+            p[k] = (1.0 - t) * p[k] + t * p[k + 1];
+        }
+    }
+}
