@@ -108,7 +108,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             ms,
             runs,
             extra: points / (ms / 1000.0),
-            note: format!("{points} samples (checksum {sum:.3e})"),
+            note: format!("at {n}: {points} samples (checksum {sum:.3e})"),
         });
         let (ms, runs, (triangles, stats)) = time(clock, budget, || {
             let (mesh, stats) = tree

@@ -1,0 +1,668 @@
+//! The outline of a model of many solids: its tree (DESIGN §5) as the page's outliner edits it,
+//! a node at a time. A node is named by its [`NodePath`], the child indices from the root (a
+//! transform's node is its child 0).
+//!
+//! Every edit builds the new tree beside the old one and checks it as a model file is checked
+//! ([`ModelFile::to_tree`]); a tree that breaks a rule is refused with the rule's message and the
+//! outline is unchanged. What an edit does:
+//!
+//! - [`Outline::add`]: a primitive or a Bézier solid joins the selected operation of any arity
+//!   (union, intersection, difference), or else a union with the selected node; the new node is
+//!   selected;
+//! - [`Outline::wrap`]: an operation or a transform takes the selected node's place, with it as
+//!   its first operand (and a small sphere as the second where two are needed);
+//! - [`Outline::remove`]: the selected node leaves its operation (an operation left with one
+//!   operand becomes that operand); the root stays;
+//! - [`Outline::reorder`]: the selected node moves among its siblings;
+//! - [`Outline::set`]: a number of the selected node (`radius`, `center[1]`, `a0`, `t`,
+//!   `translate[0]`, `rotate[2]`, `scale[1]`, …).
+
+use bezsolid_core::model::{CoordAxis, ModelFile, Rotation, SolidSpec};
+use bezsolid_core::tree::ModelTree;
+use bezsolid_core::{Solid2, Solid3};
+use glam::{DVec2, DVec3};
+
+use crate::error::Error;
+
+/// The child indices from the root to a node.
+pub type NodePath = Vec<usize>;
+
+/// A node to add.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NewNode {
+    /// A ball (3D) or a disc (2D).
+    Sphere,
+    /// A box (3D) or a rectangle (2D).
+    Box,
+    /// An infinite cylinder along z (3D).
+    Cylinder,
+    /// A torus about z (3D).
+    Torus,
+    /// A half-space (3D) or half-plane (2D).
+    Half,
+    /// A regular 4 × 4 (× 4) Bézier patch or volume of the tree's dimension.
+    Bezier,
+}
+
+/// An operation to put around the selected node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wrap {
+    /// `f1 | f2 | …`.
+    Union,
+    /// `f1 & f2 & …`.
+    Intersection,
+    /// `f1 & −f2 & …`.
+    Difference,
+    /// A blended union.
+    BlendUnion,
+    /// A blended intersection.
+    BlendIntersection,
+    /// A morph.
+    Morph,
+    /// A move: translation, rotation, scale.
+    Transform,
+}
+
+/// One row of the outliner.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// The node.
+    pub path: NodePath,
+    /// How deep it is (the root is 0).
+    pub depth: usize,
+    /// What it is, for people: `Union`, `Sphere r = 0.5`, `Bézier volume 4 × 4 × 4`, …
+    pub label: String,
+    /// Whether it is a Bézier patch or volume (its control points edit in the 2D and 3D views).
+    pub bezier: bool,
+}
+
+/// A model of many solids, with a selected node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outline {
+    root: SolidSpec,
+    dim: usize,
+    selected: NodePath,
+}
+
+fn children(spec: &SolidSpec) -> &[SolidSpec] {
+    match spec {
+        SolidSpec::Union { of }
+        | SolidSpec::Intersection { of }
+        | SolidSpec::Difference { of }
+        | SolidSpec::BlendUnion { of, .. }
+        | SolidSpec::BlendIntersection { of, .. }
+        | SolidSpec::Morph { of, .. } => of,
+        SolidSpec::Transform { solid, .. } => core::slice::from_ref(&**solid),
+        _ => &[],
+    }
+}
+
+fn child_mut(spec: &mut SolidSpec, i: usize) -> Option<&mut SolidSpec> {
+    match spec {
+        SolidSpec::Union { of }
+        | SolidSpec::Intersection { of }
+        | SolidSpec::Difference { of }
+        | SolidSpec::BlendUnion { of, .. }
+        | SolidSpec::BlendIntersection { of, .. }
+        | SolidSpec::Morph { of, .. } => of.get_mut(i),
+        SolidSpec::Transform { solid, .. } if i == 0 => Some(solid),
+        _ => None,
+    }
+}
+
+/// The operands of an operation of any arity.
+fn operands_mut(spec: &mut SolidSpec) -> Option<&mut Vec<SolidSpec>> {
+    match spec {
+        SolidSpec::Union { of } | SolidSpec::Intersection { of } | SolidSpec::Difference { of } => {
+            Some(of)
+        }
+        _ => None,
+    }
+}
+
+fn label(spec: &SolidSpec) -> String {
+    let v = |x: &[f64]| {
+        x.iter()
+            .map(|c| format!("{}", (c * 1000.0).round() / 1000.0))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match spec {
+        SolidSpec::Patch { degree, .. } => {
+            format!("Bézier patch {} × {}", degree[0] + 1, degree[1] + 1)
+        }
+        SolidSpec::Volume { degree, .. } => format!(
+            "Bézier volume {} × {} × {}",
+            degree[0] + 1,
+            degree[1] + 1,
+            degree[2] + 1
+        ),
+        SolidSpec::Circle { center, radius } => format!("Circle ({}) r = {radius}", v(center)),
+        SolidSpec::Sphere { center, radius } => format!("Sphere ({}) r = {radius}", v(center)),
+        SolidSpec::Rectangle { min, max } => format!("Rectangle ({}) to ({})", v(min), v(max)),
+        SolidSpec::Box { min, max } => format!("Box ({}) to ({})", v(min), v(max)),
+        SolidSpec::Cylinder { axis, radius, .. } => {
+            format!("Cylinder along {} r = {radius}", axis_name(*axis))
+        }
+        SolidSpec::Torus {
+            axis, major, minor, ..
+        } => format!("Torus about {} R = {major}, r = {minor}", axis_name(*axis)),
+        SolidSpec::Halfplane { .. } => "Half-plane".into(),
+        SolidSpec::Halfspace { .. } => "Half-space".into(),
+        SolidSpec::Union { .. } => "Union".into(),
+        SolidSpec::Intersection { .. } => "Intersection".into(),
+        SolidSpec::Difference { .. } => "Difference".into(),
+        SolidSpec::BlendUnion { a0, .. } => format!("Blended union a0 = {a0}"),
+        SolidSpec::BlendIntersection { a0, .. } => format!("Blended intersection a0 = {a0}"),
+        SolidSpec::Morph { t, .. } => format!("Morph t = {t}"),
+        SolidSpec::Transform { .. } => "Transform".into(),
+        SolidSpec::Esc { .. } => "Free-form model".into(),
+        SolidSpec::Plasm { .. } => "Script".into(),
+    }
+}
+
+fn axis_name(axis: CoordAxis) -> &'static str {
+    ["x", "y", "z"][axis.index()]
+}
+
+impl Outline {
+    /// The outline of `root`, its root selected.
+    ///
+    /// # Errors
+    ///
+    /// A tree that breaks a rule of DESIGN §5.
+    pub fn new(root: SolidSpec) -> Result<Self, Error> {
+        let dim = match ModelFile::from_spec(root.clone()).to_tree()? {
+            ModelTree::Plane(_) => 2,
+            ModelTree::Space(_) => 3,
+        };
+        Ok(Self {
+            root,
+            dim,
+            selected: Vec::new(),
+        })
+    }
+
+    /// The tree.
+    #[must_use]
+    pub fn root(&self) -> &SolidSpec {
+        &self.root
+    }
+
+    /// 2 or 3.
+    #[must_use]
+    pub fn dimension(&self) -> usize {
+        self.dim
+    }
+
+    /// The selected node's path.
+    #[must_use]
+    pub fn selected(&self) -> &[usize] {
+        &self.selected
+    }
+
+    /// The node at `path`.
+    #[must_use]
+    pub fn node(&self, path: &[usize]) -> Option<&SolidSpec> {
+        path.iter()
+            .try_fold(&self.root, |spec, &i| children(spec).get(i))
+    }
+
+    /// Selects the node at `path`.
+    ///
+    /// # Errors
+    ///
+    /// When there is no such node.
+    pub fn select(&mut self, path: &[usize]) -> Result<(), Error> {
+        self.node(path)
+            .ok_or_else(|| Error::new("there is no such node"))?;
+        self.selected = path.to_vec();
+        Ok(())
+    }
+
+    /// The outliner's rows, depth first.
+    #[must_use]
+    pub fn rows(&self) -> Vec<Row> {
+        let mut out = Vec::new();
+        let mut todo = vec![(Vec::new(), &self.root)];
+        while let Some((path, spec)) = todo.pop() {
+            out.push(Row {
+                depth: path.len(),
+                label: label(spec),
+                bezier: matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. }),
+                path: path.clone(),
+            });
+            for (i, child) in children(spec).iter().enumerate().rev() {
+                let mut p = path.clone();
+                p.push(i);
+                todo.push((p, child));
+            }
+        }
+        out
+    }
+
+    /// Replaces the tree by `root` with `selected` selected, if `root` is a valid tree.
+    fn commit(&mut self, root: SolidSpec, selected: NodePath) -> Result<(), Error> {
+        ModelFile::from_spec(root.clone()).to_tree()?;
+        self.root = root;
+        self.selected = selected;
+        Ok(())
+    }
+
+    fn node_mut<'a>(root: &'a mut SolidSpec, path: &[usize]) -> Option<&'a mut SolidSpec> {
+        let mut spec = root;
+        for &i in path {
+            spec = child_mut(spec, i)?;
+        }
+        Some(spec)
+    }
+
+    /// A new node of `kind`, centred at `at` (the tree's dimension).
+    fn make(&self, kind: NewNode, at: DVec3) -> Result<SolidSpec, Error> {
+        let d2 = self.dim == 2;
+        Ok(match (kind, d2) {
+            (NewNode::Sphere, false) => SolidSpec::Sphere {
+                center: at.to_array(),
+                radius: 0.4,
+            },
+            (NewNode::Sphere, true) => SolidSpec::Circle {
+                center: at.truncate().to_array(),
+                radius: 0.4,
+            },
+            (NewNode::Box, false) => SolidSpec::Box {
+                min: (at - 0.3).to_array(),
+                max: (at + 0.3).to_array(),
+            },
+            (NewNode::Box, true) => SolidSpec::Rectangle {
+                min: (at.truncate() - 0.3).to_array(),
+                max: (at.truncate() + 0.3).to_array(),
+            },
+            (NewNode::Cylinder, false) => SolidSpec::Cylinder {
+                center: at.to_array(),
+                axis: CoordAxis::Z,
+                radius: 0.25,
+            },
+            (NewNode::Torus, false) => SolidSpec::Torus {
+                center: at.to_array(),
+                axis: CoordAxis::Z,
+                major: 0.4,
+                minor: 0.12,
+            },
+            (NewNode::Half, false) => SolidSpec::Halfspace {
+                normal: [0.0, 0.0, 1.0],
+                offset: at.z,
+            },
+            (NewNode::Half, true) => SolidSpec::Halfplane {
+                normal: [0.0, 1.0],
+                offset: at.y,
+            },
+            (NewNode::Bezier, false) => {
+                let lo = at - 0.5;
+                let v = Solid3::regular([3, 3, 3], lo, lo + 1.0, |[i, j, k]| {
+                    let d = |a: usize| (a as f64 - 1.5).abs();
+                    0.3 - 0.15 * (d(i) + d(j) + d(k))
+                })?;
+                ModelFile::from_solid3(&v).solid
+            }
+            (NewNode::Bezier, true) => {
+                let lo = at.truncate() - 0.5;
+                let v = Solid2::regular([3, 3], lo, lo + DVec2::ONE, |[i, j]| {
+                    let d = |a: usize| (a as f64 - 1.5).abs();
+                    0.3 - 0.2 * (d(i) + d(j))
+                })?;
+                ModelFile::from_solid2(&v).solid
+            }
+            (NewNode::Cylinder | NewNode::Torus, true) => {
+                return Err(Error::new("cylinders and tori are 3D: this tree is 2D"));
+            }
+        })
+    }
+
+    /// Adds a node of `kind` at `at` (see the module documentation); it is selected.
+    ///
+    /// # Errors
+    ///
+    /// A kind of the other dimension, or a tree past the caps.
+    pub fn add(&mut self, kind: NewNode, at: DVec3) -> Result<(), Error> {
+        let node = self.make(kind, at)?;
+        let mut root = self.root.clone();
+        let sel = self.selected.clone();
+        let target =
+            Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
+        let path = if let Some(of) = operands_mut(target) {
+            of.push(node);
+            let mut p = sel.clone();
+            p.push(of.len() - 1);
+            p
+        } else {
+            let old = core::mem::replace(target, SolidSpec::Union { of: Vec::new() });
+            *target = SolidSpec::Union {
+                of: vec![old, node],
+            };
+            let mut p = sel.clone();
+            p.push(1);
+            p
+        };
+        self.commit(root, path)
+    }
+
+    /// Puts `op` around the selected node (see the module documentation); the new operation is
+    /// selected.
+    ///
+    /// # Errors
+    ///
+    /// A tree past the caps.
+    pub fn wrap(&mut self, op: Wrap, at: DVec3) -> Result<(), Error> {
+        let second = self.make(NewNode::Sphere, at + DVec3::new(0.3, 0.0, 0.0))?;
+        let mut root = self.root.clone();
+        let sel = self.selected.clone();
+        let target =
+            Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
+        let x = core::mem::replace(target, SolidSpec::Union { of: Vec::new() });
+        let two = vec![x.clone(), second];
+        *target = match op {
+            Wrap::Union => SolidSpec::Union { of: two },
+            Wrap::Intersection => SolidSpec::Intersection { of: two },
+            Wrap::Difference => SolidSpec::Difference { of: two },
+            Wrap::BlendUnion => SolidSpec::BlendUnion {
+                of: two,
+                a0: 0.1,
+                a1: 1.0,
+                a2: 1.0,
+            },
+            Wrap::BlendIntersection => SolidSpec::BlendIntersection {
+                of: two,
+                a0: 0.1,
+                a1: 1.0,
+                a2: 1.0,
+            },
+            Wrap::Morph => SolidSpec::Morph { of: two, t: 0.5 },
+            Wrap::Transform => SolidSpec::Transform {
+                solid: Box::new(x),
+                translate: Some(vec![0.0; self.dim]),
+                rotate: Some(if self.dim == 2 {
+                    Rotation::Angle(0.0)
+                } else {
+                    Rotation::Angles([0.0; 3])
+                }),
+                scale: Some(vec![1.0; self.dim]),
+            },
+        };
+        self.commit(root, sel)
+    }
+
+    /// Removes the selected node (see the module documentation); its parent is selected.
+    ///
+    /// # Errors
+    ///
+    /// For the root: a model keeps one solid.
+    pub fn remove(&mut self) -> Result<(), Error> {
+        let Some((&last, parent_path)) = self.selected.split_last() else {
+            return Err(Error::new(
+                "the root stays: a model holds at least one solid",
+            ));
+        };
+        let mut root = self.root.clone();
+        let parent = Self::node_mut(&mut root, parent_path)
+            .ok_or_else(|| Error::new("there is no such node"))?;
+        let keep = match parent {
+            SolidSpec::Transform { .. } => None,
+            SolidSpec::Union { of }
+            | SolidSpec::Intersection { of }
+            | SolidSpec::Difference { of }
+            | SolidSpec::BlendUnion { of, .. }
+            | SolidSpec::BlendIntersection { of, .. }
+            | SolidSpec::Morph { of, .. } => {
+                if last < of.len() {
+                    of.remove(last);
+                }
+                (of.len() == 1).then(|| of.remove(0))
+            }
+            _ => return Err(Error::new("there is no such node")),
+        };
+        let mut selected = parent_path.to_vec();
+        match keep {
+            // An operation of one operand is that operand.
+            Some(only) => *parent = only,
+            None if matches!(parent, SolidSpec::Transform { .. }) => {
+                // A transform without its solid goes too.
+                let parent_path = parent_path.to_vec();
+                self.selected = parent_path;
+                return self.remove();
+            }
+            None => {}
+        }
+        if Self::node_mut(&mut root, &selected).is_none() {
+            selected.clear();
+        }
+        self.commit(root, selected)
+    }
+
+    /// Moves the selected node `by` places among its siblings (clamped to the ends).
+    ///
+    /// # Errors
+    ///
+    /// A tree that breaks a rule (none: an order changes only values).
+    pub fn reorder(&mut self, by: isize) -> Result<(), Error> {
+        let Some((&last, parent_path)) = self.selected.split_last() else {
+            return Ok(());
+        };
+        let mut root = self.root.clone();
+        let Some(parent) = Self::node_mut(&mut root, parent_path) else {
+            return Ok(());
+        };
+        let of = match parent {
+            SolidSpec::Union { of }
+            | SolidSpec::Intersection { of }
+            | SolidSpec::Difference { of }
+            | SolidSpec::BlendUnion { of, .. }
+            | SolidSpec::BlendIntersection { of, .. }
+            | SolidSpec::Morph { of, .. } => of,
+            _ => return Ok(()),
+        };
+        let to = last
+            .saturating_add_signed(by)
+            .min(of.len().saturating_sub(1));
+        let node = of.remove(last);
+        of.insert(to, node);
+        let mut selected = parent_path.to_vec();
+        selected.push(to);
+        self.commit(root, selected)
+    }
+
+    /// Sets the number `field` of the selected node: `radius`, `major`, `minor`, `offset`, `a0`,
+    /// `a1`, `a2`, `t`, or an element `center[i]`, `min[i]`, `max[i]`, `normal[i]`,
+    /// `translate[i]`, `rotate[i]` (`rotate` alone in 2D), `scale[i]`.
+    ///
+    /// # Errors
+    ///
+    /// A field the node does not have, or a value the tree's rules refuse (a zero radius, …).
+    pub fn set(&mut self, field: &str, value: f64) -> Result<(), Error> {
+        let (name, index) = match field.split_once('[') {
+            Some((name, rest)) => {
+                let i = rest
+                    .strip_suffix(']')
+                    .and_then(|i| i.parse::<usize>().ok())
+                    .ok_or_else(|| Error::new(format!("no field {field:?}")))?;
+                (name, Some(i))
+            }
+            None => (field, None),
+        };
+        let dim = self.dim;
+        let mut root = self.root.clone();
+        let sel = self.selected.clone();
+        let node =
+            Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
+        let missing = || Error::new(format!("this node has no {field:?}"));
+        let slot: &mut f64 = match (node, name, index) {
+            (
+                SolidSpec::Circle { radius, .. }
+                | SolidSpec::Sphere { radius, .. }
+                | SolidSpec::Cylinder { radius, .. },
+                "radius",
+                None,
+            ) => radius,
+            (SolidSpec::Torus { major, .. }, "major", None) => major,
+            (SolidSpec::Torus { minor, .. }, "minor", None) => minor,
+            (
+                SolidSpec::Halfplane { offset, .. } | SolidSpec::Halfspace { offset, .. },
+                "offset",
+                None,
+            ) => offset,
+            (
+                SolidSpec::BlendUnion { a0, a1, a2, .. }
+                | SolidSpec::BlendIntersection { a0, a1, a2, .. },
+                a,
+                None,
+            ) => match a {
+                "a0" => a0,
+                "a1" => a1,
+                "a2" => a2,
+                _ => return Err(missing()),
+            },
+            (SolidSpec::Morph { t, .. }, "t", None) => t,
+            (SolidSpec::Circle { center, .. }, "center", Some(i)) => {
+                center.get_mut(i).ok_or_else(missing)?
+            }
+            (
+                SolidSpec::Sphere { center, .. }
+                | SolidSpec::Cylinder { center, .. }
+                | SolidSpec::Torus { center, .. },
+                "center",
+                Some(i),
+            ) => center.get_mut(i).ok_or_else(missing)?,
+            (SolidSpec::Rectangle { min, .. }, "min", Some(i)) => {
+                min.get_mut(i).ok_or_else(missing)?
+            }
+            (SolidSpec::Rectangle { max, .. }, "max", Some(i)) => {
+                max.get_mut(i).ok_or_else(missing)?
+            }
+            (SolidSpec::Box { min, .. }, "min", Some(i)) => min.get_mut(i).ok_or_else(missing)?,
+            (SolidSpec::Box { max, .. }, "max", Some(i)) => max.get_mut(i).ok_or_else(missing)?,
+            (SolidSpec::Halfplane { normal, .. }, "normal", Some(i)) => {
+                normal.get_mut(i).ok_or_else(missing)?
+            }
+            (SolidSpec::Halfspace { normal, .. }, "normal", Some(i)) => {
+                normal.get_mut(i).ok_or_else(missing)?
+            }
+            (SolidSpec::Transform { translate, .. }, "translate", Some(i)) => translate
+                .get_or_insert_with(|| vec![0.0; dim])
+                .get_mut(i)
+                .ok_or_else(missing)?,
+            (SolidSpec::Transform { scale, .. }, "scale", Some(i)) => scale
+                .get_or_insert_with(|| vec![1.0; dim])
+                .get_mut(i)
+                .ok_or_else(missing)?,
+            (SolidSpec::Transform { rotate, .. }, "rotate", i) => match (rotate, i) {
+                (Some(Rotation::Angle(a)), None) => a,
+                (Some(Rotation::Angles(a)), Some(i)) => a.get_mut(i).ok_or_else(missing)?,
+                _ => return Err(missing()),
+            },
+            _ => return Err(missing()),
+        };
+        *slot = value;
+        self.commit(root, sel)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn tree3(o: &Outline) -> bezsolid_core::tree::Tree<3> {
+        match ModelFile::from_spec(o.root().clone()).to_tree().unwrap() {
+            ModelTree::Space(t) => t,
+            ModelTree::Plane(_) => panic!("2D"),
+        }
+    }
+
+    /// A model built from scratch as the outliner builds it: a volume, a sphere beside it, a
+    /// union, a blend, a move, a number typed, a node removed.
+    #[test]
+    fn a_model_is_built_node_by_node() {
+        let volume = {
+            let mut o = Outline::new(SolidSpec::Sphere {
+                center: [0.0; 3],
+                radius: 1.0,
+            })
+            .unwrap();
+            o.add(NewNode::Bezier, DVec3::new(2.0, 0.0, 0.0)).unwrap();
+            o.node(o.selected()).unwrap().clone()
+        };
+        let mut o = Outline::new(volume).unwrap();
+        assert_eq!(o.dimension(), 3);
+        o.add(NewNode::Sphere, DVec3::new(0.6, 0.0, 0.0)).unwrap();
+        assert_eq!(o.selected(), [1]);
+        assert!(matches!(o.root(), SolidSpec::Union { of } if of.len() == 2));
+        // A box joins the union, then the sphere is blended with a small sphere and moved.
+        o.select(&[]).unwrap();
+        o.add(NewNode::Box, DVec3::new(0.0, 1.0, 0.0)).unwrap();
+        assert_eq!(o.selected(), [2]);
+        o.select(&[1]).unwrap();
+        o.wrap(Wrap::BlendUnion, DVec3::new(0.6, 0.0, 0.0)).unwrap();
+        o.set("a0", 0.2).unwrap();
+        o.wrap(Wrap::Transform, DVec3::ZERO).unwrap();
+        o.set("translate[2]", 0.5).unwrap();
+        o.set("rotate[1]", 30.0).unwrap();
+        let rows = o.rows();
+        let labels: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
+        assert_eq!(labels[0], "Union");
+        assert!(
+            labels[1].starts_with("Bézier volume 4 × 4 × 4"),
+            "{labels:?}"
+        );
+        assert_eq!(labels[2], "Transform");
+        assert!(
+            labels[3].starts_with("Blended union a0 = 0.2"),
+            "{labels:?}"
+        );
+        assert_eq!(rows[4].depth, 3);
+        assert!(rows[1].bezier && !rows[2].bezier);
+        // The moved blend: the sphere's centre (0.6, 0, 0), moved up by 0.5 (the rotation about y
+        // turns it first).
+        let t = tree3(&o);
+        let c = glam::DMat3::from_rotation_y(30f64.to_radians()) * DVec3::new(0.6, 0.0, 0.0)
+            + DVec3::new(0.0, 0.0, 0.5);
+        assert!(t.f(c) > 0.0);
+        // Bad values are refused and change nothing.
+        let before = o.clone();
+        assert!(o.set("scale[0]", 0.0).is_err());
+        assert!(o.set("radius", 1.0).is_err(), "a transform has no radius");
+        assert_eq!(o, before);
+        // Removing the box leaves a union of two; removing the volume leaves the transform alone.
+        o.select(&[2]).unwrap();
+        o.remove().unwrap();
+        assert!(matches!(o.root(), SolidSpec::Union { of } if of.len() == 2));
+        o.select(&[0]).unwrap();
+        o.remove().unwrap();
+        assert!(matches!(o.root(), SolidSpec::Transform { .. }));
+        o.select(&[]).unwrap();
+        assert!(o.remove().is_err(), "the root stays");
+    }
+
+    #[test]
+    fn nodes_reorder_and_kinds_keep_to_the_dimension() {
+        let mut o = Outline::new(SolidSpec::Circle {
+            center: [0.0, 0.0],
+            radius: 1.0,
+        })
+        .unwrap();
+        assert_eq!(o.dimension(), 2);
+        o.wrap(Wrap::Difference, DVec3::ZERO).unwrap();
+        o.add(NewNode::Box, DVec3::new(0.5, 0.5, 0.0)).unwrap();
+        assert!(o.add(NewNode::Torus, DVec3::ZERO).is_err());
+        o.select(&[2]).unwrap();
+        o.reorder(-5).unwrap();
+        assert_eq!(o.selected(), [0]);
+        assert!(matches!(o.node(&[0]), Some(SolidSpec::Rectangle { .. })));
+        o.add(NewNode::Bezier, DVec3::ZERO).unwrap();
+        assert!(
+            o.rows()
+                .iter()
+                .any(|r| r.bezier && r.label.starts_with("Bézier patch 4 × 4"))
+        );
+        assert!(o.select(&[7]).is_err());
+    }
+}
