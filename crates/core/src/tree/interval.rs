@@ -340,3 +340,136 @@ fn right_part(p: &mut [f64], t: f64) {
         }
     }
 }
+
+impl<const D: usize> Tree<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// The tree's program over the box `[lo, hi]` without the operands of unions, intersections and
+    /// differences that cannot decide a sign there: a union's operand negative all over the box
+    /// (an intersection's positive; a difference's subtracted one negative). An R-function has the
+    /// sign of `max` (`min` for `&`): `f1 | f2` with `f2 < 0` has the sign of `f1` everywhere, is
+    /// zero where `f1` is, and its gradient there is `∇f1`. So where every operation between the
+    /// left-out operand and the root is an R-function (or a transform), the pruned program has the
+    /// tree's signs, zero set and normals in the box; operations under a blend or a morph, whose
+    /// values count and not only their signs, are left whole. `None` when nothing is left out.
+    pub(crate) fn pruned(&self, lo: [f64; D], hi: [f64; D]) -> Option<Vec<Step>> {
+        // Per value on the stack: its range and the steps that made it.
+        let mut stack: Vec<(Interval, usize)> = Vec::with_capacity(self.stack);
+        let mut removed = alloc::vec![false; self.steps.len()];
+        let mut counts: Vec<Option<usize>> = alloc::vec![None; self.steps.len()];
+        let mut scratch = Vec::new();
+        let mut any = false;
+        // Operations under a blend or a morph keep their operands: there the tree's f is not near
+        // zero where theirs is, so a pruned operand would move the surface by a first-order amount.
+        let mut parent = alloc::vec![usize::MAX; self.steps.len()];
+        let mut roots: Vec<usize> = Vec::new();
+        for (at, step) in self.steps.iter().enumerate() {
+            let n = match *step {
+                Step::Leaf(_) => 0,
+                Step::Union(n) | Step::Intersection(n) | Step::Difference(n) => n,
+                Step::Blend { .. } | Step::Morph(_) => 2,
+            };
+            for child in roots.drain(roots.len().saturating_sub(n)..) {
+                parent[child] = at;
+            }
+            roots.push(at);
+        }
+        let shielded = |mut at: usize| {
+            while let Some(&up) = parent.get(at).filter(|&&up| up != usize::MAX) {
+                if matches!(self.steps[up], Step::Blend { .. } | Step::Morph(_)) {
+                    return true;
+                }
+                at = up;
+            }
+            false
+        };
+        for (at, step) in self.steps.iter().enumerate() {
+            let (range, start) = match *step {
+                Step::Leaf(i) => {
+                    let leaf = &self.leaves[i];
+                    let (llo, lhi) = mapped_box(leaf, lo, hi);
+                    (leaf_interval(&leaf.shape, llo, lhi, &mut scratch), at)
+                }
+                Step::Union(n) | Step::Intersection(n) | Step::Difference(n) => {
+                    let first = stack.len().saturating_sub(n);
+                    let operands = &stack[first..];
+                    let mut keep = n;
+                    for k in 0..operands.len() {
+                        let r = operands[k].0;
+                        let negligible = match step {
+                            Step::Union(_) => r.hi < 0.0,
+                            Step::Intersection(_) => r.lo > 0.0,
+                            _ => k > 0 && r.hi < 0.0,
+                        };
+                        // One operand always stays.
+                        if negligible && keep > 1 && !shielded(at) {
+                            keep -= 1;
+                            let span = operands[k].1..operands.get(k + 1).map_or(at, |o| o.1);
+                            removed[span].iter_mut().for_each(|r| *r = true);
+                            any = true;
+                        }
+                    }
+                    counts[at] = Some(keep);
+                    let ranges: Vec<Interval> = operands.iter().map(|o| o.0).collect();
+                    let start = operands.first().map_or(at, |o| o.1);
+                    let fold_with = |op: fn(Interval, Interval) -> Interval| {
+                        ranges.iter().copied().reduce(op).unwrap_or(Interval::ANY)
+                    };
+                    let range = match step {
+                        Step::Union(_) => fold_with(Interval::union),
+                        Step::Intersection(_) => fold_with(Interval::intersect),
+                        _ => ranges
+                            .iter()
+                            .copied()
+                            .reduce(|a, b| a.intersect(b.neg()))
+                            .unwrap_or(Interval::ANY),
+                    };
+                    stack.truncate(first);
+                    (range, start)
+                }
+                Step::Blend {
+                    union: u,
+                    a0,
+                    a1,
+                    a2,
+                } => {
+                    let (f2, _) = stack.pop().unwrap_or((Interval::ANY, at));
+                    let (f1, start) = stack.pop().unwrap_or((Interval::ANY, at));
+                    let base = if u { f1.union(f2) } else { f1.intersect(f2) };
+                    let den = Interval::new(1.0, 1.0)
+                        .add(f1.scale(1.0 / a1).square())
+                        .add(f2.scale(1.0 / a2).square());
+                    let shift = if a0 >= 0.0 {
+                        Interval::new(a0 / den.hi, a0 / den.lo)
+                    } else {
+                        Interval::new(a0 / den.lo, a0 / den.hi)
+                    };
+                    (base.add(shift), start)
+                }
+                Step::Morph(t) => {
+                    let (f2, _) = stack.pop().unwrap_or((Interval::ANY, at));
+                    let (f1, start) = stack.pop().unwrap_or((Interval::ANY, at));
+                    (f1.scale(1.0 - t).add(f2.scale(t)), start)
+                }
+            };
+            stack.push((range, start));
+        }
+        if !any {
+            return None;
+        }
+        Some(
+            self.steps
+                .iter()
+                .enumerate()
+                .filter(|&(at, _)| !removed[at])
+                .map(|(at, step)| match (*step, counts[at]) {
+                    (Step::Union(_), Some(k)) => Step::Union(k),
+                    (Step::Intersection(_), Some(k)) => Step::Intersection(k),
+                    (Step::Difference(_), Some(k)) => Step::Difference(k),
+                    (step, _) => step,
+                })
+                .collect(),
+        )
+    }
+}

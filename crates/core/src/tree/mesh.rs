@@ -12,7 +12,7 @@ use core::fmt;
 
 use glam::{DVec2, DVec3};
 
-use super::{Shape, Tree};
+use super::{Shape, Step, Tree};
 use crate::contour::{Grid2, Polyline, contour_grid};
 use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
@@ -131,16 +131,31 @@ where
 {
     fn f(&mut self, p: [f64; D]) -> f64 {
         let f = self.tree.evaluate_with(p, &mut self.stack).f;
+        self.clipped(f, p)
+    }
+
+    /// `f` by a pruned program (see [`Tree::pruned`]), or the tree's own where `None`.
+    fn f_by(&mut self, program: Option<&[Step]>, p: [f64; D]) -> f64 {
+        let f = match program {
+            Some(steps) => self.tree.evaluate_program(steps, p, &mut self.stack).f,
+            None => self.tree.evaluate_with(p, &mut self.stack).f,
+        };
+        self.clipped(f, p)
+    }
+
+    fn clipped(&self, f: f64, p: [f64; D]) -> f64 {
         match &self.clip {
             None => f,
             Some(b) => intersect(f, b.eval(p).0),
         }
     }
 
-    /// The outward unit normal `−∇f/|∇f|` (zero where the gradient vanishes).
-    fn normal(&self, p: [f64; D]) -> [f64; D] {
-        let (f, g) = self.tree.f_with_gradient(Dim::<D>::point(p));
-        let g = Dim::<D>::coords(g);
+    /// The outward unit normal `−∇f/|∇f|` (zero where the gradient vanishes), by `program`.
+    fn normal(&self, program: Option<&[Step]>, p: [f64; D]) -> [f64; D] {
+        let (f, g) = match program {
+            Some(steps) => self.tree.gradient_program(steps, p),
+            None => self.tree.gradient_program(&self.tree.steps, p),
+        };
         let g = match &self.clip {
             None => g,
             Some(b) => {
@@ -162,6 +177,26 @@ struct Roots<'a> {
     field: Field<'a, 3>,
     grid: SampleGrid,
     accuracy: f64,
+    /// The pruned programs of the boxes sampled whole, and each cell's (`u32::MAX`: the tree's).
+    programs: Vec<Vec<Step>>,
+    cell_program: Vec<u32>,
+}
+
+/// The program of the cell whose lowest corner is `lower` (clamped to the grid's cells).
+fn cell_program<'p>(
+    programs: &'p [Vec<Step>],
+    cell_program: &[u32],
+    grid: &SampleGrid,
+    lower: [usize; 3],
+) -> Option<&'p [Step]> {
+    let [nx, ny, nz] = grid.dims;
+    let c = [
+        lower[0].min(nx - 2),
+        lower[1].min(ny - 2),
+        lower[2].min(nz - 2),
+    ];
+    let k = cell_program.get((c[2] * (ny - 1) + c[1]) * (nx - 1) + c[0])?;
+    programs.get(*k as usize).map(Vec::as_slice)
 }
 
 impl EdgeRoots for Roots<'_> {
@@ -170,10 +205,21 @@ impl EdgeRoots for Roots<'_> {
         let mut step = DVec3::ZERO;
         step[axis] = self.grid.step[axis];
         let b = a + step;
+        // The root of the cell's pruned program (the tree's zero set there), checked on the whole
+        // tree: where rounding leaves it past the accuracy, the whole tree's root on the edge.
+        let program = cell_program(&self.programs, &self.cell_program, &self.grid, lower);
         let field = &mut self.field;
-        let t = illinois(|t| field.f(a.lerp(b, t).to_array()), f0, f1, self.accuracy);
+        let mut t = illinois(
+            |t| field.f_by(program, a.lerp(b, t).to_array()),
+            f0,
+            f1,
+            self.accuracy,
+        );
+        if program.is_some() && field.f(a.lerp(b, t).to_array()).abs() > self.accuracy {
+            t = illinois(|t| field.f(a.lerp(b, t).to_array()), f0, f1, self.accuracy);
+        }
         let p = a.lerp(b, t);
-        (t, DVec3::from_array(self.field.normal(p.to_array())))
+        (t, DVec3::from_array(field.normal(program, p.to_array())))
     }
 }
 
@@ -253,6 +299,8 @@ impl Tree<3> {
         // Boxes of cells, bounded by intervals: one sign, a placeholder of that sign on samples
         // not yet evaluated (the marching only needs signs there, and a vertex's root search
         // only needs the bracket's signs); else split in eight, down to boxes sampled whole.
+        let mut programs: Vec<Vec<Step>> = Vec::new();
+        let mut cell_program = alloc::vec![u32::MAX; (nx - 1) * (ny - 1) * (nz - 1)];
         let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
         while let Some((lo, hi)) = todo.pop() {
             let (plo, phi) = (
@@ -285,14 +333,30 @@ impl Tree<3> {
                     }
                 }
             } else if size.iter().all(|&s| s <= LEAF_CELLS) {
+                // The box's own program, without the operands that cannot decide a sign in it:
+                // the tree's signs, zero set and normals there, for the cost of what is near.
+                let program = self.pruned(plo.to_array(), phi.to_array());
                 for c in lo[2]..=hi[2] {
                     for b in lo[1]..=hi[1] {
                         for a in lo[0]..=hi[0] {
                             let k = (c * ny + b) * nx + a;
                             if values[k].is_nan() || values[k].abs() == 1.0 {
-                                values[k] = field.f(grid.point(a, b, c).to_array());
+                                values[k] =
+                                    field.f_by(program.as_deref(), grid.point(a, b, c).to_array());
                                 stats.evaluated += 1;
                             }
+                        }
+                    }
+                }
+                if let Some(program) = program {
+                    let index = programs.len() as u32;
+                    programs.push(program);
+                    for c in lo[2]..hi[2] {
+                        for b in lo[1]..hi[1] {
+                            let row = (c * (ny - 1) + b) * (nx - 1);
+                            cell_program[row + lo[0]..row + hi[0]]
+                                .iter_mut()
+                                .for_each(|p| *p = index);
                         }
                     }
                 }
@@ -317,6 +381,8 @@ impl Tree<3> {
             field,
             grid,
             accuracy,
+            programs,
+            cell_program,
         };
         Ok((polygonize(&grid, &values, &mut roots), stats))
     }
@@ -415,6 +481,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn pruned_programs_keep_the_signs_and_the_zero_set() {
+        let mut rng = Rng::new(16);
+        let mut pruned = 0;
+        for _ in 0..80 {
+            let tree = space(S::Union {
+                of: vec![
+                    random_tree(&mut rng, 2),
+                    random_tree(&mut rng, 2),
+                    random_tree(&mut rng, 2),
+                ],
+            });
+            for _ in 0..10 {
+                let c = point(&mut rng, 1.5);
+                let h = rng.range(0.05, 0.5);
+                let (lo, hi) = (c.map(|v| v - h), c.map(|v| v + h));
+                let Some(program) = tree.pruned(lo, hi) else {
+                    continue;
+                };
+                pruned += 1;
+                assert!(program.len() < tree.steps.len());
+                let mut stack = Vec::new();
+                for _ in 0..40 {
+                    let p: [f64; 3] = core::array::from_fn(|i| rng.range(lo[i], hi[i]));
+                    let full = tree.evaluate_with(p, &mut stack).f;
+                    let part = tree.evaluate_program(&program, p, &mut stack).f;
+                    if full.abs() > 1e-12 {
+                        assert_eq!(full > 0.0, part > 0.0, "{p:?}: {full} and {part}");
+                    }
+                }
+            }
+        }
+        assert!(pruned > 50, "{pruned} boxes pruned");
     }
 
     #[test]

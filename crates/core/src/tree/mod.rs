@@ -336,7 +336,7 @@ where
 
 /// One instruction of the postfix program.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Step {
+pub(crate) enum Step {
     /// Push leaf `i`'s value.
     Leaf(usize),
     /// Pop `n` values, push `f1 | f2 | …`.
@@ -394,10 +394,21 @@ where
 
     /// [`Tree::evaluate`] with the caller's stack (emptied first), for many points in a row.
     pub(crate) fn evaluate_with(&self, p: [f64; D], stack: &mut Vec<f64>) -> TreeValue {
+        self.evaluate_program(&self.steps, p, stack)
+    }
+
+    /// [`Tree::evaluate_with`] by `steps`, the tree's program or a pruned one
+    /// ([`Tree::pruned`]).
+    pub(crate) fn evaluate_program(
+        &self,
+        steps: &[Step],
+        p: [f64; D],
+        stack: &mut Vec<f64>,
+    ) -> TreeValue {
         stack.clear();
         let mut preimages = 0;
         let mut exhausted = false;
-        for step in &self.steps {
+        for step in steps {
             match *step {
                 Step::Leaf(i) => {
                     let leaf = &self.leaves[i];
@@ -456,9 +467,14 @@ where
     /// leaf's as [`Solid::f_with_gradient`] gives it).
     #[must_use]
     pub fn f_with_gradient(&self, p: Point<D>) -> (f64, Point<D>) {
-        let p = Dim::<D>::coords(p);
+        let (f, g) = self.gradient_program(&self.steps, Dim::<D>::coords(p));
+        (f, Dim::<D>::point(g))
+    }
+
+    /// `f` and `∇f` at `p` by `steps`, the tree's program or a pruned one.
+    pub(crate) fn gradient_program(&self, steps: &[Step], p: [f64; D]) -> (f64, [f64; D]) {
         let mut stack: Vec<(f64, [f64; D])> = Vec::with_capacity(self.stack);
-        for step in &self.steps {
+        for step in steps {
             match *step {
                 Step::Leaf(i) => {
                     let leaf = &self.leaves[i];
@@ -522,8 +538,7 @@ where
                 }
             }
         }
-        let (f, g) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
-        (f, Dim::<D>::point(g))
+        stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]))
     }
 
     /// A box `[lo, hi]` outside of which `f ≤ 0`, by the rules of DESIGN §5 (union: the hull,
