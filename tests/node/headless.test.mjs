@@ -87,6 +87,37 @@ test("the worker's contour stack of a volume: the slices reported as they are do
   assert.deepEqual(headless_stack(MODEL, glue.ParamAxis.W, () => {}), stack);
 });
 
+test('a model of many solids: its model file, link, mesh and surface, from the file and its link', () => {
+  const tree = JSON.stringify({
+    format: 'bezsolid',
+    version: 1,
+    solid: {
+      kind: 'difference',
+      of: [
+        { kind: 'sphere', center: [0, 0, 0], radius: 1 },
+        { kind: 'transform', rotate: [0, 90, 0], solid: { kind: 'cylinder', center: [0, 0, 0], axis: 'z', radius: 0.4 } },
+      ],
+    },
+  });
+  const link = headless_link(tree);
+  assert.match(link, /^#v1\./);
+  assert.equal(headless_model(link), headless_model(tree));
+  const stl = Buffer.from(headless_mesh(link, 'stl', 32));
+  const triangles = stl.readUInt32LE(80);
+  assert.ok(triangles > 500, `${triangles} triangles`);
+  assert.equal(stl.length, 84 + 50 * triangles);
+  // The sphere pierced along x: no vertex inside the hole (distance from the x axis below 0.4).
+  for (let t = 0; t < triangles; t++) {
+    for (let v = 0; v < 3; v++) {
+      const at = 84 + 50 * t + 12 + 12 * v;
+      const [y, z] = [stl.readFloatLE(at + 4), stl.readFloatLE(at + 8)];
+      assert.ok(Math.hypot(y, z) > 0.39, `${y} ${z}`);
+    }
+  }
+  assert.equal(headless_surface(tree, 32).length, 18 * triangles);
+  assert.throws(() => headless_mesh(tree.replace('"radius":1', '"radius":0'), 'stl', 32), /solid\.of\[0\]\.radius/);
+});
+
 test('bad input throws a clear error and never kills the module', () => {
   assert.throws(() => headless_model('#v1.AAAA'), /damaged/);
   assert.throws(() => headless_model('{"format": "bezsolid"'), /not a bezsolid model file/);

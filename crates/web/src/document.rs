@@ -75,6 +75,25 @@ pub fn read_model(text: &str) -> Result<ModelSolid, Error> {
     file.to_solid().map_err(Error::from)
 }
 
+/// The model file of a model file's text or a share link, checked as far as its header and
+/// shape (not yet built).
+///
+/// # Errors
+///
+/// Too large, not JSON, not a model, or a damaged link.
+pub fn read_file(text: &str) -> Result<ModelFile, Error> {
+    if !text.trim_start().starts_with('{') {
+        return link::decode_file(text.trim()).map_err(Error::from);
+    }
+    if text.len() > MAX_MODEL_BYTES {
+        return Err(Error::new(format!(
+            "the file is {} bytes; a model file is at most {MAX_MODEL_BYTES}",
+            text.len()
+        )));
+    }
+    serde_json::from_str(text).map_err(|e| Error::new(format!("not a bezsolid model file: {e}")))
+}
+
 /// The share link fragment `#v1.…` of the editor's model.
 ///
 /// # Errors
@@ -141,11 +160,42 @@ pub fn read_any(text: &str) -> Result<ModelSolid, Error> {
 /// The page's module without a page: a model file or a link in, the model file, the link or a mesh
 /// file out (for node and other headless hosts).
 pub mod headless {
-    use super::{Editor, MESH_ACCURACY, model_json, open, read_any, share_fragment};
+    use super::{Editor, MESH_ACCURACY, model_json, open, read_any, read_file, share_fragment};
     use crate::error::Error;
-    use bezsolid_core::mesh::Format;
+    use bezsolid_core::mesh::{Format, Mesh};
     use bezsolid_core::model::ModelSolid;
+    use bezsolid_core::tree::{ModelTree, TreeMeshError};
     use bezsolid_core::{Axis, Solid2};
+
+    /// The tree of a model of many solids, or `None` for a model of one solid.
+    fn tree(text: &str) -> Result<Option<ModelTree>, Error> {
+        let file = read_file(text)?;
+        if !file.solid.is_tree() {
+            return Ok(None);
+        }
+        Ok(Some(file.to_tree()?))
+    }
+
+    /// The closed mesh of a 3D tree at `resolution` (within its bounds).
+    fn tree_mesh(tree: &ModelTree, resolution: usize) -> Result<Mesh, Error> {
+        if !(2..=MAX_RESOLUTION).contains(&resolution) {
+            return Err(Error::new(format!(
+                "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
+            )));
+        }
+        match tree {
+            ModelTree::Space(t) => match t.polygonize(resolution, MESH_ACCURACY, None) {
+                Err(TreeMeshError::Unbounded) => Err(Error::new(
+                    "the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
+                     blend of a space-mapped solid): mesh it with `bezsolid mesh --box`",
+                )),
+                other => Ok(other?),
+            },
+            ModelTree::Plane(_) => {
+                Err("meshes are of 3D models; this is a 2D model: export its contour".into())
+            }
+        }
+    }
 
     /// The largest resolution a headless mesh is made at.
     pub const MAX_RESOLUTION: usize = 512;
@@ -186,6 +236,10 @@ pub mod headless {
     ///
     /// What is wrong with the input.
     pub fn model(text: &str) -> Result<String, Error> {
+        if tree(text)?.is_some() {
+            let file = read_file(text)?;
+            return Ok(serde_json::to_string_pretty(&file).unwrap_or_default() + "\n");
+        }
         editor(text).map(|e| model_json(&e))
     }
 
@@ -195,6 +249,9 @@ pub mod headless {
     ///
     /// What is wrong with the input, or a model too large for a link.
     pub fn link(text: &str) -> Result<String, Error> {
+        if tree(text)?.is_some() {
+            return Ok(bezsolid_core::link::encode(&read_file(text)?)?);
+        }
         share_fragment(&editor(text)?)
     }
 
@@ -204,6 +261,12 @@ pub mod headless {
     ///
     /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
     pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
+        if let Some(t) = tree(text)? {
+            return Ok(Made {
+                data: format.write(&tree_mesh(&t, resolution)?),
+                approximate: 0,
+            });
+        }
         let v = volume(text, resolution)?;
         let m = v
             .polygonize(resolution, MESH_ACCURACY)
@@ -221,6 +284,12 @@ pub mod headless {
     ///
     /// As [`mesh`].
     pub fn surface(text: &str, resolution: usize) -> Result<Made<Vec<f32>>, Error> {
+        if let Some(t) = tree(text)? {
+            return Ok(Made {
+                data: crate::view3d::mesh_floats(&tree_mesh(&t, resolution)?),
+                approximate: 0,
+            });
+        }
         let v = volume(text, resolution)?;
         Ok(Made {
             data: crate::view3d::surface_floats(&v, resolution),
@@ -256,6 +325,21 @@ pub mod headless {
     ///
     /// What is wrong with the input, or a volume model.
     pub fn svg(text: &str) -> Result<Made<String>, Error> {
+        if let Some(t) = tree(text)? {
+            let ModelTree::Plane(t) = t else {
+                return Err("contour SVG is of 2D models; this is a 3D model".into());
+            };
+            let Some((lo, hi)) = t.bounds() else {
+                return Err("the model may be unbounded: draw it with `bezsolid contour --box`".into());
+            };
+            let lines = t.contour(super::SVG_RESOLUTION, super::SVG_ACCURACY, None)?;
+            let (lo, hi) = (glam::DVec2::from_array(lo), glam::DVec2::from_array(hi));
+            let cell = (hi - lo) / super::SVG_RESOLUTION as f64;
+            return Ok(Made {
+                data: bezsolid_core::mesh::svg::contours_svg(&lines, lo - cell, hi + cell),
+                approximate: 0,
+            });
+        }
         match read_any(text)? {
             ModelSolid::Patch(s) => Ok(Made {
                 data: super::svg(&s),
@@ -365,6 +449,40 @@ mod tests {
         assert!(headless::stack(&json, Axis::W, |_, _| {}).is_ok());
         assert!(headless::model("#v1.garbage").is_err());
         assert!(headless::model("{ not json").is_err());
+    }
+
+    #[test]
+    fn headless_jobs_take_trees_of_many_solids() {
+        let tree = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "blend_union",
+            "a0": 0.2, "a1": 1, "a2": 1, "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+            {"kind": "transform", "translate": [1, 0, 0], "solid":
+                {"kind": "box", "min": [-0.3, -0.3, -0.3], "max": [0.3, 0.3, 0.3]}}]}}"#;
+        let json = headless::model(tree).unwrap();
+        let link = headless::link(tree).unwrap();
+        assert_eq!(headless::model(&link).unwrap(), json);
+        assert_eq!(headless::link(&json).unwrap(), link);
+        let stl = headless::mesh(&link, Format::Stl, 32).unwrap();
+        let mesh = Format::Stl.read(&stl.data).unwrap();
+        mesh.check_closed_manifold().unwrap();
+        let surface = headless::surface(tree, 32).unwrap().data;
+        assert_eq!(surface.len(), 18 * mesh.triangles.len());
+        // A 2D tree: its contour as SVG; a 3D one has none, a 2D one no mesh.
+        let plane = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
+            {"kind": "circle", "center": [0, 0], "radius": 1},
+            {"kind": "rectangle", "min": [0, -0.2], "max": [2, 0.2]}]}}"#;
+        assert!(headless::svg(plane).unwrap().data.contains("<svg"));
+        assert!(headless::svg(tree).is_err());
+        assert!(headless::mesh(plane, Format::Stl, 32).is_err());
+        // What cannot be meshed says so.
+        let half = r#"{"format": "bezsolid", "version": 1,
+            "solid": {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0}}"#;
+        let e = headless::mesh(half, Format::Stl, 16).unwrap_err();
+        assert!(e.message().contains("unbounded"), "{e}");
+        let bad = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": -1}]}}"#;
+        let e = headless::mesh(bad, Format::Stl, 16).unwrap_err();
+        assert!(e.message().contains("solid.of"), "{e}");
     }
 
     #[test]

@@ -68,6 +68,8 @@ from_display!(
     UnknownFormat,
     EscError,
     bezsolid_core::hyperfun::SpaceMapped,
+    bezsolid_core::hyperfun::TreeHfError,
+    bezsolid_core::tree::TreeMeshError,
     bezsolid_core::link::LinkError,
     serde_json::Error
 );
