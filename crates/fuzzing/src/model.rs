@@ -105,8 +105,32 @@ pub(crate) fn check_model(file: &ModelFile) -> bool {
             }
         };
         match &tree {
-            ModelTree::Plane(t) => probe(&|p| t.f(glam::DVec2::new(p[0], p[1]))),
-            ModelTree::Space(t) => probe(&|p| t.f(glam::DVec3::from_array(p))),
+            ModelTree::Plane(t) => {
+                probe(&|p| t.f(glam::DVec2::new(p[0], p[1])));
+                // A bounded tree contours (an unbounded one says so), coarsely.
+                if t.bounds().is_some() {
+                    t.contour(8, 1e-9, None)
+                        .expect("a bounded 2D tree contours");
+                }
+            }
+            ModelTree::Space(t) => {
+                probe(&|p| t.f(glam::DVec3::from_array(p)));
+                // A bounded tree meshes closed, coarsely; any tree meshes within a box.
+                if let Some((lo, hi)) = t.bounds() {
+                    let mesh = t.polygonize(6, 1e-9, None).expect("a bounded tree meshes");
+                    let finite = lo
+                        .iter()
+                        .chain(&hi)
+                        .all(|v| v.is_finite() && v.abs() < 1e12);
+                    if finite {
+                        assert!(
+                            mesh.check_closed_manifold().is_ok(),
+                            "a tree's mesh is not closed"
+                        );
+                    }
+                }
+                let _ = t.polygonize(4, 1e-9, Some(([-1.0; 3], [1.0; 3])));
+            }
         }
         valid = true;
     }

@@ -330,7 +330,9 @@ pub mod headless {
                 return Err("contour SVG is of 2D models; this is a 3D model".into());
             };
             let Some((lo, hi)) = t.bounds() else {
-                return Err("the model may be unbounded: draw it with `bezsolid contour --box`".into());
+                return Err(
+                    "the model may be unbounded: draw it with `bezsolid contour --box`".into(),
+                );
             };
             let lines = t.contour(super::SVG_RESOLUTION, super::SVG_ACCURACY, None)?;
             let (lo, hi) = (glam::DVec2::from_array(lo), glam::DVec2::from_array(hi));
