@@ -118,32 +118,11 @@ where
                     let (llo, lhi) = mapped_box(leaf, lo, hi);
                     stack.push(leaf_interval(&leaf.shape, llo, lhi, &mut scratch));
                 }
-                Step::Union(n) => fold(&mut stack, n, Interval::union),
-                Step::Intersection(n) => fold(&mut stack, n, Interval::intersect),
-                Step::Difference(n) => fold(&mut stack, n, |a, b| a.intersect(b.neg())),
-                Step::Blend {
-                    union: u,
-                    a0,
-                    a1,
-                    a2,
-                } => {
-                    let f2 = stack.pop().unwrap_or(Interval::ANY);
-                    let f1 = stack.pop().unwrap_or(Interval::ANY);
-                    let base = if u { f1.union(f2) } else { f1.intersect(f2) };
-                    let den = Interval::new(1.0, 1.0)
-                        .add(f1.scale(1.0 / a1).square())
-                        .add(f2.scale(1.0 / a2).square());
-                    let shift = if a0 >= 0.0 {
-                        Interval::new(a0 / den.hi, a0 / den.lo)
-                    } else {
-                        Interval::new(a0 / den.lo, a0 / den.hi)
-                    };
-                    stack.push(base.add(shift));
-                }
-                Step::Morph(t) => {
-                    let f2 = stack.pop().unwrap_or(Interval::ANY);
-                    let f1 = stack.pop().unwrap_or(Interval::ANY);
-                    stack.push(f1.scale(1.0 - t).add(f2.scale(t)));
+                step => {
+                    let first = stack.len().saturating_sub(step.arity());
+                    let range = combine(step, &stack[first..]);
+                    stack.truncate(first);
+                    stack.push(range);
                 }
             }
         }
@@ -151,15 +130,39 @@ where
     }
 }
 
-fn fold(stack: &mut Vec<Interval>, n: usize, op: impl Fn(Interval, Interval) -> Interval) {
-    let start = stack.len().saturating_sub(n);
-    let folded = stack[start..]
-        .iter()
-        .copied()
-        .reduce(op)
-        .unwrap_or(Interval::ANY);
-    stack.truncate(start);
-    stack.push(folded);
+/// The range of an operation's value from its operands' ranges.
+fn combine(step: Step, operands: &[Interval]) -> Interval {
+    let fold = |op: fn(Interval, Interval) -> Interval| {
+        operands.iter().copied().reduce(op).unwrap_or(Interval::ANY)
+    };
+    match step {
+        Step::Leaf(_) => Interval::ANY,
+        Step::Union(_) => fold(Interval::union),
+        Step::Intersection(_) => fold(Interval::intersect),
+        Step::Difference(_) => fold(|a, b| a.intersect(b.neg())),
+        Step::Blend {
+            union: u,
+            a0,
+            a1,
+            a2,
+        } => {
+            let [f1, f2] = [0, 1].map(|k| operands.get(k).copied().unwrap_or(Interval::ANY));
+            let base = if u { f1.union(f2) } else { f1.intersect(f2) };
+            let den = Interval::new(1.0, 1.0)
+                .add(f1.scale(1.0 / a1).square())
+                .add(f2.scale(1.0 / a2).square());
+            let shift = if a0 >= 0.0 {
+                Interval::new(a0 / den.hi, a0 / den.lo)
+            } else {
+                Interval::new(a0 / den.lo, a0 / den.hi)
+            };
+            base.add(shift)
+        }
+        Step::Morph(t) => {
+            let [f1, f2] = [0, 1].map(|k| operands.get(k).copied().unwrap_or(Interval::ANY));
+            f1.scale(1.0 - t).add(f2.scale(t))
+        }
+    }
 }
 
 /// The box `[lo, hi]` in a leaf's coordinates: around the images of its corners.
@@ -365,12 +368,7 @@ where
         let mut parent = alloc::vec![usize::MAX; self.steps.len()];
         let mut roots: Vec<usize> = Vec::new();
         for (at, step) in self.steps.iter().enumerate() {
-            let n = match *step {
-                Step::Leaf(_) => 0,
-                Step::Union(n) | Step::Intersection(n) | Step::Difference(n) => n,
-                Step::Blend { .. } | Step::Morph(_) => 2,
-            };
-            for child in roots.drain(roots.len().saturating_sub(n)..) {
+            for child in roots.drain(roots.len().saturating_sub(step.arity())..) {
                 parent[child] = at;
             }
             roots.push(at);
@@ -391,66 +389,34 @@ where
                     let (llo, lhi) = mapped_box(leaf, lo, hi);
                     (leaf_interval(&leaf.shape, llo, lhi, &mut scratch), at)
                 }
-                Step::Union(n) | Step::Intersection(n) | Step::Difference(n) => {
-                    let first = stack.len().saturating_sub(n);
+                step => {
+                    let first = stack.len().saturating_sub(step.arity());
                     let operands = &stack[first..];
-                    let mut keep = n;
-                    for k in 0..operands.len() {
-                        let r = operands[k].0;
-                        let negligible = match step {
-                            Step::Union(_) => r.hi < 0.0,
-                            Step::Intersection(_) => r.lo > 0.0,
-                            _ => k > 0 && r.hi < 0.0,
-                        };
-                        // One operand always stays.
-                        if negligible && keep > 1 && !shielded(at) {
-                            keep -= 1;
-                            let span = operands[k].1..operands.get(k + 1).map_or(at, |o| o.1);
-                            removed[span].iter_mut().for_each(|r| *r = true);
-                            any = true;
+                    if matches!(
+                        step,
+                        Step::Union(_) | Step::Intersection(_) | Step::Difference(_)
+                    ) {
+                        let mut keep = operands.len();
+                        for (k, &(r, begin)) in operands.iter().enumerate() {
+                            let negligible = match step {
+                                Step::Union(_) => r.hi < 0.0,
+                                Step::Intersection(_) => r.lo > 0.0,
+                                _ => k > 0 && r.hi < 0.0,
+                            };
+                            // One operand always stays.
+                            if negligible && keep > 1 && !shielded(at) {
+                                keep -= 1;
+                                let span = begin..operands.get(k + 1).map_or(at, |o| o.1);
+                                removed[span].iter_mut().for_each(|r| *r = true);
+                                any = true;
+                            }
                         }
+                        counts[at] = Some(keep);
                     }
-                    counts[at] = Some(keep);
                     let ranges: Vec<Interval> = operands.iter().map(|o| o.0).collect();
                     let start = operands.first().map_or(at, |o| o.1);
-                    let fold_with = |op: fn(Interval, Interval) -> Interval| {
-                        ranges.iter().copied().reduce(op).unwrap_or(Interval::ANY)
-                    };
-                    let range = match step {
-                        Step::Union(_) => fold_with(Interval::union),
-                        Step::Intersection(_) => fold_with(Interval::intersect),
-                        _ => ranges
-                            .iter()
-                            .copied()
-                            .reduce(|a, b| a.intersect(b.neg()))
-                            .unwrap_or(Interval::ANY),
-                    };
                     stack.truncate(first);
-                    (range, start)
-                }
-                Step::Blend {
-                    union: u,
-                    a0,
-                    a1,
-                    a2,
-                } => {
-                    let (f2, _) = stack.pop().unwrap_or((Interval::ANY, at));
-                    let (f1, start) = stack.pop().unwrap_or((Interval::ANY, at));
-                    let base = if u { f1.union(f2) } else { f1.intersect(f2) };
-                    let den = Interval::new(1.0, 1.0)
-                        .add(f1.scale(1.0 / a1).square())
-                        .add(f2.scale(1.0 / a2).square());
-                    let shift = if a0 >= 0.0 {
-                        Interval::new(a0 / den.hi, a0 / den.lo)
-                    } else {
-                        Interval::new(a0 / den.lo, a0 / den.hi)
-                    };
-                    (base.add(shift), start)
-                }
-                Step::Morph(t) => {
-                    let (f2, _) = stack.pop().unwrap_or((Interval::ANY, at));
-                    let (f1, start) = stack.pop().unwrap_or((Interval::ANY, at));
-                    (f1.scale(1.0 - t).add(f2.scale(t)), start)
+                    (combine(step, &ranges), start)
                 }
             };
             stack.push((range, start));

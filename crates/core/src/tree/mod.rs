@@ -356,6 +356,17 @@ pub(crate) enum Step {
     Morph(f64),
 }
 
+impl Step {
+    /// How many values it takes from the stack.
+    pub(crate) fn arity(self) -> usize {
+        match self {
+            Self::Leaf(_) => 0,
+            Self::Union(n) | Self::Intersection(n) | Self::Difference(n) => n,
+            Self::Blend { .. } | Self::Morph(_) => 2,
+        }
+    }
+}
+
 /// A checked tree of `D` dimensions, ready to evaluate.
 #[derive(Clone, Debug)]
 pub struct Tree<const D: usize>
