@@ -34,37 +34,17 @@ pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
         });
     }
     // fidget: depth d meshes 2^d cells per axis; only powers of two compare, and 256 takes seconds.
-    let tree = -bernstein_tree();
-    let shape: fidget::jit::JitShape = fidget::shape::Shape::from(tree);
-    let Ok(bound) = shape.try_into() else {
-        eprintln!("bezsolid-bench: fidget refused the shape");
-        return rows;
-    };
     let to_unit_cube = nalgebra::Matrix4::new_translation(&nalgebra::Vector3::repeat(0.5f32))
         * nalgebra::Matrix4::new_scaling(0.5f32);
     let depths: &[u8] = if quick { &[4] } else { &[6, 7] };
-    for &depth in depths {
-        let settings = Settings {
-            depth,
-            world_to_model: to_unit_cube,
-            threads: None,
-            ..Default::default()
-        };
-        let (ms, runs, triangles) = time(clock, budget, || {
-            Octree::build(&bound, &settings)
-                .map(|o| o.walk_dual().triangles.len())
-                .unwrap_or(0)
-        });
-        rows.push(Row {
-            case: "polygonize".into(),
-            who: "fidget 0.5.1 (JIT, 1 thread; adaptive dual contouring)".into(),
-            n: 1 << depth,
-            ms,
-            runs,
-            extra: triangles as f64,
-            note: String::new(),
-        });
-    }
+    rows.extend(fidget_rows(
+        clock,
+        budget,
+        "polygonize",
+        -bernstein_tree(),
+        to_unit_cube,
+        depths,
+    ));
     rows.extend(tree_peer(clock, quick));
     rows
 }
@@ -77,16 +57,36 @@ pub(crate) fn tree_peer(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     let Some((lo, hi)) = bezsolid_bench::tree::tree().bounds() else {
         return Vec::new();
     };
-    let shape: fidget::jit::JitShape = fidget::shape::Shape::from(-fidget_tree(&file.solid));
-    let Ok(bound) = shape.try_into() else {
-        eprintln!("bezsolid-bench: fidget refused the tree");
-        return Vec::new();
-    };
     let centre = nalgebra::Vector3::from_fn(|i, _| ((lo[i] + hi[i]) / 2.0) as f32);
     let half = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max) as f32 / 2.0;
     let to_model =
         nalgebra::Matrix4::new_translation(&centre) * nalgebra::Matrix4::new_scaling(half);
     let depths: &[u8] = if quick { &[6] } else { &[7, 8] };
+    fidget_rows(
+        clock,
+        budget,
+        "tree of 20 solids: polygonize",
+        -fidget_tree(&file.solid),
+        to_model,
+        depths,
+    )
+}
+
+/// fidget meshing `tree` (inside where it is negative) at each of `depths` (2^depth cells along
+/// the side of the cube `to_model` maps fidget's `[-1, 1]³` onto), JIT, one thread.
+fn fidget_rows(
+    clock: &mut dyn Clock,
+    budget: f64,
+    case: &str,
+    tree: Tree,
+    to_model: nalgebra::Matrix4<f32>,
+    depths: &[u8],
+) -> Vec<Row> {
+    let shape: fidget::jit::JitShape = fidget::shape::Shape::from(tree);
+    let Ok(bound) = shape.try_into() else {
+        eprintln!("bezsolid-bench: fidget refused the shape of {case:?}");
+        return Vec::new();
+    };
     let mut rows = Vec::new();
     for &depth in depths {
         let settings = Settings {
@@ -101,7 +101,7 @@ pub(crate) fn tree_peer(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
                 .unwrap_or(0)
         });
         rows.push(Row {
-            case: "tree of 20 solids: polygonize".into(),
+            case: case.into(),
             who: "fidget 0.5.1 (JIT, 1 thread; adaptive dual contouring)".into(),
             n: 1 << depth,
             ms,

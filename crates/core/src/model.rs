@@ -236,6 +236,43 @@ pub enum SolidSpec {
 }
 
 impl SolidSpec {
+    /// A tree node's children, in order: an operation's `of`, a transform's `solid`; none for a
+    /// leaf.
+    #[must_use]
+    pub fn children(&self) -> &[SolidSpec] {
+        match self {
+            Self::Union { of }
+            | Self::Intersection { of }
+            | Self::Difference { of }
+            | Self::BlendUnion { of, .. }
+            | Self::BlendIntersection { of, .. }
+            | Self::Morph { of, .. } => of,
+            Self::Transform { solid, .. } => core::slice::from_ref(&**solid),
+            _ => &[],
+        }
+    }
+
+    /// An operation's operands (`of`), to change in place; `None` for a leaf or a transform.
+    pub fn operands_mut(&mut self) -> Option<&mut Vec<SolidSpec>> {
+        match self {
+            Self::Union { of }
+            | Self::Intersection { of }
+            | Self::Difference { of }
+            | Self::BlendUnion { of, .. }
+            | Self::BlendIntersection { of, .. }
+            | Self::Morph { of, .. } => Some(of),
+            _ => None,
+        }
+    }
+
+    /// Child `i` ([`SolidSpec::children`]), to change in place.
+    pub fn child_mut(&mut self, i: usize) -> Option<&mut SolidSpec> {
+        match self {
+            Self::Transform { solid, .. } => (i == 0).then_some(&mut **solid),
+            _ => self.operands_mut()?.get_mut(i),
+        }
+    }
+
     /// Whether this is a kind only a tree of many solids has: a primitive, an operation or a
     /// transform (a single patch or volume is also a tree, of one leaf, but reads as itself).
     #[must_use]

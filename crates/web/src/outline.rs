@@ -84,37 +84,11 @@ pub struct Outline {
     selected: NodePath,
 }
 
-fn children(spec: &SolidSpec) -> &[SolidSpec] {
+/// An operation of any arity's operands (union, intersection, difference): where a new node joins.
+fn variadic_mut(spec: &mut SolidSpec) -> Option<&mut Vec<SolidSpec>> {
     match spec {
-        SolidSpec::Union { of }
-        | SolidSpec::Intersection { of }
-        | SolidSpec::Difference { of }
-        | SolidSpec::BlendUnion { of, .. }
-        | SolidSpec::BlendIntersection { of, .. }
-        | SolidSpec::Morph { of, .. } => of,
-        SolidSpec::Transform { solid, .. } => core::slice::from_ref(&**solid),
-        _ => &[],
-    }
-}
-
-fn child_mut(spec: &mut SolidSpec, i: usize) -> Option<&mut SolidSpec> {
-    match spec {
-        SolidSpec::Union { of }
-        | SolidSpec::Intersection { of }
-        | SolidSpec::Difference { of }
-        | SolidSpec::BlendUnion { of, .. }
-        | SolidSpec::BlendIntersection { of, .. }
-        | SolidSpec::Morph { of, .. } => of.get_mut(i),
-        SolidSpec::Transform { solid, .. } if i == 0 => Some(solid),
-        _ => None,
-    }
-}
-
-/// The operands of an operation of any arity.
-fn operands_mut(spec: &mut SolidSpec) -> Option<&mut Vec<SolidSpec>> {
-    match spec {
-        SolidSpec::Union { of } | SolidSpec::Intersection { of } | SolidSpec::Difference { of } => {
-            Some(of)
+        SolidSpec::Union { .. } | SolidSpec::Intersection { .. } | SolidSpec::Difference { .. } => {
+            spec.operands_mut()
         }
         _ => None,
     }
@@ -205,7 +179,7 @@ impl Outline {
     #[must_use]
     pub fn node(&self, path: &[usize]) -> Option<&SolidSpec> {
         path.iter()
-            .try_fold(&self.root, |spec, &i| children(spec).get(i))
+            .try_fold(&self.root, |spec, &i| spec.children().get(i))
     }
 
     /// Selects the node at `path`.
@@ -232,7 +206,7 @@ impl Outline {
                 bezier: matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. }),
                 path: path.clone(),
             });
-            for (i, child) in children(spec).iter().enumerate().rev() {
+            for (i, child) in spec.children().iter().enumerate().rev() {
                 let mut p = path.clone();
                 p.push(i);
                 todo.push((p, child));
@@ -252,7 +226,7 @@ impl Outline {
     fn node_mut<'a>(root: &'a mut SolidSpec, path: &[usize]) -> Option<&'a mut SolidSpec> {
         let mut spec = root;
         for &i in path {
-            spec = child_mut(spec, i)?;
+            spec = spec.child_mut(i)?;
         }
         Some(spec)
     }
@@ -329,7 +303,7 @@ impl Outline {
         let sel = self.selected.clone();
         let target =
             Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
-        let path = if let Some(of) = operands_mut(target) {
+        let path = if let Some(of) = variadic_mut(target) {
             of.push(node);
             let mut p = sel.clone();
             p.push(of.len() - 1);
@@ -402,40 +376,28 @@ impl Outline {
                 "the root stays: a model holds at least one solid",
             ));
         };
+        if matches!(self.node(parent_path), Some(SolidSpec::Transform { .. })) {
+            // A transform without its solid goes too.
+            let mut up = self.clone();
+            up.selected = parent_path.to_vec();
+            up.remove()?;
+            *self = up;
+            return Ok(());
+        }
         let mut root = self.root.clone();
         let parent = Self::node_mut(&mut root, parent_path)
             .ok_or_else(|| Error::new("there is no such node"))?;
-        let keep = match parent {
-            SolidSpec::Transform { .. } => None,
-            SolidSpec::Union { of }
-            | SolidSpec::Intersection { of }
-            | SolidSpec::Difference { of }
-            | SolidSpec::BlendUnion { of, .. }
-            | SolidSpec::BlendIntersection { of, .. }
-            | SolidSpec::Morph { of, .. } => {
-                if last < of.len() {
-                    of.remove(last);
-                }
-                (of.len() == 1).then(|| of.remove(0))
-            }
-            _ => return Err(Error::new("there is no such node")),
-        };
-        let mut selected = parent_path.to_vec();
-        match keep {
-            // An operation of one operand is that operand.
-            Some(only) => *parent = only,
-            None if matches!(parent, SolidSpec::Transform { .. }) => {
-                // A transform without its solid goes too.
-                let parent_path = parent_path.to_vec();
-                self.selected = parent_path;
-                return self.remove();
-            }
-            None => {}
+        let of = parent
+            .operands_mut()
+            .ok_or_else(|| Error::new("there is no such node"))?;
+        if last < of.len() {
+            of.remove(last);
         }
-        if Self::node_mut(&mut root, &selected).is_none() {
-            selected.clear();
+        // An operation of one operand is that operand.
+        if let Some(only) = (of.len() == 1).then(|| of.remove(0)) {
+            *parent = only;
         }
-        self.commit(root, selected)
+        self.commit(root, parent_path.to_vec())
     }
 
     /// Moves the selected node `by` places among its siblings (clamped to the ends).
@@ -451,14 +413,8 @@ impl Outline {
         let Some(parent) = Self::node_mut(&mut root, parent_path) else {
             return Ok(());
         };
-        let of = match parent {
-            SolidSpec::Union { of }
-            | SolidSpec::Intersection { of }
-            | SolidSpec::Difference { of }
-            | SolidSpec::BlendUnion { of, .. }
-            | SolidSpec::BlendIntersection { of, .. }
-            | SolidSpec::Morph { of, .. } => of,
-            _ => return Ok(()),
+        let Some(of) = parent.operands_mut() else {
+            return Ok(());
         };
         let to = last
             .saturating_add_signed(by)
@@ -640,6 +596,12 @@ mod tests {
         assert!(matches!(o.root(), SolidSpec::Transform { .. }));
         o.select(&[]).unwrap();
         assert!(o.remove().is_err(), "the root stays");
+        // The solid of the root transform goes only with the transform, which is the root: it
+        // stays, and so does the selection.
+        o.select(&[0]).unwrap();
+        let before = o.clone();
+        assert!(o.remove().is_err());
+        assert_eq!(o, before);
     }
 
     #[test]

@@ -298,37 +298,15 @@ impl Writer {
 
     /// A regular Bézier leaf: the explicit Bernstein sum, clipped to its box, in coordinates `q`.
     fn bezier(&mut self, spec: &SolidSpec, path: &str, q: &str) -> Result<String, TreeHfError> {
-        let solo = ModelFile::from_spec(spec.clone());
         let mapped = || TreeHfError::SpaceMapped(String::from(path));
-        let (degree, lo, hi, xi): (Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) =
-            match solo.to_tree().map_err(TreeHfError::Model)? {
-                ModelTree::Plane(t) => {
-                    let s: &Solid<2> = t.as_solid().ok_or_else(mapped)?;
-                    if s.inverse().is_some() {
-                        return Err(mapped());
-                    }
-                    let (lo, hi) = s.domain();
-                    (
-                        s.degree().to_vec(),
-                        lo.to_array().to_vec(),
-                        hi.to_array().to_vec(),
-                        s.xi_net().points().to_vec(),
-                    )
-                }
-                ModelTree::Space(t) => {
-                    let s: &Solid<3> = t.as_solid().ok_or_else(mapped)?;
-                    if s.inverse().is_some() {
-                        return Err(mapped());
-                    }
-                    let (lo, hi) = s.domain();
-                    (
-                        s.degree().to_vec(),
-                        lo.to_array().to_vec(),
-                        hi.to_array().to_vec(),
-                        s.xi_net().points().to_vec(),
-                    )
-                }
-            };
+        let parts = match ModelFile::from_spec(spec.clone())
+            .to_tree()
+            .map_err(TreeHfError::Model)?
+        {
+            ModelTree::Plane(t) => regular_parts(&t),
+            ModelTree::Space(t) => regular_parts(&t),
+        };
+        let RegularLeaf { degree, lo, hi, xi } = parts.ok_or_else(mapped)?;
         let tag = self.name("b");
         let mut params = Vec::new();
         for (k, &n) in degree.iter().enumerate() {
@@ -377,6 +355,32 @@ impl Writer {
             .unwrap_or_default();
         Ok(self.set(path, &format!("{sum} & {clip}")))
     }
+}
+
+/// A regular Bézier leaf as its export needs it, whatever its dimension.
+struct RegularLeaf {
+    degree: Vec<usize>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    xi: Vec<f64>,
+}
+
+/// The leaf of a tree of one regular Bézier solid; `None` for a space mapping.
+fn regular_parts<const D: usize>(tree: &crate::tree::Tree<D>) -> Option<RegularLeaf>
+where
+    crate::dim::Dim<D>: crate::dim::Dimension<D>,
+{
+    let s: &Solid<D> = tree.as_solid()?;
+    if s.inverse().is_some() {
+        return None;
+    }
+    let (lo, hi) = s.domain();
+    Some(RegularLeaf {
+        degree: s.degree().to_vec(),
+        lo: <crate::dim::Dim<D> as crate::dim::Dimension<D>>::coords(lo).to_vec(),
+        hi: <crate::dim::Dim<D> as crate::dim::Dimension<D>>::coords(hi).to_vec(),
+        xi: s.xi_net().points().to_vec(),
+    })
 }
 
 fn axis_name(axis: CoordAxis) -> &'static str {

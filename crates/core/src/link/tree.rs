@@ -118,16 +118,7 @@ pub(super) fn flatten(root: &SolidSpec) -> Result<Vec<Node>, LinkError> {
                 "the tree has more nodes than a model may hold",
             ));
         }
-        let children: &[SolidSpec] = match spec {
-            SolidSpec::Union { of }
-            | SolidSpec::Intersection { of }
-            | SolidSpec::Difference { of }
-            | SolidSpec::BlendUnion { of, .. }
-            | SolidSpec::BlendIntersection { of, .. }
-            | SolidSpec::Morph { of, .. } => of,
-            SolidSpec::Transform { solid, .. } => core::slice::from_ref(&**solid),
-            _ => &[],
-        };
+        let children = spec.children();
         let count = u32::try_from(children.len()).unwrap_or(u32::MAX);
         out.push(match spec {
             SolidSpec::Patch { degree, points } => {

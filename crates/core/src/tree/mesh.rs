@@ -130,16 +130,13 @@ where
     Dim<D>: Dimension<D>,
 {
     fn f(&mut self, p: [f64; D]) -> f64 {
-        let f = self.tree.evaluate_with(p, &mut self.stack).f;
-        self.clipped(f, p)
+        self.f_by(None, p)
     }
 
     /// `f` by a pruned program (see [`Tree::pruned`]), or the tree's own where `None`.
     fn f_by(&mut self, program: Option<&[Step]>, p: [f64; D]) -> f64 {
-        let f = match program {
-            Some(steps) => self.tree.evaluate_program(steps, p, &mut self.stack).f,
-            None => self.tree.evaluate_with(p, &mut self.stack).f,
-        };
+        let steps = program.unwrap_or(&self.tree.steps);
+        let f = self.tree.evaluate_program(steps, p, &mut self.stack).f;
         self.clipped(f, p)
     }
 
@@ -152,10 +149,9 @@ where
 
     /// The outward unit normal `−∇f/|∇f|` (zero where the gradient vanishes), by `program`.
     fn normal(&self, program: Option<&[Step]>, p: [f64; D]) -> [f64; D] {
-        let (f, g) = match program {
-            Some(steps) => self.tree.gradient_program(steps, p),
-            None => self.tree.gradient_program(&self.tree.steps, p),
-        };
+        let (f, g) = self
+            .tree
+            .gradient_program(program.unwrap_or(&self.tree.steps), p);
         let g = match &self.clip {
             None => g,
             Some(b) => {

@@ -668,22 +668,17 @@ fn kind_dimension(spec: &SolidSpec) -> Result<Option<usize>, &'static str> {
     })
 }
 
-/// The children of a node, each with its path's step.
+/// The children of a node, each with its path's step (`.of[i]`, or a transform's `.solid`).
 fn children(spec: &SolidSpec) -> Vec<(String, &SolidSpec)> {
-    match spec {
-        SolidSpec::Union { of }
-        | SolidSpec::Intersection { of }
-        | SolidSpec::Difference { of }
-        | SolidSpec::BlendUnion { of, .. }
-        | SolidSpec::BlendIntersection { of, .. }
-        | SolidSpec::Morph { of, .. } => of
-            .iter()
-            .enumerate()
-            .map(|(i, c)| (format!(".of[{i}]"), c))
-            .collect(),
-        SolidSpec::Transform { solid, .. } => alloc::vec![(String::from(".solid"), &**solid)],
-        _ => Vec::new(),
-    }
+    let transform = matches!(spec, SolidSpec::Transform { .. });
+    spec.children()
+        .iter()
+        .enumerate()
+        .map(|(i, c)| match transform {
+            true => (String::from(".solid"), c),
+            false => (format!(".of[{i}]"), c),
+        })
+        .collect()
 }
 
 /// The dimension of the tree: that of its first leaf, found depth-first (without recursion; the
