@@ -231,9 +231,11 @@ export function setupBezier(app) {
     const n = p.frame.contours;
     $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
       + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
+    app.outline.update();
+    const parts = app.outline.state();
     const [du, dv] = p.degree;
     const mapped = p.space_mapped;
-    const vd = p.volume_degree;
+    const vd = parts && !parts.open ? null : p.volume_degree;
     const volume = !!vd;
     if (volume) {
       const [axis, index] = p.slice;
@@ -254,9 +256,15 @@ export function setupBezier(app) {
       $('model-name').textContent = `Patch solid, ${du + 1} × ${dv + 1} points${mapped ? ', space-mapped' : ''}`;
       $('model-info').textContent = `Degree ${du} × ${dv}; ${mapped ? 'points moved: the inverse map finds (u, v)' : 'a regular grid: (u, v) by scaling'}.`;
     }
+    if (parts) {
+      const n = parts.rows.length;
+      $('model-name').textContent = `Many solids, ${n} ${n === 1 ? 'node' : 'nodes'}`;
+      $('model-name').title = parts.open ? `Editing a Bézier ${volume ? 'volume' : 'patch'}${mapped ? ', space-mapped' : ''}` : '';
+    }
     $('volume-controls').hidden = !volume;
     $('elevate-w').disabled = !volume;
-    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !volume;
+    const solid3d = volume || parts?.dimension === 3;
+    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !solid3d;
     for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = false;
     document.body.dataset.kind = volume ? 'volume' : 'patch';
     $('undo').disabled = !p.can_undo;

@@ -4,6 +4,7 @@
 //   ui.js        elements, the status line, downloads     storage.js  what this browser keeps
 //   work.js      Web Workers, the work list, followers    view3d.js   the 3D view's input
 //   bezier.js    the Bézier mode (2D view, panel)         freeform.js the Free-form mode
+//   outline.js   the parts of a model of many solids
 //   script.js    the Script mode (editor, runs)           files.js    links, files, exports
 //
 // Each part gets `app`, what they share: the wasm objects (`modeler`, `ff`, `sv`, `viewer`), the
@@ -16,6 +17,7 @@ import { $, say, messageOf } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { runner, workList } from './work.js';
 import { setupBezier } from './bezier.js';
+import { setupOutline } from './outline.js';
 import { setupFreeForm } from './freeform.js';
 import { setupScript } from './script.js';
 import { setupFiles } from './files.js';
@@ -231,6 +233,7 @@ async function main() {
     app.redraw(VIEW3);
   };
 
+  app.outline = setupOutline(app);
   app.bezier = setupBezier(app);
   app.freeform = setupFreeForm(app);
   app.script = setupScript(app);

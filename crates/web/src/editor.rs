@@ -208,6 +208,12 @@ impl Editor {
         self.revision
     }
 
+    /// Marks the model changed from outside (a model of many solids changed around the part the
+    /// editor holds): what is drawn of it is made again.
+    pub fn touch(&mut self) {
+        self.revision += 1;
+    }
+
     /// The model's net, as the history keeps it.
     fn net(&self) -> Net {
         match &self.volume {
@@ -287,7 +293,9 @@ impl Editor {
         self.last_step = None;
     }
 
-    fn busy(&self) -> bool {
+    /// Whether a drag of a control point is under way (in either view).
+    #[must_use]
+    pub fn busy(&self) -> bool {
         self.drag.is_some() || self.volume_drag.is_some()
     }
 

@@ -10,7 +10,8 @@
 //!   contains; [`scene`]: what a 3D view hands the renderer, and the cache of a surface drawn coarse
 //!   now and fine from the worker;
 //! - [`freeform`]: the Free-form mode; [`script`]: the Script mode;
-//! - [`outline`]: a model of many solids as the outliner edits it, a node at a time;
+//! - [`outline`]: a model of many solids as the outliner edits it, a node at a time; [`parts`]:
+//!   such a model in the page, its one undo history, and the Bézier part open in the editor;
 //! - [`panel`]: what the Bézier mode's panel shows, one snapshot per frame;
 //! - [`document`]: files, links and exports of the editor's model; [`jobs`]: the worker's protocol;
 //! - [`error`]: the one error type;
@@ -29,6 +30,7 @@ pub mod freeform;
 pub mod jobs;
 pub mod outline;
 pub mod panel;
+pub mod parts;
 pub mod scene;
 pub mod script;
 pub mod view2d;

@@ -7,15 +7,17 @@
 //! outline is unchanged. What an edit does:
 //!
 //! - [`Outline::add`]: a primitive or a Bézier solid joins the selected operation of any arity
-//!   (union, intersection, difference), or else a union with the selected node; the new node is
-//!   selected;
+//!   (union, intersection, difference), or the one the selected node is an operand of, or else a
+//!   union with the selected node; the new node is selected;
 //! - [`Outline::wrap`]: an operation or a transform takes the selected node's place, with it as
 //!   its first operand (and a small sphere as the second where two are needed);
 //! - [`Outline::remove`]: the selected node leaves its operation (an operation left with one
 //!   operand becomes that operand); the root stays;
 //! - [`Outline::reorder`]: the selected node moves among its siblings;
 //! - [`Outline::set`]: a number of the selected node (`radius`, `center[1]`, `a0`, `t`,
-//!   `translate[0]`, `rotate[2]`, `scale[1]`, …).
+//!   `translate[0]`, `rotate[2]`, `scale[1]`, …); [`Outline::fields`] lists them;
+//! - [`Outline::replace`]: a node replaced whole (a Bézier leaf edited in the control-point
+//!   editors).
 
 use bezsolid_core::model::{CoordAxis, ModelFile, Rotation, SolidSpec};
 use bezsolid_core::tree::ModelTree;
@@ -301,6 +303,30 @@ impl Outline {
         let node = self.make(kind, at)?;
         let mut root = self.root.clone();
         let sel = self.selected.clone();
+        // The selection's operation when it is not one itself: a part added beside a part joins
+        // their union (or intersection, or difference).
+        let parent_joins = self.node(&sel).is_some_and(|n| {
+            !matches!(
+                n,
+                SolidSpec::Union { .. }
+                    | SolidSpec::Intersection { .. }
+                    | SolidSpec::Difference { .. }
+            )
+        }) && sel.split_last().is_some_and(|(_, up)| {
+            matches!(
+                self.node(up),
+                Some(
+                    SolidSpec::Union { .. }
+                        | SolidSpec::Intersection { .. }
+                        | SolidSpec::Difference { .. }
+                )
+            )
+        });
+        let sel = if parent_joins {
+            sel[..sel.len() - 1].to_vec()
+        } else {
+            sel
+        };
         let target =
             Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
         let path = if let Some(of) = variadic_mut(target) {
@@ -426,6 +452,86 @@ impl Outline {
         self.commit(root, selected)
     }
 
+    /// The numbers of the selected node that [`Self::set`] takes, with their values, in the order
+    /// a panel lists them.
+    #[must_use]
+    pub fn fields(&self) -> Vec<(String, f64)> {
+        let Some(node) = self.node(&self.selected) else {
+            return Vec::new();
+        };
+        let each = |name: &str, v: &[f64]| -> Vec<(String, f64)> {
+            v.iter()
+                .enumerate()
+                .map(|(i, &x)| (format!("{name}[{i}]"), x))
+                .collect()
+        };
+        let one = |name: &str, v: f64| vec![(name.to_owned(), v)];
+        match node {
+            SolidSpec::Circle { center, radius } => {
+                [each("center", center), one("radius", *radius)].concat()
+            }
+            SolidSpec::Sphere { center, radius } | SolidSpec::Cylinder { center, radius, .. } => {
+                [each("center", center), one("radius", *radius)].concat()
+            }
+            SolidSpec::Rectangle { min, max } => [each("min", min), each("max", max)].concat(),
+            SolidSpec::Box { min, max } => [each("min", min), each("max", max)].concat(),
+            SolidSpec::Torus {
+                center,
+                major,
+                minor,
+                ..
+            } => [
+                each("center", center),
+                one("major", *major),
+                one("minor", *minor),
+            ]
+            .concat(),
+            SolidSpec::Halfplane { normal, offset } => {
+                [each("normal", normal), one("offset", *offset)].concat()
+            }
+            SolidSpec::Halfspace { normal, offset } => {
+                [each("normal", normal), one("offset", *offset)].concat()
+            }
+            SolidSpec::BlendUnion { a0, a1, a2, .. }
+            | SolidSpec::BlendIntersection { a0, a1, a2, .. } => {
+                [one("a0", *a0), one("a1", *a1), one("a2", *a2)].concat()
+            }
+            SolidSpec::Morph { t, .. } => one("t", *t),
+            SolidSpec::Transform {
+                translate,
+                rotate,
+                scale,
+                ..
+            } => {
+                let d = self.dim;
+                let translate = translate.clone().unwrap_or_else(|| vec![0.0; d]);
+                let scale = scale.clone().unwrap_or_else(|| vec![1.0; d]);
+                let rotate = match rotate {
+                    Some(Rotation::Angle(a)) => one("rotate", *a),
+                    Some(Rotation::Angles(a)) => each("rotate", a),
+                    None if d == 2 => one("rotate", 0.0),
+                    None => each("rotate", &[0.0; 3]),
+                };
+                [each("translate", &translate), rotate, each("scale", &scale)].concat()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// Replaces the node at `path` by `node` (the selection stays).
+    ///
+    /// # Errors
+    ///
+    /// No such node, or a tree that breaks a rule.
+    pub fn replace(&mut self, path: &[usize], node: SolidSpec) -> Result<(), Error> {
+        let mut root = self.root.clone();
+        let slot =
+            Self::node_mut(&mut root, path).ok_or_else(|| Error::new("there is no such node"))?;
+        *slot = node;
+        let selected = self.selected.clone();
+        self.commit(root, selected)
+    }
+
     /// Sets the number `field` of the selected node: `radius`, `major`, `minor`, `offset`, `a0`,
     /// `a1`, `a2`, `t`, or an element `center[i]`, `min[i]`, `max[i]`, `normal[i]`,
     /// `translate[i]`, `rotate[i]` (`rotate` alone in 2D), `scale[i]`.
@@ -509,9 +615,16 @@ impl Outline {
                 .get_or_insert_with(|| vec![1.0; dim])
                 .get_mut(i)
                 .ok_or_else(missing)?,
-            (SolidSpec::Transform { rotate, .. }, "rotate", i) => match (rotate, i) {
-                (Some(Rotation::Angle(a)), None) => a,
-                (Some(Rotation::Angles(a)), Some(i)) => a.get_mut(i).ok_or_else(missing)?,
+            (SolidSpec::Transform { rotate, .. }, "rotate", i) => match (
+                rotate.get_or_insert(if dim == 2 {
+                    Rotation::Angle(0.0)
+                } else {
+                    Rotation::Angles([0.0; 3])
+                }),
+                i,
+            ) {
+                (Rotation::Angle(a), None) => a,
+                (Rotation::Angles(a), Some(i)) => a.get_mut(i).ok_or_else(missing)?,
                 _ => return Err(missing()),
             },
             _ => return Err(missing()),

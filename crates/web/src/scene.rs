@@ -159,6 +159,30 @@ impl Refined {
         true
     }
 
+    /// Hands in a surface made elsewhere for `revision` at `resolution`, taken when it is newer
+    /// than the one drawn and not past `current` (a surface that follows a stream of edits: each
+    /// one drawn is closer to the model); returns whether it was.
+    pub fn hand_in_newer(
+        &mut self,
+        revision: u64,
+        current: u64,
+        resolution: usize,
+        vertices: Vec<MeshVertex>,
+    ) -> bool {
+        let newer = self.made.as_ref().is_none_or(|m| {
+            m.revision < revision || (m.revision == revision && m.resolution != resolution)
+        });
+        if revision > current || !newer {
+            return false;
+        }
+        self.made = Some(Made {
+            revision,
+            resolution,
+            vertices,
+        });
+        true
+    }
+
     /// The surface drawn now.
     #[must_use]
     pub fn drawn(&self) -> Option<&Made> {

@@ -10,7 +10,7 @@
 
 use bezsolid_core::contour::solid_contour;
 use bezsolid_core::{Axis, Solid3};
-use glam::{DVec2, DVec3, DVec4};
+use glam::{DAffine3, DVec2, DVec3, DVec4};
 
 use crate::camera::{Camera, OrbitView};
 use crate::color::{Rgba, SELECT_COLOR, diverging};
@@ -37,6 +37,24 @@ pub const MAX_RESOLUTION: usize = 160;
 const COARSE_RESOLUTION: usize = 24;
 /// Cells per side of each slice's contour in the stack.
 const STACK_CELLS: usize = 48;
+
+/// A model of many solids around the part the editor holds: the 3D view then draws the whole
+/// model's surface (made elsewhere, see [`View3::set_surface`]), the open part's control points
+/// placed in space, and the selection's box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Whole {
+    /// The open part's coordinates to space (the transforms above it).
+    pub placement: DAffine3,
+    /// Whether a Bézier volume is open in the editor (its control points drawn and dragged).
+    pub part: bool,
+    /// The selection's box in space, drawn as a frame.
+    pub frame: Option<(DVec3, DVec3)>,
+    /// The whole model's box: what the view frames.
+    pub bounds: Option<(DVec3, DVec3)>,
+}
+
+/// The colour of the selection's frame in a model of many solids.
+const FRAME_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
 
 /// A drag of a control point (the camera's gestures are the [`OrbitView`]'s).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,6 +84,7 @@ struct GeometryKey {
     surface: Option<(u64, usize)>,
     stack: Option<(u64, Axis)>,
     height: u64,
+    whole: u64,
 }
 
 /// A scene's triangles for one [`GeometryKey`], and the size of what they show.
@@ -99,6 +118,9 @@ pub struct View3 {
     /// The contour stack wanted from elsewhere: `(revision, axis)`.
     stack_request: Option<(u64, Axis)>,
     geometry: Option<Geometry>,
+    /// A model of many solids around the editor's part, and a count of its changes.
+    whole: Option<Whole>,
+    whole_generation: u64,
 }
 
 impl View3 {
@@ -116,6 +138,8 @@ impl View3 {
             external: false,
             stack_request: None,
             geometry: None,
+            whole: None,
+            whole_generation: 0,
         };
         v.fit(editor);
         v
@@ -139,6 +163,12 @@ impl View3 {
 
     /// Frames the model again (the height scale too): after opening another model, or on request.
     pub fn fit(&mut self, editor: &Editor) {
+        if let Some(whole) = &self.whole {
+            if let Some((min, max)) = whole.bounds {
+                self.orbit.fit_box(min, max);
+            }
+            return;
+        }
         if let Some(volume) = editor.volume() {
             let (min, max) = volume.domain();
             self.orbit.fit_box(min, max);
@@ -167,10 +197,44 @@ impl View3 {
         extent * SPHERE_RADIUS
     }
 
+    /// Puts the view in a model of many solids (`Some`), or back to a model of one (`None`).
+    pub fn set_whole(&mut self, whole: Option<Whole>) {
+        if self.whole != whole {
+            if self.whole.is_none() || whole.is_none() {
+                self.surface.clear();
+                self.stack = None;
+            }
+            self.whole = whole;
+            self.whole_generation += 1;
+        }
+    }
+
+    /// The model of many solids the view is in.
+    #[must_use]
+    pub fn whole(&self) -> Option<&Whole> {
+        self.whole.as_ref()
+    }
+
+    /// The open part's coordinates to space.
+    fn placement(&self) -> DAffine3 {
+        self.whole
+            .as_ref()
+            .map_or(DAffine3::IDENTITY, |w| w.placement)
+    }
+
     /// The world positions of the control points' spheres (the volume's or the patch's).
     fn centres(&self, editor: &Editor) -> Vec<DVec3> {
+        if self.whole.as_ref().is_some_and(|w| !w.part) {
+            return Vec::new();
+        }
+        let map = self.placement();
         match editor.volume() {
-            Some(v) => v.net().points().iter().map(|p| p.truncate()).collect(),
+            Some(v) => v
+                .net()
+                .points()
+                .iter()
+                .map(|p| map.transform_point3(p.truncate()))
+                .collect(),
             None => editor
                 .solid()
                 .net()
@@ -226,9 +290,10 @@ impl View3 {
                 let p = volume.net().points()[k];
                 let (o, d) = self.orbit.ray(q);
                 let back = self.back();
-                let grab = plane_hit(o, d, p.truncate(), back).unwrap_or(p.truncate());
+                let at = self.placement().transform_point3(p.truncate());
+                let grab = plane_hit(o, d, at, back).unwrap_or(at);
                 editor.begin_volume_drag(k);
-                self.gesture = Some(Gesture::VolumePoint(mode, q, p, p.truncate() - grab));
+                self.gesture = Some(Gesture::VolumePoint(mode, q, p, at - grab));
                 return true;
             }
             let centre = self.world(editor.solid().net().points()[k]);
@@ -277,8 +342,13 @@ impl View3 {
                 }
                 Mode::Space => {
                     let (o, d) = self.orbit.ray(q);
-                    match plane_hit(o, d, p.truncate(), self.back()) {
-                        Some(hit) => editor.drag_volume_to(Some(hit + offset), None),
+                    let map = self.placement();
+                    let at = map.transform_point3(p.truncate());
+                    match plane_hit(o, d, at, self.back()) {
+                        Some(hit) => editor.drag_volume_to(
+                            Some(map.inverse().transform_point3(hit + offset)),
+                            None,
+                        ),
                         None => false,
                     }
                 }
@@ -417,22 +487,34 @@ impl View3 {
         resolution: usize,
         data: &[f32],
     ) -> bool {
-        if editor.volume().is_none() || !data.len().is_multiple_of(18) {
+        if (editor.volume().is_none() && self.whole.is_none()) || !data.len().is_multiple_of(18) {
             return false;
         }
-        self.surface.hand_in(
-            revision,
-            editor.revision(),
-            resolution,
-            float_vertices(data, SURFACE_COLOR),
-        )
+        let vertices = float_vertices(data, SURFACE_COLOR);
+        if self.whole.is_some() {
+            self.surface
+                .hand_in_newer(revision, editor.revision(), resolution, vertices)
+        } else {
+            self.surface
+                .hand_in(revision, editor.revision(), resolution, vertices)
+        }
     }
 
     /// Builds the scene of `editor`'s model: the triangles come from the cache unless what they
     /// depend on changed; the camera is applied fresh.
     #[must_use]
     pub fn scene(&mut self, editor: &Editor) -> Scene<'_> {
-        if let Some(volume) = editor.volume() {
+        if self.whole.is_some() {
+            let moving = self.coarse || editor.busy();
+            let resolution = if moving {
+                COARSE_RESOLUTION.min(self.resolution)
+            } else {
+                self.resolution
+            };
+            // The whole model's surface is made elsewhere only (it can be large); the one drawn
+            // stays until the new one comes.
+            self.surface.ask(editor.revision(), resolution);
+        } else if let Some(volume) = editor.volume() {
             self.update_volume_caches(editor, volume);
         }
         let key = GeometryKey {
@@ -442,11 +524,13 @@ impl View3 {
             surface: self.surface.drawn().map(|m| (m.revision, m.resolution)),
             stack: self.stack.as_ref().map(|c| (c.revision, c.axis)),
             height: self.height.to_bits(),
+            whole: self.whole_generation,
         };
         if self.geometry.as_ref().is_none_or(|g| g.key != key) {
-            let (opaque, translucent, extent) = match editor.volume() {
-                Some(volume) => self.volume_geometry(editor, volume),
-                None => self.patch_geometry(editor),
+            let (opaque, translucent, extent) = match (&self.whole, editor.volume()) {
+                (Some(whole), _) => self.whole_geometry(editor, whole),
+                (None, Some(volume)) => self.volume_geometry(editor, volume),
+                (None, None) => self.patch_geometry(editor),
             };
             let generation = next_generation();
             self.geometry = Some(Geometry {
@@ -642,6 +726,77 @@ impl View3 {
         }
         let (min, max) = volume.domain();
         (opaque, translucent, (max - min).max_element() * 1.5)
+    }
+}
+
+impl View3 {
+    /// A model of many solids: its surface, the open part's control points and its slice's net
+    /// placed in space, and the selection's box as a frame.
+    fn whole_geometry(
+        &self,
+        editor: &Editor,
+        whole: &Whole,
+    ) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
+        let mut opaque: Vec<MeshVertex> = Vec::new();
+        if let Some(m) = self.surface.drawn() {
+            opaque.extend_from_slice(&m.vertices);
+        }
+        let extent = whole
+            .bounds
+            .map_or(2.0, |(min, max)| (max - min).max_element().max(1e-9) * 1.5);
+        let mut translucent = Vec::new();
+        if let (true, Some(volume)) = (whole.part, editor.volume()) {
+            let map = whole.placement;
+            let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
+            let r = Self::radius(editor) * map.matrix3.determinant().abs().cbrt().max(1e-9);
+            let net = volume.net();
+            let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
+            let selected = editor
+                .selected()
+                .and_then(|(p, q)| net.flat_index(axis.embed(index, [p, q])));
+            let detail = sphere_detail(net.points().len());
+            for (k, p) in net.points().iter().enumerate() {
+                let on_slice = net
+                    .multi_index(k)
+                    .is_some_and(|ijk| ijk[axis.index()] == index);
+                let (radius, color) = match (selected == Some(k), on_slice) {
+                    (true, _) => (r * 1.3, SELECT_COLOR),
+                    (false, true) => (r, diverging(p.w / scale)),
+                    (false, false) => (r * 0.7, diverging(p.w / scale)),
+                };
+                sphere(
+                    &mut opaque,
+                    map.transform_point3(p.truncate()),
+                    radius,
+                    color,
+                    detail,
+                );
+            }
+            if let Some(slice) = net.slice(axis, index) {
+                let [n, m] = slice.degree();
+                let at = |p: usize, q: usize| map.transform_point3(slice[[p, q]].truncate());
+                net_rods(&mut opaque, (n, m), at, r);
+                translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
+            }
+        }
+        if let Some((lo, hi)) = whole.frame {
+            let r = extent * 0.002;
+            let corner = |c: usize| {
+                DVec3::new(
+                    if c & 1 == 0 { lo.x } else { hi.x },
+                    if c & 2 == 0 { lo.y } else { hi.y },
+                    if c & 4 == 0 { lo.z } else { hi.z },
+                )
+            };
+            for c in 0..8 {
+                for bit in [1, 2, 4] {
+                    if c & bit == 0 {
+                        prism(&mut opaque, corner(c), corner(c | bit), r, FRAME_COLOR);
+                    }
+                }
+            }
+        }
+        (opaque, translucent, extent)
     }
 }
 

@@ -7,6 +7,7 @@ mod names;
 
 pub use names::{
     Backend, DragMode, FreeFormDisplay, FreeFormExample, MeshFormat, Operation, ParamAxis,
+    PartKind, PartOperation,
 };
 
 use glam::DVec2;
@@ -19,12 +20,14 @@ use crate::error::Error;
 use crate::frame2d::frame;
 use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
+use crate::parts::Parts;
 use crate::render::Renderer;
 use crate::render3d::Renderer3;
 use crate::view2d::View2;
-use crate::view3d::View3;
+use crate::view3d::{View3, Whole};
 use bezsolid_core::Solid2;
 use bezsolid_core::mesh::Format;
+use bezsolid_core::model::ModelFile;
 
 /// The modeler on one canvas: the contour view's state and the GPU that draws it.
 #[wasm_bindgen]
@@ -40,6 +43,10 @@ pub struct Modeler {
     adapter: String,
     /// The last 2D frame's figures, for the panel.
     figures: FrameFigures,
+    /// A model of many solids, when the model is one: the editor then holds its open part.
+    parts: Option<Parts>,
+    /// The editor's revision the 3D view's frame of the tree was last made for.
+    whole_revision: Option<u64>,
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -372,6 +379,8 @@ pub async fn start(canvas: HtmlCanvasElement, backend: Backend) -> Result<Modele
         backend,
         adapter: info.name.clone(),
         figures: FrameFigures::default(),
+        parts: None,
+        whole_revision: None,
     })
 }
 
@@ -414,11 +423,17 @@ impl Modeler {
     /// volume's surface and contour stack drawn, undo and redo, the drag mode.
     #[must_use]
     pub fn panel(&self) -> String {
-        Panel::of(&self.editor, self.figures, &self.view3).to_json()
+        let mut panel = Panel::of(&self.editor, self.figures, &self.view3);
+        if let Some(parts) = &self.parts {
+            panel.can_undo = parts.can_undo() && !self.editor.busy();
+            panel.can_redo = parts.can_redo() && !self.editor.busy();
+        }
+        panel.to_json()
     }
 
     /// Draws the current state.
     pub fn render(&mut self) {
+        self.follow_parts();
         self.view2.sync(&self.editor);
         let frame = frame(&self.editor, &self.view2);
         self.figures = FrameFigures::from(&frame);
@@ -506,17 +521,26 @@ impl Modeler {
 
     /// Undoes the last step; returns whether there was one.
     pub fn undo(&mut self) -> bool {
-        self.editor.undo()
+        match &mut self.parts {
+            Some(parts) => parts.undo(&mut self.editor),
+            None => self.editor.undo(),
+        }
     }
 
     /// Redoes the last undone step; returns whether there was one.
     pub fn redo(&mut self) -> bool {
-        self.editor.redo()
+        match &mut self.parts {
+            Some(parts) => parts.redo(&mut self.editor),
+            None => self.editor.redo(),
+        }
     }
 
     /// Forgets the undo history (after restoring the autosaved model at start-up).
     pub fn forget_history(&mut self) {
         self.editor.forget_history();
+        if let Some(parts) = &mut self.parts {
+            parts.forget_history();
+        }
     }
 
     /// Moves the selected point to `(x, y)`.
@@ -543,6 +567,11 @@ impl Modeler {
     ///
     /// For a size outside 2 to 16.
     pub fn reset_grid(&mut self, nu: u32, nv: u32) -> Result<(), JsError> {
+        if self.parts.is_some() {
+            let mut scratch = self.editor.clone();
+            scratch.reset_grid(nu as usize, nv as usize)?;
+            return self.replace_part(&scratch);
+        }
         self.editor.reset_grid(nu as usize, nv as usize)?;
         self.view3.fit(&self.editor);
         Ok(())
@@ -554,6 +583,11 @@ impl Modeler {
     ///
     /// For a size outside 2 to 16.
     pub fn new_volume(&mut self, nu: u32, nv: u32, nw: u32) -> Result<(), JsError> {
+        if self.parts.is_some() {
+            let mut scratch = self.editor.clone();
+            scratch.new_volume(nu as usize, nv as usize, nw as usize)?;
+            return self.replace_part(&scratch);
+        }
         self.editor
             .new_volume(nu as usize, nv as usize, nw as usize)?;
         self.view3.fit(&self.editor);
@@ -574,15 +608,22 @@ impl Modeler {
             ),
             _ => document::preset(name)?,
         };
-        document::open(&mut self.editor, solid);
-        self.view3.fit(&self.editor);
-        Ok(())
+        let file = match solid {
+            bezsolid_core::model::ModelSolid::Patch(s) => ModelFile::from_solid2(&s),
+            bezsolid_core::model::ModelSolid::Volume(v) => ModelFile::from_solid3(&v),
+        };
+        self.open_file(file)
     }
 
     /// The model file (JSON).
     #[must_use]
     pub fn model_json(&self) -> String {
-        document::model_json(&self.editor)
+        match &self.parts {
+            Some(parts) => serde_json::to_string_pretty(&parts.file(&self.editor))
+                .map(|s| s + "\n")
+                .unwrap_or_default(),
+            None => document::model_json(&self.editor),
+        }
     }
 
     /// Opens a model file's text (an undo step); on error the model is unchanged.
@@ -591,10 +632,11 @@ impl Modeler {
     ///
     /// What is wrong with the file.
     pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
-        let solid = document::read_model(text)?;
-        document::open(&mut self.editor, solid);
-        self.view3.fit(&self.editor);
-        Ok(())
+        if !text.trim_start().starts_with('{') {
+            // Not JSON: the reader's own message says so.
+            document::read_model(text)?;
+        }
+        self.open_file(document::read_file(text)?)
     }
 
     /// The share link's fragment, `#v1.…`.
@@ -603,7 +645,12 @@ impl Modeler {
     ///
     /// When the model is too large for a link.
     pub fn link(&self) -> Result<String, JsError> {
-        document::share_fragment(&self.editor).map_err(JsError::from)
+        match &self.parts {
+            Some(parts) => {
+                Ok(bezsolid_core::link::encode(&parts.file(&self.editor)).map_err(Error::from)?)
+            }
+            None => document::share_fragment(&self.editor).map_err(JsError::from),
+        }
     }
 
     /// Opens a share link (a whole URL or its fragment; an undo step); on error the model is
@@ -613,15 +660,17 @@ impl Modeler {
     ///
     /// What is wrong with the link.
     pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
-        let solid = document::open_link(link)?;
-        document::open(&mut self.editor, solid);
-        self.view3.fit(&self.editor);
-        Ok(())
+        let file = bezsolid_core::link::decode_file(link.trim()).map_err(Error::from)?;
+        self.open_file(file)
     }
 
     /// The zero contours of the patch (or of the volume's selected slice) as SVG.
     #[must_use]
     pub fn svg(&self) -> String {
+        if let Some(parts) = self.parts.as_ref().filter(|p| p.outline().dimension() == 2) {
+            let json = serde_json::to_string(&parts.file(&self.editor)).unwrap_or_default();
+            return document::headless::svg(&json).map_or_else(|_| String::new(), |m| m.data);
+        }
         document::svg(self.editor.solid())
     }
 
@@ -631,7 +680,11 @@ impl Modeler {
     ///
     /// For a space-mapped model, which HyperFun cannot express.
     pub fn hyperfun(&self) -> Result<String, JsError> {
-        document::hyperfun(&self.editor).map_err(JsError::from)
+        match &self.parts {
+            Some(parts) => Ok(bezsolid_core::hyperfun::tree_hf(&parts.file(&self.editor))
+                .map_err(|e| error("HyperFun", e))?),
+            None => document::hyperfun(&self.editor).map_err(JsError::from),
+        }
     }
 
     /// The |ξ| that colours full blue or red in the 3D view: the largest |ξ| of the control points.
@@ -656,7 +709,7 @@ impl Modeler {
     /// Whether the model is a volume.
     #[must_use]
     pub fn is_volume(&self) -> bool {
-        self.editor.volume().is_some()
+        self.editor.volume().is_some() && self.parts.as_ref().is_none_or(|p| p.open().is_some())
     }
 
     /// Opens slice `index` across `axis` (0 = u, 1 = v, 2 = w) of the volume in the patch editor.
@@ -711,7 +764,10 @@ impl Modeler {
     /// slice): what the worker makes the SVG export of.
     #[must_use]
     pub fn patch_json(&self) -> String {
-        document::patch_json(&self.editor)
+        match self.parts.as_ref().filter(|p| p.outline().dimension() == 2) {
+            Some(parts) => serde_json::to_string(&parts.file(&self.editor)).unwrap_or_default(),
+            None => document::patch_json(&self.editor),
+        }
     }
 
     /// The fine surface wanted since the last call, `[revision, resolution]`, or `undefined`.
@@ -734,6 +790,9 @@ impl Modeler {
     ///
     /// For a patch model or another format.
     pub fn mesh_file(&self, format: MeshFormat) -> Result<Vec<u8>, JsError> {
+        if self.parts.is_some() {
+            return headless_mesh(&self.model_json(), format, self.view3.resolution() as u32);
+        }
         let format = Format::try_from(format)?;
         let mesh = document::mesh(&self.editor, self.view3.resolution())?;
         Ok(format.write(&mesh))
@@ -745,6 +804,15 @@ impl Modeler {
     ///
     /// For a patch model.
     pub fn mesh_triangles(&self) -> Result<usize, JsError> {
+        if self.parts.is_some() {
+            let stl = headless_mesh(
+                &self.model_json(),
+                MeshFormat::Stl,
+                self.view3.resolution() as u32,
+            )?;
+            // A binary STL: 80 bytes of header, a count, 50 bytes a triangle.
+            return Ok(stl.len().saturating_sub(84) / 50);
+        }
         document::mesh(&self.editor, self.view3.resolution())
             .map(|m| m.triangles.len())
             .map_err(JsError::from)
@@ -765,6 +833,7 @@ impl Modeler {
 
     /// Draws the 3D view.
     pub fn render_3d(&mut self, viewer: &mut Viewer3) {
+        self.follow_parts();
         let scene = self.view3.scene(&self.editor);
         viewer.present(&scene);
     }
@@ -825,6 +894,159 @@ impl Modeler {
     /// Frames the model in the 3D view again.
     pub fn fit_3d(&mut self) {
         self.view3.fit(&self.editor);
+    }
+
+    /// What the outliner shows of a model of many solids, as JSON ([`Parts::to_json`]: the
+    /// rows, the selection, the part open in the editors, the selection's numbers), or
+    /// `undefined` for a model of one solid.
+    #[must_use]
+    pub fn outline(&self) -> Option<String> {
+        self.parts.as_ref().map(Parts::to_json)
+    }
+
+    /// Selects the node at `path` (child indices from the root); a Bézier part opens in the 2D
+    /// and 3D editors.
+    ///
+    /// # Errors
+    ///
+    /// No such node.
+    pub fn outline_select(&mut self, path: Vec<u32>) -> Result<(), JsError> {
+        let path: Vec<usize> = path.into_iter().map(|i| i as usize).collect();
+        self.with_parts(|parts, editor| parts.select(&path, editor))
+    }
+
+    /// Adds a part beside the selection (a model of one solid becomes a union of two); the new
+    /// part is selected. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// A kind of the other dimension, or a model past its caps.
+    pub fn outline_add(&mut self, kind: PartKind) -> Result<(), JsError> {
+        let kind = kind.try_into()?;
+        self.with_parts(|parts, editor| parts.add(kind, editor))
+    }
+
+    /// Puts an operation or a transform around the selection. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// A model past its caps.
+    pub fn outline_wrap(&mut self, operation: PartOperation) -> Result<(), JsError> {
+        let op = operation.try_into()?;
+        self.with_parts(|parts, editor| parts.wrap(op, editor))
+    }
+
+    /// Removes the selection. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// For the root.
+    pub fn outline_remove(&mut self) -> Result<(), JsError> {
+        self.with_parts(Parts::remove)
+    }
+
+    /// Moves the selection `by` places among its siblings. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// None in practice.
+    pub fn outline_reorder(&mut self, by: i32) -> Result<(), JsError> {
+        self.with_parts(|parts, editor| parts.reorder(by as isize, editor))
+    }
+
+    /// Sets a number of the selection (`radius`, `center[0]`, `a0`, `t`, `translate[2]`, …);
+    /// settings of one field in a row are one undo step.
+    ///
+    /// # Errors
+    ///
+    /// A field the node lacks or a value its rules refuse: nothing changes.
+    pub fn outline_set(&mut self, field: &str, value: f64) -> Result<(), JsError> {
+        self.with_parts(|parts, editor| parts.set(field, value, editor))
+    }
+}
+
+impl Modeler {
+    /// Runs an edit of the model of many solids (a model of one solid becomes one first); on
+    /// error nothing changes.
+    fn with_parts(
+        &mut self,
+        edit: impl FnOnce(&mut Parts, &mut Editor) -> Result<(), Error>,
+    ) -> Result<(), JsError> {
+        if self.editor.busy() {
+            return Err(JsError::new("finish the drag first"));
+        }
+        let mut parts = match self.parts.take() {
+            Some(p) => p,
+            None => Parts::of_editor(&mut self.editor)?,
+        };
+        let result = edit(&mut parts, &mut self.editor);
+        self.parts = Some(parts);
+        self.follow_parts();
+        Ok(result?)
+    }
+
+    /// Opens a model file: a model of many solids, or in one a model of one solid, replaces the
+    /// whole model as one undo step of the tree; otherwise the editor opens it as before.
+    fn open_file(&mut self, file: ModelFile) -> Result<(), JsError> {
+        if self.parts.is_none() && !file.solid.is_tree() {
+            let solid = file.to_solid().map_err(Error::from)?;
+            document::open(&mut self.editor, solid);
+            self.view3.fit(&self.editor);
+            return Ok(());
+        }
+        file.to_tree().map_err(Error::from)?;
+        self.with_parts(|parts, editor| parts.replace_root(file.solid, editor))?;
+        self.view3.fit(&self.editor);
+        Ok(())
+    }
+
+    /// Replaces the open part by `scratch`'s model (a new grid; one undo step).
+    fn replace_part(&mut self, scratch: &Editor) -> Result<(), JsError> {
+        let node = document::model_file(scratch).solid;
+        match &self.parts {
+            Some(p) if p.open().is_none() => {
+                return Err(JsError::new(
+                    "select a Bézier part to replace it with a new grid, or add one",
+                ));
+            }
+            _ => {}
+        }
+        self.with_parts(|parts, editor| parts.replace_selected(node, editor))
+    }
+
+    /// Writes what the editor changed back into the tree, and brings the 3D view's frame of the
+    /// tree (the part's placement, the selection's box, the model's box) up to date.
+    fn follow_parts(&mut self) {
+        let Some(parts) = &mut self.parts else {
+            return;
+        };
+        parts.sync(&self.editor);
+        if self.editor.busy() || self.whole_revision == Some(self.editor.revision()) {
+            return;
+        }
+        self.whole_revision = Some(self.editor.revision());
+        if parts.outline().dimension() != 3 {
+            self.view3.set_whole(None);
+            return;
+        }
+        let first = self.view3.whole().is_none();
+        let open = parts.open();
+        let bounds = match parts.tree(&self.editor) {
+            Ok(bezsolid_core::tree::ModelTree::Space(t)) => t
+                .bounds()
+                .map(|(lo, hi)| (glam::DVec3::from_array(lo), glam::DVec3::from_array(hi))),
+            _ => None,
+        };
+        let whole = Whole {
+            placement: open.map_or(glam::DAffine3::IDENTITY, |p| parts.placement(p)),
+            part: open.is_some() && self.editor.volume().is_some(),
+            frame: parts.bounds_of(parts.outline().selected(), &self.editor),
+            bounds,
+        };
+        self.view3.set_whole(Some(whole));
+        if first {
+            self.view3.fit(&self.editor);
+        }
     }
 }
 

@@ -18,6 +18,7 @@ use wasm_bindgen::prelude::*;
 use crate::editor::Mode;
 use crate::error::Error;
 use crate::freeform::Display;
+use crate::outline::{NewNode, Wrap};
 
 /// The error for a string that is none of `names`: "unknown mesh format: use "obj", "stl" or "ply"".
 fn unknown(what: &str, names: &[&str]) -> Error {
@@ -94,6 +95,29 @@ page_names! {
         Icosphere = "icosphere" => Example::Icosphere,
         Torus = "torus" => Example::Torus,
         Blob = "blob" => Example::Blob,
+    }
+
+    /// A part the outliner adds to a model of many solids: a primitive of the model's dimension
+    /// (`"sphere"` is a circle in 2D, `"box"` a rectangle, `"half"` a half-plane or half-space) or
+    /// a regular Bézier patch or volume (`"bezier"`).
+    PartKind => NewNode, "part" {
+        Sphere = "sphere" => NewNode::Sphere,
+        Box = "box" => NewNode::Box,
+        Cylinder = "cylinder" => NewNode::Cylinder,
+        Torus = "torus" => NewNode::Torus,
+        Half = "half" => NewNode::Half,
+        Bezier = "bezier" => NewNode::Bezier,
+    }
+
+    /// An operation the outliner puts around the selected part.
+    PartOperation => Wrap, "operation" {
+        Union = "union" => Wrap::Union,
+        Intersection = "intersection" => Wrap::Intersection,
+        Difference = "difference" => Wrap::Difference,
+        BlendUnion = "blend_union" => Wrap::BlendUnion,
+        BlendIntersection = "blend_intersection" => Wrap::BlendIntersection,
+        Morph = "morph" => Wrap::Morph,
+        Transform = "transform" => Wrap::Transform,
     }
 
     /// Which graphics API a view asks for: `"auto"` (WebGPU where the browser has it, else

@@ -1,0 +1,574 @@
+//! A model of many solids in the page: the [`Outline`] of its tree, the one undo history of every
+//! change to it, and the Bézier part whose control points the 2D and 3D editors edit.
+//!
+//! The [`Editor`] holds the open Bézier part (the selected node, when it is a patch or a volume)
+//! as it holds a model of one solid, so its views and drags work unchanged; [`Parts::sync`] writes
+//! what the editor changed back into the tree as one undo step when a drag or an entry ends, and
+//! [`Parts::file`] gives the whole tree with the part as the editor has it now (during a drag too,
+//! for the live surface). Undo and redo step through the tree's history, edits of a part included:
+//! the editor's own history is not used while a tree is open.
+
+use bezsolid_core::model::{ModelFile, Rotation, SolidSpec};
+use bezsolid_core::tree::ModelTree;
+use glam::{DAffine3, DMat3, DVec3};
+
+use crate::document;
+use crate::editor::{Editor, HISTORY_LIMIT};
+use crate::error::Error;
+use crate::outline::{NewNode, NodePath, Outline, Wrap};
+
+/// The tree and its selection, as the history keeps them.
+#[derive(Clone, Debug, PartialEq)]
+struct Snapshot {
+    root: SolidSpec,
+    selected: NodePath,
+}
+
+/// A model of many solids, its history and the part open in the editor (see the module
+/// documentation).
+#[derive(Clone, Debug)]
+pub struct Parts {
+    outline: Outline,
+    undo: Vec<Snapshot>,
+    redo: Vec<Snapshot>,
+    /// The field last set, on which node: consecutive settings of it (a slider's moves) are one
+    /// undo step.
+    last_set: Option<(NodePath, String)>,
+    /// The Bézier part in the editor: its path.
+    open: Option<NodePath>,
+    /// The editor's revision last written back (or loaded).
+    synced: u64,
+}
+
+/// The node's spec of the editor's model.
+fn editor_spec(editor: &Editor) -> SolidSpec {
+    document::model_file(editor).solid
+}
+
+fn is_bezier(spec: &SolidSpec) -> bool {
+    matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. })
+}
+
+/// `T · Rz · Ry · Rx · S` of a transform node in 3D (DESIGN §5), identity for other nodes.
+fn node_map(spec: &SolidSpec) -> DAffine3 {
+    let SolidSpec::Transform {
+        translate,
+        rotate,
+        scale,
+        ..
+    } = spec
+    else {
+        return DAffine3::IDENTITY;
+    };
+    let v = |x: &Option<Vec<f64>>, default: f64| {
+        let x = x.as_deref().unwrap_or(&[]);
+        DVec3::new(
+            x.first().copied().unwrap_or(default),
+            x.get(1).copied().unwrap_or(default),
+            x.get(2).copied().unwrap_or(default),
+        )
+    };
+    let r = match rotate {
+        Some(Rotation::Angles(r)) => *r,
+        Some(Rotation::Angle(a)) => [0.0, 0.0, *a],
+        None => [0.0; 3],
+    };
+    let rot = DMat3::from_rotation_z(r[2].to_radians())
+        * DMat3::from_rotation_y(r[1].to_radians())
+        * DMat3::from_rotation_x(r[0].to_radians());
+    DAffine3::from_mat3_translation(rot * DMat3::from_diagonal(v(scale, 1.0)), v(translate, 0.0))
+}
+
+impl Parts {
+    /// The parts of `root`: the first Bézier part (depth first) is selected and opened in
+    /// `editor`, or else the root is selected.
+    ///
+    /// # Errors
+    ///
+    /// A tree that breaks a rule of DESIGN §5.
+    pub fn new(root: SolidSpec, editor: &mut Editor) -> Result<Self, Error> {
+        let outline = Self::outline_of(root)?;
+        let mut parts = Self {
+            outline,
+            undo: Vec::new(),
+            redo: Vec::new(),
+            last_set: None,
+            open: None,
+            synced: editor.revision(),
+        };
+        parts.reload(editor)?;
+        Ok(parts)
+    }
+
+    /// The outline of `root` with its first Bézier part (depth first) selected, or its root.
+    fn outline_of(root: SolidSpec) -> Result<Outline, Error> {
+        let mut outline = Outline::new(root)?;
+        if let Some(row) = outline.rows().into_iter().find(|r| r.bezier) {
+            outline.select(&row.path)?;
+        }
+        Ok(outline)
+    }
+
+    /// The editor's model of one solid as a tree of one part, selected and open.
+    ///
+    /// # Errors
+    ///
+    /// None for a model the editor holds; the type is [`Parts::new`]'s.
+    pub fn of_editor(editor: &mut Editor) -> Result<Self, Error> {
+        Self::new(editor_spec(editor), editor)
+    }
+
+    /// The outline (the tree as last written back, and the selection).
+    #[must_use]
+    pub fn outline(&self) -> &Outline {
+        &self.outline
+    }
+
+    /// The path of the part open in the editor.
+    #[must_use]
+    pub fn open(&self) -> Option<&[usize]> {
+        self.open.as_deref()
+    }
+
+    /// The tree with the open part as `editor` has it now (during a drag too).
+    #[must_use]
+    pub fn root(&self, editor: &Editor) -> SolidSpec {
+        let mut o = self.outline.clone();
+        if let Some(path) = &self.open {
+            // The editor's part is a valid node of the tree's dimension: this cannot fail.
+            let _ = o.replace(path, editor_spec(editor));
+        }
+        o.root().clone()
+    }
+
+    /// The model file of the whole tree (see [`Self::root`]).
+    #[must_use]
+    pub fn file(&self, editor: &Editor) -> ModelFile {
+        ModelFile::from_spec(self.root(editor))
+    }
+
+    /// The checked tree (see [`Self::root`]).
+    ///
+    /// # Errors
+    ///
+    /// None in practice: every tree the outline holds was checked.
+    pub fn tree(&self, editor: &Editor) -> Result<ModelTree, Error> {
+        Ok(self.file(editor).to_tree()?)
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            root: self.outline.root().clone(),
+            selected: self.outline.selected().to_vec(),
+        }
+    }
+
+    fn push(&mut self, before: Snapshot) {
+        if self.snapshot() == before {
+            return;
+        }
+        self.undo.push(before);
+        if self.undo.len() > HISTORY_LIMIT {
+            self.undo.remove(0);
+        }
+        self.redo.clear();
+    }
+
+    /// Writes what the editor changed in the open part back into the tree, as one undo step,
+    /// unless a drag is under way. Call it after anything that may edit the part.
+    pub fn sync(&mut self, editor: &Editor) {
+        if editor.revision() == self.synced || editor.busy() {
+            return;
+        }
+        self.synced = editor.revision();
+        let Some(path) = self.open.clone() else {
+            return;
+        };
+        let spec = editor_spec(editor);
+        if self.outline.node(&path) == Some(&spec) {
+            return;
+        }
+        let before = self.snapshot();
+        if self.outline.replace(&path, spec).is_ok() {
+            self.last_set = None;
+            self.push(before);
+        }
+    }
+
+    /// Opens the selected node in the editor when it is a Bézier part (and it is not open as it
+    /// is already); bumps the editor's revision so that what is drawn of the tree follows.
+    fn reload(&mut self, editor: &mut Editor) -> Result<(), Error> {
+        let selected = self.outline.selected().to_vec();
+        let node = self.outline.node(&selected).cloned();
+        match node {
+            Some(spec) if is_bezier(&spec) => {
+                let same =
+                    self.open.as_deref() == Some(&selected[..]) && editor_spec(editor) == spec;
+                if !same {
+                    document::open(editor, ModelFile::from_spec(spec).to_solid()?);
+                }
+                self.open = Some(selected);
+            }
+            _ => self.open = None,
+        }
+        editor.forget_history();
+        editor.touch();
+        self.synced = editor.revision();
+        Ok(())
+    }
+
+    /// Applies `edit` to the outline as one undo step (the open part written back first), then
+    /// opens the selection.
+    fn edit(
+        &mut self,
+        editor: &mut Editor,
+        edit: impl FnOnce(&mut Outline) -> Result<(), Error>,
+    ) -> Result<(), Error> {
+        self.sync(editor);
+        let before = self.snapshot();
+        edit(&mut self.outline)?;
+        self.last_set = None;
+        self.push(before);
+        self.reload(editor)
+    }
+
+    /// Replaces the whole model by `root` (an opened file, link or preset; one undo step).
+    ///
+    /// # Errors
+    ///
+    /// A tree that breaks a rule: nothing changes.
+    pub fn replace_root(&mut self, root: SolidSpec, editor: &mut Editor) -> Result<(), Error> {
+        let outline = Self::outline_of(root)?;
+        self.edit(editor, |o| {
+            *o = outline;
+            Ok(())
+        })
+    }
+
+    /// Replaces the selected node by `node` (a new grid for the open part; one undo step).
+    ///
+    /// # Errors
+    ///
+    /// A node of the other dimension: nothing changes.
+    pub fn replace_selected(&mut self, node: SolidSpec, editor: &mut Editor) -> Result<(), Error> {
+        let path = self.outline.selected().to_vec();
+        self.edit(editor, |o| o.replace(&path, node))
+    }
+
+    /// Selects the node at `path` (not an undo step).
+    ///
+    /// # Errors
+    ///
+    /// No such node.
+    pub fn select(&mut self, path: &[usize], editor: &mut Editor) -> Result<(), Error> {
+        self.sync(editor);
+        self.outline.select(path)?;
+        self.last_set = None;
+        self.reload(editor)
+    }
+
+    /// Adds a node of `kind` beside the selection ([`Outline::add`]), at the right of the
+    /// selection's bounds.
+    ///
+    /// # Errors
+    ///
+    /// A kind of the other dimension, or a tree past the caps.
+    pub fn add(&mut self, kind: NewNode, editor: &mut Editor) -> Result<(), Error> {
+        let at = self.beside(editor);
+        self.edit(editor, |o| o.add(kind, at))
+    }
+
+    /// Puts `op` around the selection ([`Outline::wrap`]).
+    ///
+    /// # Errors
+    ///
+    /// A tree past the caps.
+    pub fn wrap(&mut self, op: Wrap, editor: &mut Editor) -> Result<(), Error> {
+        let at = self.beside(editor);
+        self.edit(editor, |o| o.wrap(op, at))
+    }
+
+    /// Removes the selection ([`Outline::remove`]).
+    ///
+    /// # Errors
+    ///
+    /// For the root.
+    pub fn remove(&mut self, editor: &mut Editor) -> Result<(), Error> {
+        self.edit(editor, Outline::remove)
+    }
+
+    /// Moves the selection `by` places among its siblings ([`Outline::reorder`]).
+    ///
+    /// # Errors
+    ///
+    /// See [`Outline::reorder`].
+    pub fn reorder(&mut self, by: isize, editor: &mut Editor) -> Result<(), Error> {
+        self.edit(editor, |o| o.reorder(by))
+    }
+
+    /// Sets a number of the selection ([`Outline::set`]); settings of one field of one node in a
+    /// row (a slider's moves) are one undo step.
+    ///
+    /// # Errors
+    ///
+    /// A field the node lacks, or a value the tree's rules refuse: nothing changes.
+    pub fn set(&mut self, field: &str, value: f64, editor: &mut Editor) -> Result<(), Error> {
+        self.sync(editor);
+        let key = (self.outline.selected().to_vec(), field.to_owned());
+        let before = self.snapshot();
+        self.outline.set(field, value)?;
+        if self.last_set.as_ref() != Some(&key) {
+            self.push(before);
+        }
+        self.last_set = Some(key);
+        editor.touch();
+        self.synced = editor.revision();
+        Ok(())
+    }
+
+    /// Forgets every undo and redo step (after restoring an autosaved model at start-up).
+    pub fn forget_history(&mut self) {
+        self.undo.clear();
+        self.redo.clear();
+        self.last_set = None;
+    }
+
+    /// Whether there is a step to undo.
+    #[must_use]
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty()
+    }
+
+    /// Whether there is an undone step to redo.
+    #[must_use]
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    /// Undoes the last step (a drag of a part's point, an added node, a slider's setting, …);
+    /// returns whether there was one.
+    pub fn undo(&mut self, editor: &mut Editor) -> bool {
+        self.step(editor, true)
+    }
+
+    /// Redoes the last undone step; returns whether there was one.
+    pub fn redo(&mut self, editor: &mut Editor) -> bool {
+        self.step(editor, false)
+    }
+
+    fn step(&mut self, editor: &mut Editor, back: bool) -> bool {
+        if editor.busy() {
+            return false;
+        }
+        self.sync(editor);
+        let (from, to) = if back {
+            (&mut self.undo, &mut self.redo)
+        } else {
+            (&mut self.redo, &mut self.undo)
+        };
+        let Some(snapshot) = from.pop() else {
+            return false;
+        };
+        let now = Snapshot {
+            root: self.outline.root().clone(),
+            selected: self.outline.selected().to_vec(),
+        };
+        to.push(now);
+        // A snapshot was a checked tree.
+        if let Ok(mut o) = Outline::new(snapshot.root) {
+            let _ = o.select(&snapshot.selected);
+            self.outline = o;
+        }
+        self.last_set = None;
+        self.open = None;
+        let _ = self.reload(editor);
+        true
+    }
+
+    /// The map from the coordinates of the node at `path` to space: the transforms above it
+    /// (3D trees; identity in 2D).
+    #[must_use]
+    pub fn placement(&self, path: &[usize]) -> DAffine3 {
+        if self.outline.dimension() != 3 {
+            return DAffine3::IDENTITY;
+        }
+        let mut map = DAffine3::IDENTITY;
+        for k in 0..path.len() {
+            if let Some(node) = self.outline.node(&path[..k]) {
+                map *= node_map(node);
+            }
+        }
+        map
+    }
+
+    /// The box in space of the node at `path` (its bounds moved by the transforms above it), if
+    /// it is bounded.
+    #[must_use]
+    pub fn bounds_of(&self, path: &[usize], editor: &Editor) -> Option<(DVec3, DVec3)> {
+        let root = self.root(editor);
+        let node = path
+            .iter()
+            .try_fold(&root, |spec, &i| spec.children().get(i))?;
+        let (lo, hi) = match ModelFile::from_spec(node.clone()).to_tree().ok()? {
+            ModelTree::Space(t) => {
+                let (lo, hi) = t.bounds()?;
+                (DVec3::from_array(lo), DVec3::from_array(hi))
+            }
+            ModelTree::Plane(t) => {
+                let (lo, hi) = t.bounds()?;
+                (DVec3::new(lo[0], lo[1], 0.0), DVec3::new(hi[0], hi[1], 0.0))
+            }
+        };
+        let map = self.placement(path);
+        let corners = (0..8).map(|c| {
+            map.transform_point3(DVec3::new(
+                if c & 1 == 0 { lo.x } else { hi.x },
+                if c & 2 == 0 { lo.y } else { hi.y },
+                if c & 4 == 0 { lo.z } else { hi.z },
+            ))
+        });
+        Some(
+            corners.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), p| {
+                (a.min(p), b.max(p))
+            }),
+        )
+    }
+
+    /// Where a new node goes: at the right of the selection's box (the origin for an unbounded
+    /// one).
+    fn beside(&self, editor: &Editor) -> DVec3 {
+        match self.bounds_of(self.outline.selected(), editor) {
+            Some((lo, hi)) if (hi - lo).is_finite() => {
+                let c = 0.5 * (lo + hi);
+                DVec3::new(hi.x, c.y, c.z)
+            }
+            _ => DVec3::ZERO,
+        }
+    }
+
+    /// What the outliner shows, as JSON: `dimension`, `selected` and `open` (paths), `rows`
+    /// (`path`, `depth`, `label`, `bezier`), `fields` of the selection (`name`, `value`), and
+    /// `undo`, `redo`.
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        let rows: Vec<_> = self
+            .outline
+            .rows()
+            .into_iter()
+            .map(|r| {
+                serde_json::json!({
+                    "path": r.path, "depth": r.depth, "label": r.label, "bezier": r.bezier,
+                })
+            })
+            .collect();
+        let fields: Vec<_> = self
+            .outline
+            .fields()
+            .into_iter()
+            .map(|(name, value)| serde_json::json!({ "name": name, "value": value }))
+            .collect();
+        serde_json::json!({
+            "dimension": self.outline.dimension(),
+            "selected": self.outline.selected(),
+            "open": self.open,
+            "rows": rows,
+            "fields": fields,
+            "undo": self.can_undo(),
+            "redo": self.can_redo(),
+        })
+        .to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bezsolid_core::Solid3;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    fn volume_editor() -> Editor {
+        let mut e = Editor::new(bezsolid_core::Solid2::fig9());
+        e.new_volume(4, 4, 4).unwrap();
+        e.forget_history();
+        e
+    }
+
+    /// Built as the page builds it: a volume, parts added, a point of the volume dragged, a
+    /// blend's setting moved like a slider; each change one undo step, undone and redone.
+    #[test]
+    fn every_change_to_a_model_of_many_solids_is_one_undo_step() {
+        let mut e = volume_editor();
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        assert_eq!(parts.open(), Some(&[][..]));
+        parts.add(NewNode::Sphere, &mut e).unwrap();
+        parts.add(NewNode::Box, &mut e).unwrap();
+        assert!(matches!(parts.outline().root(), SolidSpec::Union { of } if of.len() == 3));
+        assert_eq!(parts.open(), None, "a sphere is not a Bézier part");
+        // Open the volume and drag one of its points: one step, written back when the drag ends.
+        parts.select(&[0], &mut e).unwrap();
+        assert_eq!(parts.open(), Some(&[0][..]));
+        let before = parts.outline().root().clone();
+        e.begin_volume_drag(0);
+        assert!(e.drag_volume_to(Some(DVec3::new(-0.3, -0.2, -0.1)), None));
+        parts.sync(&e);
+        assert_eq!(
+            parts.outline().root(),
+            &before,
+            "not while the drag is under way"
+        );
+        assert_ne!(
+            parts.root(&e),
+            before,
+            "but the whole tree follows the drag"
+        );
+        e.end_drag();
+        parts.sync(&e);
+        let dragged = parts.outline().root().clone();
+        assert_ne!(dragged, before);
+        // A blend around the box, its a0 moved in three settings: one step.
+        parts.select(&[2], &mut e).unwrap();
+        parts.wrap(Wrap::BlendUnion, &mut e).unwrap();
+        for a0 in [0.2, 0.3, 0.4] {
+            parts.set("a0", a0, &mut e).unwrap();
+        }
+        assert!(parts.set("a1", 0.0, &mut e).is_err(), "a1 = 0 is refused");
+        let blended = parts.outline().root().clone();
+        assert!(parts.undo(&mut e), "the a0 settings");
+        assert!(parts.undo(&mut e), "the blend");
+        assert_eq!(parts.outline().root(), &dragged);
+        assert!(parts.undo(&mut e), "the drag");
+        assert_eq!(parts.outline().root(), &before);
+        assert!(parts.redo(&mut e) && parts.redo(&mut e) && parts.redo(&mut e));
+        assert_eq!(parts.outline().root(), &blended);
+        assert!(!parts.can_redo());
+        // The tree the page meshes is the whole model.
+        let ModelTree::Space(t) = parts.tree(&e).unwrap() else {
+            panic!("3D")
+        };
+        assert_eq!(t.leaf_count(), 4);
+        assert_eq!(t.bezier_count(), 1);
+    }
+
+    #[test]
+    fn a_part_under_a_transform_is_placed_and_framed_in_space() {
+        let mut e = volume_editor();
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        parts.wrap(Wrap::Transform, &mut e).unwrap();
+        parts.set("translate[0]", 2.0, &mut e).unwrap();
+        parts.set("scale[2]", 3.0, &mut e).unwrap();
+        parts.set("rotate[2]", 90.0, &mut e).unwrap();
+        let map = parts.placement(&[0]);
+        // (1, 0, 1) scaled to (1, 0, 3), turned about z to (0, 1, 3), moved to (2, 1, 3).
+        let p = map.transform_point3(DVec3::new(1.0, 0.0, 1.0));
+        assert!((p - DVec3::new(2.0, 1.0, 3.0)).length() < 1e-12, "{p}");
+        // The transform's box in space holds the moved volume's points.
+        let (lo, hi) = parts.bounds_of(&[], &e).unwrap();
+        parts.select(&[0], &mut e).unwrap();
+        let volume: &Solid3 = e.volume().unwrap();
+        for q in volume.net().points() {
+            let w = map.transform_point3(q.truncate());
+            assert!(w.cmpge(lo - 1e-9).all() && w.cmple(hi + 1e-9).all(), "{w}");
+        }
+    }
+}

@@ -1,0 +1,154 @@
+// A model of many solids built in a real browser by clicks alone, on the backend under test: a
+// volume, a sphere, a box and a torus added beside it, a point of the volume dragged in space in the
+// 3D view (the volume becomes space-mapped), a blend put around the sphere and its a0 slid, one
+// undo; then the model shared by link and opened in a fresh page, and the whole model's surface
+// drawn with the selection framed.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { decodePng } from './png.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+const outline = (page) => page.evaluate(() => JSON.parse(window.bezsolid.modeler.outline() ?? 'null'));
+const labels = async (page) => (await outline(page)).rows.map((r) => r.label);
+const surfaceAt = (page, resolution) => page.waitForFunction(
+  (r) => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === r, resolution, { timeout: 60_000 });
+
+/** Warm tones of the shaded surface in a screenshot of the 3D view. */
+function surfaceTones(png) {
+  const img = decodePng(png);
+  const tones = new Set();
+  for (let y = 0; y < img.height; y += 3) {
+    for (let x = 0; x < img.width; x += 3) {
+      const [r, g, b] = img.at(x, y);
+      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
+    }
+  }
+  return tones.size;
+}
+
+test('a model of five parts is built by clicks, edited, undone, shared and opened again', async () => {
+  const { page, errors } = await open(browser);
+  // A volume to start from: one solid, no parts yet.
+  await page.click('#new-volume');
+  await page.waitForSelector('body[data-kind="volume"]');
+  assert.equal(await outline(page), null, 'a model of one solid');
+  assert.equal(await page.isVisible('#outline-hint'), true);
+
+  // Parts added beside it join one union; each is selected as it comes.
+  await page.click('[data-add="sphere"]');
+  await page.click('[data-add="box"]');
+  await page.click('[data-add="torus"]');
+  await settle(page);
+  let o = await outline(page);
+  assert.deepEqual(o.rows.map((r) => r.depth), [0, 1, 1, 1, 1]);
+  assert.equal(o.rows[0].label, 'Union');
+  assert.match(o.rows[1].label, /^Bézier volume 4 × 4 × 3/);
+  assert.match(o.rows[2].label, /^Sphere/);
+  assert.deepEqual(o.selected, [3]);
+  assert.equal(o.open, null, 'a torus is no Bézier part');
+  assert.equal(await page.isVisible('#no-part'), true, 'the 2D view says how to edit points');
+  assert.equal(await page.locator('#outline-tree [role="treeitem"]').count(), 5);
+  assert.match(await page.textContent('#model-name'), /Many solids, 5 nodes/);
+
+  // The volume opens in the editors; a sphere of it dragged in space in the 3D view.
+  await page.click('#outline-tree [data-path="0"]');
+  await page.waitForSelector('body[data-kind="volume"]');
+  o = await outline(page);
+  assert.deepEqual(o.open, [0]);
+  assert.equal(await page.isVisible('#no-part'), false);
+  await page.check('input[name="mode"][value="space"]');
+  await surfaceAt(page, 64);
+  const box = await page.locator('#view3d').boundingBox();
+  const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.sphere_screen_3d(47)]);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x + 40, box.y + y + 30, { steps: 6 });
+  await page.mouse.up();
+  await settle(page);
+  assert.equal(JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).space_mapped, true);
+  const dragged = await page.evaluate(() => window.bezsolid.modeler.model_json());
+
+  // A blended union around the sphere (with a second, small sphere), its a0 slid in steps: one
+  // undo step for the slide.
+  await page.click('#outline-tree [data-path="1"]');
+  await page.click('[data-wrap="blend_union"]');
+  await settle(page);
+  o = await outline(page);
+  assert.match(o.rows[2].label, /^Blended union a0 = 0.1/);
+  assert.equal(o.rows.filter((r) => !r.label.match(/union|Union/)).length, 5, 'five parts');
+  const slider = page.locator('[data-slider="a0"]');
+  for (const v of ['0.2', '0.3', '0.45']) {
+    await slider.fill(v);
+    await settle(page);
+  }
+  assert.match((await labels(page))[2], /a0 = 0.45/);
+  await page.click('#undo');
+  await settle(page);
+  assert.match((await labels(page))[2], /a0 = 0.1$/, 'the slide was one step');
+  await page.click('#redo');
+  await settle(page);
+  assert.match((await labels(page))[2], /a0 = 0.45/);
+
+  // The whole model's surface, the volume's points placed in it; the selection framed.
+  await page.click('#outline-tree [data-path="0"]');
+  await surfaceAt(page, 64);
+  await settle(page);
+  const shot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'parts-3d.png'), shot);
+  writeFileSync(join(ARTIFACTS, 'parts-page.png'), await page.screenshot());
+  assert.ok(surfaceTones(shot) > 40, 'the shaded surface of the whole model is drawn');
+
+  // Shared by link, opened in a fresh page: the same model.
+  const model = await page.evaluate(() => window.bezsolid.modeler.model_json());
+  assert.notEqual(model, dragged);
+  await page.click('#copy-link');
+  await page.waitForFunction(() => document.getElementById('share-url').value.includes('#v1.'));
+  const link = await page.inputValue('#share-url');
+  const fresh = await open(browser, link.slice(link.indexOf('#')));
+  await settle(fresh.page);
+  assert.equal(await fresh.page.evaluate(() => window.bezsolid.modeler.model_json()), model);
+  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 7);
+  await surfaceAt(fresh.page, 64);
+  await settle(fresh.page);
+  assert.ok(surfaceTones(await fresh.page.locator('#view3d').screenshot()) > 40);
+  assert.deepEqual(fresh.errors, []);
+  await fresh.page.close();
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a bad value is refused with a message and the model stays; keys move through the parts', async () => {
+  const { page, errors } = await open(browser);
+  await page.click('#new-volume');
+  await page.click('[data-add="sphere"]');
+  await settle(page);
+  const before = await page.evaluate(() => window.bezsolid.modeler.model_json());
+  const radius = page.locator('[data-field="radius"]');
+  await radius.fill('0');
+  await radius.dispatchEvent('change');
+  await settle(page);
+  assert.match(await page.textContent('#status'), /radius/);
+  assert.equal(await radius.getAttribute('aria-invalid'), 'true');
+  assert.equal(await page.evaluate(() => window.bezsolid.modeler.model_json()), before);
+  // The tree by keyboard: ↑ selects the volume, Delete on the root is refused, Delete on the
+  // sphere removes it (a union of one is its part).
+  await page.focus('#outline-tree [aria-selected="true"]');
+  await page.keyboard.press('ArrowUp');
+  await settle(page);
+  assert.deepEqual((await outline(page)).open, [0]);
+  await page.keyboard.press('ArrowDown');
+  await settle(page);
+  await page.keyboard.press('Delete');
+  await settle(page);
+  const o = await outline(page);
+  assert.equal(o.rows.length, 1);
+  assert.match(o.rows[0].label, /^Bézier volume/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

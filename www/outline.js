@@ -1,0 +1,148 @@
+// The outliner: the model as a tree of parts (primitives, Bézier patches and volumes, operations
+// and moves), beside the views. Adding a part to a model of one solid makes it a model of many.
+// Selecting a Bézier part opens its control points in the 2D and 3D editors; the 3D view shows the
+// whole model, the selection framed. The selection's numbers are typed, or slid for blends and
+// morphs (a slider's moves are one undo step). All of it is the modeler's (parts.rs); this module
+// draws the rows and passes the clicks.
+import { $ } from './ui.js';
+
+// The numbers with sliders, and their ranges (typed numbers may go past them).
+const SLIDERS = {
+  a0: [0, 1, 0.01], a1: [0.05, 2, 0.01], a2: [0.05, 2, 0.01], t: [0, 1, 0.01],
+};
+
+// A field's name as people read it: `center[1]` → `center y`.
+const fieldLabel = (name) => name.replace(/\[(\d)\]/, (_, i) => ` ${'xyz'[Number(i)]}`);
+
+/** Sets up the outliner on `app` (see main.js); returns what the page asks of it. */
+export function setupOutline(app) {
+  const { modeler } = app;
+  const list = $('outline-tree');
+  const fields = $('outline-fields');
+  let state = null; // the last `modeler.outline()`, parsed
+  let fieldsOf = ''; // the selection and field names the inputs were made for
+
+  const pathKey = (path) => path.join('.');
+  const select = (path) => app.attempt('Select', () => modeler.outline_select(Uint32Array.from(path)));
+
+  for (const button of document.querySelectorAll('[data-add]')) {
+    button.addEventListener('click', () => app.attempt('Add a part', () => modeler.outline_add(button.dataset.add)));
+  }
+  for (const button of document.querySelectorAll('[data-wrap]')) {
+    button.addEventListener('click', () => app.attempt('Put an operation around the part', () => modeler.outline_wrap(button.dataset.wrap)));
+  }
+  $('part-up').addEventListener('click', () => app.attempt('Move the part', () => modeler.outline_reorder(-1)));
+  $('part-down').addEventListener('click', () => app.attempt('Move the part', () => modeler.outline_reorder(1)));
+  $('part-remove').addEventListener('click', () => app.attempt('Remove the part', () => modeler.outline_remove()));
+
+  // The tree's keys (the WAI-ARIA tree pattern): ↑ ↓ move the selection, Home and End go to the
+  // ends, Delete removes, Alt+↑ Alt+↓ reorder.
+  list.addEventListener('keydown', (e) => {
+    if (!state) return;
+    const rows = state.rows;
+    const at = rows.findIndex((r) => pathKey(r.path) === pathKey(state.selected));
+    let to = null;
+    if (e.key === 'ArrowDown' && e.altKey) app.attempt('Move the part', () => modeler.outline_reorder(1));
+    else if (e.key === 'ArrowUp' && e.altKey) app.attempt('Move the part', () => modeler.outline_reorder(-1));
+    else if (e.key === 'ArrowDown') to = Math.min(rows.length - 1, at + 1);
+    else if (e.key === 'ArrowUp') to = Math.max(0, at - 1);
+    else if (e.key === 'Home') to = 0;
+    else if (e.key === 'End') to = rows.length - 1;
+    else if (e.key === 'Delete' || e.key === 'Backspace') app.attempt('Remove the part', () => modeler.outline_remove());
+    else return;
+    e.preventDefault();
+    if (to !== null && to !== at) select(rows[to].path);
+    requestAnimationFrame(() => list.querySelector('[aria-selected="true"]')?.focus());
+  });
+
+  const makeRows = () => {
+    const rows = state ? state.rows : [];
+    list.replaceChildren(...rows.map((row) => {
+      const li = document.createElement('li');
+      const selected = state && pathKey(row.path) === pathKey(state.selected);
+      li.setAttribute('role', 'treeitem');
+      li.setAttribute('aria-level', String(row.depth + 1));
+      li.setAttribute('aria-selected', String(selected));
+      li.tabIndex = selected ? 0 : -1;
+      li.dataset.path = pathKey(row.path);
+      li.style.paddingLeft = `${0.4 + row.depth * 1.1}rem`;
+      li.className = row.bezier ? 'bezier' : '';
+      li.textContent = row.label;
+      if (row.bezier) li.title = 'A Bézier part: select it to edit its control points in the 2D and 3D views';
+      li.addEventListener('click', () => select(row.path));
+      return li;
+    }));
+  };
+
+  const makeFields = () => {
+    fields.replaceChildren();
+    if (!state) return;
+    for (const { name, value } of state.fields) {
+      const wrap = document.createElement('label');
+      wrap.className = 'field';
+      wrap.textContent = fieldLabel(name);
+      const number = document.createElement('input');
+      number.type = 'number';
+      number.step = 'any';
+      number.inputMode = 'decimal';
+      number.dataset.field = name;
+      number.value = String(Math.round(value * 1e6) / 1e6);
+      number.addEventListener('change', () => {
+        const v = number.valueAsNumber;
+        const ok = Number.isFinite(v) && app.attempt(`Set ${fieldLabel(name)}`, () => modeler.outline_set(name, v));
+        number.setAttribute('aria-invalid', String(!ok));
+      });
+      wrap.append(number);
+      const range = SLIDERS[name];
+      if (range) {
+        const slider = document.createElement('input');
+        slider.type = 'range';
+        [slider.min, slider.max, slider.step] = range.map(String);
+        slider.value = String(value);
+        slider.dataset.slider = name;
+        slider.setAttribute('aria-label', `${fieldLabel(name)} (slider)`);
+        slider.addEventListener('input', () => {
+          number.value = slider.value;
+          app.attempt(`Set ${fieldLabel(name)}`, () => modeler.outline_set(name, slider.valueAsNumber));
+        });
+        wrap.append(slider);
+      }
+      fields.append(wrap);
+    }
+  };
+
+  /** Brings the outliner up to date with the model (each frame of the Bézier mode). */
+  const update = () => {
+    const text = modeler.outline();
+    const next = text ? JSON.parse(text) : null;
+    const changed = JSON.stringify(next) !== JSON.stringify(state);
+    state = next;
+    document.body.dataset.parts = state ? String(state.rows.length) : '';
+    $('part-tools').hidden = !state;
+    $('outline-hint').hidden = !!state;
+    $('no-part').hidden = !state || state.open !== null;
+    if (!changed) return;
+    const hadFocus = list.contains(document.activeElement);
+    makeRows();
+    if (hadFocus) list.querySelector('[aria-selected="true"]')?.focus();
+    // The inputs are made again only for another selection or other fields: typing keeps its place.
+    const key = state ? `${pathKey(state.selected)}|${state.fields.map((f) => f.name).join()}` : '';
+    if (key !== fieldsOf) {
+      fieldsOf = key;
+      makeFields();
+    } else if (state) {
+      for (const { name, value } of state.fields) {
+        const number = fields.querySelector(`[data-field="${name}"]`);
+        if (number && document.activeElement !== number) number.value = String(Math.round(value * 1e6) / 1e6);
+        const slider = fields.querySelector(`[data-slider="${name}"]`);
+        if (slider && document.activeElement !== slider) slider.value = String(value);
+      }
+    }
+    $('outline-info').textContent = state
+      ? `${state.rows.length} ${state.rows.length === 1 ? 'node' : 'nodes'}, ${state.dimension}D; `
+        + (state.open ? 'the selected Bézier part is in the editors.' : `selected: ${state.rows.find((r) => pathKey(r.path) === pathKey(state.selected))?.label ?? '–'}.`)
+      : '';
+  };
+
+  return { update, state: () => state };
+}
