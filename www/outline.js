@@ -120,7 +120,8 @@ export function setupOutline(app) {
     document.body.dataset.parts = state ? String(state.rows.length) : '';
     $('part-tools').hidden = !state;
     $('outline-hint').hidden = !!state;
-    $('no-part').hidden = !state || state.open !== null;
+    $('no-part').hidden = !state || state.dimension !== 3 || state.open !== null;
+    $('no-part-3d').hidden = !state || state.dimension !== 2 || state.open !== null;
     if (!changed) return;
     const hadFocus = list.contains(document.activeElement);
     makeRows();

@@ -6,6 +6,7 @@
 use bezsolid_core::Patch;
 use bezsolid_core::contour::{Grid2, Polyline, contour, sheet_contour, solid_contour};
 use bezsolid_core::rfunc::clip2;
+use bezsolid_core::tree::Tree;
 use glam::{DVec2, DVec3};
 
 use crate::color::{Rgba, SELECT_COLOR, diverging};
@@ -112,6 +113,64 @@ pub fn frame(editor: &Editor, view: &View2) -> Frame {
         CONTOUR_ACCURACY * magnitude,
     );
     let shapes = shapes(editor, view, &contours);
+    Frame {
+        field,
+        shapes,
+        contours,
+        range,
+        folded: false,
+    }
+}
+
+/// Samples of a model of many solids' field along the view's longer side: the whole field where
+/// every Bézier part is regular (a polynomial per sample), fewer where a part is space-mapped (an
+/// inverse map per sample and part).
+pub const TREE_SAMPLES: usize = FIELD_SAMPLES;
+/// See [`TREE_SAMPLES`].
+pub const TREE_MAPPED_SAMPLES: usize = 120;
+
+/// The frame of a 2D model of many solids: the whole tree's field sampled over the view, its zero
+/// contour, and the open Bézier part's control net and points over them (`part`), `long` samples
+/// along the view's longer side.
+#[must_use]
+pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, long: usize) -> Frame {
+    let (w, h) = field_size(view, long);
+    let (vmin, vmax) = view.view_box(editor);
+    let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
+    let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+    let (xs, ys) = (grid.xs(), grid.ys());
+    tree.plan(w * h);
+    let values: Vec<f64> = ys
+        .iter()
+        .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
+        .map(|p| tree.f(p))
+        .collect();
+    let range = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
+    let field = field_image(w, h, &values, range);
+    let magnitude = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let contours = contour(
+        &grid,
+        &values,
+        |p| tree.f(p),
+        CONTOUR_ACCURACY * magnitude,
+    );
+    let shapes = if part {
+        shapes(editor, view, &contours)
+    } else {
+        let mut pen = Pen {
+            out: Vec::new(),
+            size: view.size(),
+            dpr: view.dpr(),
+        };
+        contour_shapes(&mut pen, editor, view, &contours);
+        pen.out
+    };
     Frame {
         field,
         shapes,
@@ -246,6 +305,20 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
             }
         }
     }
+    contour_shapes(&mut pen, editor, view, contours);
+    for (k, p) in patch.points().iter().enumerate() {
+        let q = view.to_screen(editor, p.truncate());
+        if selected == Some(k) {
+            pen.disc(q, POINT_RADIUS + 5.0, SELECT_COLOR);
+        }
+        pen.disc(q, POINT_RADIUS + 1.5, OUTLINE_COLOR);
+        pen.disc(q, POINT_RADIUS, diverging(p.z / scale));
+    }
+    pen.out
+}
+
+/// The zero contour's lines.
+fn contour_shapes(pen: &mut Pen, editor: &Editor, view: &View2, contours: &[Polyline]) {
     for line in contours {
         let pts: Vec<DVec2> = line
             .points
@@ -264,15 +337,6 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
             pen.disc(p, 1.25, CONTOUR_COLOR);
         }
     }
-    for (k, p) in patch.points().iter().enumerate() {
-        let q = view.to_screen(editor, p.truncate());
-        if selected == Some(k) {
-            pen.disc(q, POINT_RADIUS + 5.0, SELECT_COLOR);
-        }
-        pen.disc(q, POINT_RADIUS + 1.5, OUTLINE_COLOR);
-        pen.disc(q, POINT_RADIUS, diverging(p.z / scale));
-    }
-    pen.out
 }
 
 /// `v` on the colour scale's `[−1, 1]`: each sign scaled to its own extreme of `range`.
@@ -365,5 +429,60 @@ impl Pen {
         for k in 0..sides {
             self.triangle(c, at(k), at(k + 1), color);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bezsolid_core::Solid2;
+    use bezsolid_core::model::{ModelFile, SolidSpec};
+    use bezsolid_core::tree::ModelTree;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// Two discs apart and the paper's patch between them: the view shows the whole field, three
+    /// pieces of contour on f = 0 of the whole tree, red inside and blue outside.
+    #[test]
+    fn a_2d_model_of_many_solids_is_drawn_whole() {
+        let disc = |x: f64| SolidSpec::Circle {
+            center: [x, 0.5],
+            radius: 0.3,
+        };
+        let patch = ModelFile::from_solid2(&Solid2::fig9()).solid;
+        let spec = SolidSpec::Union {
+            of: vec![disc(-1.0), patch, disc(2.0)],
+        };
+        let ModelTree::Plane(tree) = ModelFile::from_spec(spec).to_tree().unwrap() else {
+            panic!("2D")
+        };
+        let editor = Editor::new(Solid2::fig9());
+        let mut view = View2::new();
+        view.resize(800.0, 400.0, 1.0);
+        let (lo, hi) = tree.bounds().unwrap();
+        view.set_scene(Some((DVec2::from_array(lo), DVec2::from_array(hi))));
+        let frame = frame_tree(&editor, &view, &tree, false, 200);
+        assert!(frame.range.0 < 0.0 && frame.range.1 > 0.0);
+        assert_eq!(frame.contours.len(), 3, "two discs and the patch's solid");
+        let magnitude = frame.range.0.abs().max(frame.range.1);
+        for line in &frame.contours {
+            for &p in &line.points {
+                assert!(tree.f(p).abs() <= 1e-8 * magnitude, "{p} is on f = 0");
+            }
+        }
+        // The discs' centres are inside (red), a point between them outside (blue).
+        let texel = |p: DVec2| {
+            let q = view.to_screen(&editor, p) / view.size();
+            let (w, h) = (frame.field.width as f64, frame.field.height as f64);
+            let (x, y) = ((q.x * w) as usize, (q.y * h) as usize);
+            let k = (y * frame.field.width as usize + x) * 4;
+            [frame.field.rgba[k], frame.field.rgba[k + 2]]
+        };
+        for c in [DVec2::new(-1.0, 0.5), DVec2::new(2.0, 0.5)] {
+            let [r, b] = texel(c);
+            assert!(r > b, "inside is red at {c}");
+        }
+        let [r, b] = texel(DVec2::new(1.5, 0.5));
+        assert!(b > r, "outside is blue");
     }
 }

@@ -385,6 +385,27 @@ impl Parts {
         true
     }
 
+    /// Whether a Bézier part of the tree (as `editor` has the open one) is space-mapped.
+    #[must_use]
+    pub fn has_space_mapped_part(&self, editor: &Editor) -> bool {
+        let root = self.root(editor);
+        let mut todo = vec![&root];
+        while let Some(spec) = todo.pop() {
+            if is_bezier(spec) {
+                let mapped = match ModelFile::from_spec(spec.clone()).to_solid() {
+                    Ok(bezsolid_core::model::ModelSolid::Patch(s)) => s.inverse().is_some(),
+                    Ok(bezsolid_core::model::ModelSolid::Volume(v)) => v.inverse().is_some(),
+                    Err(_) => false,
+                };
+                if mapped {
+                    return true;
+                }
+            }
+            todo.extend(spec.children());
+        }
+        false
+    }
+
     /// The map from the coordinates of the node at `path` to space: the transforms above it
     /// (3D trees; identity in 2D).
     #[must_use]

@@ -32,6 +32,9 @@ pub struct View2 {
     dpr: f64,
     /// Where the pointer went down for a drag this view began, in CSS pixels.
     press: Option<DVec2>,
+    /// The box to fit instead of the editor's domain: a 2D model of many solids' bounds with the
+    /// open part's domain.
+    scene: Option<(DVec2, DVec2)>,
 }
 
 impl Default for View2 {
@@ -50,7 +53,14 @@ impl View2 {
             size: DVec2::new(640.0, 480.0),
             dpr: 1.0,
             press: None,
+            scene: None,
         }
+    }
+
+    /// Fits `scene` instead of the editor's domain (`None`: the domain again); a view held still
+    /// since a drag stays as it is.
+    pub fn set_scene(&mut self, scene: Option<(DVec2, DVec2)>) {
+        self.scene = scene;
     }
 
     /// Catches up with the editor: fits the domain again after another model was opened, and
@@ -104,7 +114,7 @@ impl View2 {
             let half = self.size * scale * 0.5;
             return (centre - half, centre + half);
         }
-        let (min, max) = editor.solid().domain();
+        let (min, max) = self.scene.unwrap_or_else(|| editor.solid().domain());
         let centre = (min + max) * 0.5;
         let extent = (max - min).max_element();
         let half = (max - min) * 0.5 + DVec2::splat(extent * MARGIN);

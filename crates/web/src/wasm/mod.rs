@@ -17,7 +17,7 @@ use web_sys::HtmlCanvasElement;
 use crate::document;
 use crate::editor::Editor;
 use crate::error::Error;
-use crate::frame2d::frame;
+use crate::frame2d::{TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_tree};
 use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
 use crate::parts::Parts;
@@ -47,6 +47,9 @@ pub struct Modeler {
     parts: Option<Parts>,
     /// The editor's revision the 3D view's frame of the tree was last made for.
     whole_revision: Option<u64>,
+    /// A 2D model of many solids compiled for one revision of the editor: the tree, and whether
+    /// a Bézier part of it is space-mapped (the 2D view then samples it more coarsely).
+    plane: Option<(u64, bezsolid_core::tree::Tree<2>, bool)>,
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -381,6 +384,7 @@ pub async fn start(canvas: HtmlCanvasElement, backend: Backend) -> Result<Modele
         figures: FrameFigures::default(),
         parts: None,
         whole_revision: None,
+        plane: None,
     })
 }
 
@@ -435,7 +439,18 @@ impl Modeler {
     pub fn render(&mut self) {
         self.follow_parts();
         self.view2.sync(&self.editor);
-        let frame = frame(&self.editor, &self.view2);
+        let frame = match &self.plane {
+            Some((_, tree, mapped)) => {
+                let part = self.parts.as_ref().is_some_and(|p| p.open().is_some());
+                let samples = if *mapped {
+                    TREE_MAPPED_SAMPLES
+                } else {
+                    TREE_SAMPLES
+                };
+                frame_tree(&self.editor, &self.view2, tree, part, samples)
+            }
+            None => frame(&self.editor, &self.view2),
+        };
         self.figures = FrameFigures::from(&frame);
         let Some((texture, view)) =
             frame_texture(&self.surface, self.renderer.device(), &self.config)
@@ -506,7 +521,11 @@ impl Modeler {
     pub fn probe(&self, x: f64, y: f64) -> Vec<f64> {
         let q = DVec2::new(x, y);
         let p = self.view2.to_world(&self.editor, q);
-        vec![p.x, p.y, self.view2.probe(&self.editor, q)]
+        let f = match &self.plane {
+            Some((_, tree, _)) => tree.f(p),
+            None => self.view2.probe(&self.editor, q),
+        };
+        vec![p.x, p.y, f]
     }
 
     /// Sets the drag mode: `"function"` or `"space"`.
@@ -1018,17 +1037,44 @@ impl Modeler {
     /// tree (the part's placement, the selection's box, the model's box) up to date.
     fn follow_parts(&mut self) {
         let Some(parts) = &mut self.parts else {
+            self.plane = None;
             return;
         };
         parts.sync(&self.editor);
+        let revision = self.editor.revision();
+        if parts.outline().dimension() == 2
+            && self.plane.as_ref().is_none_or(|(r, ..)| *r != revision)
+        {
+            self.plane = match parts.tree(&self.editor) {
+                Ok(bezsolid_core::tree::ModelTree::Plane(t)) => {
+                    let mapped = parts.has_space_mapped_part(&self.editor);
+                    Some((revision, t, mapped))
+                }
+                _ => None,
+            };
+        } else if parts.outline().dimension() != 2 {
+            self.plane = None;
+        }
         if self.editor.busy() || self.whole_revision == Some(self.editor.revision()) {
             return;
         }
         self.whole_revision = Some(self.editor.revision());
         if parts.outline().dimension() != 3 {
             self.view3.set_whole(None);
+            let scene = self.plane.as_ref().and_then(|(_, t, _)| t.bounds()).map(|(lo, hi)| {
+                let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
+                match parts.open() {
+                    Some(_) => {
+                        let (a, b) = self.editor.solid().domain();
+                        (lo.min(a), hi.max(b))
+                    }
+                    None => (lo, hi),
+                }
+            });
+            self.view2.set_scene(scene);
             return;
         }
+        self.view2.set_scene(None);
         let first = self.view3.whole().is_none();
         let open = parts.open();
         let bounds = match parts.tree(&self.editor) {
