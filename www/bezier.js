@@ -15,7 +15,8 @@ export function setupBezier(app) {
     worker: () => app.runners.surface,
     request: () => modeler.surface_request(),
     revision: () => modeler.revision(),
-    job: ([, resolution]) => ({ kind: 'surface', model: modeler.model_json(), resolution }),
+    // What the view shows: a model of many solids less its hidden parts.
+    job: ([, resolution]) => ({ kind: 'surface', model: modeler.view_json() ?? modeler.model_json(), resolution }),
     accept: ([revision, resolution], { data }) => modeler.set_surface(revision, resolution, data),
     onAccepted: () => app.redraw(VIEW3),
     label: ([, resolution]) => `Meshing the surface at ${resolution}`,

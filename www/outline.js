@@ -34,6 +34,14 @@ export function setupOutline(app) {
   $('part-up').addEventListener('click', () => app.attempt('Move the part', () => modeler.outline_reorder(-1)));
   $('part-down').addEventListener('click', () => app.attempt('Move the part', () => modeler.outline_reorder(1)));
   $('part-remove').addEventListener('click', () => app.attempt('Remove the part', () => modeler.outline_remove()));
+  const hide = () => app.attempt('Hide the part', () => modeler.outline_hide());
+  $('part-hide').addEventListener('click', hide);
+  const nameInput = $('part-name');
+  nameInput.addEventListener('change', () => {
+    const ok = app.attempt('Name the part', () => modeler.outline_rename(nameInput.value));
+    nameInput.setAttribute('aria-invalid', String(!ok));
+  });
+  nameInput.addEventListener('keydown', (e) => { if (e.key === 'Enter') nameInput.blur(); });
 
   // The tree's keys (the WAI-ARIA tree pattern): ↑ ↓ move the selection, Home and End go to the
   // ends, Delete removes, Alt+↑ Alt+↓ reorder.
@@ -49,6 +57,11 @@ export function setupOutline(app) {
     else if (e.key === 'Home') to = 0;
     else if (e.key === 'End') to = rows.length - 1;
     else if (e.key === 'Delete' || e.key === 'Backspace') app.attempt('Remove the part', () => modeler.outline_remove());
+    else if (e.key === 'h' || e.key === 'H') hide();
+    else if (e.key === 'F2') {
+      nameInput.focus();
+      nameInput.select();
+    }
     else return;
     e.preventDefault();
     if (to !== null && to !== at) select(rows[to].path);
@@ -66,7 +79,7 @@ export function setupOutline(app) {
       li.tabIndex = selected ? 0 : -1;
       li.dataset.path = pathKey(row.path);
       li.style.paddingLeft = `${0.4 + row.depth * 1.1}rem`;
-      li.className = row.bezier ? 'bezier' : '';
+      li.className = [row.bezier ? 'bezier' : '', row.hidden ? 'hidden-part' : ''].join(' ').trim();
       li.textContent = row.label;
       if (row.bezier) li.title = 'A Bézier part: select it to edit its control points in the 2D and 3D views';
       li.addEventListener('click', () => select(row.path));
@@ -123,6 +136,11 @@ export function setupOutline(app) {
     $('no-part').hidden = !state || state.dimension !== 3 || state.open !== null;
     $('no-part-3d').hidden = !state || state.dimension !== 2 || state.open !== null;
     if (!changed) return;
+    if (state) {
+      if (document.activeElement !== nameInput) nameInput.value = state.name;
+      $('part-hide').setAttribute('aria-pressed', String(state.hidden));
+      $('part-hide').textContent = state.hidden ? 'Show' : 'Hide';
+    }
     const hadFocus = list.contains(document.activeElement);
     makeRows();
     if (hadFocus) list.querySelector('[aria-selected="true"]')?.focus();

@@ -16,8 +16,10 @@ after(async () => { await browser?.close(); });
 
 const outline = (page) => page.evaluate(() => JSON.parse(window.bezsolid.modeler.outline() ?? 'null'));
 const labels = async (page) => (await outline(page)).rows.map((r) => r.label);
-const surfaceAt = (page, resolution) => page.waitForFunction(
-  (r) => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === r, resolution, { timeout: 60_000 });
+const surfaceAt = (page, resolution) => page.waitForFunction((r) => {
+  const p = JSON.parse(window.bezsolid.modeler.panel());
+  return p.surface?.[1] === r && p.surface_current;
+}, resolution, { timeout: 60_000 });
 
 /** Warm tones of the shaded surface in a screenshot of the 3D view. */
 function surfaceTones(png) {
@@ -95,8 +97,49 @@ test('a model of five parts is built by clicks, edited, undone, shared and opene
   await settle(page);
   assert.match((await labels(page))[2], /a0 = 0.45/);
 
-  // The whole model's surface, the volume's points placed in it; the selection framed.
+  // The box moved by its handle in the 3D view: a transform comes around it, and the drag is one
+  // undo step; then turned about its centre by the turn handle.
+  await page.click('#outline-tree [data-path="2"]');
+  await settle(page);
+  assert.match((await labels(page))[5], /^Box/);
+  const handle = async (which) => page.evaluate((k) => [...(window.bezsolid.modeler.handle_screen_3d(k) ?? [])], which);
+  const dragBy = async ([hx, hy], dx, dy) => {
+    await page.mouse.move(box.x + hx, box.y + hy);
+    await page.mouse.down();
+    await page.mouse.move(box.x + hx + dx, box.y + hy + dy, { steps: 5 });
+    await page.mouse.up();
+    await settle(page);
+  };
+  await dragBy(await handle(0), 50, -20);
+  o = await outline(page);
+  assert.equal(o.rows[5].label, 'Transform');
+  assert.match(o.rows[6].label, /^Box/);
+  const moved = o.fields.find((f) => f.name === 'translate[0]').value ** 2 + o.fields.find((f) => f.name === 'translate[2]').value ** 2;
+  assert.ok(moved > 1e-4, 'the drag moved the box');
+  await page.click('#undo');
+  await settle(page);
+  assert.match((await labels(page))[5], /^Box/, 'one undo step took the move and its transform');
+  await page.click('#redo');
+  await settle(page);
+  await page.click('#fit-3d');
+  await settle(page);
+  const turn = await handle(1);
+  assert.ok(turn[0] > 0 && turn[0] < box.width && turn[1] > 0 && turn[1] < box.height, `the turn handle is in sight at ${turn}`);
+  await dragBy(turn, 60, 0);
+  o = await outline(page);
+  assert.ok(Math.abs(o.fields.find((f) => f.name === 'rotate[2]').value - 30) < 1e-9, `half a degree a pixel: ${JSON.stringify(o.fields)} ${JSON.stringify(o.selected)} ${await handle(1)} ${await handle(0)}`);
+
+  // The volume named: a part around it, still open in the editors.
   await page.click('#outline-tree [data-path="0"]');
+  await page.fill('#part-name', 'body');
+  await page.press('#part-name', 'Enter');
+  await settle(page);
+  o = await outline(page);
+  assert.equal(o.rows[1].label, '“body”');
+  assert.match(o.rows[2].label, /^Bézier volume/);
+  assert.deepEqual(o.open, [0, 0]);
+
+  // The whole model's surface, the volume's points placed in it; the selection framed.
   await surfaceAt(page, 64);
   await settle(page);
   const shot = await page.locator('#view3d').screenshot();
@@ -113,7 +156,8 @@ test('a model of five parts is built by clicks, edited, undone, shared and opene
   const fresh = await open(browser, link.slice(link.indexOf('#')));
   await settle(fresh.page);
   assert.equal(await fresh.page.evaluate(() => window.bezsolid.modeler.model_json()), model);
-  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 7);
+  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 9);
+  assert.equal(await fresh.page.textContent('#outline-tree [data-path="0"]'), '“body”');
   await surfaceAt(fresh.page, 64);
   await settle(fresh.page);
   assert.ok(surfaceTones(await fresh.page.locator('#view3d').screenshot()) > 40);
@@ -136,6 +180,21 @@ test('a bad value is refused with a message and the model stays; keys move throu
   assert.match(await page.textContent('#status'), /radius/);
   assert.equal(await radius.getAttribute('aria-invalid'), 'true');
   assert.equal(await page.evaluate(() => window.bezsolid.modeler.model_json()), before);
+  // Hidden by H in the tree: left out of what the views show, kept in the model; H shows it.
+  await page.focus('#outline-tree [aria-selected="true"]');
+  await page.keyboard.press('h');
+  await settle(page);
+  assert.match((await labels(page))[2], /^Unnamed part \(hidden\)$/);
+  assert.equal(await page.getAttribute('#part-hide', 'aria-pressed'), 'true');
+  const file = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.model_json()));
+  assert.equal(file.solid.of[1].kind, 'part');
+  assert.equal(file.solid.of[1].hidden, true);
+  const shown = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.view_json()));
+  assert.equal(shown.solid.kind, 'volume', 'the views show the volume alone');
+  await page.keyboard.press('h');
+  await settle(page);
+  assert.match((await labels(page))[2], /^Sphere/, `shown again, the nameless part is gone: ${await labels(page)}`);
+
   // The tree by keyboard: ↑ selects the volume, Delete on the root is refused, Delete on the
   // sphere removes it (a union of one is its part).
   await page.focus('#outline-tree [aria-selected="true"]');

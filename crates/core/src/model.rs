@@ -233,11 +233,31 @@ pub enum SolidSpec {
         )]
         scale: Option<Vec<f64>>,
     },
+    /// A named part: its solid as it is (`f = f_solid`), with a name for people and whether the
+    /// modeler's views hide it. Evaluation, meshes and exports take the solid whole, hidden or not.
+    Part {
+        /// The solid named.
+        solid: alloc::boxed::Box<SolidSpec>,
+        /// The name, at most [`MAX_NAME_BYTES`] bytes (may be empty).
+        name: String,
+        /// Whether the views leave it out (absent: shown).
+        #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "is_false"))]
+        hidden: bool,
+    },
+}
+
+/// The longest name of a [`SolidSpec::Part`], in bytes.
+pub const MAX_NAME_BYTES: usize = 256;
+
+#[cfg(feature = "serde")]
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's `skip_serializing_if` passes a reference
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl SolidSpec {
-    /// A tree node's children, in order: an operation's `of`, a transform's `solid`; none for a
-    /// leaf.
+    /// A tree node's children, in order: an operation's `of`, a transform's or a part's `solid`;
+    /// none for a leaf.
     #[must_use]
     pub fn children(&self) -> &[SolidSpec] {
         match self {
@@ -247,7 +267,9 @@ impl SolidSpec {
             | Self::BlendUnion { of, .. }
             | Self::BlendIntersection { of, .. }
             | Self::Morph { of, .. } => of,
-            Self::Transform { solid, .. } => core::slice::from_ref(&**solid),
+            Self::Transform { solid, .. } | Self::Part { solid, .. } => {
+                core::slice::from_ref(&**solid)
+            }
             _ => &[],
         }
     }
@@ -268,7 +290,9 @@ impl SolidSpec {
     /// Child `i` ([`SolidSpec::children`]), to change in place.
     pub fn child_mut(&mut self, i: usize) -> Option<&mut SolidSpec> {
         match self {
-            Self::Transform { solid, .. } => (i == 0).then_some(&mut **solid),
+            Self::Transform { solid, .. } | Self::Part { solid, .. } => {
+                (i == 0).then_some(&mut **solid)
+            }
             _ => self.operands_mut()?.get_mut(i),
         }
     }

@@ -154,12 +154,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
         .iter()
         .filter(|v| v.is_finite())
         .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
-    let contours = contour(
-        &grid,
-        &values,
-        |p| tree.f(p),
-        CONTOUR_ACCURACY * magnitude,
-    );
+    let contours = contour(&grid, &values, |p| tree.f(p), CONTOUR_ACCURACY * magnitude);
     let shapes = if part {
         shapes(editor, view, &contours)
     } else {

@@ -76,6 +76,8 @@ pub struct Row {
     pub label: String,
     /// Whether it is a Bézier patch or volume (its control points edit in the 2D and 3D views).
     pub bezier: bool,
+    /// Whether the views leave it out: it is a hidden part, or inside one.
+    pub hidden: bool,
 }
 
 /// A model of many solids, with a selected node.
@@ -132,6 +134,18 @@ fn label(spec: &SolidSpec) -> String {
         SolidSpec::BlendIntersection { a0, .. } => format!("Blended intersection a0 = {a0}"),
         SolidSpec::Morph { t, .. } => format!("Morph t = {t}"),
         SolidSpec::Transform { .. } => "Transform".into(),
+        SolidSpec::Part { name, hidden, .. } => {
+            let name = if name.is_empty() {
+                "Unnamed part".to_owned()
+            } else {
+                format!("“{name}”")
+            };
+            if *hidden {
+                format!("{name} (hidden)")
+            } else {
+                name
+            }
+        }
         SolidSpec::Esc { .. } => "Free-form model".into(),
         SolidSpec::Plasm { .. } => "Script".into(),
     }
@@ -200,18 +214,20 @@ impl Outline {
     #[must_use]
     pub fn rows(&self) -> Vec<Row> {
         let mut out = Vec::new();
-        let mut todo = vec![(Vec::new(), &self.root)];
-        while let Some((path, spec)) = todo.pop() {
+        let mut todo = vec![(Vec::new(), &self.root, false)];
+        while let Some((path, spec, under_hidden)) = todo.pop() {
+            let hidden = under_hidden || matches!(spec, SolidSpec::Part { hidden: true, .. });
             out.push(Row {
                 depth: path.len(),
                 label: label(spec),
                 bezier: matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. }),
+                hidden,
                 path: path.clone(),
             });
             for (i, child) in spec.children().iter().enumerate().rev() {
                 let mut p = path.clone();
                 p.push(i);
-                todo.push((p, child));
+                todo.push((p, child, hidden));
             }
         }
         out
@@ -456,7 +472,7 @@ impl Outline {
     /// a panel lists them.
     #[must_use]
     pub fn fields(&self) -> Vec<(String, f64)> {
-        let Some(node) = self.node(&self.selected) else {
+        let Some(node) = self.node(&self.through_parts(&self.selected)) else {
             return Vec::new();
         };
         let each = |name: &str, v: &[f64]| -> Vec<(String, f64)> {
@@ -518,6 +534,63 @@ impl Outline {
         }
     }
 
+    /// The node a named part stands for: `path`, or through the parts at it to their solid.
+    #[must_use]
+    pub fn through_parts(&self, path: &[usize]) -> NodePath {
+        let mut path = path.to_vec();
+        while let Some(SolidSpec::Part { .. }) = self.node(&path) {
+            path.push(0);
+        }
+        path
+    }
+
+    /// Names the selection (a part around it, or its name changed; an empty name on a shown part
+    /// takes the part away). The part is selected.
+    ///
+    /// # Errors
+    ///
+    /// A name past [`bezsolid_core::model::MAX_NAME_BYTES`].
+    pub fn rename(&mut self, name: &str) -> Result<(), Error> {
+        self.relabel(|n, _| *n = name.trim().to_owned())
+    }
+
+    /// Hides the selection from the views, or shows it again (a part around it, or its flag
+    /// turned; a shown part without a name is taken away). The part is selected.
+    ///
+    /// # Errors
+    ///
+    /// None in practice.
+    pub fn toggle_hidden(&mut self) -> Result<(), Error> {
+        self.relabel(|_, h| *h = !*h)
+    }
+
+    fn relabel(&mut self, change: impl FnOnce(&mut String, &mut bool)) -> Result<(), Error> {
+        let mut root = self.root.clone();
+        let sel = self.selected.clone();
+        let node =
+            Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
+        let old = core::mem::replace(node, SolidSpec::Union { of: Vec::new() });
+        let (solid, mut name, mut hidden) = match old {
+            SolidSpec::Part {
+                solid,
+                name,
+                hidden,
+            } => (solid, name, hidden),
+            other => (Box::new(other), String::new(), false),
+        };
+        change(&mut name, &mut hidden);
+        *node = if name.is_empty() && !hidden {
+            *solid
+        } else {
+            SolidSpec::Part {
+                solid,
+                name,
+                hidden,
+            }
+        };
+        self.commit(root, sel)
+    }
+
     /// Replaces the node at `path` by `node` (the selection stays).
     ///
     /// # Errors
@@ -553,8 +626,8 @@ impl Outline {
         let dim = self.dim;
         let mut root = self.root.clone();
         let sel = self.selected.clone();
-        let node =
-            Self::node_mut(&mut root, &sel).ok_or_else(|| Error::new("there is no such node"))?;
+        let node = Self::node_mut(&mut root, &self.through_parts(&sel))
+            .ok_or_else(|| Error::new("there is no such node"))?;
         let missing = || Error::new(format!("this node has no {field:?}"));
         let slot: &mut f64 = match (node, name, index) {
             (
@@ -715,6 +788,37 @@ mod tests {
         let before = o.clone();
         assert!(o.remove().is_err());
         assert_eq!(o, before);
+    }
+
+    /// Names and hiding: a part around the selection, its numbers set through it, the rows say
+    /// so, and a shown part without a name goes away.
+    #[test]
+    fn nodes_are_named_and_hidden() {
+        let mut o = Outline::new(SolidSpec::Sphere {
+            center: [0.0; 3],
+            radius: 1.0,
+        })
+        .unwrap();
+        o.add(NewNode::Box, DVec3::X).unwrap();
+        o.rename("  lid ").unwrap();
+        assert!(
+            matches!(o.node(&[1]), Some(SolidSpec::Part { name, hidden: false, .. }) if name == "lid")
+        );
+        o.set("max[2]", 0.5).unwrap();
+        assert!(matches!(o.node(&[1, 0]), Some(SolidSpec::Box { max, .. }) if max[2] == 0.5));
+        assert_eq!(o.fields().len(), 6, "the box's numbers");
+        o.toggle_hidden().unwrap();
+        let rows = o.rows();
+        assert_eq!(rows[2].label, "“lid” (hidden)");
+        assert!(rows[2].hidden && rows[3].hidden && !rows[1].hidden);
+        assert!(o.rename(&"x".repeat(300)).is_err(), "a name past the cap");
+        o.rename("").unwrap();
+        assert_eq!(o.rows()[2].label, "Unnamed part (hidden)");
+        o.toggle_hidden().unwrap();
+        assert!(
+            matches!(o.node(&[1]), Some(SolidSpec::Box { .. })),
+            "no name, shown: no part"
+        );
     }
 
     #[test]

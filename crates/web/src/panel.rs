@@ -45,8 +45,11 @@ pub struct Panel {
     pub volume_degree: Option<[usize; 3]>,
     /// The slice edited: `[axis, index]` (axis 0 = u, 1 = v, 2 = w).
     pub slice: Option<[usize; 2]>,
-    /// The volume's surface drawn: `[triangles, resolution]`.
+    /// The surface drawn (a volume's, or a 3D model of many solids'): `[triangles, resolution]`.
     pub surface: Option<[usize; 2]>,
+    /// Whether the surface drawn is of the model as it is (not the one before the last edit,
+    /// drawn while the new one is being made).
+    pub surface_current: bool,
     /// The contour stack drawn: its segments, and whether it is of the model as it is.
     pub stack: Option<(usize, bool)>,
     /// Undo and redo are possible.
@@ -73,10 +76,11 @@ impl Panel {
             },
             volume_degree: editor.volume().map(bezsolid_core::Solid::degree),
             slice: editor.slice().map(|(axis, index)| [axis.index(), index]),
-            surface: editor
-                .volume()
-                .and(view3.surface_info())
+            surface: (editor.volume().is_some() || view3.whole().is_some())
+                .then(|| view3.surface_info())
+                .flatten()
                 .map(|(t, r)| [t, r]),
+            surface_current: view3.surface_is_current(editor),
             stack: view3.stack_info(editor),
             can_undo: editor.can_undo(),
             can_redo: editor.can_redo(),

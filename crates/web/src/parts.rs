@@ -16,6 +16,7 @@ use crate::document;
 use crate::editor::{Editor, HISTORY_LIMIT};
 use crate::error::Error;
 use crate::outline::{NewNode, NodePath, Outline, Wrap};
+use crate::view3d::Handle;
 
 /// The tree and its selection, as the history keeps them.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,6 +39,22 @@ pub struct Parts {
     open: Option<NodePath>,
     /// The editor's revision last written back (or loaded).
     synced: u64,
+    /// A drag of the selection's handle under way.
+    gesture: Option<HandleGesture>,
+}
+
+/// A drag of a handle: the model before it (one undo step for the whole drag), and the
+/// transform's numbers and its parent's map to space when it began.
+#[derive(Clone, Debug)]
+struct HandleGesture {
+    before: Snapshot,
+    translate: DVec3,
+    rotate: [f64; 3],
+    scale: DVec3,
+    parent: DAffine3,
+    /// The point a turn or a scale keeps still: the centre of the transform's solid, in its
+    /// coordinates.
+    pivot: DVec3,
 }
 
 /// The node's spec of the editor's model.
@@ -95,6 +112,7 @@ impl Parts {
             last_set: None,
             open: None,
             synced: editor.revision(),
+            gesture: None,
         };
         parts.reload(editor)?;
         Ok(parts)
@@ -139,6 +157,71 @@ impl Parts {
             let _ = o.replace(path, editor_spec(editor));
         }
         o.root().clone()
+    }
+
+    /// What the views show of the tree (see [`Self::root`]): the tree without its hidden parts
+    /// (an operation keeps the operands left, a blend or a morph left with one is that one);
+    /// `None` when everything is hidden.
+    #[must_use]
+    pub fn shown(&self, editor: &Editor) -> Option<SolidSpec> {
+        fn strip(spec: SolidSpec) -> Option<SolidSpec> {
+            match spec {
+                SolidSpec::Part { hidden: true, .. } => None,
+                SolidSpec::Part { solid, name, .. } => strip(*solid).map(|s| SolidSpec::Part {
+                    solid: Box::new(s),
+                    name,
+                    hidden: false,
+                }),
+                SolidSpec::Transform {
+                    solid,
+                    translate,
+                    rotate,
+                    scale,
+                } => strip(*solid).map(|s| SolidSpec::Transform {
+                    solid: Box::new(s),
+                    translate,
+                    rotate,
+                    scale,
+                }),
+                mut spec => {
+                    let Some(of) = spec.operands_mut() else {
+                        return Some(spec);
+                    };
+                    let all = of.len();
+                    let kept: Vec<SolidSpec> =
+                        core::mem::take(of).into_iter().filter_map(strip).collect();
+                    match kept.len() {
+                        0 => None,
+                        1 if all > 1 => kept.into_iter().next(),
+                        _ => {
+                            *spec.operands_mut()? = kept;
+                            Some(spec)
+                        }
+                    }
+                }
+            }
+        }
+        // The tree is at most 32 deep (checked), so the recursion is bounded.
+        strip(self.root(editor))
+    }
+
+    /// Renames the selection ([`Outline::rename`]). One undo step.
+    ///
+    /// # Errors
+    ///
+    /// A name past the cap.
+    pub fn rename(&mut self, name: &str, editor: &mut Editor) -> Result<(), Error> {
+        self.edit(editor, |o| o.rename(name))
+    }
+
+    /// Hides the selection from the views or shows it again ([`Outline::toggle_hidden`]). One
+    /// undo step.
+    ///
+    /// # Errors
+    ///
+    /// None in practice.
+    pub fn toggle_hidden(&mut self, editor: &mut Editor) -> Result<(), Error> {
+        self.edit(editor, Outline::toggle_hidden)
     }
 
     /// The model file of the whole tree (see [`Self::root`]).
@@ -198,7 +281,7 @@ impl Parts {
     /// Opens the selected node in the editor when it is a Bézier part (and it is not open as it
     /// is already); bumps the editor's revision so that what is drawn of the tree follows.
     fn reload(&mut self, editor: &mut Editor) -> Result<(), Error> {
-        let selected = self.outline.selected().to_vec();
+        let selected = self.outline.through_parts(self.outline.selected());
         let node = self.outline.node(&selected).cloned();
         match node {
             Some(spec) if is_bezier(&spec) => {
@@ -385,6 +468,126 @@ impl Parts {
         true
     }
 
+    /// Begins a drag of the selection's handle in the 3D view: a selection that is not a
+    /// transform gets one around it first (it is then selected). The drag is one undo step.
+    ///
+    /// # Errors
+    ///
+    /// A 2D model, or a tree past the caps.
+    pub fn begin_handle(&mut self, editor: &mut Editor) -> Result<(), Error> {
+        if self.outline.dimension() != 3 {
+            return Err(Error::new("handles move the parts of 3D models"));
+        }
+        self.sync(editor);
+        let before = self.snapshot();
+        if !matches!(
+            self.outline.node(self.outline.selected()),
+            Some(SolidSpec::Transform { .. })
+        ) {
+            let at = self.beside(editor);
+            self.outline.wrap(Wrap::Transform, at)?;
+            self.reload(editor)?;
+        }
+        let selected = self.outline.selected().to_vec();
+        let Some(SolidSpec::Transform {
+            translate,
+            rotate,
+            scale,
+            ..
+        }) = self.outline.node(&selected)
+        else {
+            return Err(Error::new("the selection has no transform"));
+        };
+        let v = |x: &Option<Vec<f64>>, d: f64| {
+            let x = x.as_deref().unwrap_or(&[]);
+            DVec3::new(
+                x.first().copied().unwrap_or(d),
+                x.get(1).copied().unwrap_or(d),
+                x.get(2).copied().unwrap_or(d),
+            )
+        };
+        let rotate = match rotate {
+            Some(Rotation::Angles(r)) => *r,
+            _ => [0.0; 3],
+        };
+        let mut child = selected.clone();
+        child.push(0);
+        let pivot = self
+            .local_bounds(&child, editor)
+            .map_or(DVec3::ZERO, |(lo, hi)| 0.5 * (lo + hi));
+        self.gesture = Some(HandleGesture {
+            before,
+            translate: v(translate, 0.0),
+            rotate,
+            scale: v(scale, 1.0),
+            parent: self.placement(&selected),
+            pivot,
+        });
+        self.last_set = None;
+        Ok(())
+    }
+
+    /// Where the handle's drag has got to since it began: a move in space ([`Handle::Move`]),
+    /// a turn about z in degrees (`amount.x`, [`Handle::Turn`]), or a scale factor (`amount.x`,
+    /// [`Handle::Scale`]). A value the rules refuse is skipped.
+    pub fn drag_handle(&mut self, handle: Handle, amount: DVec3, editor: &mut Editor) {
+        let Some(g) = &self.gesture else { return };
+        let set: Vec<(String, f64)> = match handle {
+            Handle::Move => {
+                let local = g.parent.matrix3.inverse() * amount;
+                let to = g.translate + local;
+                (0..3).map(|i| (format!("translate[{i}]"), to[i])).collect()
+            }
+            Handle::Turn | Handle::Scale => {
+                let (mut rotate, mut scale) = (g.rotate, g.scale);
+                match handle {
+                    Handle::Turn => rotate[2] += amount.x,
+                    _ => scale *= amount.x,
+                }
+                // The pivot stays where it was: t' = t + L·pivot − L'·pivot.
+                let linear = |r: [f64; 3], s: DVec3| {
+                    DMat3::from_rotation_z(r[2].to_radians())
+                        * DMat3::from_rotation_y(r[1].to_radians())
+                        * DMat3::from_rotation_x(r[0].to_radians())
+                        * DMat3::from_diagonal(s)
+                };
+                let t = g.translate + linear(g.rotate, g.scale) * g.pivot
+                    - linear(rotate, scale) * g.pivot;
+                (0..3)
+                    .flat_map(|i| {
+                        [
+                            (format!("translate[{i}]"), t[i]),
+                            (format!("rotate[{i}]"), rotate[i]),
+                            (format!("scale[{i}]"), scale[i]),
+                        ]
+                    })
+                    .collect()
+            }
+        };
+        let mut o = self.outline.clone();
+        if set
+            .iter()
+            .all(|(f, v)| v.is_finite() && o.set(f, *v).is_ok())
+        {
+            self.outline = o;
+            editor.touch();
+            self.synced = editor.revision();
+        }
+    }
+
+    /// Ends the handle's drag: one undo step if it changed the model.
+    pub fn end_handle(&mut self) {
+        if let Some(g) = self.gesture.take() {
+            self.push(g.before);
+        }
+    }
+
+    /// Whether a handle's drag is under way.
+    #[must_use]
+    pub fn handling(&self) -> bool {
+        self.gesture.is_some()
+    }
+
     /// Whether a Bézier part of the tree (as `editor` has the open one) is space-mapped.
     #[must_use]
     pub fn has_space_mapped_part(&self, editor: &Editor) -> bool {
@@ -426,20 +629,7 @@ impl Parts {
     /// it is bounded.
     #[must_use]
     pub fn bounds_of(&self, path: &[usize], editor: &Editor) -> Option<(DVec3, DVec3)> {
-        let root = self.root(editor);
-        let node = path
-            .iter()
-            .try_fold(&root, |spec, &i| spec.children().get(i))?;
-        let (lo, hi) = match ModelFile::from_spec(node.clone()).to_tree().ok()? {
-            ModelTree::Space(t) => {
-                let (lo, hi) = t.bounds()?;
-                (DVec3::from_array(lo), DVec3::from_array(hi))
-            }
-            ModelTree::Plane(t) => {
-                let (lo, hi) = t.bounds()?;
-                (DVec3::new(lo[0], lo[1], 0.0), DVec3::new(hi[0], hi[1], 0.0))
-            }
-        };
+        let (lo, hi) = self.local_bounds(path, editor)?;
         let map = self.placement(path);
         let corners = (0..8).map(|c| {
             map.transform_point3(DVec3::new(
@@ -455,6 +645,24 @@ impl Parts {
         )
     }
 
+    /// The box of the node at `path` in its own coordinates (2D boxes have z = 0).
+    fn local_bounds(&self, path: &[usize], editor: &Editor) -> Option<(DVec3, DVec3)> {
+        let root = self.root(editor);
+        let node = path
+            .iter()
+            .try_fold(&root, |spec, &i| spec.children().get(i))?;
+        Some(match ModelFile::from_spec(node.clone()).to_tree().ok()? {
+            ModelTree::Space(t) => {
+                let (lo, hi) = t.bounds()?;
+                (DVec3::from_array(lo), DVec3::from_array(hi))
+            }
+            ModelTree::Plane(t) => {
+                let (lo, hi) = t.bounds()?;
+                (DVec3::new(lo[0], lo[1], 0.0), DVec3::new(hi[0], hi[1], 0.0))
+            }
+        })
+    }
+
     /// Where a new node goes: at the right of the selection's box (the origin for an unbounded
     /// one).
     fn beside(&self, editor: &Editor) -> DVec3 {
@@ -467,9 +675,10 @@ impl Parts {
         }
     }
 
-    /// What the outliner shows, as JSON: `dimension`, `selected` and `open` (paths), `rows`
-    /// (`path`, `depth`, `label`, `bezier`), `fields` of the selection (`name`, `value`), and
-    /// `undo`, `redo`.
+    /// What the outliner shows, as JSON: `dimension`, `selected` and `open` (paths), the
+    /// selection's `name` and whether it is `hidden` (a named part's), `rows` (`path`, `depth`,
+    /// `label`, `bezier`, `hidden`), `fields` of the selection (`name`, `value`), and `undo`,
+    /// `redo`.
     #[must_use]
     pub fn to_json(&self) -> String {
         let rows: Vec<_> = self
@@ -479,6 +688,7 @@ impl Parts {
             .map(|r| {
                 serde_json::json!({
                     "path": r.path, "depth": r.depth, "label": r.label, "bezier": r.bezier,
+                    "hidden": r.hidden,
                 })
             })
             .collect();
@@ -488,8 +698,14 @@ impl Parts {
             .into_iter()
             .map(|(name, value)| serde_json::json!({ "name": name, "value": value }))
             .collect();
+        let (name, hidden) = match self.outline.node(self.outline.selected()) {
+            Some(SolidSpec::Part { name, hidden, .. }) => (name.as_str(), *hidden),
+            _ => ("", false),
+        };
         serde_json::json!({
             "dimension": self.outline.dimension(),
+            "name": name,
+            "hidden": hidden,
             "selected": self.outline.selected(),
             "open": self.open,
             "rows": rows,
@@ -569,6 +785,104 @@ mod tests {
         };
         assert_eq!(t.leaf_count(), 4);
         assert_eq!(t.bezier_count(), 1);
+    }
+
+    /// A sphere's handles: a move, a turn and a scale dragged, each one undo step; the first
+    /// puts a transform around the sphere.
+    #[test]
+    fn handles_move_turn_and_scale_the_selection_one_step_each() {
+        let mut e = volume_editor();
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        parts.add(NewNode::Sphere, &mut e).unwrap();
+        let centre = |parts: &Parts, e: &Editor| {
+            let (lo, hi) = parts.bounds_of(parts.outline().selected(), e).unwrap();
+            0.5 * (lo + hi)
+        };
+        let c0 = centre(&parts, &e);
+        parts.begin_handle(&mut e).unwrap();
+        assert!(matches!(
+            parts.outline().node(parts.outline().selected()),
+            Some(SolidSpec::Transform { .. })
+        ));
+        for k in 1..=4 {
+            parts.drag_handle(
+                Handle::Move,
+                DVec3::new(0.0, 0.0, 0.1 * f64::from(k)),
+                &mut e,
+            );
+        }
+        parts.end_handle();
+        let c1 = centre(&parts, &e);
+        assert!(
+            (c1 - c0 - DVec3::new(0.0, 0.0, 0.4)).length() < 1e-9,
+            "{c0} → {c1}"
+        );
+        // Scale it by 2 about its own origin, turn it a quarter: the transform's numbers.
+        parts.begin_handle(&mut e).unwrap();
+        parts.drag_handle(Handle::Scale, DVec3::new(2.0, 0.0, 0.0), &mut e);
+        parts.drag_handle(Handle::Scale, DVec3::new(0.0, 0.0, 0.0), &mut e);
+        parts.end_handle();
+        parts.begin_handle(&mut e).unwrap();
+        parts.drag_handle(Handle::Turn, DVec3::new(90.0, 0.0, 0.0), &mut e);
+        parts.end_handle();
+        let fields: Vec<(String, f64)> = parts.outline().fields();
+        let get = |n: &str| fields.iter().find(|(f, _)| f == n).unwrap().1;
+        assert_eq!(
+            get("scale[0]"),
+            2.0,
+            "a zero scale was refused, the last good one kept"
+        );
+        assert_eq!(get("rotate[2]"), 90.0);
+        // Turned and scaled about its centre, which stayed where the move put it.
+        let c2 = centre(&parts, &e);
+        assert!((c2 - c1).length() < 1e-9, "{c1} → {c2}");
+        let (lo, hi) = parts.bounds_of(parts.outline().selected(), &e).unwrap();
+        assert!(
+            ((hi - lo).x - 1.6).abs() < 1e-9,
+            "a sphere of radius 0.8 now"
+        );
+        // Three drags, three steps (the first with its new transform).
+        for _ in 0..3 {
+            assert!(parts.undo(&mut e));
+        }
+        assert!(matches!(
+            parts.outline().node(&[1]),
+            Some(SolidSpec::Sphere { .. })
+        ));
+    }
+
+    /// Hidden parts are left out of what the views show, and only there.
+    #[test]
+    fn hidden_parts_leave_the_views_only() {
+        let mut e = volume_editor();
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        parts.add(NewNode::Sphere, &mut e).unwrap();
+        parts.add(NewNode::Box, &mut e).unwrap();
+        parts.select(&[1], &mut e).unwrap();
+        parts.toggle_hidden(&mut e).unwrap();
+        let shown = parts.shown(&e).unwrap();
+        assert!(matches!(&shown, SolidSpec::Union { of } if of.len() == 2));
+        assert!(matches!(parts.outline().root(), SolidSpec::Union { of } if of.len() == 3));
+        // The box blended with a second sphere, which is hidden: the box alone is shown there.
+        parts.select(&[2], &mut e).unwrap();
+        parts.wrap(Wrap::BlendUnion, &mut e).unwrap();
+        parts.select(&[2, 1], &mut e).unwrap();
+        parts.toggle_hidden(&mut e).unwrap();
+        let Some(SolidSpec::Union { of }) = parts.shown(&e) else {
+            panic!("a union")
+        };
+        assert!(matches!(of[1], SolidSpec::Box { .. }), "{of:?}");
+        // Everything hidden: nothing shown; one undo shows the root again.
+        parts.select(&[], &mut e).unwrap();
+        parts.toggle_hidden(&mut e).unwrap();
+        assert!(parts.shown(&e).is_none());
+        assert!(parts.undo(&mut e));
+        assert!(parts.shown(&e).is_some());
+        // The file keeps every part, hidden or not.
+        let ModelTree::Space(t) = parts.tree(&e).unwrap() else {
+            panic!("3D")
+        };
+        assert_eq!(t.leaf_count(), 4);
     }
 
     #[test]

@@ -51,7 +51,35 @@ pub struct Whole {
     pub frame: Option<(DVec3, DVec3)>,
     /// The whole model's box: what the view frames.
     pub bounds: Option<(DVec3, DVec3)>,
+    /// Whether anything of the model is shown (not every part hidden): its surface is drawn.
+    pub shown: bool,
+    /// Whether the selection has handles (a part or an operation, not a Bézier part whose points
+    /// are dragged instead): dragged, they move, turn and scale it.
+    pub handles: bool,
 }
+
+/// A handle of the selection in a model of many solids, and what dragging it does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Handle {
+    /// At the frame's centre: moves the selection in the plane facing the camera.
+    Move,
+    /// On the frame's +x face: sideways turns the selection about z.
+    Turn,
+    /// At the frame's top corner: up grows the selection, down shrinks it.
+    Scale,
+}
+
+/// Degrees of turn per CSS pixel of a [`Handle::Turn`] drag.
+pub const TURN_PER_PIXEL: f64 = 0.5;
+/// Scale factor per CSS pixel of a [`Handle::Scale`] drag, as an exponent (`e^(0.005 · 100)`
+/// ≈ 1.65 for 100 pixels up).
+pub const SCALE_PER_PIXEL: f64 = 0.005;
+
+const HANDLE_COLORS: [Rgba; 3] = [
+    [1.0, 0.62, 0.0, 1.0],
+    [0.16, 0.36, 0.78, 1.0],
+    [0.18, 0.62, 0.3, 1.0],
+];
 
 /// The colour of the selection's frame in a model of many solids.
 const FRAME_COLOR: Rgba = [1.0, 0.62, 0.0, 1.0];
@@ -64,6 +92,9 @@ enum Gesture {
     /// A control point of a volume: the mode, where the pointer went down, the point then, and the
     /// offset from the grab point (on the plane through it facing the camera) to its centre.
     VolumePoint(Mode, DVec2, DVec4, DVec3),
+    /// A handle of the selection: which, where the pointer went down, the handle's centre then,
+    /// and the offset from the grab point to it.
+    Handle(Handle, DVec2, DVec3, DVec3),
 }
 
 /// The contour stack of a volume's slices across one axis, for one revision of the model.
@@ -121,6 +152,8 @@ pub struct View3 {
     /// A model of many solids around the editor's part, and a count of its changes.
     whole: Option<Whole>,
     whole_generation: u64,
+    /// What a handle's drag asks for since it began, not yet taken ([`Self::take_handle`]).
+    handle_drag: Option<(Handle, DVec3)>,
 }
 
 impl View3 {
@@ -140,6 +173,7 @@ impl View3 {
             geometry: None,
             whole: None,
             whole_generation: 0,
+            handle_drag: None,
         };
         v.fit(editor);
         v
@@ -165,7 +199,9 @@ impl View3 {
     pub fn fit(&mut self, editor: &Editor) {
         if let Some(whole) = &self.whole {
             if let Some((min, max)) = whole.bounds {
-                self.orbit.fit_box(min, max);
+                // A margin for the selection's handles, which stand out of its frame.
+                let pad = DVec3::splat((max - min).max_element() * 0.12);
+                self.orbit.fit_box(min - pad, max + pad);
             }
             return;
         }
@@ -213,6 +249,77 @@ impl View3 {
     #[must_use]
     pub fn whole(&self) -> Option<&Whole> {
         self.whole.as_ref()
+    }
+
+    /// The selection's handles: which, where, and the radius drawn.
+    fn handles(&self) -> Vec<(Handle, DVec3, f64)> {
+        let Some(Whole {
+            handles: true,
+            frame: Some((lo, hi)),
+            bounds,
+            ..
+        }) = &self.whole
+        else {
+            return Vec::new();
+        };
+        let (lo, hi) = (*lo, *hi);
+        if !(hi - lo).is_finite() {
+            return Vec::new();
+        }
+        let extent = bounds.map_or((hi - lo).max_element(), |(a, b)| (b - a).max_element());
+        let r = (extent * 0.025).max(1e-9);
+        let c = 0.5 * (lo + hi);
+        vec![
+            (Handle::Move, c, r * 1.2),
+            (Handle::Turn, DVec3::new(hi.x + 3.0 * r, c.y, c.z), r),
+            (Handle::Scale, hi + DVec3::splat(2.0 * r), r),
+        ]
+    }
+
+    /// The handle the ray through CSS pixel `q` meets first.
+    fn pick_handle(&self, q: DVec2) -> Option<(Handle, DVec3)> {
+        let (o, d) = self.orbit.ray(q);
+        self.handles()
+            .into_iter()
+            .filter_map(|(h, c, r)| {
+                let r = r * 1.4;
+                let v = c - o;
+                let t = v.dot(d);
+                let miss = v.length_squared() - t * t;
+                (t > 0.0 && miss <= r * r).then_some((h, c, t))
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(h, c, _)| (h, c))
+    }
+
+    /// Whether a handle of the selection is under CSS pixel `q`.
+    #[must_use]
+    pub fn over_handle(&self, q: DVec2) -> bool {
+        self.pick_handle(q).is_some()
+    }
+
+    /// The CSS pixel of a handle's centre (`None` when the selection has none, or behind the
+    /// eye).
+    #[must_use]
+    pub fn handle_screen(&self, handle: Handle) -> Option<DVec2> {
+        let (_, c, _) = self.handles().into_iter().find(|(h, ..)| *h == handle)?;
+        self.orbit.screen_of(c)
+    }
+
+    /// What the handle being dragged asks for since the drag began: the move in space
+    /// ([`Handle::Move`]), the turn in degrees (`x` of [`Handle::Turn`]) or the scale factor (`x`
+    /// of [`Handle::Scale`]); `None` when nothing new.
+    pub fn take_handle(&mut self) -> Option<(Handle, DVec3)> {
+        self.handle_drag.take()
+    }
+
+    /// The handle being dragged.
+    #[must_use]
+    pub fn handle_dragged(&self) -> Option<Handle> {
+        match self.gesture {
+            Some(Gesture::Handle(h, ..)) => Some(h),
+            _ => None,
+        }
     }
 
     /// The open part's coordinates to space.
@@ -280,6 +387,13 @@ impl View3 {
         pan: bool,
         other_mode: bool,
     ) -> bool {
+        if !pan && let Some((handle, centre)) = self.pick_handle(q) {
+            let (o, d) = self.orbit.ray(q);
+            let grab = plane_hit(o, d, centre, self.back()).unwrap_or(centre);
+            self.gesture = Some(Gesture::Handle(handle, q, centre, centre - grab));
+            self.handle_drag = None;
+            return true;
+        }
         if !pan && let Some(k) = self.pick(editor, q) {
             let mode = if other_mode {
                 editor.mode().other()
@@ -336,6 +450,23 @@ impl View3 {
     pub fn pointer_move(&mut self, editor: &mut Editor, q: DVec2) -> bool {
         match self.gesture {
             None => self.orbit.pointer_move(q),
+            Some(Gesture::Handle(handle, start, centre, offset)) => {
+                let amount = match handle {
+                    Handle::Move => {
+                        let (o, d) = self.orbit.ray(q);
+                        match plane_hit(o, d, centre, self.back()) {
+                            Some(hit) => hit + offset - centre,
+                            None => return false,
+                        }
+                    }
+                    Handle::Turn => DVec3::new((q.x - start.x) * TURN_PER_PIXEL, 0.0, 0.0),
+                    Handle::Scale => {
+                        DVec3::new(((start.y - q.y) * SCALE_PER_PIXEL).exp(), 0.0, 0.0)
+                    }
+                };
+                self.handle_drag = Some((handle, amount));
+                true
+            }
             Some(Gesture::VolumePoint(mode, start, p, offset)) => match mode {
                 Mode::Function => {
                     editor.drag_volume_to(None, Some(p.w + (start.y - q.y) * XI_PER_PIXEL))
@@ -427,6 +558,12 @@ impl View3 {
             .map(|m| (m.vertices.len() / 3, m.resolution))
     }
 
+    /// Whether the surface drawn is of `editor`'s model as it is now.
+    #[must_use]
+    pub fn surface_is_current(&self, editor: &Editor) -> bool {
+        self.surface.info(editor.revision()).is_some()
+    }
+
     /// Whether the fine surface and the contour stack are made elsewhere (see
     /// [`Self::set_surface`] and [`Self::set_stack`]).
     pub fn set_external_surface(&mut self, external: bool) {
@@ -505,7 +642,7 @@ impl View3 {
     #[must_use]
     pub fn scene(&mut self, editor: &Editor) -> Scene<'_> {
         if self.whole.is_some() {
-            let moving = self.coarse || editor.busy();
+            let moving = self.coarse || editor.busy() || self.handle_dragged().is_some();
             let resolution = if moving {
                 COARSE_RESOLUTION.min(self.resolution)
             } else {
@@ -513,7 +650,11 @@ impl View3 {
             };
             // The whole model's surface is made elsewhere only (it can be large); the one drawn
             // stays until the new one comes.
-            self.surface.ask(editor.revision(), resolution);
+            if self.whole.as_ref().is_some_and(|w| w.shown) {
+                self.surface.ask(editor.revision(), resolution);
+            } else {
+                self.surface.clear();
+            }
         } else if let Some(volume) = editor.volume() {
             self.update_volume_caches(editor, volume);
         }
@@ -778,6 +919,9 @@ impl View3 {
                 net_rods(&mut opaque, (n, m), at, r);
                 translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
             }
+        }
+        for (k, (_, c, r)) in self.handles().into_iter().enumerate() {
+            sphere(&mut opaque, c, r, HANDLE_COLORS[k], (10, 16));
         }
         if let Some((lo, hi)) = whole.frame {
             let r = extent * 0.002;

@@ -204,6 +204,8 @@ impl Writer {
                 let inner = self.inverse_coordinates(q, translate, rotate, scale);
                 self.node(solid, &format!("{path}.solid"), &inner)?
             }
+            // A name is for people: the solid as it is.
+            SolidSpec::Part { solid, .. } => self.node(solid, &format!("{path}.solid"), q)?,
             SolidSpec::Patch { .. } | SolidSpec::Volume { .. } => self.bezier(spec, path, q)?,
             SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
                 unreachable!("refused by the tree's validation")

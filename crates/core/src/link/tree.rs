@@ -4,7 +4,7 @@
 //!
 //! The layout of `v1`'s variant `4` (appended: variants `0` to `3` keep theirs) is a sequence of
 //! [`Node`]s; an operation says how many children follow it (blends and morphs take 2, a
-//! transform 1). Numbers are postcard's: varints for integers, 8 little-endian bytes per `f64`.
+//! transform and a named part 1). Numbers are postcard's: varints for integers, 8 little-endian bytes per `f64`.
 
 use alloc::boxed::Box;
 use alloc::vec::Vec;
@@ -95,6 +95,11 @@ pub(super) enum Node {
         translate: Vec<f64>,
         rotate: Vec<f64>,
         scale: Vec<f64>,
+    },
+    /// A named part (appended: the variants above keep their numbers).
+    Part {
+        name: alloc::string::String,
+        hidden: bool,
     },
 }
 
@@ -194,6 +199,10 @@ pub(super) fn flatten(root: &SolidSpec) -> Result<Vec<Node>, LinkError> {
                 },
                 scale: scale.clone().unwrap_or_default(),
             },
+            SolidSpec::Part { name, hidden, .. } => Node::Part {
+                name: name.clone(),
+                hidden: *hidden,
+            },
         });
         // A blend or morph of another number of nodes is carried as it is; the reader takes two.
         if matches!(
@@ -236,7 +245,7 @@ pub(super) fn build(nodes: Vec<Node>) -> Result<SolidSpec, LinkError> {
                 usize::try_from(*count).map_err(|_| LinkError::Decode)?
             }
             Node::BlendUnion { .. } | Node::BlendIntersection { .. } | Node::Morph { .. } => 2,
-            Node::Transform { .. } => 1,
+            Node::Transform { .. } | Node::Part { .. } => 1,
             _ => 0,
         };
         let mut done = if want == 0 {
@@ -358,6 +367,11 @@ fn operation(open: Open) -> Result<SolidSpec, LinkError> {
                 scale: list(scale),
             }
         }
+        Node::Part { name, hidden } => SolidSpec::Part {
+            solid: Box::new(of.into_iter().next().ok_or(LinkError::Decode)?),
+            name,
+            hidden,
+        },
         _ => return Err(LinkError::Decode),
     })
 }
@@ -370,6 +384,7 @@ mod tests {
     use crate::tree::{MAX_DEPTH, MAX_NODES, ModelTree};
     use alloc::boxed::Box;
     use alloc::format;
+    use alloc::string::String;
     use alloc::vec;
     use alloc::vec::Vec;
     use glam::DVec3;
@@ -394,9 +409,13 @@ mod tests {
                 S::BlendUnion {
                     of: vec![
                         volume_at(0.123_456_789_012_345_6),
-                        S::Sphere {
-                            center: [0.1, -0.2, f64::MIN_POSITIVE],
-                            radius: 1.0 / 3.0,
+                        S::Part {
+                            solid: Box::new(S::Sphere {
+                                center: [0.1, -0.2, f64::MIN_POSITIVE],
+                                radius: 1.0 / 3.0,
+                            }),
+                            name: "Ball \u{2713} \"quoted\"".into(),
+                            hidden: true,
                         },
                     ],
                     a0: 0.5,
@@ -470,9 +489,13 @@ mod tests {
             S::Transform {
                 solid: Box::new(S::Union {
                     of: vec![
-                        S::Circle {
-                            center: [0.0, 0.5],
-                            radius: 1.0,
+                        S::Part {
+                            solid: Box::new(S::Circle {
+                                center: [0.0, 0.5],
+                                radius: 1.0,
+                            }),
+                            name: String::new(),
+                            hidden: false,
                         },
                         S::Rectangle {
                             min: [0.0, 0.0],

@@ -48,6 +48,7 @@ const KINDS: &[&str] = &[
     "blend_intersection",
     "morph",
     "transform",
+    "part",
 ];
 
 /// The most values kept from the fields before `kind` (every number, string and list counts one):
@@ -190,6 +191,8 @@ const NODE_KEYS: &[&str] = &[
     "translate",
     "rotate",
     "scale",
+    "name",
+    "hidden",
 ];
 
 impl Key {
@@ -283,6 +286,8 @@ struct NodeFields {
     translate: Option<Vec<f64>>,
     rotate: Option<Rotation>,
     scale: Option<Vec<f64>>,
+    name: Option<String>,
+    hidden: Option<bool>,
 }
 
 impl NodeFields {
@@ -307,7 +312,9 @@ impl NodeFields {
             14 => fill(&mut self.solid, key, d),
             15 => fill(&mut self.translate, key, d),
             16 => fill(&mut self.rotate, key, d),
-            _ => fill(&mut self.scale, key, d),
+            17 => fill(&mut self.scale, key, d),
+            18 => fill(&mut self.name, key, d),
+            _ => fill(&mut self.hidden, key, d),
         }
     }
 
@@ -391,11 +398,16 @@ impl NodeFields {
                 of: need(f.of, "of")?,
                 t: need(f.t, "t")?,
             },
-            _ => SolidSpec::Transform {
+            "transform" => SolidSpec::Transform {
                 solid: need(f.solid, "solid")?,
                 translate: f.translate,
                 rotate: f.rotate,
                 scale: f.scale,
+            },
+            _ => SolidSpec::Part {
+                solid: need(f.solid, "solid")?,
+                name: need(f.name, "name")?,
+                hidden: f.hidden.unwrap_or(false),
             },
         })
     }

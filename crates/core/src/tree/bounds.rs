@@ -166,6 +166,7 @@ where
             let m = transform_forward::<D>(translate, rotate, scale);
             bounds(solid, level, &forward.after(&m), leaves)
         }
+        SolidSpec::Part { solid, .. } => bounds(solid, level, forward, leaves),
         _ => {
             let leaf = leaves.next()?;
             leaf_bounds(&leaf.shape, level).map(|b| b.mapped(forward))

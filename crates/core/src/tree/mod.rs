@@ -670,7 +670,7 @@ fn kind_dimension(spec: &SolidSpec) -> Result<Option<usize>, &'static str> {
 
 /// The children of a node, each with its path's step (`.of[i]`, or a transform's `.solid`).
 fn children(spec: &SolidSpec) -> Vec<(String, &SolidSpec)> {
-    let transform = matches!(spec, SolidSpec::Transform { .. });
+    let transform = matches!(spec, SolidSpec::Transform { .. } | SolidSpec::Part { .. });
     spec.children()
         .iter()
         .enumerate()
@@ -866,6 +866,19 @@ where
             } => {
                 let inverse = transform_inverse::<D>(path, translate, rotate, scale)?;
                 let map = Some(map.map_or(inverse, |outer| inverse.after(&outer)));
+                self.node(solid, &field("solid"), map, height)?;
+            }
+            SolidSpec::Part { solid, name, .. } => {
+                if name.len() > crate::model::MAX_NAME_BYTES {
+                    return Err(tree_error(
+                        &field("name"),
+                        format!(
+                            "the name is {} bytes; a name is at most {}",
+                            name.len(),
+                            crate::model::MAX_NAME_BYTES
+                        ),
+                    ));
+                }
                 self.node(solid, &field("solid"), map, height)?;
             }
             SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
@@ -1161,6 +1174,48 @@ mod tests {
             Err(ModelError::Tree(e)) => e,
             other => panic!("not refused as a tree: {other:?}"),
         }
+    }
+
+    /// A named part is its solid: the same f everywhere, hidden or not; its name travels through
+    /// the model file; a name past the cap is refused at its path.
+    #[test]
+    fn a_named_part_is_its_solid() {
+        let part = |hidden| S::Part {
+            solid: Box::new(sphere([0.5, 0.0, 0.0], 1.0)),
+            name: "wheel".into(),
+            hidden,
+        };
+        let plain = space(S::Union {
+            of: vec![sphere([0.0; 3], 0.7), sphere([0.5, 0.0, 0.0], 1.0)],
+        });
+        for hidden in [false, true] {
+            let named = space(S::Union {
+                of: vec![sphere([0.0; 3], 0.7), part(hidden)],
+            });
+            for p in points3(7, 200) {
+                assert_eq!(named.f(p).to_bits(), plain.f(p).to_bits());
+            }
+            assert_eq!(named.bounds(), plain.bounds());
+        }
+        let file = ModelFile::from_spec(S::Union {
+            of: vec![sphere([0.0; 3], 0.7), part(true)],
+        });
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(json.contains(r#""kind":"part""#) && json.contains(r#""hidden":true"#));
+        assert_eq!(serde_json::from_str::<ModelFile>(&json).unwrap(), file);
+        let shown = serde_json::to_string(&ModelFile::from_spec(part(false))).unwrap();
+        assert!(!shown.contains("hidden"), "a shown part writes no `hidden`");
+        let e = refused(S::Union {
+            of: vec![
+                sphere([0.0; 3], 0.7),
+                S::Part {
+                    solid: Box::new(sphere([0.0; 3], 1.0)),
+                    name: "x".repeat(crate::model::MAX_NAME_BYTES + 1),
+                    hidden: false,
+                },
+            ],
+        });
+        assert_eq!(e.path, "solid.of[1].name");
     }
 
     fn sphere(c: [f64; 3], r: f64) -> S {

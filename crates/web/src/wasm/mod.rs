@@ -24,7 +24,7 @@ use crate::parts::Parts;
 use crate::render::Renderer;
 use crate::render3d::Renderer3;
 use crate::view2d::View2;
-use crate::view3d::{View3, Whole};
+use crate::view3d::{Handle, View3, Whole};
 use bezsolid_core::Solid2;
 use bezsolid_core::mesh::Format;
 use bezsolid_core::model::ModelFile;
@@ -863,6 +863,15 @@ impl Modeler {
         let grabbed = self
             .view3
             .pointer_down(&mut self.editor, DVec2::new(x, y), pan, shift);
+        if self.view3.handle_dragged().is_some()
+            && let Some(parts) = &mut self.parts
+            && let Err(e) = parts.begin_handle(&mut self.editor)
+        {
+            // Nothing to move: the gesture ends here.
+            self.view3.pointer_up(&mut self.editor);
+            web_sys::console::warn_1(&format!("bezsolid: {e}").into());
+            return false;
+        }
         // The contour view holds still from the start of the drag, as for its own drags.
         self.view2.sync(&self.editor);
         grabbed
@@ -870,18 +879,30 @@ impl Modeler {
 
     /// Pointer moved in the 3D view; returns whether the camera or the model changed.
     pub fn pointer_move_3d(&mut self, x: f64, y: f64) -> bool {
-        self.view3.pointer_move(&mut self.editor, DVec2::new(x, y))
+        let changed = self.view3.pointer_move(&mut self.editor, DVec2::new(x, y));
+        if let (Some((handle, amount)), Some(parts)) = (self.view3.take_handle(), &mut self.parts) {
+            parts.drag_handle(handle, amount, &mut self.editor);
+            self.follow_parts();
+        }
+        changed
     }
 
     /// Pointer released in the 3D view.
     pub fn pointer_up_3d(&mut self) {
+        if self.view3.handle_dragged().is_some()
+            && let Some(parts) = &mut self.parts
+        {
+            parts.end_handle();
+        }
         self.view3.pointer_up(&mut self.editor);
     }
 
     /// Whether a control point is being dragged (in either view).
     #[must_use]
     pub fn editing_3d(&self) -> bool {
-        self.editor.dragging() || self.editor.volume_dragged().is_some()
+        self.editor.dragging()
+            || self.editor.volume_dragged().is_some()
+            || self.view3.handle_dragged().is_some()
     }
 
     /// Whether a 3D gesture (orbit, pan or point drag) is under way.
@@ -893,7 +914,8 @@ impl Modeler {
     /// Whether a control point's sphere is under CSS pixel `(x, y)` of the 3D view.
     #[must_use]
     pub fn hit_3d(&self, x: f64, y: f64) -> bool {
-        self.view3.pick(&self.editor, DVec2::new(x, y)).is_some()
+        let q = DVec2::new(x, y);
+        self.view3.pick(&self.editor, q).is_some() || self.view3.over_handle(q)
     }
 
     /// The wheel over the 3D view: zooms.
@@ -907,6 +929,21 @@ impl Modeler {
     pub fn sphere_screen_3d(&self, index: usize) -> Option<Vec<f64>> {
         self.view3
             .screen_of(&self.editor, index)
+            .map(|q| q.to_array().to_vec())
+    }
+
+    /// The CSS pixel `[x, y]` of the selection's handle in the 3D view (0 moves, 1 turns about
+    /// z, 2 scales), or `undefined` when the selection has none.
+    #[must_use]
+    pub fn handle_screen_3d(&self, which: u32) -> Option<Vec<f64>> {
+        let handle = match which {
+            0 => Handle::Move,
+            1 => Handle::Turn,
+            2 => Handle::Scale,
+            _ => return None,
+        };
+        self.view3
+            .handle_screen(handle)
             .map(|q| q.to_array().to_vec())
     }
 
@@ -971,6 +1008,37 @@ impl Modeler {
     /// None in practice.
     pub fn outline_reorder(&mut self, by: i32) -> Result<(), JsError> {
         self.with_parts(|parts, editor| parts.reorder(by as isize, editor))
+    }
+
+    /// Names the selection (an empty name takes a shown part's name away). One undo step.
+    ///
+    /// # Errors
+    ///
+    /// A name past 256 bytes.
+    pub fn outline_rename(&mut self, name: &str) -> Result<(), JsError> {
+        self.with_parts(|parts, editor| parts.rename(name, editor))
+    }
+
+    /// Hides the selection from the views, or shows it again (the model and its exports keep
+    /// it). One undo step.
+    ///
+    /// # Errors
+    ///
+    /// None in practice.
+    pub fn outline_hide(&mut self) -> Result<(), JsError> {
+        self.with_parts(Parts::toggle_hidden)
+    }
+
+    /// The model file (JSON) of what the views show: the model, less the hidden parts of a model
+    /// of many solids (what the worker meshes for the 3D view); `undefined` when all is hidden.
+    #[must_use]
+    pub fn view_json(&self) -> Option<String> {
+        match &self.parts {
+            Some(parts) => parts
+                .shown(&self.editor)
+                .and_then(|s| serde_json::to_string(&ModelFile::from_spec(s)).ok()),
+            None => Some(self.model_json()),
+        }
     }
 
     /// Sets a number of the selection (`radius`, `center[0]`, `a0`, `t`, `translate[2]`, …);
@@ -1045,8 +1113,11 @@ impl Modeler {
         if parts.outline().dimension() == 2
             && self.plane.as_ref().is_none_or(|(r, ..)| *r != revision)
         {
-            self.plane = match parts.tree(&self.editor) {
-                Ok(bezsolid_core::tree::ModelTree::Plane(t)) => {
+            let shown = parts
+                .shown(&self.editor)
+                .map(|s| ModelFile::from_spec(s).to_tree());
+            self.plane = match shown {
+                Some(Ok(bezsolid_core::tree::ModelTree::Plane(t))) => {
                     let mapped = parts.has_space_mapped_part(&self.editor);
                     Some((revision, t, mapped))
                 }
@@ -1061,16 +1132,20 @@ impl Modeler {
         self.whole_revision = Some(self.editor.revision());
         if parts.outline().dimension() != 3 {
             self.view3.set_whole(None);
-            let scene = self.plane.as_ref().and_then(|(_, t, _)| t.bounds()).map(|(lo, hi)| {
-                let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
-                match parts.open() {
-                    Some(_) => {
-                        let (a, b) = self.editor.solid().domain();
-                        (lo.min(a), hi.max(b))
+            let scene = self
+                .plane
+                .as_ref()
+                .and_then(|(_, t, _)| t.bounds())
+                .map(|(lo, hi)| {
+                    let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
+                    match parts.open() {
+                        Some(_) => {
+                            let (a, b) = self.editor.solid().domain();
+                            (lo.min(a), hi.max(b))
+                        }
+                        None => (lo, hi),
                     }
-                    None => (lo, hi),
-                }
-            });
+                });
             self.view2.set_scene(scene);
             return;
         }
@@ -1088,6 +1163,8 @@ impl Modeler {
             part: open.is_some() && self.editor.volume().is_some(),
             frame: parts.bounds_of(parts.outline().selected(), &self.editor),
             bounds,
+            handles: open.is_none(),
+            shown: parts.shown(&self.editor).is_some(),
         };
         self.view3.set_whole(Some(whole));
         if first {
