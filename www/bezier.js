@@ -250,7 +250,9 @@ export function setupBezier(app) {
       $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
       const [t, resolution] = p.surface ?? [0, 0];
       const stack = p.stack;
-      $('surface-info').textContent = `Surface: ${t.toLocaleString('en')} triangles at ${resolution}; `
+      $('surface-info').textContent = parts
+        ? `Surface of the whole model: ${t.toLocaleString('en')} triangles at ${resolution}${p.surface_current ? '' : ' (of the model before the last edit, until the new one comes)'}`
+        : `Surface: ${t.toLocaleString('en')} triangles at ${resolution}; `
         + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
       document.body.dataset.stack = stack ? `${stack[0]},${stack[1] ? 1 : 0}` : '';
     } else {

@@ -176,18 +176,27 @@ pub mod headless {
         Ok(Some(file.to_tree()?))
     }
 
-    /// The closed mesh of a 3D tree at `resolution` (within its bounds).
-    fn tree_mesh(tree: &ModelTree, resolution: usize) -> Result<Mesh, Error> {
+    /// The closed mesh of a 3D tree at `resolution` (within its bounds). With `view`, a tree
+    /// that may be unbounded is meshed cut by a box a quarter larger on every side than its
+    /// bounded parts ([`bezsolid_core::tree::Tree::parts_box`]): what the 3D view shows of it.
+    fn tree_mesh(tree: &ModelTree, resolution: usize, view: bool) -> Result<Mesh, Error> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
             return Err(Error::new(format!(
                 "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
             )));
         }
         match tree {
+            ModelTree::Space(t) if view && t.bounds().is_none() => {
+                let (lo, hi) = t.parts_box().unwrap_or(([-1.0; 3], [1.0; 3]));
+                let grow = (0..3).map(|i| hi[i] - lo[i]).fold(1e-3, f64::max) * 0.25;
+                let region = (lo.map(|x| x - grow), hi.map(|x| x + grow));
+                Ok(t.polygonize(resolution, MESH_ACCURACY, Some(region))?)
+            }
             ModelTree::Space(t) => match t.polygonize(resolution, MESH_ACCURACY, None) {
                 Err(TreeMeshError::Unbounded) => Err(Error::new(
                     "the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
-                     blend of a space-mapped solid): mesh it with `bezsolid mesh --box`",
+                     blend of a space-mapped solid): intersect it with a box, or mesh it with \
+                     `bezsolid mesh --box`",
                 )),
                 other => Ok(other?),
             },
@@ -263,7 +272,7 @@ pub mod headless {
     pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
         if let Some(t) = tree(text)? {
             return Ok(Made {
-                data: format.write(&tree_mesh(&t, resolution)?),
+                data: format.write(&tree_mesh(&t, resolution, false)?),
                 approximate: 0,
             });
         }
@@ -286,7 +295,7 @@ pub mod headless {
     pub fn surface(text: &str, resolution: usize) -> Result<Made<Vec<f32>>, Error> {
         if let Some(t) = tree(text)? {
             return Ok(Made {
-                data: crate::view3d::mesh_floats(&tree_mesh(&t, resolution)?),
+                data: crate::view3d::mesh_floats(&tree_mesh(&t, resolution, true)?),
                 approximate: 0,
             });
         }
@@ -481,6 +490,21 @@ mod tests {
             "solid": {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0}}"#;
         let e = headless::mesh(half, Format::Stl, 16).unwrap_err();
         assert!(e.message().contains("unbounded"), "{e}");
+        // The 3D view shows it cut by a box around its bounded parts (a sphere on a half-space):
+        // every vertex within the box, some on the half-space's plane.
+        let on_floor = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
+            {"kind": "sphere", "center": [0, 0, 1], "radius": 1},
+            {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0}]}}"#;
+        let surface = headless::surface(on_floor, 24).unwrap().data;
+        assert!(surface.len() > 18 * 100);
+        for v in surface.chunks_exact(6) {
+            // The sphere's box [-1, 1]² × [0, 2], a quarter (0.5) larger on every side.
+            assert!(v[..3].iter().all(|c| c.abs() <= 2.5 + 1e-4), "{v:?}");
+        }
+        assert!(
+            surface.chunks_exact(6).any(|v| v[2].abs() < 1e-6),
+            "the floor"
+        );
         let bad = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
             {"kind": "sphere", "center": [0, 0, 0], "radius": -1}]}}"#;
         let e = headless::mesh(bad, Format::Stl, 16).unwrap_err();

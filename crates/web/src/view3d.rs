@@ -61,7 +61,7 @@ pub struct Whole {
 /// A handle of the selection in a model of many solids, and what dragging it does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Handle {
-    /// At the frame's centre: moves the selection in the plane facing the camera.
+    /// Above the frame: moves the selection in the plane facing the camera.
     Move,
     /// On the frame's +x face: sideways turns the selection about z.
     Turn,
@@ -198,7 +198,18 @@ impl View3 {
     /// Frames the model again (the height scale too): after opening another model, or on request.
     pub fn fit(&mut self, editor: &Editor) {
         if let Some(whole) = &self.whole {
-            if let Some((min, max)) = whole.bounds {
+            // The surface drawn, where there is one (the bounds of a blend are loose).
+            let drawn = self.surface.drawn().and_then(|m| {
+                let (lo, hi) = m.vertices.iter().fold(
+                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                    |(lo, hi), v| {
+                        let p = glam::Vec3::from_array(v.position).as_dvec3();
+                        (lo.min(p), hi.max(p))
+                    },
+                );
+                (lo.cmple(hi).all()).then_some((lo, hi))
+            });
+            if let Some((min, max)) = drawn.or(whole.bounds) {
                 // A margin for the selection's handles, which stand out of its frame.
                 let pad = DVec3::splat((max - min).max_element() * 0.12);
                 self.orbit.fit_box(min - pad, max + pad);
@@ -269,8 +280,10 @@ impl View3 {
         let extent = bounds.map_or((hi - lo).max_element(), |(a, b)| (b - a).max_element());
         let r = (extent * 0.025).max(1e-9);
         let c = 0.5 * (lo + hi);
+        // Outside the frame, where the solid cannot cover them: above it, at its +x side and
+        // past its top corner.
         vec![
-            (Handle::Move, c, r * 1.2),
+            (Handle::Move, DVec3::new(c.x, c.y, hi.z + 3.0 * r), r * 1.2),
             (Handle::Turn, DVec3::new(hi.x + 3.0 * r, c.y, c.z), r),
             (Handle::Scale, hi + DVec3::splat(2.0 * r), r),
         ]

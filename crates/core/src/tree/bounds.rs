@@ -78,6 +78,44 @@ impl<const D: usize> Aabb<D> {
     }
 }
 
+/// The hull of the boxes of every leaf of `spec` that is bounded on its own (at level 0, moved
+/// into space by `forward` and the transforms above it), whatever the operations around them:
+/// where a model that may be unbounded is worth looking at. `None` when no leaf is bounded.
+pub(super) fn parts_hull<'a, const D: usize>(
+    spec: &SolidSpec,
+    forward: &Affine<D>,
+    leaves: &mut impl Iterator<Item = &'a Leaf<D>>,
+) -> Option<Aabb<D>>
+where
+    Dim<D>: Dimension<D>,
+{
+    let join = |a: Option<Aabb<D>>, b: Option<Aabb<D>>| match (a, b) {
+        (Some(a), Some(b)) => Some(a.hull(b)),
+        (a, b) => a.or(b),
+    };
+    match spec {
+        SolidSpec::Transform {
+            solid,
+            translate,
+            rotate,
+            scale,
+        } => {
+            let m = transform_forward::<D>(translate, rotate, scale);
+            parts_hull(solid, &forward.after(&m), leaves)
+        }
+        spec if !spec.children().is_empty() => spec
+            .children()
+            .iter()
+            .fold(None, |h, c| join(h, parts_hull(c, forward, leaves))),
+        _ => {
+            let leaf = leaves.next()?;
+            leaf_bounds(&leaf.shape, 0.0)
+                .filter(|b| !b.is_empty())
+                .map(|b| b.mapped(forward))
+        }
+    }
+}
+
 /// `1 / (2 − √2)`: how much further a union's operands must pass a negative level.
 const UNION_LEVEL: f64 = 1.707_106_781_186_547_5;
 

@@ -1,8 +1,8 @@
 //! The boundary of a tree: a closed triangle mesh of a 3D tree, the zero contour of a 2D one.
 //!
 //! The region is the tree's bounds ([`Tree::bounds`]) or a box the caller gives (for a tree that
-//! may be unbounded). `f` is sampled on a grid half a cell past the region on every side (a cell
-//! for contours), marched, and every vertex put on `f = 0` by a root search along its grid edge.
+//! may be unbounded). `f` is sampled on a grid about half a cell past the region on every side (a
+//! cell for contours), moved off round numbers by an odd fraction of a cell, marched, and every vertex put on `f = 0` by a root search along its grid edge.
 //! Within its own bounds a tree is negative on the outer samples, so the mesh is closed; within a
 //! given box the field is `f & box` (the R-function intersection with the box's own function),
 //! which is negative outside the box, so the mesh is closed there too, cut by the box's faces.
@@ -67,6 +67,13 @@ where
     hi: [f64; D],
     clip: Option<Shape<D>>,
 }
+
+/// How far the sampling grid is moved off the region's corner, in cells. Parts are placed on round
+/// numbers (a box from 0.25 to 2), and a sample exactly on a part's boundary (`f = 0` exactly)
+/// gives coincident vertices and triangles of no area, which mesh readers refuse; a grid moved by
+/// an odd fraction of a cell is on round numbers nowhere. It stays under half a cell, so the outer
+/// samples are still past the region on every side.
+const GRID_SHIFT: f64 = 0.072_334_815_9;
 
 /// The region to sample (`None` for an empty solid).
 fn region<const D: usize>(
@@ -277,7 +284,7 @@ impl Tree<3> {
             .min(DVec3::splat(resolution as f64));
         let step = size / cells;
         let grid = SampleGrid {
-            origin: lo - step * 0.5,
+            origin: lo - step * (0.5 - GRID_SHIFT),
             step,
             dims: cells.to_array().map(|c| c as usize + 2),
         };
@@ -405,7 +412,13 @@ impl Tree<2> {
         };
         let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
         let cell = (hi - lo) / resolution as f64;
-        let grid = Grid2::new(lo - cell, hi + cell, resolution + 3, resolution + 3);
+        let shift = cell * GRID_SHIFT;
+        let grid = Grid2::new(
+            lo - cell + shift,
+            hi + cell + shift,
+            resolution + 3,
+            resolution + 3,
+        );
         let mut field = Field {
             tree: self,
             clip,
@@ -430,6 +443,39 @@ mod tests {
         match ModelFile::from_spec(spec).to_tree().unwrap() {
             ModelTree::Space(t) => t,
             ModelTree::Plane(_) => panic!("2D"),
+        }
+    }
+
+    /// Faces of boxes on nice numbers (where a grid at nice numbers would sample `f = 0` exactly
+    /// and make triangles of no area): every triangle has an area, and the STL written reads back
+    /// as a closed mesh.
+    #[test]
+    fn faces_on_round_numbers_make_no_flat_triangles() {
+        for resolution in [4, 8, 16, 24] {
+            let tree = space(S::Union {
+                of: vec![
+                    S::Box {
+                        min: [0.0; 3],
+                        max: [1.0; 3],
+                    },
+                    S::Box {
+                        min: [0.25; 3],
+                        max: [2.0; 3],
+                    },
+                ],
+            });
+            let mesh = tree.polygonize(resolution, 1e-9, None).unwrap();
+            for t in 0..mesh.triangle_count() {
+                let [a, b, c] = mesh.corners(t);
+                assert!(
+                    (b - a).cross(c - a).length() > 0.0,
+                    "triangle {t} at {resolution}"
+                );
+            }
+            let back = crate::mesh::Format::Stl
+                .read(&crate::mesh::Format::Stl.write(&mesh))
+                .unwrap();
+            back.check_closed_manifold().unwrap();
         }
     }
 

@@ -379,6 +379,8 @@ where
     stack: usize,
     /// A box outside of which `f ≤ 0` (`None`: the solid may be unbounded).
     bounds: Option<bounds::Aabb<D>>,
+    /// See [`Tree::parts_box`].
+    parts: Option<bounds::Aabb<D>>,
 }
 
 /// `f` and the preimages of one point.
@@ -563,6 +565,15 @@ where
         self.bounds.map(|b| (b.lo, b.hi))
     }
 
+    /// A box around every leaf that is bounded on its own (its zero set, moved into place),
+    /// whatever the operations around them: where to look at a tree that may be unbounded (a
+    /// half-space, a cylinder, a blend of a space-mapped solid), not a bound of its solid. `None`
+    /// when no leaf is bounded.
+    #[must_use]
+    pub fn parts_box(&self) -> Option<([f64; D], [f64; D])> {
+        self.parts.map(|b| (b.lo, b.hi))
+    }
+
     /// How many leaves the tree has.
     #[must_use]
     pub fn leaf_count(&self) -> usize {
@@ -737,11 +748,13 @@ where
         };
         b.node(root, "solid", None, 1)?;
         let bounds = bounds::bounds(root, 0.0, &Affine::IDENTITY, &mut b.leaves.iter());
+        let parts = bounds::parts_hull(root, &Affine::IDENTITY, &mut b.leaves.iter());
         Ok(Tree {
             leaves: b.leaves,
             steps: b.steps,
             stack: b.stack,
             bounds,
+            parts,
         })
     }
 
@@ -1216,6 +1229,28 @@ mod tests {
             ],
         });
         assert_eq!(e.path, "solid.of[1].name");
+    }
+
+    #[test]
+    fn the_parts_box_holds_the_bounded_parts_of_an_unbounded_tree() {
+        let tree = space(S::Union {
+            of: vec![
+                sphere([1.0, 0.0, 0.0], 0.5),
+                S::Halfspace {
+                    normal: [0.0, 0.0, 1.0],
+                    offset: 0.0,
+                },
+                S::Transform {
+                    solid: Box::new(sphere([0.0; 3], 1.0)),
+                    translate: Some(vec![0.0, 3.0, 0.0]),
+                    rotate: None,
+                    scale: Some(vec![2.0, 1.0, 1.0]),
+                },
+            ],
+        });
+        assert_eq!(tree.bounds(), None, "a half-space is unbounded");
+        let (lo, hi) = tree.parts_box().unwrap();
+        assert_eq!((lo, hi), ([-2.0, -0.5, -1.0], [2.0, 4.0, 1.0]));
     }
 
     fn sphere(c: [f64; 3], r: f64) -> S {
