@@ -211,3 +211,49 @@ test('a bad value is refused with a message and the model stays; keys move throu
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('a 2D model of many solids: the 2D view draws the whole field and contour; it autosaves', async () => {
+  const { page, errors } = await open(browser);
+  const patch = JSON.parse(await page.evaluate(() => { window.bezsolid.modeler.load_preset('fig9'); return window.bezsolid.modeler.model_json(); })).solid;
+  const model = JSON.stringify({
+    format: 'bezsolid',
+    version: 1,
+    solid: {
+      kind: 'union',
+      of: [
+        { kind: 'circle', center: [-1, 0.5], radius: 0.3 },
+        { kind: 'part', name: 'paper', solid: patch },
+        { kind: 'circle', center: [2, 0.5], radius: 0.3 },
+      ],
+    },
+  });
+  await page.evaluate((m) => { window.bezsolid.modeler.load_model(m); window.bezsolid.redraw(); }, model);
+  await settle(page);
+  await settle(page);
+  const o = await outline(page);
+  assert.equal(o.dimension, 2);
+  assert.deepEqual(o.open, [1, 0], 'the patch opens in the editors');
+  const panel = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel()));
+  assert.equal(panel.frame.contours, 3, 'two discs and the patch solid');
+  // f under the pointer is the whole model's: inside the left disc.
+  const view = await page.locator('#view').boundingBox();
+  const inside = await page.evaluate(({ w, h }) => {
+    for (let y = 0; y < h; y += 4) {
+      for (let x = 0; x < w / 4; x += 4) {
+        const [px, py, f] = window.bezsolid.modeler.probe(x, y);
+        if (Math.hypot(px + 1, py - 0.5) < 0.1) return f;
+      }
+    }
+    return null;
+  }, { w: view.width, h: view.height });
+  assert.ok(inside > 0, `inside the left disc f = ${inside}`);
+  writeFileSync(join(ARTIFACTS, 'parts-2d.png'), await page.screenshot());
+  // Autosaved, and restored as it was in a fresh page.
+  await page.evaluate(() => window.bezsolid.saveNow());
+  await page.reload();
+  await page.waitForSelector('body[data-ready="true"]');
+  assert.equal((await outline(page)).rows.length, 5);
+  assert.equal(await page.isVisible('#no-part-3d'), false, 'the patch is open: the 3D view shows it');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
