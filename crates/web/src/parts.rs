@@ -66,8 +66,9 @@ fn is_bezier(spec: &SolidSpec) -> bool {
     matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. })
 }
 
-/// `T · Rz · Ry · Rx · S` of a transform node in 3D (DESIGN §5), identity for other nodes.
-fn node_map(spec: &SolidSpec) -> DAffine3 {
+/// The numbers of a transform node in 3D: `T`, the angles of `R` in degrees (one angle is about
+/// z) and `S`, the file's defaults where it has none; `None` for other nodes.
+fn transform_numbers(spec: &SolidSpec) -> Option<(DVec3, [f64; 3], DVec3)> {
     let SolidSpec::Transform {
         translate,
         rotate,
@@ -75,25 +76,35 @@ fn node_map(spec: &SolidSpec) -> DAffine3 {
         ..
     } = spec
     else {
-        return DAffine3::IDENTITY;
+        return None;
     };
     let v = |x: &Option<Vec<f64>>, default: f64| {
         let x = x.as_deref().unwrap_or(&[]);
-        DVec3::new(
-            x.first().copied().unwrap_or(default),
-            x.get(1).copied().unwrap_or(default),
-            x.get(2).copied().unwrap_or(default),
-        )
+        DVec3::from_array(core::array::from_fn(|i| {
+            x.get(i).copied().unwrap_or(default)
+        }))
     };
     let r = match rotate {
         Some(Rotation::Angles(r)) => *r,
         Some(Rotation::Angle(a)) => [0.0, 0.0, *a],
         None => [0.0; 3],
     };
-    let rot = DMat3::from_rotation_z(r[2].to_radians())
-        * DMat3::from_rotation_y(r[1].to_radians())
-        * DMat3::from_rotation_x(r[0].to_radians());
-    DAffine3::from_mat3_translation(rot * DMat3::from_diagonal(v(scale, 1.0)), v(translate, 0.0))
+    Some((v(translate, 0.0), r, v(scale, 1.0)))
+}
+
+/// `Rz · Ry · Rx · S` (DESIGN §5), angles in degrees.
+fn linear(rotate: [f64; 3], scale: DVec3) -> DMat3 {
+    DMat3::from_rotation_z(rotate[2].to_radians())
+        * DMat3::from_rotation_y(rotate[1].to_radians())
+        * DMat3::from_rotation_x(rotate[0].to_radians())
+        * DMat3::from_diagonal(scale)
+}
+
+/// `T · Rz · Ry · Rx · S` of a transform node in 3D, identity for other nodes.
+fn node_map(spec: &SolidSpec) -> DAffine3 {
+    transform_numbers(spec).map_or(DAffine3::IDENTITY, |(t, r, s)| {
+        DAffine3::from_mat3_translation(linear(r, s), t)
+    })
 }
 
 impl Parts {
@@ -440,7 +451,7 @@ impl Parts {
     }
 
     fn step(&mut self, editor: &mut Editor, back: bool) -> bool {
-        if editor.busy() {
+        if editor.busy() || self.gesture.is_some() {
             return false;
         }
         self.sync(editor);
@@ -452,11 +463,10 @@ impl Parts {
         let Some(snapshot) = from.pop() else {
             return false;
         };
-        let now = Snapshot {
+        to.push(Snapshot {
             root: self.outline.root().clone(),
             selected: self.outline.selected().to_vec(),
-        };
-        to.push(now);
+        });
         // A snapshot was a checked tree.
         if let Ok(mut o) = Outline::new(snapshot.root) {
             let _ = o.select(&snapshot.selected);
@@ -489,26 +499,10 @@ impl Parts {
             self.reload(editor)?;
         }
         let selected = self.outline.selected().to_vec();
-        let Some(SolidSpec::Transform {
-            translate,
-            rotate,
-            scale,
-            ..
-        }) = self.outline.node(&selected)
+        let Some((translate, rotate, scale)) =
+            self.outline.node(&selected).and_then(transform_numbers)
         else {
             return Err(Error::new("the selection has no transform"));
-        };
-        let v = |x: &Option<Vec<f64>>, d: f64| {
-            let x = x.as_deref().unwrap_or(&[]);
-            DVec3::new(
-                x.first().copied().unwrap_or(d),
-                x.get(1).copied().unwrap_or(d),
-                x.get(2).copied().unwrap_or(d),
-            )
-        };
-        let rotate = match rotate {
-            Some(Rotation::Angles(r)) => *r,
-            _ => [0.0; 3],
         };
         let mut child = selected.clone();
         child.push(0);
@@ -517,9 +511,9 @@ impl Parts {
             .map_or(DVec3::ZERO, |(lo, hi)| 0.5 * (lo + hi));
         self.gesture = Some(HandleGesture {
             before,
-            translate: v(translate, 0.0),
+            translate,
             rotate,
-            scale: v(scale, 1.0),
+            scale,
             parent: self.placement(&selected),
             pivot,
         });
@@ -545,12 +539,6 @@ impl Parts {
                     _ => scale *= amount.x,
                 }
                 // The pivot stays where it was: t' = t + L·pivot − L'·pivot.
-                let linear = |r: [f64; 3], s: DVec3| {
-                    DMat3::from_rotation_z(r[2].to_radians())
-                        * DMat3::from_rotation_y(r[1].to_radians())
-                        * DMat3::from_rotation_x(r[0].to_radians())
-                        * DMat3::from_diagonal(s)
-                };
                 let t = g.translate + linear(g.rotate, g.scale) * g.pivot
                     - linear(rotate, scale) * g.pivot;
                 (0..3)
