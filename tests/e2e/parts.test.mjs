@@ -34,7 +34,7 @@ function surfaceTones(png) {
   return tones.size;
 }
 
-test('a model of five parts is built by clicks, edited, undone, shared and opened again', async () => {
+test('a model of six parts is built by clicks, edited, undone, shared and opened again', async () => {
   const { page, errors } = await open(browser);
   // A volume to start from: one solid, no parts yet.
   await page.click('#new-volume');
@@ -57,6 +57,14 @@ test('a model of five parts is built by clicks, edited, undone, shared and opene
   assert.equal(await page.isVisible('#no-part'), true, 'the 2D view says how to edit points');
   assert.equal(await page.locator('#outline-tree [role="treeitem"]').count(), 5);
   assert.match(await page.textContent('#model-name'), /Many solids, 5 nodes/);
+  // A second Bézier volume joins them, open in the editors at once.
+  await page.click('[data-add="bezier"]');
+  await page.waitForSelector('body[data-kind="volume"]');
+  o = await outline(page);
+  assert.equal(o.rows.length, 6);
+  assert.match(o.rows[5].label, /^Bézier volume 4 × 4 × 4/);
+  assert.deepEqual(o.open, [4]);
+  assert.equal(await page.isVisible('#no-part'), false);
 
   // The volume opens in the editors; a sphere of it dragged in space in the 3D view.
   await page.click('#outline-tree [data-path="0"]');
@@ -83,7 +91,7 @@ test('a model of five parts is built by clicks, edited, undone, shared and opene
   await settle(page);
   o = await outline(page);
   assert.match(o.rows[2].label, /^Blended union a0 = 0.1/);
-  assert.equal(o.rows.filter((r) => !r.label.match(/union|Union/)).length, 5, 'five parts');
+  assert.equal(o.rows.filter((r) => !r.label.match(/union|Union/)).length, 6, 'six parts');
   const slider = page.locator('[data-slider="a0"]');
   for (const v of ['0.2', '0.3', '0.45']) {
     await slider.fill(v);
@@ -156,7 +164,7 @@ test('a model of five parts is built by clicks, edited, undone, shared and opene
   const fresh = await open(browser, link.slice(link.indexOf('#')));
   await settle(fresh.page);
   assert.equal(await fresh.page.evaluate(() => window.bezsolid.modeler.model_json()), model);
-  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 9);
+  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 10);
   assert.equal(await fresh.page.textContent('#outline-tree [data-path="0"]'), '“body”');
   await surfaceAt(fresh.page, 64);
   await settle(fresh.page);

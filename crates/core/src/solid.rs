@@ -167,7 +167,7 @@ fn to_space_gradient<const D: usize>(jac: &[[f64; D]; D], g: [f64; D]) -> [f64; 
 }
 
 /// The multi-indices of a grid with `lens` points per axis, the first axis fastest.
-fn odometer<const D: usize>(lens: [usize; D]) -> impl Iterator<Item = [usize; D]> {
+pub(crate) fn odometer<const D: usize>(lens: [usize; D]) -> impl Iterator<Item = [usize; D]> {
     let count: usize = lens.iter().product();
     let mut at = [0; D];
     (0..count).map(move |_| {

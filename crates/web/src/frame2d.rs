@@ -140,11 +140,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
     let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
     let (xs, ys) = (grid.xs(), grid.ys());
     tree.plan(w * h);
-    let values: Vec<f64> = ys
-        .iter()
-        .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
-        .map(|p| tree.f(p))
-        .collect();
+    let values = tree.f_grid([&xs, &ys]);
     let range = values
         .iter()
         .filter(|v| v.is_finite())

@@ -101,6 +101,13 @@ impl<const D: usize> Affine<D> {
         t: [0.0; D],
     };
 
+    /// The scale and the offset per axis when the map keeps the axes apart (no rotation):
+    /// `q_c = scale_c · x_c + t_c`.
+    fn separable(&self) -> Option<([f64; D], [f64; D])> {
+        let apart = (0..D).all(|r| (0..D).all(|c| r == c || self.m[r][c] == 0.0));
+        apart.then(|| (core::array::from_fn(|c| self.m[c][c]), self.t))
+    }
+
     fn apply(&self, x: [f64; D]) -> [f64; D] {
         core::array::from_fn(|r| {
             let mut s = self.t[r];
@@ -418,48 +425,119 @@ where
         p: [f64; D],
         stack: &mut Vec<f64>,
     ) -> TreeValue {
-        stack.clear();
         let mut preimages = 0;
         let mut exhausted = false;
-        for step in steps {
-            match *step {
-                Step::Leaf(i) => {
-                    let leaf = &self.leaves[i];
-                    let q = leaf.map.map_or(p, |m| m.apply(p));
-                    let (f, n, out) = leaf.shape.eval(q);
-                    preimages += n;
-                    exhausted |= out;
-                    stack.push(f);
-                }
-                Step::Union(n) => fold(stack, n, union),
-                Step::Intersection(n) => fold(stack, n, intersect),
-                Step::Difference(n) => fold(stack, n, |a, b| intersect(a, -b)),
-                Step::Blend {
-                    union: u,
-                    a0,
-                    a1,
-                    a2,
-                } => {
-                    let f2 = stack.pop().unwrap_or(f64::NAN);
-                    let f1 = stack.pop().unwrap_or(f64::NAN);
-                    let base = if u { union(f1, f2) } else { intersect(f1, f2) };
-                    let (r1, r2) = (f1 / a1, f2 / a2);
-                    stack.push(base + a0 / (1.0 + r1 * r1 + r2 * r2));
-                }
-                Step::Morph(t) => {
-                    let f2 = stack.pop().unwrap_or(f64::NAN);
-                    let f1 = stack.pop().unwrap_or(f64::NAN);
-                    stack.push((1.0 - t) * f1 + t * f2);
-                }
-            }
-        }
+        let f = run(steps, stack, |i| {
+            let leaf = &self.leaves[i];
+            let q = leaf.map.map_or(p, |m| m.apply(p));
+            let (f, n, out) = leaf.shape.eval(q);
+            preimages += n;
+            exhausted |= out;
+            f
+        });
         TreeValue {
-            f: stack.pop().unwrap_or(f64::NAN),
+            f,
             preimages,
             exhausted,
         }
     }
 
+    /// `f` on the grid of `axes` (a list of coordinates per axis), laid out as
+    /// [`Solid::f_grid`] lays out its own (the first axis fastest). A Bézier leaf whose
+    /// transforms keep the axes apart (moves and scales, no turn) keeps its axis-at-a-time grid
+    /// path ([`Solid::f_grid`]); every other leaf is evaluated point by point. The grid is taken
+    /// in slabs across the last axis, so that the leaves' values held at once stay small.
+    #[must_use]
+    pub fn f_grid(&self, axes: [&[f64]; D]) -> Vec<f64> {
+        let lens = axes.map(<[f64]>::len);
+        let count: usize = lens.iter().product();
+        let mut out = Vec::with_capacity(count);
+        if count == 0 {
+            return out;
+        }
+        let layer: usize = lens[..D - 1].iter().product();
+        let per = (GRID_SLAB / layer).max(1);
+        let last = axes[D - 1];
+        let mut values: Vec<Vec<f64>> = alloc::vec![Vec::new(); self.leaves.len()];
+        let mut stack = Vec::with_capacity(self.stack);
+        for start in (0..last.len()).step_by(per) {
+            let mut slab = axes;
+            slab[D - 1] = &last[start..(start + per).min(last.len())];
+            for (leaf, v) in self.leaves.iter().zip(&mut values) {
+                *v = leaf.grid(slab);
+            }
+            let n = layer * slab[D - 1].len();
+            out.extend((0..n).map(|k| run(&self.steps, &mut stack, |i| values[i][k])));
+        }
+        out
+    }
+}
+
+/// The most samples of a grid whose leaves' values [`Tree::f_grid`] holds at once (per leaf).
+const GRID_SLAB: usize = 1 << 14;
+
+/// Runs the postfix program `steps` on `stack` (emptied first), leaf `i`'s value being
+/// `leaf(i)`; the value left on top.
+fn run(steps: &[Step], stack: &mut Vec<f64>, mut leaf: impl FnMut(usize) -> f64) -> f64 {
+    stack.clear();
+    for step in steps {
+        match *step {
+            Step::Leaf(i) => stack.push(leaf(i)),
+            Step::Union(n) => fold(stack, n, union),
+            Step::Intersection(n) => fold(stack, n, intersect),
+            Step::Difference(n) => fold(stack, n, |a, b| intersect(a, -b)),
+            Step::Blend {
+                union: u,
+                a0,
+                a1,
+                a2,
+            } => {
+                let f2 = stack.pop().unwrap_or(f64::NAN);
+                let f1 = stack.pop().unwrap_or(f64::NAN);
+                let base = if u { union(f1, f2) } else { intersect(f1, f2) };
+                let (r1, r2) = (f1 / a1, f2 / a2);
+                stack.push(base + a0 / (1.0 + r1 * r1 + r2 * r2));
+            }
+            Step::Morph(t) => {
+                let f2 = stack.pop().unwrap_or(f64::NAN);
+                let f1 = stack.pop().unwrap_or(f64::NAN);
+                stack.push((1.0 - t) * f1 + t * f2);
+            }
+        }
+    }
+    stack.pop().unwrap_or(f64::NAN)
+}
+
+impl<const D: usize> Leaf<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// The leaf's values on the grid of `axes` (in space), laid out as [`Tree::f_grid`]'s.
+    fn grid(&self, axes: [&[f64]; D]) -> Vec<f64> {
+        if let Shape::Bezier(solid, _) = &self.shape {
+            let apart = self
+                .map
+                .map_or(Some(([1.0; D], [0.0; D])), |m| m.separable());
+            if let Some((scale, shift)) = apart {
+                let mapped: [Vec<f64>; D] = core::array::from_fn(|c| {
+                    axes[c].iter().map(|&x| scale[c] * x + shift[c]).collect()
+                });
+                return solid.f_grid(core::array::from_fn(|c| mapped[c].as_slice()));
+            }
+        }
+        crate::solid::odometer(axes.map(<[f64]>::len))
+            .map(|at| {
+                let p = core::array::from_fn(|c| axes[c][at[c]]);
+                self.shape.eval(self.map.map_or(p, |m| m.apply(p))).0
+            })
+            .collect()
+    }
+}
+
+impl<const D: usize> Tree<D>
+where
+    Dim<D>: Dimension<D>,
+{
     /// Prepares the Bézier leaves for about `queries` evaluations (see [`Solid::plan`]).
     pub fn plan(&self, queries: usize) {
         for leaf in &self.leaves {
@@ -1152,9 +1230,11 @@ pub(crate) fn rotation3([rx, ry, rz]: [f64; 3]) -> [[f64; 3]; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Rotation;
     use crate::model::SolidSpec as S;
     use crate::solid::Solid2;
-    use crate::testutil::{Rng, assert_close};
+    use crate::solid::Solid3;
+    use crate::testutil::{Rng, assert_close, random_tree};
     use alloc::vec;
     use glam::{DVec2, DVec3};
     #[cfg(target_arch = "wasm32")]
@@ -1229,6 +1309,101 @@ mod tests {
             ],
         });
         assert_eq!(e.path, "solid.of[1].name");
+    }
+
+    /// The grid is the points: random trees (their Bézier leaves under moves and scales keep
+    /// the grid path, under turns they are point by point), a moved and scaled volume, a 2D tree,
+    /// and a grid of more slabs than one.
+    #[test]
+    fn grids_are_the_trees_values_at_their_points() {
+        let close = |g: f64, f: f64| (g - f).abs() <= 1e-9 * (1.0 + f.abs());
+        let mut rng = Rng::new(5);
+        let xs: Vec<f64> = (0..9).map(|i| -2.0 + 0.45 * f64::from(i)).collect();
+        let ys: Vec<f64> = (0..7).map(|i| -1.7 + 0.5 * f64::from(i)).collect();
+        let zs: Vec<f64> = (0..6).map(|i| -1.9 + 0.7 * f64::from(i)).collect();
+        let volume = {
+            let v = Solid3::regular([2, 3, 2], DVec3::ZERO, DVec3::ONE, |[i, j, k]| {
+                0.3 - 0.1 * (i + j + k) as f64
+            })
+            .unwrap();
+            ModelFile::from_solid3(&v).solid
+        };
+        let mut trees: Vec<Tree<3>> = (0..20).map(|_| space(random_tree(&mut rng, 3))).collect();
+        trees.push(space(S::Union {
+            of: vec![
+                S::Transform {
+                    solid: Box::new(volume.clone()),
+                    translate: Some(vec![-1.0, 0.5, 0.0]),
+                    rotate: None,
+                    scale: Some(vec![2.0, -1.0, 0.5]),
+                },
+                S::Transform {
+                    solid: Box::new(volume),
+                    translate: None,
+                    rotate: Some(Rotation::Angles([0.0, 0.0, 30.0])),
+                    scale: None,
+                },
+            ],
+        }));
+        for tree in &trees {
+            let grid = tree.f_grid([&xs, &ys, &zs]);
+            assert_eq!(grid.len(), xs.len() * ys.len() * zs.len());
+            for (k, &g) in grid.iter().enumerate() {
+                let (a, b, c) = (
+                    k % xs.len(),
+                    k / xs.len() % ys.len(),
+                    k / (xs.len() * ys.len()),
+                );
+                let f = tree.f(DVec3::new(xs[a], ys[b], zs[c]));
+                assert!(close(g, f), "at {k}: grid {g}, point {f}");
+            }
+        }
+        // More samples than a slab: the slabs join up.
+        let long: Vec<f64> = (0..200).map(|i| -2.0 + 0.02 * f64::from(i)).collect();
+        let tree = &trees[20];
+        let grid = tree.f_grid([&long, &long, &zs[..2]]);
+        for (k, &g) in grid.iter().enumerate().step_by(997) {
+            let (a, b, c) = (k % 200, k / 200 % 200, k / 40_000);
+            assert!(close(g, tree.f(DVec3::new(long[a], long[b], zs[c]))));
+        }
+        let disc = |x: f64| S::Circle {
+            center: [x, 0.2],
+            radius: 0.8,
+        };
+        let patch = ModelFile::from_solid2(&Solid2::fig9()).solid;
+        let moved = S::Transform {
+            solid: Box::new(patch.clone()),
+            translate: Some(vec![-1.5, 0.0]),
+            rotate: None,
+            scale: Some(vec![1.5, 2.0]),
+        };
+        let turned = S::Transform {
+            solid: Box::new(patch),
+            translate: None,
+            rotate: Some(Rotation::Angle(20.0)),
+            scale: None,
+        };
+        let plane2 = S::BlendUnion {
+            of: vec![
+                S::Union {
+                    of: vec![disc(-1.0), moved, turned],
+                },
+                disc(1.2),
+            ],
+            a0: 0.3,
+            a1: 1.0,
+            a2: 0.5,
+        };
+        let plane = match ModelFile::from_spec(plane2).to_tree().unwrap() {
+            ModelTree::Plane(t) => t,
+            ModelTree::Space(_) => panic!("3D"),
+        };
+        let grid = plane.f_grid([&xs, &ys]);
+        for (k, &g) in grid.iter().enumerate() {
+            let f = plane.f(glam::DVec2::new(xs[k % xs.len()], ys[k / xs.len()]));
+            assert!(close(g, f), "2D at {k}: grid {g}, point {f}");
+        }
+        assert!(plane.f_grid([&xs, &[]]).is_empty());
     }
 
     #[test]
