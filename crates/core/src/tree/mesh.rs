@@ -13,7 +13,7 @@ use core::fmt;
 use glam::{DVec2, DVec3};
 
 use super::{Shape, Step, Tree};
-use crate::contour::{Grid2, Polyline, contour_grid};
+use crate::contour::{Grid2, Polyline, contour};
 use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
@@ -424,7 +424,15 @@ impl Tree<2> {
             clip,
             stack: Vec::with_capacity(self.stack),
         };
-        Ok(contour_grid(&grid, |p| field.f(p.to_array()), accuracy))
+        // The samples as a grid (the Bézier leaves axis at a time), the roots point by point.
+        let (xs, ys) = (grid.xs(), grid.ys());
+        let values: Vec<f64> = self
+            .f_grid([&xs, &ys])
+            .into_iter()
+            .enumerate()
+            .map(|(k, f)| field.clipped(f, [xs[k % xs.len()], ys[k / xs.len()]]))
+            .collect();
+        Ok(contour(&grid, &values, |p| field.f(p.to_array()), accuracy))
     }
 }
 
