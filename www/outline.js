@@ -21,8 +21,32 @@ export function setupOutline(app) {
   const fields = $('outline-fields');
   let state = null; // the last `modeler.outline()`, parsed
   let fieldsOf = ''; // the selection and field names the inputs were made for
+  const collapsed = new Set(); // path keys of the rows whose children are folded away
 
   const pathKey = (path) => path.join('.');
+  const hasChildren = (rows, i) => i + 1 < rows.length && rows[i + 1].depth > rows[i].depth;
+  // The rows shown: none under a folded one; the selection's ancestors are always open.
+  const shownRows = () => {
+    if (!state) return [];
+    const sel = state.selected;
+    for (let k = 0; k < sel.length; k++) collapsed.delete(pathKey(sel.slice(0, k)));
+    const out = [];
+    let foldedDepth = Infinity;
+    for (const row of state.rows) {
+      if (row.depth > foldedDepth) continue;
+      foldedDepth = Infinity;
+      out.push(row);
+      if (collapsed.has(pathKey(row.path))) foldedDepth = row.depth;
+    }
+    return out;
+  };
+  const toggle = (row) => {
+    const key = pathKey(row.path);
+    if (collapsed.has(key)) collapsed.delete(key);
+    else collapsed.add(key);
+    makeRows();
+    list.querySelector('[aria-selected="true"]')?.focus();
+  };
   const select = (path) => app.attempt('Select', () => modeler.outline_select(Uint32Array.from(path)));
 
   for (const button of document.querySelectorAll('[data-add]')) {
@@ -43,14 +67,22 @@ export function setupOutline(app) {
   });
   nameInput.addEventListener('keydown', (e) => { if (e.key === 'Enter') nameInput.blur(); });
 
-  // The tree's keys (the WAI-ARIA tree pattern): ↑ ↓ move the selection, Home and End go to the
-  // ends, Delete removes, Alt+↑ Alt+↓ reorder.
+  // The tree's keys (the WAI-ARIA tree pattern): ↑ ↓ move the selection, → opens a row or goes to
+  // its first child, ← folds it or goes to its parent, Home and End go to the ends, Delete
+  // removes, Alt+↑ Alt+↓ reorder.
   list.addEventListener('keydown', (e) => {
     if (!state) return;
-    const rows = state.rows;
+    const rows = shownRows();
     const at = rows.findIndex((r) => pathKey(r.path) === pathKey(state.selected));
+    const row = rows[at];
     let to = null;
-    if (e.key === 'ArrowDown' && e.altKey) app.attempt('Move the part', () => modeler.outline_reorder(1));
+    if (e.key === 'ArrowRight' && row && hasChildren(state.rows, state.rows.indexOf(row))) {
+      if (collapsed.has(pathKey(row.path))) toggle(row);
+      else to = at + 1;
+    } else if (e.key === 'ArrowLeft' && row) {
+      if (hasChildren(state.rows, state.rows.indexOf(row)) && !collapsed.has(pathKey(row.path))) toggle(row);
+      else if (row.path.length) to = rows.findIndex((r) => pathKey(r.path) === pathKey(row.path.slice(0, -1)));
+    } else if (e.key === 'ArrowDown' && e.altKey) app.attempt('Move the part', () => modeler.outline_reorder(1));
     else if (e.key === 'ArrowUp' && e.altKey) app.attempt('Move the part', () => modeler.outline_reorder(-1));
     else if (e.key === 'ArrowDown') to = Math.min(rows.length - 1, at + 1);
     else if (e.key === 'ArrowUp') to = Math.max(0, at - 1);
@@ -69,18 +101,32 @@ export function setupOutline(app) {
   });
 
   const makeRows = () => {
-    const rows = state ? state.rows : [];
-    list.replaceChildren(...rows.map((row) => {
+    const all = state ? state.rows : [];
+    list.replaceChildren(...shownRows().map((row) => {
       const li = document.createElement('li');
+      if (hasChildren(all, all.indexOf(row))) {
+        const open = !collapsed.has(pathKey(row.path));
+        li.setAttribute('aria-expanded', String(open));
+        const twist = document.createElement('span');
+        twist.className = 'twist';
+        twist.textContent = open ? '▾' : '▸';
+        twist.setAttribute('aria-hidden', 'true');
+        twist.title = open ? 'Fold its parts away' : 'Show its parts';
+        twist.addEventListener('click', (e) => {
+          e.stopPropagation();
+          toggle(row);
+        });
+        li.append(twist);
+      }
       const selected = state && pathKey(row.path) === pathKey(state.selected);
       li.setAttribute('role', 'treeitem');
       li.setAttribute('aria-level', String(row.depth + 1));
       li.setAttribute('aria-selected', String(selected));
       li.tabIndex = selected ? 0 : -1;
       li.dataset.path = pathKey(row.path);
-      li.style.paddingLeft = `${0.4 + row.depth * 1.1}rem`;
+      li.style.paddingLeft = `${1.5 + row.depth * 1.1}rem`;
       li.className = [row.bezier ? 'bezier' : '', row.hidden ? 'hidden-part' : ''].join(' ').trim();
-      li.textContent = row.label;
+      li.append(row.label);
       if (row.bezier) li.title = 'A Bézier part: select it to edit its control points in the 2D and 3D views';
       li.addEventListener('click', () => select(row.path));
       return li;

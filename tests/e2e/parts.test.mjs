@@ -165,7 +165,16 @@ test('a model of six parts is built by clicks, edited, undone, shared and opened
   await settle(fresh.page);
   assert.equal(await fresh.page.evaluate(() => window.bezsolid.modeler.model_json()), model);
   assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 10);
-  assert.equal(await fresh.page.textContent('#outline-tree [data-path="0"]'), '“body”');
+  assert.match(await fresh.page.textContent('#outline-tree [data-path="0"]'), /“body”$/);
+  // The tree folds and opens by keys: ← on the root folds it away, → opens it again.
+  await fresh.page.click('#outline-tree [data-path=""]');
+  await settle(fresh.page);
+  await fresh.page.focus('#outline-tree [aria-selected="true"]');
+  await fresh.page.keyboard.press('ArrowLeft');
+  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 1);
+  assert.equal(await fresh.page.getAttribute('#outline-tree [data-path=""]', 'aria-expanded'), 'false');
+  await fresh.page.keyboard.press('ArrowRight');
+  assert.equal(await fresh.page.locator('#outline-tree [role="treeitem"]').count(), 10);
   await surfaceAt(fresh.page, 64);
   await settle(fresh.page);
   assert.ok(surfaceTones(await fresh.page.locator('#view3d').screenshot()) > 40);
