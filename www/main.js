@@ -105,7 +105,8 @@ async function main() {
   const app = {
     wasm, modeler, ff, sv, viewer, canvas, canvas3, runners, VIEW2, VIEW3,
     work: workList($('work')),
-    stats: { lastRender: 0, lastRender3: 0, lastEdit: 0 },
+    // `latency`: from an edit (`lastEdit`) to the end of the first frame drawn after it.
+    stats: { lastRender: 0, lastRender3: 0, lastEdit: 0, drawnEdit: 0, latency: 0 },
     workspace: () => workspace,
     /** The Bézier panel's snapshot of the editor, its last frame and its 3D view. */
     panel: () => JSON.parse(modeler.panel()),
@@ -141,6 +142,11 @@ async function main() {
         part().render3d(viewer);
         app.stats.lastRender3 = performance.now() - t0;
         part().follow();
+      }
+      const { stats } = app;
+      if (stats.lastEdit > stats.drawnEdit) {
+        stats.latency = performance.now() - stats.lastEdit;
+        stats.drawnEdit = stats.lastEdit;
       }
       for (const p of [app.bezier, app.freeform, app.script]) p.prune();
       part().update();
@@ -193,17 +199,17 @@ async function main() {
   const debug = $('debug');
   const updateDebug = () => {
     if (debug.hidden) return;
-    const { lastRender, lastRender3, lastEdit } = app.stats;
+    const { lastRender, lastRender3, lastEdit, latency } = app.stats;
     const gpu = gpu_objects();
     const workers = [app.bezier, app.freeform].flatMap((p) => p.timings())
       .map(([name, f]) => `${name}: ${f ? f.lastMs().toFixed(1) : '–'} ms\n`).join('');
     debug.textContent = `2D frame: ${lastRender.toFixed(1)} ms (evaluate, contour, draw)\n`
       + `3D frame: ${lastRender3.toFixed(1)} ms (surface, spheres, draw)\n`
       + workers
-      + `input → drawn: ${lastEdit ? (performance.now() - lastEdit).toFixed(1) : '–'} ms\n`
+      + `input → drawn: ${lastEdit ? latency.toFixed(1) : '–'} ms (the last edit to the frame after it)\n`
       + `GPU: ${gpu[0]} buffers, ${gpu[1]} textures (${gpu[2]} made); wasm memory ${(wasm.memory.buffer.byteLength / 2 ** 20).toFixed(1)} MiB`;
     document.body.dataset.renderMs = lastRender.toFixed(2);
-    if (lastEdit) document.body.dataset.latencyMs = (performance.now() - lastEdit).toFixed(2);
+    if (lastEdit) document.body.dataset.latencyMs = latency.toFixed(2);
     document.body.dataset.render3Ms = lastRender3.toFixed(2);
   };
   app.toggleDebug = () => {
