@@ -276,8 +276,8 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
     for line in outline(patch) {
         for w in line.windows(2) {
             pen.segment(
-                view.to_screen(editor, w[0]),
-                view.to_screen(editor, w[1]),
+                view.part_to_screen(editor, w[0]),
+                view.part_to_screen(editor, w[1]),
                 1.25,
                 BOX_COLOR,
             );
@@ -285,7 +285,7 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
     }
     let [n, m] = editor.solid().degree();
     let selected = editor.selected().map(|(i, j)| i * (m + 1) + j);
-    let at = |i: usize, j: usize| view.to_screen(editor, patch[[i, j]].truncate());
+    let at = |i: usize, j: usize| view.part_to_screen(editor, patch[[i, j]].truncate());
     for i in 0..=n {
         for j in 0..=m {
             if i < n {
@@ -298,7 +298,7 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
     }
     contour_shapes(&mut pen, editor, view, contours);
     for (k, p) in patch.points().iter().enumerate() {
-        let q = view.to_screen(editor, p.truncate());
+        let q = view.part_to_screen(editor, p.truncate());
         if selected == Some(k) {
             pen.disc(q, POINT_RADIUS + 5.0, SELECT_COLOR);
         }

@@ -10,7 +10,7 @@
 
 use bezsolid_core::model::{ModelFile, Rotation, SolidSpec};
 use bezsolid_core::tree::ModelTree;
-use glam::{DAffine3, DMat3, DVec3};
+use glam::{DAffine2, DAffine3, DMat3, DVec3};
 
 use crate::document;
 use crate::editor::{Editor, HISTORY_LIMIT};
@@ -613,6 +613,25 @@ impl Parts {
         map
     }
 
+    /// The map from the coordinates of the node at `path` to the plane: the transforms above it
+    /// (`T · R · S` each), for a 2D model; identity in 3D.
+    #[must_use]
+    pub fn placement2(&self, path: &[usize]) -> DAffine2 {
+        if self.outline.dimension() != 2 {
+            return DAffine2::IDENTITY;
+        }
+        (0..path.len())
+            .filter_map(|k| self.outline.node(&path[..k]).and_then(transform_numbers))
+            .fold(DAffine2::IDENTITY, |map, (t, r, s)| {
+                // A 2D transform's one angle is about z (see `transform_numbers`).
+                map * DAffine2::from_scale_angle_translation(
+                    s.truncate(),
+                    r[2].to_radians(),
+                    t.truncate(),
+                )
+            })
+    }
+
     /// The box in space of the node at `path` (its bounds moved by the transforms above it), if
     /// it is bounded.
     #[must_use]
@@ -871,6 +890,28 @@ mod tests {
             panic!("3D")
         };
         assert_eq!(t.leaf_count(), 4);
+    }
+
+    /// A patch under a transform of a 2D model: the placement takes its points where the tree has
+    /// them (the tree's f at the placed point is the patch's f at the point).
+    #[test]
+    fn a_patch_under_a_transform_is_placed_in_the_plane() {
+        let mut e = Editor::new(bezsolid_core::Solid2::fig9());
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        parts.wrap(Wrap::Transform, &mut e).unwrap();
+        parts.set("translate[0]", 1.5, &mut e).unwrap();
+        parts.set("rotate", 30.0, &mut e).unwrap();
+        parts.set("scale[1]", -0.5, &mut e).unwrap();
+        parts.select(&[0], &mut e).unwrap();
+        assert_eq!(parts.open(), Some(&[0][..]));
+        let map = parts.placement2(&[0]);
+        let ModelTree::Plane(t) = parts.tree(&e).unwrap() else {
+            panic!("2D")
+        };
+        for p in [glam::DVec2::new(0.5, 0.5), glam::DVec2::new(0.2, 0.9)] {
+            let (a, b) = (t.f(map.transform_point2(p)), e.solid().f(p));
+            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{a} against {b}");
+        }
     }
 
     #[test]

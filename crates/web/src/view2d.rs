@@ -3,7 +3,7 @@
 //! wheel and keys. Every edit goes through the [`Editor`]; what the view draws is built by
 //! [`crate::frame2d`].
 
-use glam::DVec2;
+use glam::{DAffine2, DVec2};
 
 use crate::editor::{Editor, Mode, XI_KEY_STEP};
 
@@ -35,6 +35,9 @@ pub struct View2 {
     /// The box to fit instead of the editor's domain: a 2D model of many solids' bounds with the
     /// open part's domain.
     scene: Option<(DVec2, DVec2)>,
+    /// The editor's solid's coordinates to the view's (the transforms above a part of a 2D model
+    /// of many solids; identity otherwise).
+    placement: DAffine2,
 }
 
 impl Default for View2 {
@@ -54,7 +57,21 @@ impl View2 {
             dpr: 1.0,
             press: None,
             scene: None,
+            placement: DAffine2::IDENTITY,
         }
+    }
+
+    /// Places the editor's solid in the view by `placement` (its coordinates to the view's): its
+    /// net is drawn and picked there, and a space drag moves its points by the pointer's motion
+    /// taken back into its coordinates.
+    pub fn set_placement(&mut self, placement: DAffine2) {
+        self.placement = placement;
+    }
+
+    /// The CSS pixel of the editor's solid's point `p` (in its own coordinates).
+    #[must_use]
+    pub fn part_to_screen(&self, editor: &Editor, p: DVec2) -> DVec2 {
+        self.to_screen(editor, self.placement.transform_point2(p))
     }
 
     /// Fits `scene` instead of the editor's domain (`None`: the domain again); a view held still
@@ -155,7 +172,7 @@ impl View2 {
             .points()
             .iter()
             .enumerate()
-            .map(|(k, p)| (k, self.to_screen(editor, p.truncate()).distance(q)))
+            .map(|(k, p)| (k, self.part_to_screen(editor, p.truncate()).distance(q)))
             .filter(|&(_, d)| d <= PICK_RADIUS)
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(k, _)| k)
@@ -190,7 +207,8 @@ impl View2 {
         match mode {
             Mode::Function => editor.drag_to(None, Some(point.z + (start.y - q.y) * XI_PER_PIXEL)),
             Mode::Space => {
-                let xy = point.truncate() + self.to_world(editor, q) - self.to_world(editor, start);
+                let moved = self.to_world(editor, q) - self.to_world(editor, start);
+                let xy = point.truncate() + self.placement.matrix2.inverse() * moved;
                 editor.drag_to(Some(xy), None)
             }
         }
@@ -267,6 +285,7 @@ mod tests {
     use crate::editor::{Editor, MAX_POINTS_PER_SIDE};
     use crate::frame2d::{FieldImage, Frame, frame, outline};
     use bezsolid_core::{Axis, Solid2};
+    use core::f64::consts::FRAC_PI_2;
     use glam::DVec3;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -494,6 +513,27 @@ mod tests {
         v.select(Some((0, 0)));
         assert!(v.key("PageUp", false));
         assert!(!v.can_redo());
+    }
+
+    #[test]
+    fn a_placed_solid_is_picked_and_dragged_where_it_is_drawn() {
+        let mut v = view();
+        // Turned a quarter, doubled and moved, as a part under a transform of a 2D model.
+        let placement =
+            DAffine2::from_scale_angle_translation(DVec2::splat(2.0), FRAC_PI_2, DVec2::X);
+        v.v.set_placement(placement);
+        v.set_mode(Mode::Space);
+        let local = DVec2::new(1.0, 1.0);
+        let corner = v.v.part_to_screen(&v.e, local);
+        assert!(v.pointer_down(corner, false));
+        let target = corner + DVec2::new(40.0, -25.0);
+        assert!(v.pointer_move(target));
+        let p = v.selected_point().unwrap().truncate();
+        assert!(
+            (v.v.part_to_screen(&v.e, p) - target).length() < 1e-9,
+            "the placed point is under the pointer"
+        );
+        v.pointer_up();
     }
 
     #[test]

@@ -1132,24 +1132,31 @@ impl Modeler {
         self.whole_revision = Some(self.editor.revision());
         if parts.outline().dimension() != 3 {
             self.view3.set_whole(None);
+            let placement = parts
+                .open()
+                .map_or(glam::DAffine2::IDENTITY, |p| parts.placement2(p));
             let scene = self
                 .plane
                 .as_ref()
                 .and_then(|(_, t, _)| t.bounds())
                 .map(|(lo, hi)| {
                     let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
-                    match parts.open() {
-                        Some(_) => {
-                            let (a, b) = self.editor.solid().domain();
-                            (lo.min(a), hi.max(b))
-                        }
-                        None => (lo, hi),
+                    if parts.open().is_none() {
+                        return (lo, hi);
                     }
+                    // The open part's domain, placed, is in sight too.
+                    let (a, b) = self.editor.solid().domain();
+                    [a, b, DVec2::new(a.x, b.y), DVec2::new(b.x, a.y)]
+                        .map(|c| placement.transform_point2(c))
+                        .iter()
+                        .fold((lo, hi), |(lo, hi), &c| (lo.min(c), hi.max(c)))
                 });
             self.view2.set_scene(scene);
+            self.view2.set_placement(placement);
             return;
         }
         self.view2.set_scene(None);
+        self.view2.set_placement(glam::DAffine2::IDENTITY);
         let first = self.view3.whole().is_none();
         let open = parts.open();
         let bounds = match parts.tree(&self.editor) {
