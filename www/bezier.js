@@ -269,6 +269,8 @@ export function setupBezier(app) {
     const solid3d = volume || parts?.dimension === 3;
     for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !solid3d;
     for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = false;
+    // The contours of a 3D model are its open part's slice's: none without one.
+    $('export').querySelector('option[value="svg"]').disabled = !!parts && parts.dimension === 3 && !parts.open;
     document.body.dataset.kind = volume ? 'volume' : 'patch';
     $('undo').disabled = !p.can_undo;
     $('redo').disabled = !p.can_redo;

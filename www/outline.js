@@ -22,6 +22,7 @@ export function setupOutline(app) {
   let state = null; // the last `modeler.outline()`, parsed
   let fieldsOf = ''; // the selection and field names the inputs were made for
   const collapsed = new Set(); // path keys of the rows whose children are folded away
+  let shape = ''; // the rows' paths: when they change (a node added, moved, removed), folds go
 
   const pathKey = (path) => path.join('.');
   const hasChildren = (rows, i) => i + 1 < rows.length && rows[i + 1].depth > rows[i].depth;
@@ -176,6 +177,11 @@ export function setupOutline(app) {
     const next = text ? JSON.parse(text) : null;
     const changed = JSON.stringify(next) !== JSON.stringify(state);
     state = next;
+    const nextShape = state ? state.rows.map((r) => `${pathKey(r.path)}:${r.label.split(' ')[0]}`).join(' ') : '';
+    if (nextShape !== shape) {
+      shape = nextShape;
+      collapsed.clear();
+    }
     document.body.dataset.parts = state ? String(state.rows.length) : '';
     $('part-tools').hidden = !state;
     $('outline-hint').hidden = !!state;

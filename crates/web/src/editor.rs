@@ -97,6 +97,8 @@ pub struct Editor {
     /// See [`Editor::opened`] and [`Editor::drags`].
     opened: u64,
     drags: u64,
+    /// See [`Editor::recorded`].
+    recorded: u64,
 }
 
 impl Editor {
@@ -116,6 +118,7 @@ impl Editor {
             last_step: None,
             opened: 0,
             drags: 0,
+            recorded: 0,
         }
     }
 
@@ -277,6 +280,7 @@ impl Editor {
     fn record(&mut self, before: Net, step: Step) {
         let coalesce = step != Step::Other && self.last_step == Some(step);
         if !coalesce {
+            self.recorded += 1;
             self.undo.push_back(before);
             if self.undo.len() > HISTORY_LIMIT {
                 self.undo.pop_front();
@@ -284,6 +288,34 @@ impl Editor {
         }
         self.redo.clear();
         self.last_step = Some(step);
+    }
+
+    /// How many undo steps have been recorded (an edit merged into the last step, a wheel turn or
+    /// a typed number on the same point, adds none): a model of many solids takes its own steps
+    /// from the editor's part by it.
+    #[must_use]
+    pub fn recorded(&self) -> u64 {
+        self.recorded
+    }
+
+    /// The models of the undo steps, oldest first, as the model file spells a solid (what a model
+    /// of many solids made from this one keeps as its history).
+    #[must_use]
+    pub fn undo_specs(&self) -> Vec<bezsolid_core::model::SolidSpec> {
+        use bezsolid_core::model::SolidSpec;
+        self.undo
+            .iter()
+            .map(|net| match net {
+                Net::Patch(p) => SolidSpec::Patch {
+                    degree: p.degree(),
+                    points: p.points().iter().map(|q| q.to_array()).collect(),
+                },
+                Net::Volume(v) => SolidSpec::Volume {
+                    degree: v.degree(),
+                    points: v.points().iter().map(|q| q.to_array()).collect(),
+                },
+            })
+            .collect()
     }
 
     /// Forgets every undo and redo step (after restoring an autosaved model at start-up).

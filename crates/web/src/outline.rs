@@ -235,7 +235,11 @@ impl Outline {
 
     /// Replaces the tree by `root` with `selected` selected, if `root` is a valid tree.
     fn commit(&mut self, root: SolidSpec, selected: NodePath) -> Result<(), Error> {
-        ModelFile::from_spec(root.clone()).to_tree()?;
+        // A root replaced whole may be of the other dimension.
+        self.dim = match ModelFile::from_spec(root.clone()).to_tree()? {
+            ModelTree::Plane(_) => 2,
+            ModelTree::Space(_) => 3,
+        };
         self.root = root;
         self.selected = selected;
         Ok(())
@@ -418,8 +422,11 @@ impl Outline {
                 "the root stays: a model holds at least one solid",
             ));
         };
-        if matches!(self.node(parent_path), Some(SolidSpec::Transform { .. })) {
-            // A transform without its solid goes too.
+        if matches!(
+            self.node(parent_path),
+            Some(SolidSpec::Transform { .. } | SolidSpec::Part { .. })
+        ) {
+            // A transform or a named part without its solid goes too.
             let mut up = self.clone();
             up.selected = parent_path.to_vec();
             up.remove()?;

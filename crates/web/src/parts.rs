@@ -14,6 +14,27 @@ use glam::{DAffine2, DAffine3, DMat3, DVec3};
 
 use crate::document;
 use crate::editor::{Editor, HISTORY_LIMIT};
+
+/// The most bytes the undo and redo steps of a model of many solids keep (each step holds the
+/// whole tree): past it the oldest steps go, the newest always stays.
+pub const HISTORY_BYTES: usize = 64 << 20;
+
+/// About how many bytes `spec` takes: its numbers, and a little per node.
+fn spec_bytes(spec: &SolidSpec) -> usize {
+    let mut bytes = 0;
+    let mut todo = vec![spec];
+    while let Some(s) = todo.pop() {
+        bytes += 64
+            + match s {
+                SolidSpec::Patch { points, .. } => 24 * points.len(),
+                SolidSpec::Volume { points, .. } => 32 * points.len(),
+                SolidSpec::Part { name, .. } => name.len(),
+                _ => 0,
+            };
+        todo.extend(s.children());
+    }
+    bytes
+}
 use crate::error::Error;
 use crate::outline::{NewNode, NodePath, Outline, Wrap};
 use crate::view3d::Handle;
@@ -30,8 +51,13 @@ struct Snapshot {
 #[derive(Clone, Debug)]
 pub struct Parts {
     outline: Outline,
-    undo: Vec<Snapshot>,
-    redo: Vec<Snapshot>,
+    /// The steps to undo and redo, each with its size in bytes (see [`HISTORY_BYTES`]).
+    undo: Vec<(Snapshot, usize)>,
+    redo: Vec<(Snapshot, usize)>,
+    /// The editor's [`Editor::recorded`] when the part's last edit was written back as a step:
+    /// an edit the editor merged into that step (another wheel notch on the same point) is
+    /// written back into it too.
+    sync_recorded: Option<u64>,
     /// The field last set, on which node: consecutive settings of it (a slider's moves) are one
     /// undo step.
     last_set: Option<(NodePath, String)>,
@@ -121,6 +147,7 @@ impl Parts {
             undo: Vec::new(),
             redo: Vec::new(),
             last_set: None,
+            sync_recorded: None,
             open: None,
             synced: editor.revision(),
             gesture: None,
@@ -144,7 +171,16 @@ impl Parts {
     ///
     /// None for a model the editor holds; the type is [`Parts::new`]'s.
     pub fn of_editor(editor: &mut Editor) -> Result<Self, Error> {
-        Self::new(editor_spec(editor), editor)
+        // The editor's undo steps become the tree's (opening the part forgets the editor's).
+        let history = editor.undo_specs();
+        let mut parts = Self::new(editor_spec(editor), editor)?;
+        for root in history {
+            parts.record(Snapshot {
+                root,
+                selected: Vec::new(),
+            });
+        }
+        Ok(parts)
     }
 
     /// The outline (the tree as last written back, and the selection).
@@ -195,12 +231,18 @@ impl Parts {
                     scale,
                 }),
                 mut spec => {
+                    let difference = matches!(spec, SolidSpec::Difference { .. });
                     let Some(of) = spec.operands_mut() else {
                         return Some(spec);
                     };
                     let all = of.len();
-                    let kept: Vec<SolidSpec> =
-                        core::mem::take(of).into_iter().filter_map(strip).collect();
+                    let kept: Vec<Option<SolidSpec>> =
+                        core::mem::take(of).into_iter().map(strip).collect();
+                    // A difference without what it cuts from is nothing (not its cutters).
+                    if difference && kept.first().is_some_and(Option::is_none) {
+                        return None;
+                    }
+                    let kept: Vec<SolidSpec> = kept.into_iter().flatten().collect();
                     match kept.len() {
                         0 => None,
                         1 if all > 1 => kept.into_iter().next(),
@@ -261,11 +303,25 @@ impl Parts {
         if self.snapshot() == before {
             return;
         }
-        self.undo.push(before);
-        if self.undo.len() > HISTORY_LIMIT {
-            self.undo.remove(0);
-        }
+        self.record(before);
         self.redo.clear();
+        self.sync_recorded = None;
+    }
+
+    /// Keeps `before` as the newest undo step, the oldest going past [`HISTORY_LIMIT`] steps or
+    /// [`HISTORY_BYTES`] (the newest always stays).
+    fn record(&mut self, before: Snapshot) {
+        let size = spec_bytes(&before.root);
+        self.undo.push((before, size));
+        let mut total: usize = self.undo.iter().chain(&self.redo).map(|(_, b)| b).sum();
+        let mut drop = 0;
+        while self.undo.len() - drop > 1
+            && (self.undo.len() - drop > HISTORY_LIMIT || total > HISTORY_BYTES)
+        {
+            total -= self.undo[drop].1;
+            drop += 1;
+        }
+        self.undo.drain(..drop);
     }
 
     /// Writes what the editor changed in the open part back into the tree, as one undo step,
@@ -285,7 +341,11 @@ impl Parts {
         let before = self.snapshot();
         if self.outline.replace(&path, spec).is_ok() {
             self.last_set = None;
-            self.push(before);
+            let merged = self.sync_recorded == Some(editor.recorded());
+            if !merged {
+                self.push(before);
+            }
+            self.sync_recorded = Some(editor.recorded());
         }
     }
 
@@ -339,13 +399,17 @@ impl Parts {
         })
     }
 
-    /// Replaces the selected node by `node` (a new grid for the open part; one undo step).
+    /// Replaces the open Bézier part by `node` (a new grid; one undo step); a name around it
+    /// stays.
     ///
     /// # Errors
     ///
-    /// A node of the other dimension: nothing changes.
-    pub fn replace_selected(&mut self, node: SolidSpec, editor: &mut Editor) -> Result<(), Error> {
-        let path = self.outline.selected().to_vec();
+    /// No part open, or a node of the other dimension in a tree of more: nothing changes.
+    pub fn replace_open(&mut self, node: SolidSpec, editor: &mut Editor) -> Result<(), Error> {
+        let path = self
+            .open
+            .clone()
+            .ok_or_else(|| Error::new("select a Bézier part to replace it with a new grid"))?;
         self.edit(editor, |o| o.replace(&path, node))
     }
 
@@ -411,10 +475,12 @@ impl Parts {
         let key = (self.outline.selected().to_vec(), field.to_owned());
         let before = self.snapshot();
         self.outline.set(field, value)?;
-        if self.last_set.as_ref() != Some(&key) {
-            self.push(before);
+        if self.snapshot() != before {
+            if self.last_set.as_ref() != Some(&key) {
+                self.push(before);
+            }
+            self.last_set = Some(key);
         }
-        self.last_set = Some(key);
         editor.touch();
         self.synced = editor.revision();
         Ok(())
@@ -460,13 +526,16 @@ impl Parts {
         } else {
             (&mut self.redo, &mut self.undo)
         };
-        let Some(snapshot) = from.pop() else {
+        let Some((snapshot, _)) = from.pop() else {
             return false;
         };
-        to.push(Snapshot {
+        let now = Snapshot {
             root: self.outline.root().clone(),
             selected: self.outline.selected().to_vec(),
-        });
+        };
+        let size = spec_bytes(&now.root);
+        to.push((now, size));
+        self.sync_recorded = None;
         // A snapshot was a checked tree.
         if let Ok(mut o) = Outline::new(snapshot.root) {
             let _ = o.select(&snapshot.selected);
@@ -673,7 +742,8 @@ impl Parts {
     /// Where a new node goes: at the right of the selection's box (the origin for an unbounded
     /// one).
     fn beside(&self, editor: &Editor) -> DVec3 {
-        match self.bounds_of(self.outline.selected(), editor) {
+        // In the coordinates of the selection's parent, where the new node goes.
+        match self.local_bounds(self.outline.selected(), editor) {
             Some((lo, hi)) if (hi - lo).is_finite() => {
                 let c = 0.5 * (lo + hi);
                 DVec3::new(hi.x, c.y, c.z)
@@ -858,6 +928,86 @@ mod tests {
         ));
     }
 
+    /// What a review found: the editor's history carried over, wheel notches merged as the editor
+    /// merges them, a value set to itself no step, a new grid of the other dimension for the root,
+    /// a new grid keeping a name, parts added beside a moved one where it is, a named part's solid
+    /// removed with its name.
+    #[test]
+    fn history_and_edits_keep_to_what_the_user_sees() {
+        let mut e = Editor::new(bezsolid_core::Solid2::fig9());
+        let original = editor_spec(&e);
+        e.select(Some((1, 1)));
+        e.nudge(0.1);
+        e.select(Some((0, 0)));
+        e.nudge(0.1);
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        assert!(
+            parts.undo(&mut e) && parts.undo(&mut e),
+            "the editor's two steps"
+        );
+        assert_eq!(parts.outline().root(), &original);
+        assert!(!parts.can_undo());
+        // Five wheel notches on one point: one step, as in the editor.
+        e.select(Some((1, 1)));
+        let before = parts.outline().root().clone();
+        for _ in 0..5 {
+            e.wheel(100.0);
+            parts.sync(&e);
+        }
+        assert_ne!(parts.outline().root(), &before);
+        assert!(parts.undo(&mut e));
+        assert_eq!(parts.outline().root(), &before);
+        assert!(!parts.can_undo());
+        // A value set to itself is no step, and does not join the next setting to an older step.
+        parts.add(NewNode::Sphere, &mut e).unwrap();
+        parts.set("radius", 0.4, &mut e).unwrap();
+        let with_sphere = parts.outline().root().clone();
+        parts.set("radius", 0.5, &mut e).unwrap();
+        assert!(parts.undo(&mut e));
+        assert_eq!(parts.outline().root(), &with_sphere);
+        // The sphere removed again, the patch is the root: a new volume replaces it, and the
+        // model is 3D from then on.
+        parts.remove(&mut e).unwrap();
+        parts.select(&[], &mut e).unwrap();
+        let mut scratch = e.clone();
+        scratch.new_volume(3, 3, 3).unwrap();
+        parts.replace_open(editor_spec(&scratch), &mut e).unwrap();
+        assert_eq!(parts.outline().dimension(), 3);
+        parts.add(NewNode::Torus, &mut e).unwrap();
+        // A named volume given a new grid keeps its name.
+        parts.select(&[0], &mut e).unwrap();
+        parts.rename("hull", &mut e).unwrap();
+        assert_eq!(parts.open(), Some(&[0, 0][..]));
+        let mut scratch = e.clone();
+        scratch.new_volume(2, 2, 2).unwrap();
+        parts.replace_open(editor_spec(&scratch), &mut e).unwrap();
+        assert!(
+            matches!(parts.outline().node(&[0]), Some(SolidSpec::Part { name, .. }) if name == "hull")
+        );
+        // Deleting the named part's solid takes the part with it.
+        parts.select(&[0, 0], &mut e).unwrap();
+        parts.remove(&mut e).unwrap();
+        assert!(matches!(parts.outline().root(), SolidSpec::Torus { .. }));
+        // A part added beside a moved and scaled one lands beside it in space.
+        parts.wrap(Wrap::Transform, &mut e).unwrap();
+        parts.set("translate[0]", 5.0, &mut e).unwrap();
+        parts.set("scale[0]", 2.0, &mut e).unwrap();
+        let (lo, hi) = parts.bounds_of(&[], &e).unwrap();
+        parts.select(&[0], &mut e).unwrap();
+        parts.add(NewNode::Box, &mut e).unwrap();
+        assert_eq!(
+            parts.outline().selected(),
+            [0, 1],
+            "beside the torus, under its move"
+        );
+        let (blo, bhi) = parts.bounds_of(parts.outline().selected(), &e).unwrap();
+        let gap = blo.x.max(lo.x) - bhi.x.min(hi.x);
+        assert!(
+            gap < 0.0,
+            "the box ({blo}, {bhi}) touches the torus ({lo}, {hi})"
+        );
+    }
+
     /// Hidden parts are left out of what the views show, and only there.
     #[test]
     fn hidden_parts_leave_the_views_only() {
@@ -879,6 +1029,13 @@ mod tests {
             panic!("a union")
         };
         assert!(matches!(of[1], SolidSpec::Box { .. }), "{of:?}");
+        // A difference whose first operand is hidden shows nothing, not its cutters: the box is
+        // all that is left to show.
+        parts.select(&[0], &mut e).unwrap();
+        parts.wrap(Wrap::Difference, &mut e).unwrap();
+        parts.select(&[0, 0], &mut e).unwrap();
+        parts.toggle_hidden(&mut e).unwrap();
+        assert!(matches!(parts.shown(&e), Some(SolidSpec::Box { .. })));
         // Everything hidden: nothing shown; one undo shows the root again.
         parts.select(&[], &mut e).unwrap();
         parts.toggle_hidden(&mut e).unwrap();
@@ -889,7 +1046,7 @@ mod tests {
         let ModelTree::Space(t) = parts.tree(&e).unwrap() else {
             panic!("3D")
         };
-        assert_eq!(t.leaf_count(), 4);
+        assert_eq!(t.leaf_count(), 5);
     }
 
     /// A patch under a transform of a 2D model: the placement takes its points where the tree has

@@ -198,17 +198,22 @@ impl View3 {
     /// Frames the model again (the height scale too): after opening another model, or on request.
     pub fn fit(&mut self, editor: &Editor) {
         if let Some(whole) = &self.whole {
-            // The surface drawn, where there is one (the bounds of a blend are loose).
-            let drawn = self.surface.drawn().and_then(|m| {
-                let (lo, hi) = m.vertices.iter().fold(
-                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                    |(lo, hi), v| {
-                        let p = glam::Vec3::from_array(v.position).as_dvec3();
-                        (lo.min(p), hi.max(p))
-                    },
-                );
-                (lo.cmple(hi).all()).then_some((lo, hi))
-            });
+            // The surface drawn, where it is the model's as it is (the bounds of a blend are
+            // loose).
+            let drawn = self
+                .surface
+                .drawn()
+                .filter(|m| m.revision == editor.revision())
+                .and_then(|m| {
+                    let (lo, hi) = m.vertices.iter().fold(
+                        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                        |(lo, hi), v| {
+                            let p = glam::Vec3::from_array(v.position).as_dvec3();
+                            (lo.min(p), hi.max(p))
+                        },
+                    );
+                    (lo.cmple(hi).all()).then_some((lo, hi))
+                });
             if let Some((min, max)) = drawn.or(whole.bounds) {
                 // A margin for the selection's handles, which stand out of its frame.
                 let pad = DVec3::splat((max - min).max_element() * 0.12);
@@ -244,6 +249,18 @@ impl View3 {
         extent * SPHERE_RADIUS
     }
 
+    /// A control point's sphere's radius as drawn: scaled with the part's placement.
+    fn point_radius(&self, editor: &Editor) -> f64 {
+        Self::radius(editor)
+            * self
+                .placement()
+                .matrix3
+                .determinant()
+                .abs()
+                .cbrt()
+                .max(1e-9)
+    }
+
     /// Puts the view in a model of many solids (`Some`), or back to a model of one (`None`).
     pub fn set_whole(&mut self, whole: Option<Whole>) {
         if self.whole != whole {
@@ -254,6 +271,11 @@ impl View3 {
             self.whole = whole;
             self.whole_generation += 1;
         }
+    }
+
+    /// Forgets the surface drawn (another model was opened: it is not the new one's).
+    pub fn forget_surface(&mut self) {
+        self.surface.clear();
     }
 
     /// The model of many solids the view is in.
@@ -376,7 +398,7 @@ impl View3 {
     pub fn pick(&self, editor: &Editor, q: DVec2) -> Option<usize> {
         let (o, d) = self.orbit.ray(q);
         // Picking is a little more generous than the drawn sphere.
-        let r = Self::radius(editor) * 1.6;
+        let r = self.point_radius(editor) * 1.6;
         self.centres(editor)
             .into_iter()
             .enumerate()
@@ -902,7 +924,7 @@ impl View3 {
         if let (true, Some(volume)) = (whole.part, editor.volume()) {
             let map = whole.placement;
             let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
-            let r = Self::radius(editor) * map.matrix3.determinant().abs().cbrt().max(1e-9);
+            let r = self.point_radius(editor);
             let net = volume.net();
             let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
             let selected = editor

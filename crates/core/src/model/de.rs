@@ -493,6 +493,13 @@ impl<'de> DeserializeSeed<'de> for Field<'_> {
             (Fields::Esc { operation, .. }, Key::Operation) => fill(operation, key, d),
             (Fields::Esc { operands, .. }, Key::Operands) => fill(operands, key, d),
             (Fields::Plasm { script }, Key::Script) => fill(script, key, d),
+            // `name` and `hidden` are a part's: on other kinds they are ignored, as any field no
+            // kind has (what files written before parts may hold).
+            (Fields::Node(kind, _), Key::Node(index))
+                if matches!(NODE_KEYS[index], "name" | "hidden") && KINDS[*kind] != "part" =>
+            {
+                d.deserialize_ignored_any(IgnoredAny).map(drop)
+            }
             (Fields::Node(_, fields), Key::Node(index)) => fields.fill(index, d),
             _ => IgnoredAny::deserialize(d).map(drop),
         }

@@ -1298,6 +1298,13 @@ mod tests {
         assert_eq!(serde_json::from_str::<ModelFile>(&json).unwrap(), file);
         let shown = serde_json::to_string(&ModelFile::from_spec(part(false))).unwrap();
         assert!(!shown.contains("hidden"), "a shown part writes no `hidden`");
+        // On other kinds `name` and `hidden` are fields no kind has: ignored, whatever they hold.
+        let other: ModelFile = serde_json::from_str(
+            r#"{"format": "bezsolid", "version": 1, "solid": {"name": 5, "kind": "sphere",
+            "hidden": "no", "center": [0, 0, 0], "radius": 1, "name": [1]}}"#,
+        )
+        .unwrap();
+        assert_eq!(other.solid, sphere([0.0; 3], 1.0));
         let e = refused(S::Union {
             of: vec![
                 sphere([0.0; 3], 0.7),

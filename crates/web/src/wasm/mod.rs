@@ -465,6 +465,9 @@ impl Modeler {
     /// Pointer pressed at CSS pixel `(x, y)` of the canvas, with the modifier that gives the other
     /// drag mode held or not; returns whether a point was grabbed.
     pub fn pointer_down(&mut self, x: f64, y: f64, other_mode: bool) -> bool {
+        if !self.part_open() {
+            return false;
+        }
         self.view2
             .pointer_down(&mut self.editor, DVec2::new(x, y), other_mode)
     }
@@ -488,16 +491,26 @@ impl Modeler {
     /// Whether a control point is under CSS pixel `(x, y)` (for the cursor).
     #[must_use]
     pub fn hit(&self, x: f64, y: f64) -> bool {
+        if !self.part_open() {
+            return false;
+        }
         self.view2.pick(&self.editor, DVec2::new(x, y)).is_some()
     }
 
     /// Wheel with `deltaY`; returns whether the solid changed.
     pub fn wheel(&mut self, delta_y: f64) -> bool {
+        if !self.part_open() {
+            return false;
+        }
         self.view2.wheel(&mut self.editor, delta_y)
     }
 
     /// A key (`KeyboardEvent.key`); returns whether the view used it.
     pub fn key(&mut self, key: &str, shift: bool) -> bool {
+        // Without a part open only the view's own keys (F fits it).
+        if !self.part_open() && !matches!(key, "f" | "F") {
+            return false;
+        }
         self.view2.key(&mut self.editor, key, shift)
     }
 
@@ -513,6 +526,7 @@ impl Modeler {
     ///
     /// When nothing is selected or the value is not a finite number.
     pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), JsError> {
+        self.need_part()?;
         self.editor.set_selected_xi(xi).map_err(JsError::from)
     }
 
@@ -568,6 +582,7 @@ impl Modeler {
     ///
     /// When nothing is selected or a coordinate is not a finite number in range.
     pub fn set_selected_xy(&mut self, x: f64, y: f64) -> Result<(), JsError> {
+        self.need_part()?;
         self.editor.set_selected_xy(x, y).map_err(JsError::from)
     }
 
@@ -577,6 +592,7 @@ impl Modeler {
     ///
     /// Past the largest grid, or for another axis.
     pub fn elevate(&mut self, axis: ParamAxis) -> Result<(), JsError> {
+        self.need_part()?;
         Ok(self.editor.elevate(axis.into())?)
     }
 
@@ -737,6 +753,7 @@ impl Modeler {
     ///
     /// For a patch model, or an axis or index out of range.
     pub fn set_slice(&mut self, axis: ParamAxis, index: u32) -> Result<(), JsError> {
+        self.need_part()?;
         Ok(self.editor.set_slice(axis.into(), index as usize)?)
     }
 
@@ -1053,6 +1070,23 @@ impl Modeler {
 }
 
 impl Modeler {
+    /// Whether the editor holds the model, or the open Bézier part of a model of many solids
+    /// (with none open, what it holds is not in the model: it is not edited).
+    fn part_open(&self) -> bool {
+        self.parts.as_ref().is_none_or(|p| p.open().is_some())
+    }
+
+    /// [`Self::part_open`], or the error that says what to do.
+    fn need_part(&self) -> Result<(), JsError> {
+        if self.part_open() {
+            Ok(())
+        } else {
+            Err(JsError::new(
+                "select a Bézier part under Parts to edit its control points",
+            ))
+        }
+    }
+
     /// Runs an edit of the model of many solids (a model of one solid becomes one first); on
     /// error nothing changes.
     fn with_parts(
@@ -1062,9 +1096,15 @@ impl Modeler {
         if self.editor.busy() {
             return Err(JsError::new("finish the drag first"));
         }
-        let mut parts = match self.parts.take() {
-            Some(p) => p,
-            None => Parts::of_editor(&mut self.editor)?,
+        let Some(mut parts) = self.parts.take() else {
+            // The first edit of a model of one solid: on a copy, kept only if the edit is made.
+            let mut editor = self.editor.clone();
+            let mut parts = Parts::of_editor(&mut editor)?;
+            edit(&mut parts, &mut editor)?;
+            self.editor = editor;
+            self.parts = Some(parts);
+            self.follow_parts();
+            return Ok(());
         };
         let result = edit(&mut parts, &mut self.editor);
         self.parts = Some(parts);
@@ -1083,6 +1123,8 @@ impl Modeler {
         }
         file.to_tree().map_err(Error::from)?;
         self.with_parts(|parts, editor| parts.replace_root(file.solid, editor))?;
+        // The surface drawn is the previous model's: frame the new one by its bounds.
+        self.view3.forget_surface();
         self.view3.fit(&self.editor);
         Ok(())
     }
@@ -1090,15 +1132,7 @@ impl Modeler {
     /// Replaces the open part by `scratch`'s model (a new grid; one undo step).
     fn replace_part(&mut self, scratch: &Editor) -> Result<(), JsError> {
         let node = document::model_file(scratch).solid;
-        match &self.parts {
-            Some(p) if p.open().is_none() => {
-                return Err(JsError::new(
-                    "select a Bézier part to replace it with a new grid, or add one",
-                ));
-            }
-            _ => {}
-        }
-        self.with_parts(|parts, editor| parts.replace_selected(node, editor))
+        self.with_parts(|parts, editor| parts.replace_open(node, editor))
     }
 
     /// Writes what the editor changed back into the tree, and brings the 3D view's frame of the
