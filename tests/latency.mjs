@@ -1,5 +1,6 @@
 // Measures drag-to-redraw latency in the page (cargo xtask serve, then: cd tests && node latency.mjs [webgl2|webgpu]).
-// Prints, per case, the median and max time from a pointer move to the frame drawn after it.
+// Prints, per case, the median and max time from a pointer move to the end of the first frame
+// drawn after it (the page's debug figure).
 import { chromium } from 'playwright-core';
 const backend = process.argv[2] ?? 'webgl2';
 const args = ['--no-sandbox'];
@@ -61,5 +62,19 @@ const dbg = await page.textContent('#debug');
 console.log(`5×5×5 volume, fine surface at rest (64, in the worker): ${dbg.match(/worker mesh: ([\d.]+)/)[1]} ms in the worker, ${await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface[0])} triangles; 3D frame then ${await page.getAttribute('body', 'data-render3-ms')} ms`);
 await page.check('input[name="mode"][value="space"]'); await frame();
 await measure('5×5×5 volume, space drag in 3D (coarse 24 while moving)', '#view3d', async (b) => { const [x, y] = await page.evaluate((i) => [...window.bezsolid.modeler.sphere_screen_3d(i)], idx); return [b.x + x, b.y + y]; }, 2, 0);
+
+// A model of many solids built in the outliner: the first volume, a sphere, a box, a torus and a
+// second volume; its surface is made in the worker (coarse while moving).
+await page.click('#new-volume');
+for (const k of ['sphere', 'box', 'torus', 'bezier']) await page.click(`[data-add="${k}"]`);
+await page.click('#outline-tree [data-path="0"]');
+await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface_current, null, { timeout: 60000 });
+await page.check('input[name="mode"][value="function"]'); await frame();
+await measure('5-part tree, a volume point dragged in 3D', '#view3d', async (b) => { const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.sphere_screen_3d(47)]); return [b.x + x, b.y + y]; }, 2, 1);
+const rest = Date.now();
+await page.waitForFunction(() => { const p = JSON.parse(window.bezsolid.modeler.panel()); return p.surface_current && p.surface?.[1] === 64; }, null, { timeout: 60000, polling: 10 });
+console.log(`5-part tree: the whole model's fine surface (64) drawn ${Date.now() - rest} ms after the drag`);
+await page.click('#outline-tree [data-path="2"]'); await frame();
+await measure('5-part tree, the box moved by its handle in 3D', '#view3d', async (b) => { const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.handle_screen_3d(0)]); return [b.x + x, b.y + y]; }, 2, 1);
 
 await browser.close();
