@@ -12,6 +12,7 @@ await page.goto(`${process.env.BEZSOLID_URL ?? 'http://127.0.0.1:8080/'}?backend
 await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
 await page.focus('#view'); await page.keyboard.press('d');
 const frame = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+let released = 0; // when the last measured drag let go
 async function measure(label, canvasSel, getPoint, dx, dy, n = 12) {
   const box = await page.locator(canvasSel).boundingBox();
   const [x, y] = await getPoint(box);
@@ -24,7 +25,7 @@ async function measure(label, canvasSel, getPoint, dx, dy, n = 12) {
     ren.push(Number(await page.getAttribute('body', 'data-render-ms')));
     ren3.push(Number(await page.getAttribute('body', 'data-render3-ms')));
   }
-  await page.mouse.up(); await frame(); await frame();
+  await page.mouse.up(); released = Date.now(); await frame(); await frame();
   const med = (a) => [...a].sort((p, q) => p - q)[Math.floor(a.length / 2)];
   console.log(`${label}: input→drawn median ${med(lat).toFixed(1)} ms (max ${Math.max(...lat).toFixed(1)}); 2D frame ${med(ren).toFixed(1)} ms, 3D frame ${med(ren3).toFixed(1)} ms`);
 }
@@ -65,15 +66,16 @@ await measure('5×5×5 volume, space drag in 3D (coarse 24 while moving)', '#vie
 
 // A model of many solids built in the outliner: the first volume, a sphere, a box, a torus and a
 // second volume; its surface is made in the worker (coarse while moving).
+for (const [id, n] of [['#grid-u', 4], ['#grid-v', 4], ['#grid-w', 4]]) await page.fill(id, String(n));
 await page.click('#new-volume');
 for (const k of ['sphere', 'box', 'torus', 'bezier']) await page.click(`[data-add="${k}"]`);
 await page.click('#outline-tree [data-path="0"]');
+await page.click('#fit-3d');
 await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface_current, null, { timeout: 60000 });
 await page.check('input[name="mode"][value="function"]'); await frame();
 await measure('5-part tree, a volume point dragged in 3D', '#view3d', async (b) => { const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.sphere_screen_3d(47)]); return [b.x + x, b.y + y]; }, 2, 1);
-const rest = Date.now();
 await page.waitForFunction(() => { const p = JSON.parse(window.bezsolid.modeler.panel()); return p.surface_current && p.surface?.[1] === 64; }, null, { timeout: 60000, polling: 10 });
-console.log(`5-part tree: the whole model's fine surface (64) drawn ${Date.now() - rest} ms after the drag`);
+console.log(`5-part tree: the whole model's fine surface (64) drawn ${Date.now() - released} ms after the release`);
 await page.click('#outline-tree [data-path="2"]'); await frame();
 await measure('5-part tree, the box moved by its handle in 3D', '#view3d', async (b) => { const [x, y] = await page.evaluate(() => [...window.bezsolid.modeler.handle_screen_3d(0)]); return [b.x + x, b.y + y]; }, 2, 1);
 
