@@ -3,11 +3,32 @@
 
 export const $ = (id) => document.getElementById(id);
 
-/** Says `message` on the status line; `kind` is 'info', 'warn' or 'error'. */
+// How long a message that reports success stays in sight; errors and warnings stay until dismissed
+// or replaced.
+const INFO_MS = 5000;
+let fade = 0;
+
+/**
+ * Says `message` in the status bar over the views; `kind` is 'info' (fades after a while), 'warn'
+ * or 'error' (stay until dismissed or replaced).
+ */
 export function say(message, kind = 'info') {
+  const bar = $('status-bar');
   const line = $('status');
   line.textContent = message;
   line.dataset.kind = kind;
+  bar.dataset.kind = kind;
+  bar.hidden = !message;
+  clearTimeout(fade);
+  if (kind === 'info') fade = setTimeout(() => { bar.hidden = true; }, INFO_MS);
+}
+
+/** Wires the status bar's dismiss button (once, at start-up). */
+export function setupStatus() {
+  $('status-close').addEventListener('click', () => {
+    clearTimeout(fade);
+    $('status-bar').hidden = true;
+  });
 }
 
 /** An error's message (a JsError, an Error, or whatever was thrown). */

@@ -1,0 +1,50 @@
+// The status bar, on the backend under test: a damaged link is said over the views, in sight at
+// 1280×800, 800×600 and 390×844, and stays until dismissed; a success ("Link copied") fades; the
+// views under the bar keep their pointer.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+const inSight = async (page) => {
+  const bar = await page.locator('#status-bar').boundingBox();
+  const views = await page.locator('.views').boundingBox();
+  const size = page.viewportSize();
+  assert.ok(bar, 'the bar is shown');
+  assert.ok(bar.y >= 0 && bar.y + bar.height <= size.height && bar.x >= 0 && bar.x + bar.width <= size.width,
+    `the bar (${JSON.stringify(bar)}) is on the screen (${JSON.stringify(size)})`);
+  assert.ok(bar.y >= views.y && bar.y < views.y + 60, 'at the top of the views');
+};
+
+test('a damaged link is said where the eye is and stays until dismissed; a success fades', async () => {
+  const { page, errors } = await open(browser, '#v1.AAAA');
+  await page.waitForSelector('#status-bar:not([hidden])');
+  assert.match(await page.textContent('#status'), /link/i);
+  assert.equal(await page.getAttribute('#status-bar', 'data-kind'), 'error');
+  for (const [width, height] of [[1280, 800], [800, 600], [390, 844]]) {
+    await page.setViewportSize({ width, height });
+    await settle(page);
+    await inSight(page);
+    writeFileSync(join(ARTIFACTS, `status-${width}.png`), await page.screenshot());
+  }
+  await page.setViewportSize({ width: 1280, height: 800 });
+  // An error stays (past the time a success stays), until dismissed.
+  await page.waitForTimeout(5600);
+  assert.equal(await page.isVisible('#status-bar'), true);
+  await page.click('#status-close');
+  assert.equal(await page.isVisible('#status-bar'), false);
+  // A success is in sight, then fades by itself.
+  await page.context().grantPermissions(['clipboard-read', 'clipboard-write']);
+  await page.click('#copy-link');
+  await page.waitForSelector('#status-bar:not([hidden])');
+  assert.equal(await page.getAttribute('#status-bar', 'data-kind'), 'info');
+  await inSight(page);
+  await page.waitForSelector('#status-bar[hidden]', { state: 'attached', timeout: 8000 });
+  assert.deepEqual(errors.filter((e) => !/link/i.test(e)), []);
+  await page.close();
+});
