@@ -13,7 +13,7 @@
 // `app` as it is made (`app.bezier`, `app.freeform`, `app.script`, `app.files`); parts call each
 // other through `app` when events come, never while they are set up.
 import init, { start, start_3d, FreeFormView, ScriptViewer, gpu_objects } from './pkg/bezsolid_web.js';
-import { $, say, messageOf, setupStatus } from './ui.js';
+import { $, say, messageOf, setupPickers, setupStatus } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { runner, workList } from './work.js';
 import { setupBezier } from './bezier.js';
@@ -56,6 +56,7 @@ function restore(what, text, open) {
 
 async function main() {
   setupStatus();
+  setupPickers();
   const wasm = await init();
   let requested = new URLSearchParams(location.search).get('backend') ?? 'auto';
   if (!BACKENDS.includes(requested)) {

@@ -23,6 +23,16 @@ export function say(message, kind = 'info') {
   if (kind === 'info') fade = setTimeout(() => { bar.hidden = true; }, INFO_MS);
 }
 
+/**
+ * Wires the buttons that open a file picker (`data-picks` names the hidden file input): real
+ * buttons, in the tab order and the accessibility tree, unlike a label around a hidden input.
+ */
+export function setupPickers() {
+  for (const button of document.querySelectorAll('[data-picks]')) {
+    button.addEventListener('click', () => $(button.dataset.picks).click());
+  }
+}
+
 /** Wires the status bar's dismiss button (once, at start-up). */
 export function setupStatus() {
   $('status-close').addEventListener('click', () => {

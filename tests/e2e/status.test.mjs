@@ -1,6 +1,6 @@
 // The status bar, on the backend under test: a damaged link is said over the views, in sight at
 // 1280×800, 800×600 and 390×844, and stays until dismissed; a success ("Link copied") fades; the
-// views under the bar keep their pointer.
+// views under the bar keep their pointer. Open… and the mesh imports are real buttons.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
@@ -46,5 +46,35 @@ test('a damaged link is said where the eye is and stays until dismissed; a succe
   await inSight(page);
   await page.waitForSelector('#status-bar[hidden]', { state: 'attached', timeout: 8000 });
   assert.deepEqual(errors.filter((e) => !/link/i.test(e)), []);
+  await page.close();
+});
+
+test('Open… and the mesh imports are buttons a keyboard reaches and presses', async () => {
+  const { page, errors } = await open(browser);
+  for (const [name, input] of [['Open…', 'open-file'], ['Import mesh as A…', 'ff-import-a'], ['Import mesh as B…', 'ff-import-b']]) {
+    if (input !== 'open-file') {
+      await page.check('input[name="workspace"][value="freeform"]');
+      await page.waitForSelector('body[data-workspace="freeform"]');
+      if (input === 'ff-import-b') {
+        await page.selectOption('#ff-op', 'union');
+        await page.waitForSelector('#ff-b-controls:not([disabled])');
+      }
+    }
+    const button = page.getByRole('button', { name, exact: true });
+    assert.equal(await button.count(), 1, `${name} is a button in the accessibility tree`);
+    // The press reaches the hidden input as a click (its default, the browser's file dialog, is
+    // stopped here: headless Chromium opens one dialog at a time).
+    await page.evaluate((id) => {
+      window.picked = null;
+      document.getElementById(id).addEventListener('click', (e) => {
+        window.picked = id;
+        e.preventDefault();
+      }, { once: true });
+    }, input);
+    await button.focus();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction((id) => window.picked === id, input, { timeout: 5000 });
+  }
+  assert.deepEqual(errors, []);
   await page.close();
 });
