@@ -148,15 +148,25 @@ impl Refined {
         resolution: usize,
         vertices: Vec<MeshVertex>,
     ) -> bool {
-        if revision != current {
-            return false;
+        self.take(revision == current, revision, resolution, vertices)
+    }
+
+    /// Keeps `vertices` as the surface drawn when `wanted`; returns `wanted`.
+    fn take(
+        &mut self,
+        wanted: bool,
+        revision: u64,
+        resolution: usize,
+        vertices: Vec<MeshVertex>,
+    ) -> bool {
+        if wanted {
+            self.made = Some(Made {
+                revision,
+                resolution,
+                vertices,
+            });
         }
-        self.made = Some(Made {
-            revision,
-            resolution,
-            vertices,
-        });
-        true
+        wanted
     }
 
     /// Hands in a surface made elsewhere for `revision` at `resolution`, taken when it is newer
@@ -172,15 +182,7 @@ impl Refined {
         let newer = self.made.as_ref().is_none_or(|m| {
             m.revision < revision || (m.revision == revision && m.resolution != resolution)
         });
-        if revision > current || !newer {
-            return false;
-        }
-        self.made = Some(Made {
-            revision,
-            resolution,
-            vertices,
-        });
-        true
+        self.take(revision <= current && newer, revision, resolution, vertices)
     }
 
     /// The surface drawn now.

@@ -865,7 +865,6 @@ impl View3 {
         editor: &Editor,
         volume: &Solid3,
     ) -> (Vec<MeshVertex>, Vec<MeshVertex>, f64) {
-        let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
         let mut opaque: Vec<MeshVertex> = Vec::new();
         if let Some(m) = self.surface.drawn() {
             opaque.extend_from_slice(&m.vertices);
@@ -873,33 +872,14 @@ impl View3 {
         if let Some(c) = &self.stack {
             opaque.extend_from_slice(&c.stack);
         }
-        let r = Self::radius(editor);
-        let net = volume.net();
-        let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
-        let selected = editor
-            .selected()
-            .and_then(|(p, q)| net.flat_index(axis.embed(index, [p, q])));
-        let detail = sphere_detail(net.points().len());
-        for (k, p) in net.points().iter().enumerate() {
-            let (radius, color) = if selected == Some(k) {
-                (r * 1.3, SELECT_COLOR)
-            } else if net
-                .multi_index(k)
-                .is_some_and(|ijk| ijk[axis.index()] == index)
-            {
-                (r, diverging(p.w / scale))
-            } else {
-                (r * 0.7, diverging(p.w / scale))
-            };
-            sphere(&mut opaque, p.truncate(), radius, color, detail);
-        }
         let mut translucent = Vec::new();
-        if let Some(slice) = net.slice(axis, index) {
-            let [n, m] = slice.degree();
-            let at = |p: usize, q: usize| slice[[p, q]].truncate();
-            net_rods(&mut opaque, (n, m), at, r);
-            translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
-        }
+        volume_net(
+            editor,
+            volume,
+            DAffine3::IDENTITY,
+            Self::radius(editor),
+            (&mut opaque, &mut translucent),
+        );
         let (min, max) = volume.domain();
         (opaque, translucent, (max - min).max_element() * 1.5)
     }
@@ -922,38 +902,13 @@ impl View3 {
             .map_or(2.0, |(min, max)| (max - min).max_element().max(1e-9) * 1.5);
         let mut translucent = Vec::new();
         if let (true, Some(volume)) = (whole.part, editor.volume()) {
-            let map = whole.placement;
-            let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
-            let r = self.point_radius(editor);
-            let net = volume.net();
-            let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
-            let selected = editor
-                .selected()
-                .and_then(|(p, q)| net.flat_index(axis.embed(index, [p, q])));
-            let detail = sphere_detail(net.points().len());
-            for (k, p) in net.points().iter().enumerate() {
-                let on_slice = net
-                    .multi_index(k)
-                    .is_some_and(|ijk| ijk[axis.index()] == index);
-                let (radius, color) = match (selected == Some(k), on_slice) {
-                    (true, _) => (r * 1.3, SELECT_COLOR),
-                    (false, true) => (r, diverging(p.w / scale)),
-                    (false, false) => (r * 0.7, diverging(p.w / scale)),
-                };
-                sphere(
-                    &mut opaque,
-                    map.transform_point3(p.truncate()),
-                    radius,
-                    color,
-                    detail,
-                );
-            }
-            if let Some(slice) = net.slice(axis, index) {
-                let [n, m] = slice.degree();
-                let at = |p: usize, q: usize| map.transform_point3(slice[[p, q]].truncate());
-                net_rods(&mut opaque, (n, m), at, r);
-                translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
-            }
+            volume_net(
+                editor,
+                volume,
+                whole.placement,
+                self.point_radius(editor),
+                (&mut opaque, &mut translucent),
+            );
         }
         for (k, (_, c, r)) in self.handles().into_iter().enumerate() {
             sphere(&mut opaque, c, r, HANDLE_COLORS[k], (10, 16));
@@ -976,6 +931,48 @@ impl View3 {
             }
         }
         (opaque, translucent, extent)
+    }
+}
+
+/// A volume's control points as spheres coloured by ξ (the selected one orange and larger, those
+/// of the slice the 2D view edits full size, the others smaller), the slice's net as rods and its
+/// plane, placed by `map` (part coordinates to space), `r` a sphere's radius.
+fn volume_net(
+    editor: &Editor,
+    volume: &Solid3,
+    map: DAffine3,
+    r: f64,
+    (opaque, translucent): (&mut Vec<MeshVertex>, &mut Vec<MeshVertex>),
+) {
+    let (axis, index) = editor.slice().unwrap_or((Axis::W, 0));
+    let net = volume.net();
+    let scale = net.points().iter().fold(1e-12f64, |m, p| m.max(p.w.abs()));
+    let selected = editor
+        .selected()
+        .and_then(|(p, q)| net.flat_index(axis.embed(index, [p, q])));
+    let detail = sphere_detail(net.points().len());
+    for (k, p) in net.points().iter().enumerate() {
+        let on_slice = net
+            .multi_index(k)
+            .is_some_and(|ijk| ijk[axis.index()] == index);
+        let (radius, color) = match (selected == Some(k), on_slice) {
+            (true, _) => (r * 1.3, SELECT_COLOR),
+            (false, true) => (r, diverging(p.w / scale)),
+            (false, false) => (r * 0.7, diverging(p.w / scale)),
+        };
+        sphere(
+            opaque,
+            map.transform_point3(p.truncate()),
+            radius,
+            color,
+            detail,
+        );
+    }
+    if let Some(slice) = net.slice(axis, index) {
+        let [n, m] = slice.degree();
+        let at = |p: usize, q: usize| map.transform_point3(slice[[p, q]].truncate());
+        net_rods(opaque, (n, m), at, r);
+        translucent.extend(quad([at(0, 0), at(n, 0), at(n, m), at(0, m)], SLICE_COLOR));
     }
 }
 
