@@ -20,6 +20,34 @@ pub const HISTORY_LIMIT: usize = 500;
 /// The most control points per side of a patch in the editor (degree 15).
 pub const MAX_POINTS_PER_SIDE: usize = 16;
 
+/// How far ξ of a control point may go, in multiples of the longest side of the model's domain
+/// ([`Editor::xi_limit`]).
+pub const XI_PER_EXTENT: f64 = 100.0;
+
+/// ξ of the point `index` of a new regular net of `degree`: the Bézier coefficients of the dome
+/// `ξ(u) = 1/4 − 3/4 · mean over the axes of (2u − 1)²` (exact: a quadratic has coefficients at
+/// any degree from 2), which is 1/4 in the middle of the box and −1/2 at its corners, so that a new
+/// patch or volume is a solid in the middle of its box (a disc or ball) and every point's ξ
+/// matters. An axis of two points cannot bend and is left out; a net of two points along every
+/// axis is inside everywhere (ξ = 1/4).
+#[must_use]
+pub fn dome<const D: usize>(index: [usize; D], degree: [usize; D]) -> f64 {
+    let mut sum = 0.0;
+    let mut axes = 0;
+    for (&i, &n) in index.iter().zip(&degree) {
+        if n >= 2 {
+            // (2u − 1)² = 4u² − 4u + 1, with u and u² of coefficients i/n and i(i − 1)/(n(n − 1)).
+            let (i, n) = (i as f64, n as f64);
+            sum += 4.0 * i * (i - 1.0) / (n * (n - 1.0)) - 4.0 * i / n + 1.0;
+            axes += 1;
+        }
+    }
+    if axes == 0 {
+        return 0.25;
+    }
+    0.25 - 0.75 * sum / f64::from(axes)
+}
+
 /// What dragging a control point changes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
@@ -504,9 +532,9 @@ impl Editor {
         })
     }
 
-    /// A new flat patch of `nu × nv` points (2 to [`MAX_POINTS_PER_SIDE`]) over the current domain
-    /// (a volume's box in x and y), at ξ = 0.25 everywhere (the paper's starting point for Fig. 9):
-    /// the whole box is inside.
+    /// A new patch of `nu × nv` points (2 to [`MAX_POINTS_PER_SIDE`]) on a regular grid over the
+    /// current domain (a volume's box in x and y), its ξ a [`dome`]: a solid in the middle of the
+    /// domain, so that moving any point shows at once.
     ///
     /// # Errors
     ///
@@ -522,19 +550,16 @@ impl Editor {
         if let Some(v) = self.volume() {
             // From a volume: a new patch over its box's x, y extent.
             let (min, max) = v.domain();
-            let patch = Solid2::regular(
-                [nu - 1, nv - 1],
-                min.truncate(),
-                max.truncate(),
-                |[_, _]| 0.25,
-            )
+            let patch = Solid2::regular([nu - 1, nv - 1], min.truncate(), max.truncate(), |ij| {
+                dome(ij, [nu - 1, nv - 1])
+            })
             .map_err(Error::from)?;
             self.set_solid(patch);
             return Ok(());
         }
         let (min, max) = self.solid.domain();
         self.apply(Step::Other, |s| {
-            *s = Solid2::regular([nu - 1, nv - 1], min, max, |[_, _]| 0.25)?;
+            *s = Solid2::regular([nu - 1, nv - 1], min, max, |ij| dome(ij, [nu - 1, nv - 1]))?;
             Ok(())
         })?;
         self.opened += 1;
@@ -542,9 +567,9 @@ impl Editor {
         Ok(())
     }
 
-    /// A new volume: a flat net of `nu × nv × nw` points (2 to [`MAX_POINTS_PER_SIDE`] each) at
-    /// ξ = 0.25 (the whole box inside) over the current volume's box, or over the patch's domain
-    /// times `[0, 1]`: one undo step.
+    /// A new volume: a regular net of `nu × nv × nw` points (2 to [`MAX_POINTS_PER_SIDE`] each)
+    /// whose ξ is a [`dome`] (a solid ball in the middle of the box) over the current volume's box,
+    /// or over the patch's domain times `[0, 1]`: one undo step.
     ///
     /// # Errors
     ///
@@ -564,8 +589,9 @@ impl Editor {
                 (a.extend(0.0), b.extend(1.0))
             }
         };
-        let solid = Solid3::regular([nu - 1, nv - 1, nw - 1], min, max, |[_, _, _]| 0.25)
-            .map_err(Error::from)?;
+        let degree = [nu - 1, nv - 1, nw - 1];
+        let solid =
+            Solid3::regular(degree, min, max, |ijk| dome(ijk, degree)).map_err(Error::from)?;
         self.set_volume(solid);
         Ok(())
     }
@@ -616,7 +642,27 @@ impl Editor {
     pub fn set_selected_xi(&mut self, xi: f64) -> Result<(), Error> {
         let k = self.selected.ok_or("no control point is selected")?;
         let (i, j) = self.ij(k);
+        self.check_xi(xi)?;
         self.apply(Step::Input(k), |s| s.set_xi([i, j], xi))
+    }
+
+    /// The largest |ξ| a control point takes: [`XI_PER_EXTENT`] times the model's extent (its
+    /// domain's longest side). ξ far past the domain's size is a slip of the keyboard (1e9 for
+    /// 1e-9), and would squash every other value to nothing in the views' colours.
+    #[must_use]
+    pub fn xi_limit(&self) -> f64 {
+        let (min, max) = self.solid.domain();
+        XI_PER_EXTENT * (max - min).max_element().max(1e-3)
+    }
+
+    fn check_xi(&self, xi: f64) -> Result<(), Error> {
+        let limit = self.xi_limit();
+        if xi.abs() > limit {
+            return Err(Error::new(format!(
+                "ξ = {xi} is too far from the model: ξ stays within ±{limit} ({XI_PER_EXTENT} times the longest side of its domain)"
+            )));
+        }
+        Ok(())
     }
 
     /// The selected control point `(x, y, ξ)`.
@@ -720,10 +766,9 @@ impl Editor {
         match (self.selected, self.selected_xi()) {
             (Some(k), Some(xi)) if delta_y.is_finite() && delta_y != 0.0 && self.drag.is_none() => {
                 let (i, j) = self.ij(k);
-                self.apply(Step::Wheel(k), |s| {
-                    s.set_xi([i, j], xi - delta_y * XI_PER_WHEEL)
-                })
-                .is_ok()
+                let xi = xi - delta_y * XI_PER_WHEEL;
+                self.check_xi(xi).is_ok()
+                    && self.apply(Step::Wheel(k), |s| s.set_xi([i, j], xi)).is_ok()
             }
             _ => false,
         }
@@ -733,7 +778,7 @@ impl Editor {
     /// solid changed.
     pub fn nudge(&mut self, delta: f64) -> bool {
         match (self.selected, self.selected_xi()) {
-            (Some(k), Some(xi)) if self.drag.is_none() => {
+            (Some(k), Some(xi)) if self.drag.is_none() && self.check_xi(xi + delta).is_ok() => {
                 let (i, j) = self.ij(k);
                 self.apply(Step::Other, |s| s.set_xi([i, j], xi + delta))
                     .is_ok()

@@ -19,6 +19,7 @@ use glam::DVec3;
 use crate::camera::{Camera, OrbitView};
 use crate::color::Rgba;
 use crate::error::Error;
+use crate::history::{History, Weighed};
 use crate::scene::{MeshVertex, Refined, Scene, float_vertices, next_generation};
 use crate::view3d::mesh_floats;
 
@@ -59,6 +60,33 @@ type GeometryKey = (u64, Display, Option<(u64, usize)>);
 /// The triangles for one key: key, generation, opaque, translucent.
 type Geometry = (GeometryKey, u64, Vec<MeshVertex>, Vec<MeshVertex>);
 
+/// The most bytes the Free-form mode's undo and redo steps keep (each holds the operands, an
+/// imported mesh whole): past it the oldest steps go, the newest always stays.
+pub const HISTORY_BYTES: usize = 64 << 20;
+
+/// The scene as an undo step keeps it: the operands, their file names and the operation.
+#[derive(Clone, Debug, PartialEq)]
+struct Snapshot {
+    operands: Vec<EscOperand>,
+    names: Vec<Option<String>>,
+    operation: Option<Op>,
+}
+
+impl Weighed for Snapshot {
+    fn bytes(&self) -> usize {
+        self.operands
+            .iter()
+            .map(|o| {
+                64 + o
+                    .mesh
+                    .as_ref()
+                    .map_or(0, |m| 24 * m.positions.len() + 12 * m.triangles.len())
+            })
+            .sum::<usize>()
+            + self.names.iter().flatten().map(String::len).sum::<usize>()
+    }
+}
+
 /// The Free-form mode's document, view and camera.
 #[derive(Clone, Debug)]
 pub struct FreeForm {
@@ -78,6 +106,8 @@ pub struct FreeForm {
     /// The point mesh's counts `(inside, marked)` for a revision.
     point_counts: Option<(u64, usize, usize)>,
     generation: u64,
+    /// The steps to undo and redo: every change of an operand, its place or the operation.
+    history: History<Snapshot>,
 }
 
 impl Default for FreeForm {
@@ -111,9 +141,11 @@ impl FreeForm {
             geometry: None,
             point_counts: None,
             generation: 0,
+            history: History::new(HISTORY_BYTES),
         };
         f.open(&file)
             .unwrap_or_else(|_| unreachable!("the default scene is valid"));
+        f.history.clear();
         f
     }
 
@@ -137,13 +169,77 @@ impl FreeForm {
         else {
             return Err("not a free-form model".into());
         };
+        let before = self.snapshot();
         self.operation = operation.as_deref().and_then(Op::from_name);
         self.operands = operands.clone();
         self.names = vec![None; operands.len()];
         self.boolean = boolean;
         self.changed();
         self.fit();
+        self.record(before);
         Ok(())
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            operands: self.operands.clone(),
+            names: self.names.clone(),
+            operation: self.operation,
+        }
+    }
+
+    /// Keeps `before` as an undo step if the scene is no longer that.
+    fn record(&mut self, before: Snapshot) {
+        if before.operands != self.operands
+            || before.operation != self.operation
+            || before.names != self.names
+        {
+            self.history.push(before);
+        }
+    }
+
+    /// Undoes the last change of an operand, its place or the operation; returns whether there
+    /// was one.
+    pub fn undo(&mut self) -> bool {
+        self.step(true)
+    }
+
+    /// Redoes the last undone change; returns whether there was one.
+    pub fn redo(&mut self) -> bool {
+        self.step(false)
+    }
+
+    fn step(&mut self, back: bool) -> bool {
+        let now = self.snapshot();
+        let Some(to) = (if back {
+            self.history.undo(now)
+        } else {
+            self.history.redo(now)
+        }) else {
+            return false;
+        };
+        // A step was a scene that was built: it builds again.
+        if self.apply(to.operands, to.operation).is_ok() {
+            self.names = to.names;
+        }
+        true
+    }
+
+    /// Whether there is a change to undo.
+    #[must_use]
+    pub fn can_undo(&self) -> bool {
+        self.history.can_undo()
+    }
+
+    /// Whether there is an undone change to redo.
+    #[must_use]
+    pub fn can_redo(&self) -> bool {
+        self.history.can_redo()
+    }
+
+    /// Forgets every undo and redo step (after restoring an autosaved scene at start-up).
+    pub fn forget_history(&mut self) {
+        self.history.clear();
     }
 
     fn changed(&mut self) {
@@ -186,9 +282,12 @@ impl FreeForm {
             _ => return Err("an operation needs two solids, and one solid no operation".into()),
         };
         let boolean = Boolean { solids, expr };
-        // A replaced or dropped operand's file name goes with it.
+        // A replaced or dropped operand's file name goes with it; a moved one keeps it.
+        fn shape(o: Option<&EscOperand>) -> Option<(&Option<String>, &Option<MeshSpec>)> {
+            o.map(|o| (&o.example, &o.mesh))
+        }
         for (k, name) in self.names.iter_mut().enumerate() {
-            if self.operands.get(k) != operands.get(k) {
+            if shape(self.operands.get(k)) != shape(operands.get(k)) {
                 *name = None;
             }
         }
@@ -240,8 +339,10 @@ impl FreeForm {
         let operation = self
             .operation
             .or((operands.len() == 2).then_some(Op::Union));
+        let before = self.snapshot();
         self.apply(operands, operation)?;
         self.set_name(slot, name);
+        self.record(before);
         Ok(())
     }
 
@@ -263,7 +364,10 @@ impl FreeForm {
             .get_mut(slot)
             .ok_or_else(|| Error::new(format!("no operand {}", slot + 1)))?;
         o.offset = offset;
-        self.apply(operands, self.operation)
+        let before = self.snapshot();
+        self.apply(operands, self.operation)?;
+        self.record(before);
+        Ok(())
     }
 
     /// The operation on A and B, or `None` for solid A alone (a new B is a torus).
@@ -280,7 +384,10 @@ impl FreeForm {
             }
             Some(_) => {}
         }
-        self.apply(operands, operation)
+        let before = self.snapshot();
+        self.apply(operands, operation)?;
+        self.record(before);
+        Ok(())
     }
 
     /// Changes whenever the scene does.
@@ -718,6 +825,12 @@ mod tests {
         f.set_mesh(1, "ball.obj", &bezsolid_core::esc::examples::icosphere(1))
             .unwrap();
         assert_eq!(f.operand(1).map(|o| o.0), Some("ball.obj".into()));
+        f.set_offset(1, [0.1, 0.0, 0.0]).unwrap();
+        assert_eq!(
+            f.operand(1).map(|o| o.0),
+            Some("ball.obj".into()),
+            "a moved mesh keeps its name"
+        );
         f.set_example(1, Example::Blob).unwrap();
         assert_eq!(
             f.operand(1).map(|o| (o.0, o.2)),
@@ -729,6 +842,43 @@ mod tests {
         let file = f.model_file();
         f.open(&file).unwrap();
         assert_eq!(f.operand(0).map(|o| o.0), Some("imported mesh".into()));
+    }
+
+    #[test]
+    fn every_change_is_one_undo_step_and_redo_gives_it_back() {
+        let mut f = FreeForm::new();
+        let start = f.model_file();
+        assert!(!f.can_undo());
+        f.set_operation(Some(Op::Intersection)).unwrap();
+        f.set_offset(1, [0.2, 0.0, 0.0]).unwrap();
+        f.set_mesh(0, "ball.obj", &bezsolid_core::esc::examples::icosphere(1))
+            .unwrap();
+        let last = f.model_file();
+        // A refused change is no step.
+        assert!(f.set_offset(1, [f64::NAN, 0.0, 0.0]).is_err());
+        let revision = f.revision();
+        assert!(f.undo());
+        assert!(f.revision() > revision, "the scene is built again");
+        assert_eq!(f.operand(0).map(|o| o.0), Some("blob".into()));
+        assert!(f.undo());
+        assert_eq!(f.operand(1).map(|o| o.1), Some([0.0, 0.0, 0.35]));
+        assert!(f.undo());
+        assert_eq!(f.model_file(), start);
+        assert!(!f.undo());
+        assert!(f.redo() && f.redo() && f.redo());
+        assert_eq!(f.model_file(), last);
+        assert_eq!(
+            f.operand(0).map(|o| o.0),
+            Some("ball.obj".into()),
+            "the name comes back"
+        );
+        assert!(!f.redo());
+        // Opening a file is a step too; the history can be forgotten.
+        f.open(&start).unwrap();
+        assert!(f.undo());
+        assert_eq!(f.model_file(), last);
+        f.forget_history();
+        assert!(!f.can_undo() && !f.can_redo());
     }
 
     #[test]

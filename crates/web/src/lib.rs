@@ -27,6 +27,7 @@ pub mod editor;
 pub mod error;
 pub mod frame2d;
 pub mod freeform;
+pub mod history;
 pub mod jobs;
 pub mod outline;
 pub mod panel;

@@ -13,11 +13,18 @@ use bezsolid_core::tree::ModelTree;
 use glam::{DAffine2, DAffine3, DMat3, DVec3};
 
 use crate::document;
-use crate::editor::{Editor, HISTORY_LIMIT};
+use crate::editor::Editor;
+use crate::history::{History, Weighed};
 
 /// The most bytes the undo and redo steps of a model of many solids keep (each step holds the
 /// whole tree): past it the oldest steps go, the newest always stays.
 pub const HISTORY_BYTES: usize = 64 << 20;
+
+impl Weighed for Snapshot {
+    fn bytes(&self) -> usize {
+        spec_bytes(&self.root)
+    }
+}
 
 /// About how many bytes `spec` takes: its numbers, and a little per node.
 fn spec_bytes(spec: &SolidSpec) -> usize {
@@ -51,9 +58,8 @@ struct Snapshot {
 #[derive(Clone, Debug)]
 pub struct Parts {
     outline: Outline,
-    /// The steps to undo and redo, each with its size in bytes (see [`HISTORY_BYTES`]).
-    undo: Vec<(Snapshot, usize)>,
-    redo: Vec<(Snapshot, usize)>,
+    /// The steps to undo and redo (within [`HISTORY_BYTES`]).
+    history: History<Snapshot>,
     /// The editor's [`Editor::recorded`] when the part's last edit was written back as a step:
     /// an edit the editor merged into that step (another wheel notch on the same point) is
     /// written back into it too.
@@ -144,8 +150,7 @@ impl Parts {
         let outline = Self::outline_of(root)?;
         let mut parts = Self {
             outline,
-            undo: Vec::new(),
-            redo: Vec::new(),
+            history: History::new(HISTORY_BYTES),
             last_set: None,
             sync_recorded: None,
             open: None,
@@ -175,7 +180,7 @@ impl Parts {
         let history = editor.undo_specs();
         let mut parts = Self::new(editor_spec(editor), editor)?;
         for root in history {
-            parts.record(Snapshot {
+            parts.history.push(Snapshot {
                 root,
                 selected: Vec::new(),
             });
@@ -303,25 +308,8 @@ impl Parts {
         if self.snapshot() == before {
             return;
         }
-        self.record(before);
-        self.redo.clear();
+        self.history.push(before);
         self.sync_recorded = None;
-    }
-
-    /// Keeps `before` as the newest undo step, the oldest going past [`HISTORY_LIMIT`] steps or
-    /// [`HISTORY_BYTES`] (the newest always stays).
-    fn record(&mut self, before: Snapshot) {
-        let size = spec_bytes(&before.root);
-        self.undo.push((before, size));
-        let mut total: usize = self.undo.iter().chain(&self.redo).map(|(_, b)| b).sum();
-        let mut drop = 0;
-        while self.undo.len() - drop > 1
-            && (self.undo.len() - drop > HISTORY_LIMIT || total > HISTORY_BYTES)
-        {
-            total -= self.undo[drop].1;
-            drop += 1;
-        }
-        self.undo.drain(..drop);
     }
 
     /// Writes what the editor changed in the open part back into the tree, as one undo step,
@@ -488,21 +476,20 @@ impl Parts {
 
     /// Forgets every undo and redo step (after restoring an autosaved model at start-up).
     pub fn forget_history(&mut self) {
-        self.undo.clear();
-        self.redo.clear();
+        self.history.clear();
         self.last_set = None;
     }
 
     /// Whether there is a step to undo.
     #[must_use]
     pub fn can_undo(&self) -> bool {
-        !self.undo.is_empty()
+        self.history.can_undo()
     }
 
     /// Whether there is an undone step to redo.
     #[must_use]
     pub fn can_redo(&self) -> bool {
-        !self.redo.is_empty()
+        self.history.can_redo()
     }
 
     /// Undoes the last step (a drag of a part's point, an added node, a slider's setting, …);
@@ -521,20 +508,14 @@ impl Parts {
             return false;
         }
         self.sync(editor);
-        let (from, to) = if back {
-            (&mut self.undo, &mut self.redo)
+        let now = self.snapshot();
+        let Some(snapshot) = (if back {
+            self.history.undo(now)
         } else {
-            (&mut self.redo, &mut self.undo)
-        };
-        let Some((snapshot, _)) = from.pop() else {
+            self.history.redo(now)
+        }) else {
             return false;
         };
-        let now = Snapshot {
-            root: self.outline.root().clone(),
-            selected: self.outline.selected().to_vec(),
-        };
-        let size = spec_bytes(&now.root);
-        to.push((now, size));
         self.sync_recorded = None;
         // A snapshot was a checked tree.
         if let Ok(mut o) = Outline::new(snapshot.root) {

@@ -38,6 +38,8 @@ pub struct View2 {
     /// The editor's solid's coordinates to the view's (the transforms above a part of a 2D model
     /// of many solids; identity otherwise).
     placement: DAffine2,
+    /// Esc has cleared the selection: the next Tab leaves the view instead of walking the points.
+    releasing: bool,
 }
 
 impl Default for View2 {
@@ -56,6 +58,7 @@ impl View2 {
             size: DVec2::new(640.0, 480.0),
             dpr: 1.0,
             press: None,
+            releasing: false,
             scene: None,
             placement: DAffine2::IDENTITY,
         }
@@ -232,8 +235,13 @@ impl View2 {
 
     /// A key pressed while the view has focus (`key` as in `KeyboardEvent.key`). Returns whether the
     /// view used it (the page then prevents the browser's default). Tab and Shift+Tab walk through
-    /// the points and let focus leave the view after the last (first) one, as a composite widget does.
+    /// the points and let focus leave the view after the last (first) one, as a composite widget
+    /// does; Esc then Tab leaves at once (as in a code editor, whose Tab indents).
     pub fn key(&mut self, editor: &mut Editor, key: &str, shift: bool) -> bool {
+        let releasing = core::mem::take(&mut self.releasing);
+        if key == "Tab" && releasing {
+            return false;
+        }
         let [n, m] = editor.solid().degree();
         let step = if shift {
             XI_KEY_STEP * 0.1
@@ -260,7 +268,9 @@ impl View2 {
             "PageUp" | "+" | "=" => editor.nudge(step),
             "PageDown" | "-" | "_" => editor.nudge(-step),
             "Escape" => {
-                // Esc during a drag puts the point back; otherwise it clears the selection.
+                // Esc during a drag puts the point back; otherwise it clears the selection, and the
+                // next Tab leaves the view.
+                self.releasing = !editor.dragging();
                 self.press = None;
                 editor.cancel();
                 true
@@ -430,6 +440,17 @@ mod tests {
         assert!(v.key("Escape", false));
         assert_eq!(v.selected(), None);
         assert!(!v.key("q", false));
+        // Esc, then Tab: focus leaves at once, and the next Tab (focus back) walks again.
+        assert!(v.key("Tab", false));
+        assert_eq!(v.selected(), Some((0, 0)));
+        assert!(v.key("Escape", false));
+        assert!(!v.key("Tab", false), "Esc then Tab leaves the view");
+        assert!(v.key("Tab", true));
+        assert_eq!(v.selected(), Some((2, 2)));
+        // Another key between Esc and Tab keeps Tab walking.
+        assert!(v.key("Escape", false));
+        assert!(v.key("ArrowLeft", false));
+        assert!(v.key("Tab", false));
     }
 
     #[test]
@@ -440,6 +461,18 @@ mod tests {
         let before = v.selected_xi();
         assert!(v.set_selected_xi(f64::NAN).is_err());
         assert_eq!(v.selected_xi(), before);
+        // ξ far past the model's size is refused, saying the bound; near it is taken.
+        let limit = v.xi_limit();
+        let message = v.set_selected_xi(1e9).unwrap_err().message().to_owned();
+        assert!(
+            message.contains("too far") && message.contains(&limit.to_string()),
+            "{message}"
+        );
+        assert_eq!(v.selected_xi(), before);
+        v.set_selected_xi(-limit).unwrap();
+        assert!(!v.nudge(-0.1), "keys stop at the bound");
+        assert!(!v.wheel(100.0), "and so does the wheel");
+        assert_eq!(v.selected_xi(), Some(-limit));
         v.select(Some((3, 0)));
         assert_eq!(v.selected(), None, "outside the grid");
     }
@@ -634,7 +667,13 @@ mod tests {
         v.reset_grid(2, 5).unwrap();
         assert_eq!(v.solid().degree(), [1, 4]);
         assert_eq!(v.selected(), None, "P33 is not in a 2×5 grid");
-        assert!(v.solid().net().points().iter().all(|p| p.z == 0.25));
+        v.reset_grid(4, 5).unwrap();
+        // A dome: a solid in the middle of the domain, outside at its corners.
+        let (min, max) = v.solid().domain();
+        assert!(v.solid().f((min + max) / 2.0) > 0.05);
+        assert!(v.solid().f(min + (max - min) * 0.05) < 0.0);
+        assert_eq!(v.solid().net().points()[0].z, -0.5);
+        v.reset_grid(2, 5).unwrap();
         assert!(v.reset_grid(1, 4).is_err() && v.reset_grid(2, 17).is_err());
         for _ in 0..(MAX_POINTS_PER_SIDE - 2) {
             v.elevate(Axis::U).unwrap();

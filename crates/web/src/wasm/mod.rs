@@ -1391,6 +1391,31 @@ impl FreeFormView {
         self.state.resolution() as u32
     }
 
+    /// Undoes the last change of an operand, its place or the operation.
+    pub fn undo(&mut self) -> bool {
+        self.state.undo()
+    }
+
+    /// Redoes the last undone change.
+    pub fn redo(&mut self) -> bool {
+        self.state.redo()
+    }
+
+    /// Whether there is a change to undo.
+    pub fn can_undo(&self) -> bool {
+        self.state.can_undo()
+    }
+
+    /// Whether there is an undone change to redo.
+    pub fn can_redo(&self) -> bool {
+        self.state.can_redo()
+    }
+
+    /// Forgets the undo and redo steps (after restoring the autosaved scene).
+    pub fn forget_history(&mut self) {
+        self.state.forget_history();
+    }
+
     /// Changes whenever the scene does (for saving only what changed).
     #[must_use]
     pub fn revision(&self) -> f64 {
