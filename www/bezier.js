@@ -1,8 +1,9 @@
 // The Bézier mode: the 2D contour view's input, the side panel (the selected point, the model, a
 // volume's slice and surface), the model's controls, and the work that follows a volume (its fine
 // surface and contour stack, made in workers while the view draws a coarse one).
-import { $, fmt, say, messageOf } from './ui.js';
+import { $, fmt, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { follower, lazyRunner } from './work.js';
+import { KEYS, storage } from './storage.js';
 
 /** Sets up the mode on `app` (see main.js); returns what the page asks of it. */
 export function setupBezier(app) {
@@ -51,10 +52,20 @@ export function setupBezier(app) {
     }
     app.redraw();
   });
-  let probeAt = [0, 0];
+  // f under the pointer, read again when the model changes under a still pointer (after a drag,
+  // an undo, a typed value).
+  let probeAt = null;
   let probePending = false;
+  let probeSeen = -1;
+  const showProbe = () => {
+    probeSeen = modeler.revision();
+    if (!probeAt) return;
+    const [px, py, f] = modeler.probe(...probeAt);
+    $('probe').textContent = `f(${px.toFixed(3)}, ${py.toFixed(3)}) = ${f.toFixed(4)} (${f >= 0 ? 'inside' : 'outside'})`;
+  };
   canvas.addEventListener('pointermove', (e) => {
     const [x, y] = local(e);
+    probeAt = [x, y];
     if (modeler.dragging()) {
       if (modeler.pointer_move(x, y)) {
         app.stats.lastEdit = performance.now();
@@ -64,13 +75,11 @@ export function setupBezier(app) {
     }
     canvas.classList.toggle('over-point', modeler.hit(x, y));
     // f under the pointer, once a frame at most (a folded net's inverse map costs milliseconds).
-    probeAt = [x, y];
     if (!probePending) {
       probePending = true;
       requestAnimationFrame(() => {
         probePending = false;
-        const [px, py, f] = modeler.probe(...probeAt);
-        $('probe').textContent = `f(${px.toFixed(3)}, ${py.toFixed(3)}) = ${f.toFixed(4)} (${f >= 0 ? 'inside' : 'outside'})`;
+        showProbe();
       });
     }
   });
@@ -105,26 +114,6 @@ export function setupBezier(app) {
       e.preventDefault();
       if (wasDragging && !modeler.dragging()) canvas.classList.remove('dragging');
       app.changed();
-    }
-  });
-
-  // Undo and redo: the buttons, and the shortcuts anywhere but in a text field (which keeps its own).
-  const act = (f) => {
-    if (f()) app.changed();
-  };
-  $('undo').addEventListener('click', () => act(() => modeler.undo()));
-  $('redo').addEventListener('click', () => act(() => modeler.redo()));
-  document.addEventListener('keydown', (e) => {
-    if (!(e.ctrlKey || e.metaKey) || e.altKey || app.workspace() !== 'bezier') return;
-    const tag = e.target?.tagName;
-    if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
-    const key = e.key.toLowerCase();
-    if (key === 'z' && !e.shiftKey) {
-      e.preventDefault();
-      act(() => modeler.undo());
-    } else if ((key === 'z' && e.shiftKey) || key === 'y') {
-      e.preventDefault();
-      act(() => modeler.redo());
     }
   });
 
@@ -169,9 +158,7 @@ export function setupBezier(app) {
   }
 
   // The model: presets, a new grid, elevation.
-  $('preset').addEventListener('change', (e) => {
-    const name = e.target.value;
-    e.target.value = '';
+  setupMenu($('preset'), (name) => {
     if (name) app.attempt('Preset', () => modeler.load_preset(name)) && say('Opened the preset; Undo brings back the previous model.');
   });
   $('reset-grid').addEventListener('click', () => {
@@ -205,14 +192,52 @@ export function setupBezier(app) {
     app.redraw(VIEW3);
   });
 
+  // What the views are called, for screen readers: what they show now.
+  const ORBIT = 'drag elsewhere to orbit, right-drag or Shift-drag to pan, turn the wheel to zoom, F frames the model again';
+  const nameViews = (volume, parts, slice) => {
+    const bezier = !parts || parts.open;
+    const view2 = !bezier
+      ? '2D view of the model of many solids: its field and its contour. Select a Bézier part under Parts to edit its points here'
+      : `2D contour view of ${slice ? `the ${'uvw'[slice[0]]} slice ${slice[1]} of the volume` : 'the patch solid'}: click a control point, or press Tab to walk the points (Esc then Tab leaves the view), then drag or press Page Up and Page Down to change its function value`;
+    const view3 = parts
+      ? `3D view of the model of many solids: the surface of the whole model${parts.open ? ', the open part\'s control points as spheres' : ''}, the selection framed in orange with handles to move, turn and scale it; ${ORBIT}`
+      : volume
+        ? `3D view of the volume solid: its surface coloured by ξ and its control points as spheres. Drag a sphere to change its ξ (or move it in space mode); ${ORBIT}`
+        : `3D view of the patch: the surface (x, y, ξ) coloured by ξ, the plane ξ = 0 and the control points as spheres. Drag a sphere to change its ξ (or move it in x and y in space mode); ${ORBIT}`;
+    if (canvas.getAttribute('aria-label') !== view2) canvas.setAttribute('aria-label', view2);
+    if (app.canvas3.getAttribute('aria-label') !== view3) app.canvas3.setAttribute('aria-label', view3);
+  };
+
+  // The first-visit hint: until a point has moved (or it is dismissed), in this browser.
+  let hinting = !storage.get(KEYS.hinted);
+  const endHint = () => {
+    hinting = false;
+    $('hint').hidden = true;
+    storage.set(KEYS.hinted, '1');
+  };
+  $('hint-close').addEventListener('click', endHint);
+
   // The panel, from one snapshot of the editor, its last frame and its 3D view.
   const update = () => {
-    for (const o of document.querySelectorAll('#export option[data-script]')) o.disabled = true;
+    enableItems('#export-menu [data-script]', false);
     const p = app.panel();
     const sel = p.selected;
     const point = p.point;
+    // A volume's slice across an axis is a patch over the two others, in increasing order: its
+    // points are named by three indices, its plane's coordinates by those axes' names.
+    const slice = p.volume_degree && !(app.outline.state() && !app.outline.state().open) ? p.slice : null;
+    const others = slice ? [0, 1, 2].filter((a) => a !== slice[0]) : [0, 1];
+    $('px-name').textContent = 'xyz'[others[0]];
+    $('py-name').textContent = 'xyz'[others[1]];
     if (sel && point) {
-      $('point-label').textContent = `P${sel[0]}${sel[1]} (i = ${sel[0]}, j = ${sel[1]})`;
+      if (slice) {
+        const ijk = [0, 0, 0];
+        ijk[slice[0]] = slice[1];
+        [ijk[others[0]], ijk[others[1]]] = sel;
+        $('point-label').textContent = `P${ijk.join('')} (i = ${ijk[0]}, j = ${ijk[1]}, k = ${ijk[2]}) of the ${'uvw'[slice[0]]} slice ${slice[1]}`;
+      } else {
+        $('point-label').textContent = `P${sel[0]}${sel[1]} (i = ${sel[0]}, j = ${sel[1]})`;
+      }
       [inputs.x, inputs.y, inputs.xi].forEach((input, k) => {
         input.disabled = false;
         if (document.activeElement !== input) {
@@ -247,7 +272,8 @@ export function setupBezier(app) {
       const slider = $('slice-index');
       slider.max = String(vd[axis]);
       if (document.activeElement !== slider) slider.value = String(index);
-      $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${(vd[(axis + 1) % 3] + 1)} × ${(vd[(axis + 2) % 3] + 1)} points`;
+      const [a, b] = [0, 1, 2].filter((k) => k !== axis);
+      $('slice-info').textContent = `${name} slice ${index} of 0…${vd[axis]}: ${vd[a] + 1} × ${vd[b] + 1} points in the ${'xyz'[a]}${'xyz'[b]} plane`;
       const [t, resolution] = p.surface ?? [0, 0];
       const stack = p.stack;
       $('surface-info').textContent = parts
@@ -267,11 +293,15 @@ export function setupBezier(app) {
     $('volume-controls').hidden = !volume;
     $('elevate-w').disabled = !volume;
     const solid3d = volume || parts?.dimension === 3;
-    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = !solid3d;
-    for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = false;
+    enableItems('#export-menu [data-volume]', solid3d);
+    enableItems('#export-menu [data-bezier]', true);
     // The contours of a 3D model are its open part's slice's: none without one.
-    $('export').querySelector('option[value="svg"]').disabled = !!parts && parts.dimension === 3 && !parts.open;
+    enableItems('#export-menu [data-value="svg"]', !(parts && parts.dimension === 3 && !parts.open));
     document.body.dataset.kind = volume ? 'volume' : 'patch';
+    nameViews(volume, parts, slice);
+    if (!modeler.dragging() && probeSeen !== modeler.revision()) showProbe();
+    if (hinting && p.can_undo) endHint();
+    $('hint').hidden = !hinting;
     $('undo').disabled = !p.can_undo;
     $('redo').disabled = !p.can_redo;
     const mode = p.mode;
@@ -283,6 +313,8 @@ export function setupBezier(app) {
 
   return {
     update,
+    /** Undoes (`redo` false) or redoes a step; returns whether there was one. */
+    history: (redo) => (redo ? modeler.redo() : modeler.undo()),
     /** Draws the 3D view. */
     render3d: (viewer) => modeler.render_3d(viewer),
     /** After a 3D frame: asks the workers for what the frame lacks; the ξ scale. */

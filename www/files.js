@@ -2,7 +2,7 @@
 // picker, a drop) and exports (model files, meshes, contours, HyperFun, pictures). An export that
 // takes time runs in the export worker, in the work list with a Cancel.
 import { headless_esc_mesh, headless_plasm_mesh, is_free_form, script_link, script_model_json, script_of } from './pkg/bezsolid_web.js';
-import { $, say, messageOf, download, capture } from './ui.js';
+import { $, say, messageOf, download, capture, setupMenu } from './ui.js';
 
 const MESH_FILE = /\.(obj|stl|ply)$/i;
 const MESH_FORMATS = ['stl', 'obj', 'ply'];
@@ -197,9 +197,7 @@ export function setupFiles(app) {
       capture(app.canvas3, 'bezsolid-script.png');
     },
   };
-  $('export').addEventListener('change', (e) => {
-    const kind = e.target.value;
-    e.target.value = '';
+  setupMenu($('export'), (kind) => {
     const exporters = scripting() ? scriptExports : freeform() ? freeformExports : bezierExports;
     if (!Object.hasOwn(exporters, kind)) return;
     try {

@@ -2,7 +2,7 @@
 // Booleans, drawn in the 3D view; its panel, its controls, mesh import, and the result's fine
 // surface made in a worker while the view draws a coarse one.
 import { headless_esc_surface } from './pkg/bezsolid_web.js';
-import { $, say } from './ui.js';
+import { $, say, enableItems } from './ui.js';
 import { follower, lazyRunner } from './work.js';
 
 const OPERATION_NAMES = { none: 'A', union: 'A ∪ B', intersection: 'A ∩ B', difference: 'A − B' };
@@ -42,7 +42,7 @@ export function setupFreeForm(app) {
     if (imported) {
       app.setWorkspace('freeform');
       app.resize3();
-      say(`Imported ${file.name} as solid ${slot === 0 ? 'A' : 'B'}.`);
+      say(`Imported ${file.name} as solid ${slot === 0 ? 'A' : 'B'}, smoothed: each triangle becomes a curved PN patch through its corners, so sharp edges come out rounded.`);
     }
   };
 
@@ -116,16 +116,25 @@ export function setupFreeForm(app) {
     } else if (info) {
       text += `Result surface: ${info[0].toLocaleString('en')} triangles at ${info[1]}.`;
     }
+    if ([0, 1].some((slot) => ff.operand_name(slot) && !ff.operand_is_example(slot))) {
+      text += ' Imported meshes are smoothed by PN triangles: their sharp edges come out rounded.';
+    }
     $('ff-info').textContent = text;
     document.body.dataset.ffSurface = info ? `${info[0]},${info[1]}` : '';
-    for (const o of document.querySelectorAll('#export option[data-volume]')) o.disabled = false;
-    for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = true;
+    enableItems('#export-menu [data-volume]', true);
+    enableItems('#export-menu [data-bezier]', false);
     document.body.dataset.ffOperation = op;
+    $('undo').disabled = !ff.can_undo();
+    $('redo').disabled = !ff.can_redo();
+    const shown = { result: `the surface of ${OPERATION_NAMES[op]}`, points: 'the point mesh of the chain', operands: 'the PN surfaces of A and B' }[display];
+    app.canvas3.setAttribute('aria-label', `3D view of the free-form solids: ${shown}. Drag to orbit, right-drag or Shift-drag to pan, turn the wheel to zoom, F frames the solids again`);
   };
 
   return {
     update,
     importMesh,
+    /** Undoes (`redo` false) or redoes a change of the scene; returns whether there was one. */
+    history: (redo) => (redo ? ff.redo() : ff.undo()),
     /** Draws the 3D view. */
     render3d: (viewer) => ff.render(viewer),
     /** After a 3D frame: the fine surface from the worker (or, without one, here, once per change). */

@@ -75,6 +75,7 @@ async function main() {
   modeler.forget_history();
   const ff = new FreeFormView();
   restore('free-form model', storage.get(KEYS.freeform), (text) => ff.open(text));
+  ff.forget_history();
   let ffSavedRevision = ff.revision(); // the revision last autosaved (or restored)
   const sv = new ScriptViewer();
 
@@ -240,6 +241,24 @@ async function main() {
     if (canvas3.height !== h) canvas3.height = h;
     app.redraw(VIEW3);
   };
+
+  // Undo and redo in the Bézier and Free-form modes: the buttons, and the shortcuts anywhere but
+  // in a text field (which keeps its own, as the script editor does).
+  const history = (redo) => {
+    if (part().history?.(redo)) app.changed();
+  };
+  $('undo').addEventListener('click', () => history(false));
+  $('redo').addEventListener('click', () => history(true));
+  document.addEventListener('keydown', (e) => {
+    if (!(e.ctrlKey || e.metaKey) || e.altKey || workspace === 'script') return;
+    const tag = e.target?.tagName;
+    if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
+    const key = e.key.toLowerCase();
+    if (key === 'z' || key === 'y') {
+      e.preventDefault();
+      history(key === 'y' || e.shiftKey);
+    }
+  });
 
   app.outline = setupOutline(app);
   app.bezier = setupBezier(app);

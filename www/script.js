@@ -3,7 +3,7 @@
 // under way) and the 3D view draws its results. A surface of two parameters opens in the Bézier
 // mode as a patch.
 import { headless_plasm, plasm_examples, script_patch_model } from './pkg/bezsolid_web.js';
-import { $, say, messageOf } from './ui.js';
+import { $, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { lazyRunner } from './work.js';
 
@@ -95,6 +95,7 @@ export function setupScript(app) {
       const e = report.error;
       marks.set(e.line, 'error');
       const p = document.createElement('p');
+      p.className = 'error';
       p.textContent = `${place(e)}: ${e.message}`;
       const go = document.createElement('button');
       go.type = 'button';
@@ -106,6 +107,7 @@ export function setupScript(app) {
     for (const w of report.warnings) {
       if (!marks.has(w.line)) marks.set(w.line, 'warn');
       const p = document.createElement('p');
+      p.className = 'note';
       p.textContent = `${place(w)} (note): ${w.message}`;
       message.append(p);
     }
@@ -189,14 +191,22 @@ export function setupScript(app) {
     runTask = null;
     if (!result) return;
     const report = JSON.parse(result.report);
-    // A run that fails before drawing anything keeps the last drawing on screen.
-    if (result.data.length || !report.error) sv.set_drawing(result.data, refit);
+    // A run that fails before drawing anything keeps the last drawing on screen, marked as the
+    // last run's.
+    const kept = !result.data.length && !!report.error;
+    if (!kept) sv.set_drawing(result.data, refit);
+    $('script-stale').hidden = !kept;
     showReport(report, performance.now() - t0, result.ms);
     app.redraw(VIEW3);
   };
   /** Puts `text` in the editor (kept in this browser), not run yet. */
   const load = (text) => {
-    editor.value = text;
+    // Through the editor's own editing, so that its undo (Ctrl+Z) brings back the text replaced.
+    editor.focus();
+    editor.select();
+    if (editor.value !== text && !document.execCommand('insertText', false, text)) editor.value = text;
+    editor.setSelectionRange(0, 0);
+    editor.scrollTop = 0;
     storage.set(KEYS.script, text);
     ran = false;
     renderGutter(true);
@@ -212,14 +222,15 @@ export function setupScript(app) {
   };
 
   for (const e of examples) {
-    const option = document.createElement('option');
-    option.value = e.id;
-    option.textContent = `Script ${e.id}: ${e.title}`;
-    $('script-example').append(option);
+    const item = document.createElement('li');
+    item.setAttribute('role', 'menuitem');
+    item.tabIndex = -1;
+    item.dataset.value = e.id;
+    item.textContent = `Script ${e.id}: ${e.title}`;
+    $('script-example-menu').append(item);
   }
-  $('script-example').addEventListener('change', (e) => {
-    const example = examples.find((x) => x.id === e.target.value);
-    e.target.value = '';
+  setupMenu($('script-example'), (id) => {
+    const example = examples.find((x) => x.id === id);
     if (example) open(example.source, `Opened the paper's Script ${example.id}.`);
   });
   $('script-run').addEventListener('click', () => run());
@@ -258,8 +269,9 @@ export function setupScript(app) {
     },
     update: () => {
       $('model-name').textContent = 'PLaSM script';
-      for (const o of document.querySelectorAll('#export option[data-volume], #export option[data-script]')) o.disabled = false;
-      for (const o of document.querySelectorAll('#export option[data-bezier]')) o.disabled = true;
+      app.canvas3.setAttribute('aria-label', 'Drawing of the PLaSM script: the curves, surfaces and solids of its top-level expressions. Drag to orbit, right-drag or Shift-drag to pan, turn the wheel to zoom, F frames the drawing again');
+      enableItems('#export-menu [data-volume], #export-menu [data-script]', true);
+      enableItems('#export-menu [data-bezier]', false);
     },
     /** Draws the 3D view. */
     render3d: (viewer) => sv.render(viewer),

@@ -7,6 +7,7 @@ export const KEYS = {
   freeform: 'bezsolid.freeform.v1',
   script: 'bezsolid.script.v1',
   workspace: 'bezsolid.workspace.v1',
+  hinted: 'bezsolid.hinted.v1', // the first-visit hint was used or dismissed
 };
 
 export const storage = {

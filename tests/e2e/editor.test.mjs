@@ -4,7 +4,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, canvasPixels, canvasBox, settle, URL as BASE, ARTIFACTS } from './harness.mjs';
+import { launch, open, canvasPixels, canvasBox, settle, URL as BASE, ARTIFACTS, pick } from './harness.mjs';
 import { decodePng } from './png.mjs';
 
 let browser;
@@ -23,6 +23,16 @@ async function screenOf(page, x, y) {
   const sx = 100 / (x1 - x0);
   const sy = 100 / (y1 - y0);
   return [box.x + (x - x0) * sx, box.y + (y - y0) * sy];
+}
+
+/**
+ * The 2D view as a picture, without the focus ring laid over it (which a key press shows on the
+ * focused view): focus leaves the view first (the shortcuts work anywhere).
+ */
+async function viewShot(page) {
+  await page.evaluate(() => document.activeElement?.blur());
+  await settle(page);
+  return page.locator('#view').screenshot();
 }
 
 /** Drags from `from` to `to` (page pixels) with real mouse events, in `steps` moves. */
@@ -52,7 +62,7 @@ test('a space-mapping drag moves the domain outline; undo and redo restore each 
   await settle(page);
   assert.equal(await page.getAttribute('body', 'data-selected'), '2,2');
   assert.equal(await page.isDisabled('#undo'), true, 'a click is no step');
-  const beforeShot = await page.locator('#view').screenshot();
+  const beforeShot = await viewShot(page);
   const before = decodePng(beforeShot);
   const scale = before.width / box.width;
   // A row a quarter of the way down from the corner: the right edge of the domain there.
@@ -66,7 +76,7 @@ test('a space-mapping drag moves the domain outline; undo and redo restore each 
   await settle(page);
   assert.equal(await page.getAttribute('body', 'data-mode'), 'space');
   await drag(page, corner, [corner[0] + 40, corner[1] - 40]);
-  const afterShot = await page.locator('#view').screenshot();
+  const afterShot = await viewShot(page);
   writeFileSync(join(ARTIFACTS, 'space-drag.png'), afterShot);
   const after = decodePng(afterShot);
   const edgeAfter = rightEdge(after, row, after.width - 5);
@@ -78,16 +88,16 @@ test('a space-mapping drag moves the domain outline; undo and redo restore each 
   // Undo (Ctrl+Z) gives back the first picture exactly; redo (Ctrl+Shift+Z, then Ctrl+Y) the second.
   await page.keyboard.press('Control+z');
   await settle(page);
-  assert.ok(beforeShot.equals(await page.locator('#view').screenshot()), 'undo restores the picture');
+  assert.ok(beforeShot.equals(await viewShot(page)), 'undo restores the picture');
   assert.doesNotMatch(await page.textContent('#model-name'), /space-mapped/);
   await page.keyboard.press('Control+Shift+z');
   await settle(page);
-  assert.ok(afterShot.equals(await page.locator('#view').screenshot()), 'redo re-applies the drag');
+  assert.ok(afterShot.equals(await viewShot(page)), 'redo re-applies the drag');
   await page.click('#undo');
   await settle(page);
   await page.keyboard.press('Control+y');
   await settle(page);
-  assert.ok(afterShot.equals(await page.locator('#view').screenshot()), 'Ctrl+Y redoes too');
+  assert.ok(afterShot.equals(await viewShot(page)), 'Ctrl+Y redoes too');
 
   // Shift gives the other mode for one drag: here ξ, so the point stays where it is.
   const moved = await screenOf(page, p[0], p[1]);
@@ -190,7 +200,7 @@ test('a reload brings back the last model from the autosave', async () => {
 async function exported(page, kind) {
   const [download] = await Promise.all([
     page.waitForEvent('download'),
-    page.selectOption('#export', kind),
+    pick(page, 'export', kind),
   ]);
   const path = join(ARTIFACTS, `export-${download.suggestedFilename()}`);
   await download.saveAs(path);
@@ -241,7 +251,7 @@ test('each export downloads a file that parses back; the model file opens again'
   // A space-mapped model has no HyperFun form: a message, no download, nothing changed.
   await edit(page);
   const edited = await model(page);
-  await page.selectOption('#export', 'hf');
+  await pick(page, 'export', 'hf');
   await page.waitForFunction(() => document.querySelector('#status').dataset.kind === 'error');
   assert.match(await status(page), /regular grid/);
   assert.equal(await model(page), edited);
@@ -272,10 +282,10 @@ test('each export downloads a file that parses back; the model file opens again'
 test('presets, a new grid and elevation change the model; elevation keeps the picture', async () => {
   const { page, errors } = await open(browser);
   const fig9 = await model(page);
-  await page.selectOption('#preset', 'flat');
+  await pick(page, 'preset', 'flat');
   await settle(page);
   assert.match(await page.textContent('#model-name'), /4 × 4 points/);
-  await page.selectOption('#preset', 'fig9');
+  await pick(page, 'preset', 'fig9');
   await settle(page);
   assert.equal(await model(page), fig9);
   const shot = decodePng(await page.locator('#view').screenshot());

@@ -6,7 +6,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { launch, open, settle, ARTIFACTS, pick, itemDisabled } from './harness.mjs';
 import { decodePng } from './png.mjs';
 
 let browser;
@@ -49,7 +49,7 @@ async function expect(f) {
 }
 
 async function download(page, value) {
-  const [file] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', value)]);
+  const [file] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', value)]);
   return readFileSync(await file.path());
 }
 
@@ -148,12 +148,12 @@ test('a mesh imports by the picker and by a drop, bad ones keep the scene, and t
   assert.ok([...edges.values()].every((n) => n === 2), 'the exported mesh is closed');
   const ply = (await download(page, 'ply')).toString('latin1');
   assert.match(ply, new RegExp(`element face ${triangles}\\b`));
-  assert.ok(await page.isDisabled('#export option[value="svg"]'));
+  assert.ok(await itemDisabled(page, 'export', 'svg'));
   // Two exports asked for at once each get their own file.
   const both = [];
   page.on('download', (d) => both.push(d));
-  await page.selectOption('#export', 'stl');
-  await page.selectOption('#export', 'obj');
+  await pick(page, 'export', 'stl');
+  await pick(page, 'export', 'obj');
   await page.waitForFunction(() => !document.body.dataset.working, null, { timeout: 60_000 });
   await expect(() => both.length === 2);
   const byName = Object.fromEntries(await Promise.all(both.map(async (d) => [d.suggestedFilename(), readFileSync(await d.path())])));

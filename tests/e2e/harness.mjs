@@ -28,9 +28,15 @@ export async function launch() {
   });
 }
 
-/** Opens the page (query appended to the base URL) and waits for the first frame. */
-export async function open(browser, query = '') {
-  const page = await browser.newPage({ viewport: { width: 1200, height: 760 } });
+/**
+ * Opens the page (query appended to the base URL) and waits for the first frame; `options` are the
+ * new page's (Playwright's `newPage`), over a 1200 × 760 window. The page opens as on a later
+ * visit (the first-visit hint already used) unless `options.firstVisit`.
+ */
+export async function open(browser, query = '', options = {}) {
+  const { firstVisit = false, ...pageOptions } = options;
+  const page = await browser.newPage({ viewport: { width: 1200, height: 760 }, ...pageOptions });
+  if (!firstVisit) await page.addInitScript(() => localStorage.setItem('bezsolid.hinted.v1', '1'));
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(String(e)));
@@ -85,4 +91,18 @@ export function contourCrossings(img, dy, scale) {
     return (first + last) / 2;
   };
   return { left: side(-1), right: side(1) };
+}
+
+/**
+ * Picks `value` in the page's menu `id` (Export, Preset, the script examples) as a pointer does:
+ * opens the menu with its button, clicks the item.
+ */
+export async function pick(page, id, value) {
+  await page.click(`#${id}`);
+  await page.click(`#${id}-menu [data-value="${value}"]`);
+}
+
+/** Whether the item `value` of the menu `id` is disabled. */
+export async function itemDisabled(page, id, value) {
+  return (await page.getAttribute(`#${id}-menu [data-value="${value}"]`, 'aria-disabled')) === 'true';
 }

@@ -6,7 +6,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { launch, open, settle, ARTIFACTS, pick } from './harness.mjs';
 import { decodePng } from './png.mjs';
 
 let browser;
@@ -43,7 +43,7 @@ async function drawn(page, name) {
 }
 
 async function download(page, value) {
-  const [file] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', value)]);
+  const [file] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', value)]);
   return readFileSync(await file.path());
 }
 
@@ -62,7 +62,7 @@ test("each of the paper's examples runs and draws its figure", async () => {
   const times = {};
   let previous = null;
   for (const [id, want] of Object.entries(expected)) {
-    await page.selectOption('#script-example', id);
+    await pick(page, 'script-example', id);
     assert.equal(await finished(page), 'done', `${id}: ${await page.textContent('#script-message')}`);
     assert.deepEqual(await counts(page), want, id);
     times[id] = await page.evaluate(() => ({
@@ -80,7 +80,7 @@ test("each of the paper's examples runs and draws its figure", async () => {
   writeFileSync(join(ARTIFACTS, 'script-times.json'), JSON.stringify(times, null, 2));
   console.log(`script run times in the page, ms (total: from the run to its drawing; worker: the run and drawing in the worker): ${JSON.stringify(times)}`);
   // The paper's damaged text is read and said: Script 4.4's point lists and Bernstein's `~`.
-  await page.selectOption('#script-example', '4.4');
+  await pick(page, 'script-example', '4.4');
   await finished(page);
   assert.match(await page.textContent('#script-message'), /Line 7, column 3 \(note\): `~` has no left operand/);
   assert.equal(await page.locator('#script-gutter .warn').count(), 5);
@@ -163,7 +163,7 @@ test('errors show at their line, endless work stops, and the page stays responsi
 test('a script travels in a link and a model file, and exports parse back', async () => {
   const { page, errors } = await open(browser);
   await scriptMode(page);
-  await page.selectOption('#script-example', '4.6');
+  await pick(page, 'script-example', '4.6');
   await finished(page);
   const script = await page.inputValue('#script');
   await page.click('#copy-link');
@@ -203,7 +203,7 @@ test('a script travels in a link and a model file, and exports parse back', asyn
   assert.equal(await other.page.inputValue('#script'), script);
   // Fig. 1's surface opens in the Bézier mode as its bicubic net, and Undo brings back the patch
   // that was there.
-  await other.page.selectOption('#script-example', '4.4');
+  await pick(other.page, 'script-example', '4.4');
   assert.equal(await finished(other.page), 'done');
   const previous = await other.page.evaluate(() => window.bezsolid.modeler.model_json());
   await other.page.click('#script-values li:first-child .edit-patch');

@@ -5,7 +5,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { launch, open, settle, ARTIFACTS, pick } from './harness.mjs';
 import { decodePng } from './png.mjs';
 
 let browser;
@@ -15,7 +15,7 @@ after(async () => { await browser?.close(); });
 const model = (page) => page.evaluate(() => window.bezsolid.modeler.model_json());
 
 async function openFish(page) {
-  await page.selectOption('#preset', 'fish');
+  await pick(page, 'preset', 'fish');
   await page.waitForSelector('body[data-kind="volume"]');
   await settle(page);
 }
@@ -62,7 +62,7 @@ test('a volume preset draws its surface, and the cross-section chooser changes t
 
 test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo restores it', async () => {
   const { page, errors } = await open(browser);
-  await page.selectOption('#preset', 'blob');
+  await pick(page, 'preset', 'blob');
   await page.waitForSelector('body[data-kind="volume"]');
   const fine = () => page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 30_000 });
   await fine();
@@ -98,7 +98,12 @@ test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo
   await page.click('#elevate-w');
   await settle(page);
   assert.match(await page.textContent('#model-name'), /Volume solid, 3 × 3 × 4 points/);
-  assert.ok(JSON.parse(await model(page)).solid.points.every((p) => Math.abs(p[3] - 0.25) < 1e-12));
+  // A new volume is a ball in the middle of its box: outside at the corners (elevation keeps them),
+  // inside in the middle.
+  const elevated = JSON.parse(await model(page)).solid.points;
+  assert.equal(elevated[0][3], -0.5);
+  assert.equal(elevated.at(-1)[3], -0.5);
+  assert.ok(Math.max(...elevated.map((p) => p[3])) > 0.25);
   await page.click('#undo');
   await page.click('#undo');
   await settle(page);
@@ -109,7 +114,7 @@ test('dragging a sphere of the volume in 3D changes its ξ and the surface; undo
 
 /** Chooses an export and returns the downloaded bytes. */
 async function exported(page, kind) {
-  const [download] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', kind)]);
+  const [download] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', kind)]);
   const path = join(ARTIFACTS, `export-${download.suggestedFilename()}`);
   await download.saveAs(path);
   return readFileSync(path);

@@ -6,7 +6,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { launch, open, settle, ARTIFACTS, pick } from './harness.mjs';
 import { random } from './random.mjs';
 
 let browser;
@@ -157,7 +157,7 @@ test('a folded volume: its contour stack runs in the worker, the page keeps draw
   // its work budget), the window two; it is cancelled after, and nothing is saved.
   let downloaded = false;
   page.on('download', () => { downloaded = true; });
-  await page.selectOption('#export', 'stl');
+  await pick(page, 'export', 'stl');
   await page.waitForSelector('#work .task[data-kind="export"]');
   await page.locator('#work').screenshot({ path: join(ARTIFACTS, 'work-list-two.png') });
   const during = await responsiveness(page, WINDOW);
@@ -174,7 +174,7 @@ test('a folded volume: its contour stack runs in the worker, the page keeps draw
   await page.waitForFunction(() => /Exporting STL was cancelled; nothing was saved/.test(document.getElementById('status').textContent));
   // Another model: any work on the folded one still under way is no longer wanted, and stops
   // without a Cancel.
-  await page.selectOption('#preset', 'fig9');
+  await pick(page, 'preset', 'fig9');
   await page.waitForFunction(() => !document.body.dataset.working);
   assert.equal(downloaded, false);
   assert.deepEqual(errors, []);
@@ -183,7 +183,7 @@ test('a folded volume: its contour stack runs in the worker, the page keeps draw
 
 test('the stack from the worker is the stack the page made; the previous one stays drawn until it comes', async () => {
   const { page, errors } = await open(browser);
-  await page.selectOption('#preset', 'fish');
+  await pick(page, 'preset', 'fish');
   await page.waitForSelector('body[data-kind="volume"]');
   await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1'), null, { timeout: 30_000 });
   const [segments] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).stack);
@@ -215,7 +215,7 @@ test('a volume drawn with its stack and surface from the worker is the picture t
   for (const worker of [true, false]) {
     const { page, errors } = await open(browser);
     if (!worker) await page.evaluate(() => window.bezsolid.modeler.set_external_surface(false));
-    await page.selectOption('#preset', 'ring');
+    await pick(page, 'preset', 'ring');
     await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1') && JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 30_000 });
     // Closer: the outer slices' contours show around the ring.
     await page.evaluate(() => {
@@ -236,7 +236,7 @@ test('the SVG of a folded patch is made in the worker with a Cancel; a regular o
   const { page, errors } = await open(browser);
   // A regular patch: the worker's SVG is the page's own.
   const same = await page.evaluate(() => window.bezsolid.modeler.svg());
-  const [download] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', 'svg')]);
+  const [download] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', 'svg')]);
   const path = join(ARTIFACTS, 'work-contours.svg');
   await download.saveAs(path);
   assert.equal(readFileSync(path, 'utf8'), same);
@@ -248,7 +248,7 @@ test('the SVG of a folded patch is made in the worker with a Cancel; a regular o
   await settle(page);
   let downloaded = false;
   page.on('download', () => { downloaded = true; });
-  await page.selectOption('#export', 'svg');
+  await pick(page, 'export', 'svg');
   await page.waitForSelector('#work .task[data-kind="export"][data-state="running"]');
   writeFileSync(join(ARTIFACTS, 'work-svg.png'), await page.screenshot());
   await cancelOf(page, 'export').click();
@@ -262,14 +262,14 @@ test('the SVG of a folded patch is made in the worker with a Cancel; a regular o
 test('an export of a volume that folds over itself everywhere says it is approximate; a regular one does not', async () => {
   const { page, errors } = await open(browser);
   const exportStl = async () => {
-    const [download] = await Promise.all([page.waitForEvent('download', { timeout: 120_000 }), page.selectOption('#export', 'stl')]);
+    const [download] = await Promise.all([page.waitForEvent('download', { timeout: 120_000 }), pick(page, 'export', 'stl')]);
     await download.path();
     return page.evaluate(() => {
       const status = document.getElementById('status');
       return [status.textContent, status.dataset.kind];
     });
   };
-  await page.selectOption('#preset', 'fish');
+  await pick(page, 'preset', 'fish');
   await page.waitForSelector('body[data-kind="volume"]');
   const [regular, regularKind] = await exportStl();
   assert.match(regular, /^Saved bezsolid\.stl\.$/);
@@ -286,7 +286,7 @@ test('an export of a volume that folds over itself everywhere says it is approxi
   const [folded, foldedKind] = await exportStl();
   assert.match(folded, /^Saved bezsolid\.stl, approximate where the net folds over itself very many times: \d+ evaluations? ran out of their work budget\.$/);
   assert.equal(foldedKind, 'warn');
-  await page.selectOption('#preset', 'fig9');
+  await pick(page, 'preset', 'fig9');
   await page.waitForFunction(() => !document.body.dataset.working);
   assert.deepEqual(errors, []);
   await page.close();
