@@ -4,6 +4,7 @@
 import { $, fmt, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { follower, lazyRunner } from './work.js';
 import { KEYS, storage } from './storage.js';
+import { pointers } from './touch.js';
 
 /** Sets up the mode on `app` (see main.js); returns what the page asks of it. */
 export function setupBezier(app) {
@@ -36,17 +37,56 @@ export function setupBezier(app) {
     failed: 'The contour stack could not be made',
   });
 
-  // The 2D view: select and drag points, the wheel and the keys change ξ; f under the pointer.
+  // The 2D view: select and drag points; the wheel zooms about the pointer (over the selected
+  // point, or with Alt, it changes ξ); two fingers, the middle button or Space + drag zoom and pan;
+  // the keys change ξ; f under the pointer.
   const local = (e) => {
     const rect = canvas.getBoundingClientRect();
     return [e.clientX - rect.left, e.clientY - rect.top];
   };
+  const down = pointers();
+  // Two fingers came down: zoom and pan until every finger is up (one left does nothing).
+  let pinching = false;
+  // A pan with the middle button or Space held: its pointer and last position.
+  let panning = null;
+  let space = false;
+  const capture = (id) => {
+    try {
+      canvas.setPointerCapture(id);
+    } catch {
+      // The pointer is gone already.
+    }
+  };
+  const release = (id) => {
+    if (canvas.hasPointerCapture(id)) canvas.releasePointerCapture(id);
+  };
   canvas.addEventListener('pointerdown', (e) => {
-    if (e.button !== 0) return;
-    canvas.focus();
     const [x, y] = local(e);
+    // A new press of a pointer still counted (a mouse released off the canvas) ends the old one.
+    down.remove(e.pointerId);
+    if (!panning && !pinching && down.count() === 0 && (e.button === 1 || (e.button === 0 && space))) {
+      panning = { id: e.pointerId, at: [x, y] };
+      capture(e.pointerId);
+      e.preventDefault();
+      return;
+    }
+    if (e.button !== 0 || panning) return;
+    const n = down.add(e.pointerId, [x, y]);
+    if (n === 2) {
+      // A second finger: the gesture is a pinch, and the edit begun by the first is put back.
+      if (modeler.cancel_drag()) {
+        canvas.classList.remove('dragging');
+        app.changed();
+      }
+      pinching = true;
+      capture(e.pointerId);
+      e.preventDefault();
+      return;
+    }
+    if (n > 2 || pinching) return;
+    canvas.focus();
     if (modeler.pointer_down(x, y, e.shiftKey)) {
-      canvas.setPointerCapture(e.pointerId);
+      capture(e.pointerId);
       canvas.classList.add('dragging');
       e.preventDefault();
     }
@@ -65,6 +105,18 @@ export function setupBezier(app) {
   };
   canvas.addEventListener('pointermove', (e) => {
     const [x, y] = local(e);
+    if (panning) {
+      if (e.pointerId !== panning.id) return;
+      const [px, py] = panning.at;
+      panning.at = [x, y];
+      if (modeler.pinch(px, py, 1, x - px, y - py)) app.redraw(VIEW2);
+      return;
+    }
+    const step = down.move(e.pointerId, [x, y]);
+    if (pinching) {
+      if (step && modeler.pinch(step.x, step.y, step.scale, step.dx, step.dy)) app.redraw(VIEW2);
+      return;
+    }
     probeAt = [x, y];
     if (modeler.dragging()) {
       if (modeler.pointer_move(x, y)) {
@@ -84,26 +136,51 @@ export function setupBezier(app) {
     }
   });
   const endDrag = (e) => {
+    if (panning) {
+      if (e.pointerId !== panning.id) return;
+      panning = null;
+      release(e.pointerId);
+      return;
+    }
+    down.remove(e.pointerId);
+    if (pinching) {
+      if (down.count() === 0) pinching = false;
+      release(e.pointerId);
+      return;
+    }
     if (!modeler.dragging()) return;
     modeler.pointer_up();
     canvas.classList.remove('dragging');
-    if (canvas.hasPointerCapture(e.pointerId)) canvas.releasePointerCapture(e.pointerId);
+    release(e.pointerId);
     app.changed();
   };
   canvas.addEventListener('pointerup', endDrag);
   canvas.addEventListener('pointercancel', endDrag);
   canvas.addEventListener('lostpointercapture', endDrag);
   canvas.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    const [x, y] = local(e);
     // deltaMode 1 counts lines: about 33 pixels each.
     const dy = e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY;
-    if (modeler.wheel(dy)) {
-      e.preventDefault();
+    if (modeler.wheel(x, y, dy, e.altKey)) {
       app.stats.lastEdit = performance.now();
       app.changed();
+    } else {
+      app.redraw(VIEW2);
     }
   }, { passive: false });
+  canvas.addEventListener('keyup', (e) => {
+    if (e.key === ' ') space = false;
+  });
+  canvas.addEventListener('blur', () => { space = false; });
   canvas.addEventListener('keydown', (e) => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key === ' ') {
+      // Space held: a drag pans (and the page does not scroll).
+      space = true;
+      e.preventDefault();
+      return;
+    }
     if (e.key === 'd' || e.key === 'D') {
       app.toggleDebug();
       e.preventDefault();

@@ -1,7 +1,9 @@
 // The 3D view's input, shared by the modes: orbit (drag), pan (right drag or Shift), zoom (wheel),
-// fit (F or the button); in the Bézier mode a drag on a sphere moves that control point, one undo
-// step as in 2D, with the volume's surface meshed coarsely while it moves and finely at rest.
+// two fingers zoom and pan, fit (F or the button); in the Bézier mode a drag on a sphere moves that
+// control point, one undo step as in 2D, with the volume's surface meshed coarsely while it moves
+// and finely at rest; a second finger puts a drag begun by the first back.
 import { $ } from './ui.js';
+import { pointers } from './touch.js';
 
 /** Sets up the input of the 3D view on `app` (see main.js). */
 export function setupView3d(app) {
@@ -14,11 +16,32 @@ export function setupView3d(app) {
   const orbiter = () => ({ freeform: ff, script: sv })[app.workspace()] ?? null;
   let orbiting = false;
   let restTimer = 0;
+  const down = pointers();
+  // Two fingers came down: zoom and pan until every finger is up (one left does nothing).
+  let pinching = false;
   canvas3.addEventListener('contextmenu', (e) => e.preventDefault());
   canvas3.addEventListener('pointerdown', (e) => {
     if (!app.viewer || (e.button !== 0 && e.button !== 2)) return;
-    canvas3.focus();
     const [x, y] = local(e);
+    // A new press of a pointer still counted (its release was missed) ends the old one.
+    down.remove(e.pointerId);
+    const n = down.add(e.pointerId, [x, y]);
+    if (n === 2) {
+      // A second finger: the gesture is a pinch; a point's drag begun by the first is put back.
+      const editing = !orbiter() && modeler.editing_3d();
+      if (orbiter()) orbiter().pointer_up();
+      else modeler.cancel_3d();
+      orbiting = false;
+      clearTimeout(restTimer);
+      if (!orbiter()) modeler.set_coarse(false);
+      pinching = true;
+      canvas3.setPointerCapture(e.pointerId);
+      e.preventDefault();
+      if (editing) app.changed();
+      return;
+    }
+    if (n > 2 || pinching) return;
+    canvas3.focus();
     let grabbed = false;
     if (orbiter()) {
       orbiter().pointer_down(x, y, e.button === 2 || e.shiftKey);
@@ -34,6 +57,15 @@ export function setupView3d(app) {
   canvas3.addEventListener('pointermove', (e) => {
     if (!app.viewer) return;
     const [x, y] = local(e);
+    const step = down.move(e.pointerId, [x, y]);
+    if (pinching) {
+      if (!step) return;
+      const moved = orbiter()
+        ? orbiter().pinch(step.scale, step.dx, step.dy)
+        : modeler.pinch_3d(step.scale, step.dx, step.dy);
+      if (moved) app.redraw(VIEW3);
+      return;
+    }
     if (orbiter()) {
       if (orbiting && orbiter().pointer_move(x, y)) app.redraw(VIEW3);
       return;
@@ -54,12 +86,24 @@ export function setupView3d(app) {
     }
     canvas3.classList.toggle('over-point', modeler.hit_3d(x, y));
   });
+  const release = (e) => {
+    if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+  };
   const endDrag = (e) => {
+    down.remove(e.pointerId);
+    if (pinching) {
+      if (down.count() === 0) {
+        pinching = false;
+        canvas3.classList.remove('dragging');
+      }
+      release(e);
+      return;
+    }
     if (app.viewer && orbiting) {
       orbiting = false;
       orbiter()?.pointer_up();
       canvas3.classList.remove('dragging');
-      if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+      release(e);
       return;
     }
     if (!app.viewer || !modeler.busy_3d()) return;
@@ -68,7 +112,7 @@ export function setupView3d(app) {
     modeler.set_coarse(false);
     modeler.pointer_up_3d();
     canvas3.classList.remove('dragging');
-    if (canvas3.hasPointerCapture(e.pointerId)) canvas3.releasePointerCapture(e.pointerId);
+    release(e);
     if (editing) app.changed();
     else app.redraw(VIEW3);
   };

@@ -1,7 +1,7 @@
 //! The orbit camera every 3D view contains: [`Camera`] (where it looks from, its projection and its
 //! rays) and [`OrbitView`] (a camera with its viewport and the orbit, pan and zoom gestures, with
 //! the conventions of three.js `OrbitControls`: left drag orbits, right or Shift drag pans, the
-//! wheel zooms).
+//! wheel zooms, two fingers zoom and pan).
 
 use glam::{DVec2, DVec3};
 
@@ -15,6 +15,10 @@ const ZOOM_PER_WHEEL: f64 = 0.001;
 const FOV_Y: f64 = 0.75;
 /// Pitch stays inside ±(π/2 − this), as `OrbitControls` keeps the pole out of reach.
 const POLE_MARGIN: f64 = 0.01;
+/// The most one pinch step changes the distance (a jump of the fingers' spread is not a zoom).
+const PINCH_STEP: f64 = 5.0;
+/// The eye's distance to the target stays within these.
+const DISTANCE: (f64, f64) = (1e-6, 1e9);
 
 /// An orbit camera around a target, z up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -129,8 +133,27 @@ impl Camera {
     pub fn zoom(&mut self, delta_y: f64) {
         if delta_y.is_finite() {
             self.distance = (self.distance * (delta_y * ZOOM_PER_WHEEL).clamp(-1.0, 1.0).exp())
-                .clamp(1e-6, 1e9);
+                .clamp(DISTANCE.0, DISTANCE.1);
         }
+    }
+
+    /// Two fingers moved: their spread grew by `scale` (the scene is magnified as much: the eye
+    /// comes closer) and their midpoint moved by `delta` CSS pixels (the scene follows, as a pan).
+    /// Values that are not numbers, and a `scale` that is not positive, change nothing; returns
+    /// whether the camera moved.
+    pub fn pinch(&mut self, scale: f64, delta: DVec2, height: f64) -> bool {
+        if !(scale.is_finite() && scale > 0.0 && delta.is_finite()) {
+            return false;
+        }
+        let scale = scale.clamp(1.0 / PINCH_STEP, PINCH_STEP);
+        self.distance = (self.distance / scale).clamp(DISTANCE.0, DISTANCE.1);
+        // At most a few viewports' worth of pan per step: finite whatever the fingers report.
+        let reach = 4.0 * height.max(1.0);
+        self.pan(
+            delta.clamp(DVec2::splat(-reach), DVec2::splat(reach)),
+            height,
+        );
+        true
     }
 }
 
@@ -253,6 +276,15 @@ impl OrbitView {
         self.moved = true;
     }
 
+    /// Two fingers: zoom by their spread's `scale` and pan by their midpoint's `delta` CSS pixels
+    /// ([`Camera::pinch`]); an orbit or pan under way ends. Returns whether the camera moved.
+    pub fn pinch(&mut self, scale: f64, delta: DVec2) -> bool {
+        self.gesture = None;
+        let moved = self.camera.pinch(scale, delta, self.size.y);
+        self.moved |= moved;
+        moved
+    }
+
     /// The camera.
     #[must_use]
     pub fn camera(&self) -> &Camera {
@@ -276,5 +308,52 @@ impl OrbitView {
             view_proj: m.map(|c| c.map(|x| x as f32)),
             eye: self.camera.eye().as_vec3().to_array(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn a_pinch_zooms_by_the_spread_and_pans_by_the_midpoint() {
+        let mut v = OrbitView::default();
+        v.resize(400.0, 300.0, (DVec3::splat(-1.0), DVec3::ONE));
+        let before = *v.camera();
+        let target = v.screen_of(before.target).unwrap();
+        assert!(v.pinch(2.0, DVec2::new(20.0, -10.0)));
+        assert!(v.moved());
+        assert!((v.camera().distance - before.distance / 2.0).abs() < 1e-12);
+        // The target was at the centre; it follows the fingers' midpoint.
+        let now = v.screen_of(before.target).unwrap();
+        assert!(
+            (now - (target + DVec2::new(20.0, -10.0))).length() < 1e-6,
+            "{now}"
+        );
+        // Nothing that is not a number, or not positive, moves it; wild values stay finite.
+        let kept = *v.camera();
+        for bad in [f64::NAN, 0.0, -2.0, f64::INFINITY] {
+            assert!(!v.pinch(bad, DVec2::ZERO));
+        }
+        assert!(!v.pinch(1.0, DVec2::new(f64::NAN, 0.0)));
+        assert_eq!(*v.camera(), kept);
+        for big in [1e9, 1e-9, 1e300, 1e-300, f64::MAX] {
+            v.pinch(big, DVec2::splat(big));
+            v.pinch(1.0 / big, DVec2::splat(-big));
+            let c = v.camera();
+            assert!(c.target.is_finite() && c.distance.is_finite() && c.distance > 0.0);
+        }
+    }
+
+    #[test]
+    fn a_pinch_ends_an_orbit() {
+        let mut v = OrbitView::default();
+        v.pointer_down(DVec2::new(10.0, 10.0), false);
+        assert!(v.busy());
+        v.pinch(1.2, DVec2::ZERO);
+        assert!(!v.busy());
+        assert!(!v.pointer_move(DVec2::new(50.0, 10.0)));
     }
 }

@@ -1,6 +1,6 @@
 //! The 2D contour view's viewport and input, as plain Rust: the world box it shows (fitted to the
-//! domain, held still once a point is dragged), CSS pixels to world and back, picking, drags, the
-//! wheel and keys. Every edit goes through the [`Editor`]; what the view draws is built by
+//! domain, held still once a point is dragged, zoomed and panned as maps are), CSS pixels to world
+//! and back, picking, drags, the wheel, two-finger pinches and keys. Every edit goes through the [`Editor`]; what the view draws is built by
 //! [`crate::frame2d`].
 
 use glam::{DAffine2, DVec2};
@@ -15,14 +15,26 @@ pub const PICK_RADIUS: f64 = 14.0;
 pub const XI_PER_PIXEL: f64 = 1.0 / 120.0;
 /// Empty border around the domain box, as a fraction of its larger side.
 const MARGIN: f64 = 0.14;
+/// Zoom: the world units per CSS pixel are multiplied by `exp(deltaY · ZOOM_PER_WHEEL)` (a notch of
+/// 100 is ×1.105; wheel up zooms in), as the 3D camera's wheel; one event does at most ×e.
+const ZOOM_PER_WHEEL: f64 = 0.001;
+/// The closest zoom: the fitted picture magnified this many times.
+pub const MAX_ZOOM: f64 = 200.0;
+/// The farthest zoom: the fitted picture this many times smaller (1/20).
+pub const MIN_ZOOM: f64 = 0.05;
+/// How far the view's centre may go from the fitted one, in fitted viewport sizes: at the farthest
+/// zoom (20 fitted viewports across) the domain can still be brought back into sight.
+const PAN_REACH: f64 = 20.0;
+/// The most one pinch step changes the zoom (a jump of the fingers' spread is not a zoom).
+const PINCH_STEP: f64 = 5.0;
 
 /// The 2D view: its viewport, the world box it holds still, and the pointer of a drag it began.
 #[derive(Clone, Debug)]
 pub struct View2 {
-    /// The view held still (centre, world units per CSS pixel) once a point has been dragged: the
-    /// picture does not jump when a space-mapping drag grows or shrinks the domain, and undo and
-    /// redo give back exactly the pictures they were. `None` fits the domain; opening another
-    /// model, a new grid and the F key go back to that.
+    /// The view held still (centre, world units per CSS pixel) once a point has been dragged or
+    /// the view zoomed or panned: the picture does not jump when a space-mapping drag grows or
+    /// shrinks the domain, and undo and redo give back exactly the pictures they were. `None`
+    /// fits the domain; opening another model, a new grid and the F key go back to that.
     fixed: Option<(DVec2, f64)>,
     /// The editor's [`Editor::opened`] and [`Editor::drags`] when this view last looked.
     seen: (u64, u64),
@@ -127,21 +139,105 @@ impl View2 {
         (d.x as u32, d.y as u32)
     }
 
-    /// The world box shown: the domain with a margin, widened to the viewport's aspect ratio.
+    /// The world box shown: the domain with a margin, widened to the viewport's aspect ratio (or
+    /// the view held still, zoomed or panned).
     #[must_use]
     pub fn view_box(&self, editor: &Editor) -> (DVec2, DVec2) {
-        if let Some((centre, scale)) = self.fixed {
-            let half = self.size * scale * 0.5;
-            return (centre - half, centre + half);
-        }
+        let (centre, scale) = self.held(editor);
+        let half = self.size * scale * 0.5;
+        (centre - half, centre + half)
+    }
+
+    /// The fitted view: the domain's (or the scene's) centre, and the world units per CSS pixel
+    /// that show it with a margin, whichever way the viewport is longer.
+    fn fitted(&self, editor: &Editor) -> (DVec2, f64) {
         let (min, max) = self.scene.unwrap_or_else(|| editor.solid().domain());
-        let centre = (min + max) * 0.5;
         let extent = (max - min).max_element();
         let half = (max - min) * 0.5 + DVec2::splat(extent * MARGIN);
         // World units per CSS pixel: the larger of the two needs, so the box fits both ways.
-        let scale = (2.0 * half / self.size).max_element();
-        let half = self.size * scale * 0.5;
-        (centre - half, centre + half)
+        ((min + max) * 0.5, (2.0 * half / self.size).max_element())
+    }
+
+    /// The view shown: held still, or fitted.
+    fn held(&self, editor: &Editor) -> (DVec2, f64) {
+        self.fixed.unwrap_or_else(|| self.fitted(editor))
+    }
+
+    /// How many times the picture is magnified from the fitted one (1 when fitted).
+    #[must_use]
+    pub fn zoom(&self, editor: &Editor) -> f64 {
+        self.fitted(editor).1 / self.held(editor).1
+    }
+
+    /// Holds the view still with world point `w` under CSS pixel `q` at `scale` world units per
+    /// CSS pixel, the zoom kept within [`MIN_ZOOM`]…[`MAX_ZOOM`] of the fitted view and the
+    /// centre within [`PAN_REACH`] viewports of it. Returns whether the view changed.
+    fn place(&mut self, editor: &Editor, w: DVec2, q: DVec2, scale: f64) -> bool {
+        let (fitted_centre, fitted_scale) = self.fitted(editor);
+        if !(fitted_scale.is_finite() && fitted_scale > 0.0) {
+            return false;
+        }
+        let scale = scale.clamp(fitted_scale / MAX_ZOOM, fitted_scale / MIN_ZOOM);
+        let from_centre = DVec2::new(q.x - self.size.x * 0.5, self.size.y * 0.5 - q.y);
+        // Finite inputs give a finite centre or an infinite one, never NaN; the clamp takes both.
+        let reach = self.size * fitted_scale * PAN_REACH;
+        let centre = (w - from_centre * scale).clamp(fitted_centre - reach, fitted_centre + reach);
+        if !(centre.is_finite() && scale.is_finite()) || self.fixed == Some((centre, scale)) {
+            return false;
+        }
+        self.fixed = Some((centre, scale));
+        true
+    }
+
+    /// A CSS pixel kept within a few viewports of this one: pointers that wandered off (a finger
+    /// dragged past the canvas) still count, and no product of pixels and scales overflows.
+    fn near(&self, q: DVec2) -> DVec2 {
+        q.clamp(-4.0 * self.size, 5.0 * self.size)
+    }
+
+    /// Zooms about CSS pixel `q` by a wheel `delta_y` (positive: out): the world point under `q`
+    /// stays under it, as in maps. Refused during this view's drag and for a delta that is zero or
+    /// not a number. Returns whether the view changed.
+    pub fn zoom_at(&mut self, editor: &Editor, q: DVec2, delta_y: f64) -> bool {
+        if self.press.is_some() || !q.is_finite() || !delta_y.is_finite() || delta_y == 0.0 {
+            return false;
+        }
+        self.sync(editor);
+        let q = self.near(q);
+        let w = self.to_world(editor, q);
+        let factor = (delta_y * ZOOM_PER_WHEEL).clamp(-1.0, 1.0).exp();
+        self.place(editor, w, q, self.held(editor).1 * factor)
+    }
+
+    /// Two fingers moved: the world point under `centre` (their midpoint before, in CSS pixels)
+    /// goes to `centre + pan` (their midpoint now), magnified by `scale` (their spread now over
+    /// their spread before). Refused during this view's drag and for values that are not numbers
+    /// or a `scale` that is not positive. Returns whether the view changed.
+    pub fn pinch(&mut self, editor: &Editor, centre: DVec2, scale: f64, pan: DVec2) -> bool {
+        if self.press.is_some()
+            || !centre.is_finite()
+            || !pan.is_finite()
+            || !scale.is_finite()
+            || scale <= 0.0
+        {
+            return false;
+        }
+        self.sync(editor);
+        let from = self.near(centre);
+        let w = self.to_world(editor, from);
+        let scale = scale.clamp(1.0 / PINCH_STEP, PINCH_STEP);
+        self.place(
+            editor,
+            w,
+            self.near(from + pan),
+            self.held(editor).1 / scale,
+        )
+    }
+
+    /// Pans by `delta` CSS pixels (the picture follows the pointer). Returns whether the view
+    /// changed.
+    pub fn pan(&mut self, editor: &Editor, delta: DVec2) -> bool {
+        self.pinch(editor, self.size * 0.5, 1.0, delta)
     }
 
     /// CSS pixel (y down, origin top-left) of a world point.
@@ -223,14 +319,33 @@ impl View2 {
         editor.end_drag();
     }
 
-    /// Fits the view to the domain again (the F key).
+    /// Cancels this view's drag, putting the point back as Esc does (a second finger came down:
+    /// the gesture is a pinch, not an edit). Returns whether there was a drag.
+    pub fn cancel_drag(&mut self, editor: &mut Editor) -> bool {
+        if self.press.take().is_none() || !editor.dragging() {
+            return false;
+        }
+        editor.cancel();
+        true
+    }
+
+    /// Fits the view to the domain again (the F key): the zoom and the pan are undone.
     pub fn fit_view(&mut self) {
         self.fixed = None;
     }
 
-    /// Wheel over the view: changes ξ of the selected point ([`Editor::wheel`]).
-    pub fn wheel(&mut self, editor: &mut Editor, delta_y: f64) -> bool {
-        editor.wheel(delta_y)
+    /// The wheel at CSS pixel `q`: over the selected point, or with `xi` held (the Alt key),
+    /// changes its ξ ([`Editor::wheel`]); elsewhere zooms about `q` ([`Self::zoom_at`]), so that a
+    /// user zooming never edits the model. Returns whether the solid changed.
+    pub fn wheel(&mut self, editor: &mut Editor, q: DVec2, delta_y: f64, xi: bool) -> bool {
+        let over = editor
+            .selected_point()
+            .is_some_and(|p| self.part_to_screen(editor, p.truncate()).distance(q) <= PICK_RADIUS);
+        if xi || over {
+            return editor.wheel(delta_y);
+        }
+        self.zoom_at(editor, q, delta_y);
+        false
     }
 
     /// A key pressed while the view has focus (`key` as in `KeyboardEvent.key`). Returns whether the
@@ -342,8 +457,12 @@ mod tests {
         fn pointer_up(&mut self) {
             self.v.pointer_up(&mut self.e);
         }
+        /// The wheel with the modifier that changes ξ anywhere.
         fn wheel(&mut self, delta_y: f64) -> bool {
-            self.v.wheel(&mut self.e, delta_y)
+            self.v.wheel(&mut self.e, DVec2::ZERO, delta_y, true)
+        }
+        fn wheel_at(&mut self, q: DVec2, delta_y: f64) -> bool {
+            self.v.wheel(&mut self.e, q, delta_y, false)
         }
         fn key(&mut self, key: &str, shift: bool) -> bool {
             self.v.key(&mut self.e, key, shift)
@@ -408,6 +527,187 @@ mod tests {
         assert!(v.wheel(-100.0));
         assert!((v.selected_xi().unwrap() - before - 0.1).abs() < 1e-12);
         assert!(!v.wheel(f64::NAN));
+        // Over the selected point, without the modifier: ξ too, and the view stays.
+        let at = v.to_screen(DVec2::new(0.0, 1.0)) + DVec2::new(5.0, -5.0);
+        let shown = v.view_box();
+        assert!(v.wheel_at(at, -100.0));
+        assert!((v.selected_xi().unwrap() - before - 0.2).abs() < 1e-12);
+        assert_eq!(v.view_box(), shown);
+    }
+
+    #[test]
+    fn wheel_over_empty_space_zooms_about_the_pointer_and_keeps_the_model() {
+        let mut v = view();
+        v.select(Some((1, 1)));
+        let model = v.solid().clone();
+        let q = DVec2::new(130.0, 420.0);
+        let under = v.to_world(q);
+        assert!(!v.wheel_at(q, -300.0), "the solid did not change");
+        assert_eq!(v.solid(), &model);
+        assert!(!v.can_undo(), "a zoom is no undo step");
+        assert!(
+            (v.v.zoom(&v.e) - 0.3f64.exp()).abs() < 1e-12,
+            "wheel up zooms in"
+        );
+        assert!(
+            (v.to_world(q) - under).length() < 1e-12,
+            "the point under the pointer stays"
+        );
+        // Wheel down zooms back out about another point, which stays too.
+        let r = DVec2::new(700.0, 80.0);
+        let under = v.to_world(r);
+        assert!(!v.wheel_at(r, 300.0));
+        assert!((v.v.zoom(&v.e) - 1.0).abs() < 1e-12);
+        assert!((v.to_world(r) - under).length() < 1e-12);
+        // A drag after a zoom holds the zoomed picture still.
+        let shown = v.view_box();
+        let centre = v.to_screen(DVec2::splat(0.5));
+        assert!(v.pointer_down(centre, false));
+        assert!(
+            !v.wheel_at(DVec2::new(5.0, 5.0), -100.0),
+            "no zoom mid-drag"
+        );
+        assert_eq!(v.view_box(), shown);
+        v.pointer_up();
+        assert_eq!(v.view_box(), shown);
+        // F fits again: the zoom is gone.
+        v.wheel_at(DVec2::new(5.0, 5.0), -500.0);
+        assert!(v.v.zoom(&v.e) > 1.5);
+        assert!(v.key("f", false));
+        assert!((v.v.zoom(&v.e) - 1.0).abs() < 1e-12);
+        assert!((v.to_screen(DVec2::splat(0.5)) - DVec2::new(400.0, 300.0)).length() < 1e-9);
+    }
+
+    #[test]
+    fn zoom_is_clamped_and_never_makes_a_non_finite_view() {
+        let mut v = view();
+        let q = DVec2::new(10.0, 590.0);
+        for _ in 0..100 {
+            v.wheel_at(q, -1e9);
+        }
+        assert!(
+            (v.v.zoom(&v.e) - MAX_ZOOM).abs() < 1e-9,
+            "{}",
+            v.v.zoom(&v.e)
+        );
+        for _ in 0..100 {
+            v.wheel_at(q, 1e9);
+        }
+        assert!(
+            (v.v.zoom(&v.e) - MIN_ZOOM).abs() < 1e-12,
+            "{}",
+            v.v.zoom(&v.e)
+        );
+        let shown = v.view_box();
+        for bad in [0.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(!v.v.zoom_at(&v.e, q, bad));
+        }
+        assert!(!v.v.zoom_at(&v.e, DVec2::new(f64::NAN, 1.0), -100.0));
+        assert_eq!(v.view_box(), shown);
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(!v.v.pinch(&v.e, q, bad, DVec2::ONE), "scale {bad}");
+        }
+        assert!(!v.v.pinch(&v.e, q, 1.0, DVec2::new(f64::NAN, 0.0)));
+        // Wild but finite input: pointers far away, huge pans and spreads, tiny and huge zooms.
+        for (k, big) in [1e9, -1e9, 1e300, -1e300, f64::MAX, 1e-300]
+            .into_iter()
+            .enumerate()
+        {
+            let far = DVec2::new(big, -big);
+            v.v.zoom_at(&v.e, far, big);
+            v.v.pinch(&v.e, far, big.abs(), far);
+            v.v.pinch(&v.e, q, 1.0 / big.abs(), -far);
+            v.v.pan(&v.e, DVec2::splat(big));
+            let (min, max) = v.view_box();
+            assert!(
+                min.is_finite() && max.is_finite() && max.x > min.x,
+                "step {k}"
+            );
+            let z = v.v.zoom(&v.e);
+            assert!(
+                (MIN_ZOOM * 0.999..=MAX_ZOOM * 1.001).contains(&z),
+                "zoom {z}"
+            );
+            assert!(v.to_world(q).is_finite() && v.to_screen(DVec2::ZERO).is_finite());
+        }
+        // Panned as far as it goes, F still brings the domain back.
+        assert!(v.key("F", false));
+        assert!((v.to_screen(DVec2::splat(0.5)) - DVec2::new(400.0, 300.0)).length() < 1e-9);
+    }
+
+    #[test]
+    fn a_pinch_zooms_about_the_fingers_and_pans_with_them() {
+        let mut v = view();
+        let model = v.solid().clone();
+        let mid = DVec2::new(300.0, 250.0);
+        let under = v.to_world(mid);
+        let pan = DVec2::new(40.0, -15.0);
+        assert!(v.v.pinch(&v.e, mid, 2.0, pan));
+        assert!(
+            (v.v.zoom(&v.e) - 2.0).abs() < 1e-12,
+            "fingers apart magnify"
+        );
+        assert!(
+            (v.to_world(mid + pan) - under).length() < 1e-12,
+            "the point between the fingers follows them"
+        );
+        // A pan alone: the picture follows the pointer.
+        let p = v.to_screen(DVec2::splat(0.5));
+        assert!(v.v.pan(&v.e, DVec2::new(-25.0, 10.0)));
+        assert!((v.to_screen(DVec2::splat(0.5)) - (p + DVec2::new(-25.0, 10.0))).length() < 1e-9);
+        assert!((v.v.zoom(&v.e) - 2.0).abs() < 1e-12);
+        assert_eq!(v.solid(), &model);
+        assert!(!v.can_undo());
+        // Picking follows the zoomed picture.
+        let corner = v.to_screen(DVec2::ONE);
+        assert!(v.pointer_down(corner + DVec2::new(3.0, 3.0), false));
+        assert_eq!(v.selected(), Some((2, 2)));
+        assert!(!v.v.pinch(&v.e, mid, 2.0, pan), "no pinch mid-drag");
+        v.pointer_up();
+    }
+
+    #[test]
+    fn a_zoom_composes_with_a_placed_part() {
+        let mut v = view();
+        let placement =
+            DAffine2::from_scale_angle_translation(DVec2::splat(0.5), 0.3, DVec2::new(0.2, -0.1));
+        v.v.set_placement(placement);
+        let local = DVec2::new(1.0, 0.0);
+        let q = v.v.part_to_screen(&v.e, local);
+        assert!(!v.wheel_at(q, -400.0), "nothing selected: a zoom");
+        v.v.pinch(&v.e, q, 1.5, DVec2::ZERO);
+        assert!(
+            (v.v.part_to_screen(&v.e, local) - q).length() < 1e-9,
+            "the part's point under the fingers stays: {} vs {q}",
+            v.v.part_to_screen(&v.e, local)
+        );
+        // The placed point is picked where it is drawn, and the wheel over it when selected is ξ.
+        assert!(v.pointer_down(q, false));
+        assert_eq!(v.selected(), Some((2, 0)));
+        v.pointer_up();
+        let z = v.v.zoom(&v.e);
+        assert!(v.wheel_at(q, -100.0));
+        assert_eq!(v.v.zoom(&v.e), z);
+    }
+
+    #[test]
+    fn a_second_finger_cancels_a_drag_back_to_where_it_began() {
+        let mut v = view();
+        let centre = v.to_screen(DVec2::splat(0.5));
+        assert!(!v.v.cancel_drag(&mut v.e), "no drag");
+        assert!(v.pointer_down(centre, false));
+        assert!(v.pointer_move(centre - DVec2::new(0.0, 40.0)));
+        assert!(v.v.cancel_drag(&mut v.e));
+        assert!(!v.dragging());
+        assert_eq!(v.solid(), &Solid2::fig9());
+        assert!(!v.can_undo(), "a cancelled drag is no step");
+        assert_eq!(v.selected(), Some((1, 1)), "the point stays selected");
+        assert!(
+            v.v.pinch(&v.e, centre, 1.5, DVec2::ZERO),
+            "the pinch goes on"
+        );
+        v.pointer_up();
+        assert!(!v.can_undo());
     }
 
     #[test]

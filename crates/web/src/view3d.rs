@@ -560,6 +560,33 @@ impl View3 {
         self.orbit.wheel(delta_y);
     }
 
+    /// Two fingers: zoom by their spread's `scale` and pan by their midpoint's `delta` CSS pixels
+    /// ([`crate::camera::Camera::pinch`]). Refused while a point or a handle is dragged (cancel
+    /// it first); returns whether the camera moved.
+    pub fn pinch(&mut self, scale: f64, delta: DVec2) -> bool {
+        if self.gesture.is_some() {
+            return false;
+        }
+        self.orbit.pinch(scale, delta)
+    }
+
+    /// Cancels the gesture under way (a second finger came down: the gesture is a pinch): a
+    /// point's drag puts the point back as Esc does, an orbit or a pan stops where it is. A
+    /// handle's drag is its owner's to end ([`crate::parts::Parts::end_handle`]); here it only
+    /// stops.
+    pub fn cancel(&mut self, editor: &mut Editor) {
+        if matches!(
+            self.gesture,
+            Some(Gesture::Point(..) | Gesture::VolumePoint(..))
+        ) && editor.busy()
+        {
+            editor.cancel();
+        }
+        self.gesture = None;
+        self.handle_drag = None;
+        self.orbit.pointer_up();
+    }
+
     /// The camera's backward unit vector (eye − target): the normal of the plane a volume's point
     /// is dragged in.
     fn back(&self) -> DVec3 {
@@ -1317,6 +1344,37 @@ mod tests {
         assert!(!editor.can_undo());
         view.fit(&editor);
         assert_eq!(view.camera().distance, before.distance);
+    }
+
+    #[test]
+    fn two_fingers_zoom_and_pan_and_cancel_a_point_drag() {
+        let (mut editor, mut view) = setup();
+        let before = *view.camera();
+        assert!(view.pinch(2.0, DVec2::new(30.0, 0.0)));
+        assert!((view.camera().distance - before.distance / 2.0).abs() < 1e-12);
+        assert_ne!(
+            view.camera().target,
+            before.target,
+            "the midpoint's move pans"
+        );
+        assert!(!view.pinch(f64::NAN, DVec2::ZERO) && !view.pinch(0.0, DVec2::ZERO));
+        // A second finger on a point's drag: the point goes back, no undo step, then the pinch.
+        let at = view.screen_of(&editor, 4).unwrap();
+        assert!(view.pointer_down(&mut editor, at, false, false));
+        assert!(view.pointer_move(&mut editor, at - DVec2::new(0.0, 40.0)));
+        assert_ne!(editor.solid(), &Solid2::fig9());
+        assert!(!view.pinch(1.5, DVec2::ZERO), "not during a drag");
+        view.cancel(&mut editor);
+        assert!(!view.busy() && !editor.busy());
+        assert_eq!(editor.solid(), &Solid2::fig9());
+        assert!(!editor.can_undo());
+        assert_eq!(editor.selected(), Some((1, 1)), "the point stays selected");
+        assert!(view.pinch(1.5, DVec2::ZERO));
+        // An orbit cancelled stops; nothing is deselected.
+        view.pointer_down(&mut editor, DVec2::new(5.0, 5.0), false, false);
+        view.cancel(&mut editor);
+        assert!(!view.busy());
+        assert_eq!(editor.selected(), Some((1, 1)));
     }
 
     #[test]

@@ -497,12 +497,36 @@ impl Modeler {
         self.view2.pick(&self.editor, DVec2::new(x, y)).is_some()
     }
 
-    /// Wheel with `deltaY`; returns whether the solid changed.
-    pub fn wheel(&mut self, delta_y: f64) -> bool {
+    /// The wheel with `deltaY` at CSS pixel `(x, y)`: over the selected point, or with `xi` (the
+    /// Alt key) held, changes its ξ; elsewhere zooms about the pointer ([`View2::wheel`]).
+    /// Returns whether the solid changed (the view may have zoomed: redraw it either way).
+    pub fn wheel(&mut self, x: f64, y: f64, delta_y: f64, xi: bool) -> bool {
+        let q = DVec2::new(x, y);
         if !self.part_open() {
+            self.view2.zoom_at(&self.editor, q, delta_y);
             return false;
         }
-        self.view2.wheel(&mut self.editor, delta_y)
+        self.view2.wheel(&mut self.editor, q, delta_y, xi)
+    }
+
+    /// Two fingers (or a pan) on the 2D view: the world point under CSS pixel `(x, y)` (their
+    /// midpoint before) goes to `(x + dx, y + dy)` (their midpoint now), magnified by `scale`
+    /// (their spread now over before). Returns whether the view changed.
+    pub fn pinch(&mut self, x: f64, y: f64, scale: f64, dx: f64, dy: f64) -> bool {
+        self.view2
+            .pinch(&self.editor, DVec2::new(x, y), scale, DVec2::new(dx, dy))
+    }
+
+    /// Cancels the 2D view's drag, putting the point back as Esc does (a second finger came
+    /// down). Returns whether there was a drag.
+    pub fn cancel_drag(&mut self) -> bool {
+        self.view2.cancel_drag(&mut self.editor)
+    }
+
+    /// How many times the 2D view is magnified from the fitted picture (1 when fitted).
+    #[must_use]
+    pub fn zoom(&self) -> f64 {
+        self.view2.zoom(&self.editor)
     }
 
     /// A key (`KeyboardEvent.key`); returns whether the view used it.
@@ -940,6 +964,23 @@ impl Modeler {
         self.view3.wheel(delta_y);
     }
 
+    /// Two fingers on the 3D view: zoom by their spread's `scale` (now over before) and pan by
+    /// their midpoint's move `(dx, dy)` in CSS pixels. Returns whether the camera moved.
+    pub fn pinch_3d(&mut self, scale: f64, dx: f64, dy: f64) -> bool {
+        self.view3.pinch(scale, DVec2::new(dx, dy))
+    }
+
+    /// Cancels the 3D gesture under way (a second finger came down): a point's drag puts the
+    /// point back as Esc does; a handle's drag ends as one undo step; an orbit or pan stops.
+    pub fn cancel_3d(&mut self) {
+        if self.view3.handle_dragged().is_some()
+            && let Some(parts) = &mut self.parts
+        {
+            parts.end_handle();
+        }
+        self.view3.cancel(&mut self.editor);
+    }
+
     /// The CSS pixel `[x, y]` of control point `index`'s sphere in the 3D view (`index` as in the
     /// model file), or `undefined`.
     #[must_use]
@@ -1256,6 +1297,12 @@ macro_rules! orbit_view {
             /// The wheel: zooms.
             pub fn wheel(&mut self, delta_y: f64) {
                 self.state.orbit().wheel(delta_y);
+            }
+
+            /// Two fingers: zoom by their spread's `scale` (now over before) and pan by their
+            /// midpoint's move `(dx, dy)` in CSS pixels. Returns whether the camera moved.
+            pub fn pinch(&mut self, scale: f64, dx: f64, dy: f64) -> bool {
+                self.state.orbit().pinch(scale, DVec2::new(dx, dy))
             }
 
             /// Frames the scene again.
