@@ -1,6 +1,9 @@
-// Measures drag-to-redraw latency in the page (cargo xtask serve, then: cd tests && node latency.mjs [webgl2|webgpu]).
-// Prints, per case, the median and max time from a pointer move to the end of the first frame
-// drawn after it (the page's debug figure).
+// Measures drag-to-redraw latency in the page (cargo xtask serve, then: cd tests && node latency.mjs [webgl2|webgpu];
+// `cargo xtask bench` runs it and writes its lines in BENCHMARKS.md).
+// Per case, a drag two ways: one move a frame (the move, then the frame after it), and a continuous
+// stream of moves sent as fast as the browser takes them (the page applies the newest once a frame).
+// Prints the median and max time from a pointer move to the end of the first frame drawn after it
+// (the page's own figure), and for the stream how many moves were applied in how many frames.
 import { chromium } from 'playwright-core';
 const backend = process.argv[2] ?? 'webgl2';
 const args = ['--no-sandbox'];
@@ -16,6 +19,8 @@ let released = 0; // when the last measured drag let go
 async function measure(label, canvasSel, getPoint, dx, dy, n = 12) {
   const box = await page.locator(canvasSel).boundingBox();
   const [x, y] = await getPoint(box);
+  const med = (a) => [...a].sort((p, q) => p - q)[Math.floor(a.length / 2)];
+  // One move a frame.
   await page.mouse.move(x, y); await page.mouse.down();
   const lat = [], ren = [], ren3 = [];
   for (let k = 1; k <= n; k++) {
@@ -25,9 +30,21 @@ async function measure(label, canvasSel, getPoint, dx, dy, n = 12) {
     ren.push(Number(await page.getAttribute('body', 'data-render-ms')));
     ren3.push(Number(await page.getAttribute('body', 'data-render3-ms')));
   }
+  // Then a stream: 4n moves back and forth, none waiting for a frame.
+  const before = await page.evaluate(() => {
+    window.bezsolid.stats.latencies.length = 0;
+    return { ...window.bezsolid.stats };
+  });
+  for (let k = 1; k <= 4 * n; k++) {
+    const j = n - (k % (2 * n) < n ? k % n : n - (k % n));
+    await page.mouse.move(x + dx * j, y + dy * j);
+  }
+  await frame();
+  const after = await page.evaluate(() => window.bezsolid.stats);
+  const stream = after.latencies.length ? after.latencies : [NaN];
   await page.mouse.up(); released = Date.now(); await frame(); await frame();
-  const med = (a) => [...a].sort((p, q) => p - q)[Math.floor(a.length / 2)];
-  console.log(`${label}: input→drawn median ${med(lat).toFixed(1)} ms (max ${Math.max(...lat).toFixed(1)}); 2D frame ${med(ren).toFixed(1)} ms, 3D frame ${med(ren3).toFixed(1)} ms`);
+  console.log(`${label}: input→drawn median ${med(lat).toFixed(1)} ms (max ${Math.max(...lat).toFixed(1)}); 2D frame ${med(ren).toFixed(1)} ms, 3D frame ${med(ren3).toFixed(1)} ms`
+    + `; under a stream of ${after.moves - before.moves} moves: ${after.applied - before.applied} applied in ${after.frames - before.frames} frames, input→drawn median ${med(stream).toFixed(1)} ms (max ${Math.max(...stream).toFixed(1)})`);
 }
 const screen2d = async (box, wx, wy) => {
   const [x0, y0] = await page.evaluate(() => [...window.bezsolid.modeler.probe(0, 0)]);

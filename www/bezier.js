@@ -119,10 +119,12 @@ export function setupBezier(app) {
     }
     probeAt = [x, y];
     if (modeler.dragging()) {
-      if (modeler.pointer_move(x, y)) {
-        app.stats.lastEdit = performance.now();
-        app.redraw();
-      }
+      app.coalesce('drag-2d', (since) => {
+        if (modeler.dragging() && modeler.pointer_move(x, y)) {
+          app.stats.lastEdit = since;
+          app.redraw();
+        }
+      });
       return;
     }
     canvas.classList.toggle('over-point', modeler.hit(x, y));
@@ -149,6 +151,7 @@ export function setupBezier(app) {
       return;
     }
     if (!modeler.dragging()) return;
+    app.flushInput(); // the last move counts
     modeler.pointer_up();
     canvas.classList.remove('dragging');
     release(e.pointerId);
@@ -166,6 +169,7 @@ export function setupBezier(app) {
       app.stats.lastEdit = performance.now();
       app.changed();
     } else {
+      probeSeen = -1; // the view moved under the pointer: f is read again
       app.redraw(VIEW2);
     }
   }, { passive: false });
@@ -275,7 +279,7 @@ export function setupBezier(app) {
     const bezier = !parts || parts.open;
     const view2 = !bezier
       ? '2D view of the model of many solids: its field and its contour. Select a Bézier part under Parts to edit its points here'
-      : `2D contour view of ${slice ? `the ${'uvw'[slice[0]]} slice ${slice[1]} of the volume` : 'the patch solid'}: click a control point, or press Tab to walk the points (Esc then Tab leaves the view), then drag or press Page Up and Page Down to change its function value`;
+      : `2D contour view of ${slice ? `the ${'uvw'[slice[0]]} slice ${slice[1]} of the volume` : 'the patch solid'}: click a control point, or press Tab to walk the points (Esc then Tab leaves the view), then drag, press Page Up and Page Down, or turn the wheel over it to change its function value; the wheel elsewhere zooms about the pointer, F fits`;
     const view3 = parts
       ? `3D view of the model of many solids: the surface of the whole model${parts.open ? ', the open part\'s control points as spheres' : ''}, the selection framed in orange with handles to move, turn and scale it; ${ORBIT}`
       : volume

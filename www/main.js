@@ -109,7 +109,9 @@ async function main() {
     wasm, modeler, ff, sv, viewer, canvas, canvas3, runners, VIEW2, VIEW3,
     work: workList($('work')),
     // `latency`: from an edit (`lastEdit`) to the end of the first frame drawn after it.
-    stats: { lastRender: 0, lastRender3: 0, lastEdit: 0, drawnEdit: 0, latency: 0 },
+    // `moves`, `applied`, `frames`: pointer moves coalesced, applied, and frames drawn;
+    // `latencies`: the last input → drawn figures.
+    stats: { lastRender: 0, lastRender3: 0, lastEdit: 0, drawnEdit: 0, latency: 0, latencies: [], moves: 0, applied: 0, frames: 0 },
     workspace: () => workspace,
     /** The Bézier panel's snapshot of the editor, its last frame and its 3D view. */
     panel: () => JSON.parse(modeler.panel()),
@@ -123,6 +125,26 @@ async function main() {
     storage.set(KEYS.workspace, workspace);
   };
 
+  // Input coalesced to one step a frame: of a stream of pointer moves for one gesture (`key`),
+  // only the newest is applied, just before the frame is drawn; the others are dropped, never
+  // queued. `apply(since)` gets when the oldest move it stands for came (for the input → drawn
+  // figure). `flushInput()` applies what waits now (before a gesture ends).
+  const INPUT = 4;
+  const waiting = new Map(); // key → { apply, since }
+  app.coalesce = (key, apply) => {
+    const since = waiting.get(key)?.since ?? performance.now();
+    waiting.set(key, { apply, since });
+    app.stats.moves += 1;
+    app.redraw(INPUT);
+  };
+  app.flushInput = () => {
+    for (const [key, { apply, since }] of [...waiting]) {
+      waiting.delete(key);
+      app.stats.applied += 1;
+      apply(since);
+    }
+  };
+
   // Frames: `redraw(VIEW2 | VIEW3)` asks for the views on the next animation frame (once however
   // often it is asked); the frame then brings the panel up to date.
   let pending = 0;
@@ -133,6 +155,7 @@ async function main() {
     }
     pending = which;
     requestAnimationFrame(() => {
+      app.flushInput(); // may ask for views: they join this frame
       const todo = pending;
       pending = 0;
       if (todo & VIEW2 && workspace === 'bezier') {
@@ -147,9 +170,12 @@ async function main() {
         part().follow();
       }
       const { stats } = app;
+      if (todo & (VIEW2 | VIEW3)) stats.frames += 1;
       if (stats.lastEdit > stats.drawnEdit) {
         stats.latency = performance.now() - stats.lastEdit;
         stats.drawnEdit = stats.lastEdit;
+        stats.latencies.push(stats.latency);
+        if (stats.latencies.length > 240) stats.latencies.shift();
       }
       for (const p of [app.bezier, app.freeform, app.script]) p.prune();
       part().update();
@@ -297,7 +323,7 @@ async function main() {
   // Hooks for tests and tools: the objects, and what the page holds (GPU objects the renderers
   // hold and made, `[buffers, textures, made]`; the wasm memory in bytes).
   window.bezsolid = {
-    modeler, ff, sv, canvas, canvas3, viewer, saveNow,
+    modeler, ff, sv, canvas, canvas3, viewer, saveNow, stats: app.stats,
     redraw: app.redraw,
     setWorkspace: app.setWorkspace,
     runScript: app.script.run,

@@ -71,17 +71,18 @@ export function setupView3d(app) {
       return;
     }
     if (modeler.busy_3d()) {
-      if (modeler.pointer_move_3d(x, y)) {
+      app.coalesce('drag-3d', (since) => {
+        if (!modeler.busy_3d() || !modeler.pointer_move_3d(x, y)) return;
         const editing = modeler.editing_3d();
         if (editing) {
-          app.stats.lastEdit = performance.now();
+          app.stats.lastEdit = since;
           // A volume's surface is meshed coarsely while the point moves, finely when it rests.
           modeler.set_coarse(true);
           clearTimeout(restTimer);
           restTimer = setTimeout(() => { modeler.set_coarse(false); app.redraw(VIEW3); }, 250);
         }
         app.redraw(editing ? VIEW2 | VIEW3 : VIEW3);
-      }
+      });
       return;
     }
     canvas3.classList.toggle('over-point', modeler.hit_3d(x, y));
@@ -107,6 +108,7 @@ export function setupView3d(app) {
       return;
     }
     if (!app.viewer || !modeler.busy_3d()) return;
+    app.flushInput(); // the last move counts
     const editing = modeler.editing_3d();
     clearTimeout(restTimer);
     modeler.set_coarse(false);

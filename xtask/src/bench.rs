@@ -1,15 +1,18 @@
 //! `cargo xtask bench [--quick]`: the benchmark suite natively (with the peers, in the same process)
-//! and as wasm in node, then BENCHMARKS.md with both and the ratios.
+//! and as wasm in node, then the page's input-to-drawn figures in headless Chromium, and
+//! BENCHMARKS.md with all of them and the ratios. `--page`: the page's figures alone, in place.
 
 use std::fmt::Write as _;
+use std::net::TcpListener;
 use std::path::Path;
 use std::process::Command;
 
 use anyhow::{Context, Result, bail};
 use serde_json::Value;
 
-use crate::setup;
+use crate::recipe::Recipe;
 use crate::util::{cargo, run};
+use crate::{build, serve, setup};
 
 /// One row as the bench binary prints it.
 struct Row {
@@ -54,6 +57,62 @@ fn stdout_of(cmd: &mut Command) -> Result<String> {
         );
     }
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// Where the page's figures begin in BENCHMARKS.md (they run to its end).
+const PAGE_HEADING: &str = "## The page: input to drawn";
+
+/// Builds and serves the page, runs `tests/latency.mjs` in headless Chromium (WebGL2 on `SwiftShader`)
+/// and returns its section of BENCHMARKS.md: drags in the page, one move a frame and under a
+/// continuous stream of moves.
+fn page_latency(workspace: &Path) -> Result<String> {
+    setup::browser_packages()?;
+    setup::node()?;
+    let tests = workspace.join("tests");
+    setup::npm_ci(&tests)?;
+    let recipe = Recipe::load(workspace)?;
+    build::web(workspace, &recipe)?;
+    let listener =
+        TcpListener::bind((recipe.address.as_str(), 0)).context("binding a loopback port")?;
+    let url = format!("http://{}/", listener.local_addr()?);
+    let server = serve::Server::start(listener, recipe.root.clone())?;
+    let lines = stdout_of(
+        Command::new("node")
+            .args(["latency.mjs", "webgl2"])
+            .current_dir(&tests)
+            .env("BEZSOLID_URL", &url),
+    );
+    server.stop();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{PAGE_HEADING}
+
+`tests/latency.mjs` in headless Chromium (WebGL2 on SwiftShader: the GPU is          the CPU), 1400 × 800: a control point dragged by real pointer events, first one move a          frame, then a stream of moves sent as fast as the browser takes them. \"input→drawn\" is          the page's own figure: from the oldest move a frame applies to the end of that frame. The          page applies the newest move once a frame and drops the others; under a stream the moves          applied and the frames drawn are counted. Machine: {}
+",
+        machine()
+    );
+    for line in lines?.lines().filter(|l| !l.trim().is_empty()) {
+        let _ = writeln!(s, "- {line}");
+    }
+    Ok(s)
+}
+
+/// `cargo xtask bench --page`: the page's figures alone, in place in BENCHMARKS.md.
+pub(crate) fn page(workspace: &Path) -> Result<()> {
+    let section = page_latency(workspace)?;
+    let path = workspace.join("BENCHMARKS.md");
+    let old = std::fs::read_to_string(&path).unwrap_or_default();
+    let kept = old.find(PAGE_HEADING).map_or(old.as_str(), |at| &old[..at]);
+    let text = format!(
+        "{}
+{section}",
+        kept.trim_end()
+    );
+    std::fs::write(&path, text).context("writing BENCHMARKS.md")?;
+    print!("{section}");
+    eprintln!("wrote the page's figures in BENCHMARKS.md");
+    Ok(())
 }
 
 pub(crate) fn all(workspace: &Path, quick: bool) -> Result<()> {
@@ -101,7 +160,20 @@ pub(crate) fn all(workspace: &Path, quick: bool) -> Result<()> {
         "wasm",
     )?;
 
-    let text = report(&native, &wasm, quick);
+    let mut text = report(&native, &wasm, quick);
+    let page = page_latency(workspace).unwrap_or_else(|e| {
+        format!(
+            "{PAGE_HEADING}
+
+Not measured on this machine: {e:#}
+"
+        )
+    });
+    let _ = write!(
+        text,
+        "
+{page}"
+    );
     if quick {
         print!("{text}");
         eprintln!("(--quick: BENCHMARKS.md left as it is)");

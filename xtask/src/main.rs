@@ -29,7 +29,9 @@ const USAGE: &str = "usage: cargo xtask <command>
 commands:
   serve [--port N]             set up, build the page and serve it (port also from BEZSOLID_PORT)
   test [--update-screenshot]   every check, in order, stopping at the first failure
-  bench [--quick]              benchmarks, native (with peers) and wasm in node; writes BENCHMARKS.md
+  bench [--quick | --page]     benchmarks, native (with peers) and wasm in node, and the page's
+                               input-to-drawn in headless Chromium; writes BENCHMARKS.md
+                               (--page: only the page's figures, in place)
   fuzz [--seconds N] [TARGET...]
                                fuzz campaigns (nightly, cargo-fuzz), N seconds per target (default 60),
                                every target when none is named; see FUZZING.md
@@ -67,13 +69,19 @@ fn real_main() -> Result<()> {
         }
         Some("bench") => {
             let mut quick = false;
+            let mut page = false;
             for a in &args[1..] {
                 match a.as_str() {
                     "--quick" => quick = true,
+                    "--page" => page = true,
                     other => bail!("unknown option {other}\n\n{USAGE}"),
                 }
             }
-            bench::all(&ws, quick)
+            if page {
+                bench::page(&ws)
+            } else {
+                bench::all(&ws, quick)
+            }
         }
         Some("fuzz") => {
             let mut seconds = fuzz::DEFAULT_SECONDS;
