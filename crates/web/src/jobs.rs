@@ -54,7 +54,8 @@ pub enum Job {
         /// Cells along the longest side.
         resolution: usize,
     },
-    /// A mesh file of a free-form model's result.
+    /// A mesh file of a free-form model's result, with a progress report after each layer of
+    /// samples.
     EscMesh {
         /// A free-form model file or link.
         model: String,
@@ -180,10 +181,11 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             model,
             format,
             resolution,
-        } => plain(Payload::Bytes(crate::freeform::headless::mesh(
+        } => plain(Payload::Bytes(esc_mesh(
             model,
             *format,
             *resolution,
+            progress,
         )?)),
         Job::Plasm { script } => {
             let drawing = crate::script::run(script);
@@ -200,6 +202,30 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             crate::script::patch_model(script, *index)?.0.into_bytes(),
         )),
     })
+}
+
+/// [`crate::freeform::headless::mesh`], calling `progress(done, total)` after each layer of the
+/// result's samples and at the end ([`bezsolid_core::esc::Boolean::surface_in_steps`]).
+fn esc_mesh(
+    model: &str,
+    format: Format,
+    resolution: usize,
+    progress: impl FnMut(usize, usize),
+) -> Result<Vec<u8>, Error> {
+    use crate::freeform::headless::MAX_RESOLUTION;
+    if !(2..=MAX_RESOLUTION).contains(&resolution) {
+        return Err(Error::new(format!(
+            "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
+        )));
+    }
+    let boolean = crate::freeform::read_file(model)?
+        .to_boolean()
+        .map_err(Error::from)?;
+    let mesh = boolean.surface_in_steps(resolution, progress);
+    if mesh.triangles.is_empty() {
+        return Err("the result is empty: there is no surface to export".into());
+    }
+    Ok(format.write(&mesh))
 }
 
 /// A result as one buffer (see the module documentation).
@@ -311,6 +337,45 @@ mod tests {
         assert!(report["error"].is_null(), "{report}");
         assert!(!payload.is_empty());
         assert!(header.get("approximate").is_none());
+    }
+
+    #[test]
+    fn free_form_mesh_jobs_report_progress_and_export_what_the_headless_export_does() {
+        use bezsolid_core::esc::{Example, Op};
+        use bezsolid_core::model::{EscOperand, ModelFile};
+        let model = serde_json::to_string(&ModelFile::from_esc(
+            Some(Op::Difference),
+            vec![
+                EscOperand::example(Example::Icosphere, [0.0; 3]),
+                EscOperand::example(Example::Torus, [0.0, 0.0, 0.4]),
+            ],
+        ))
+        .unwrap();
+        let job = |resolution: usize, steps: &mut Vec<(usize, usize)>| {
+            run_bytes(
+                serde_json::json!({"kind": "esc-mesh", "model": model, "format": "stl",
+                    "resolution": resolution})
+                .to_string()
+                .as_bytes(),
+                |done, total| steps.push((done, total)),
+            )
+        };
+        let mut steps = Vec::new();
+        let done = job(12, &mut steps).unwrap();
+        let (header, stl) = decode(&done);
+        assert_eq!(header["payload"], "bytes");
+        let want = crate::freeform::headless::mesh(&model, Format::Stl, 12).unwrap();
+        assert_eq!(stl, &want[..]);
+        let total = steps.last().unwrap().1;
+        assert!(total > 12, "{steps:?}");
+        assert_eq!(steps, (1..=total).map(|d| (d, total)).collect::<Vec<_>>());
+        for resolution in [1, 161] {
+            let got = job(resolution, &mut Vec::new()).unwrap_err().to_string();
+            let want = crate::freeform::headless::mesh(&model, Format::Stl, resolution)
+                .unwrap_err()
+                .to_string();
+            assert_eq!(got, want);
+        }
     }
 
     #[test]

@@ -32,10 +32,13 @@
 //! (triangles seen from behind, which double the cones over them).
 //!
 //! **Speed.** The tetrahedra all share the apex, so they are indexed by direction: a cube map around
-//! the apex lists, per cell, the triangles whose cone meets it. A free-form cell is thin (it lies in
-//! the convex hull of its patch's ten control points), so a uniform grid over their bounding boxes
-//! plus an oriented box per cell rejects almost every query without touching a patch: most queries
-//! compute no ray–patch intersection at all. Ray parity ([`EscSolid::parity_value`]), the classic
+//! the apex lists, per cell, the triangles whose cone meets it. A free-form cell lies in the convex
+//! hull of its patch's ten control points, and for a fine mesh it is thin, so a uniform grid over
+//! their bounding boxes plus a bounding polytope per cell (its frame's box cut by six slabs) rejects
+//! almost every query without touching a patch: most queries compute no ray–patch intersection at
+//! all. A coarse mesh with sharp edges (a cube) has thick cells, and a query in the shell between
+//! the mesh and its PN surface computes one; a Boolean's surface
+//! ([`super::draw::Boolean::surface`]) asks the solids only near their surfaces. Ray parity ([`EscSolid::parity_value`]), the classic
 //! test, walks a ray through the same grid and intersects every patch whose box it meets.
 
 use alloc::vec;
@@ -91,7 +94,18 @@ pub struct Stats {
     pub unsure: u64,
 }
 
-/// A free-form cell's oriented bounding box and walls.
+/// A free-form cell's bounding polytope and walls.
+///
+/// The cell lies in the convex hull of its patch's ten control points (its patch does, its base
+/// triangle's corners are control points, and each wall's rulings join a point of the base edge to
+/// a point of the curved edge), so the hull's extents along a few directions bound it: the frame's
+/// box, and six slabs that cut the box's corners. The box alone is a loose bound for a large cell:
+/// a right triangle's box is the square over it, and a patch that bulges far from its base (a
+/// coarse mesh with sharp edges, such as a cube, whose corner normals are far from its face
+/// normals) fills the box's top only near its middle. The slabs are the base triangle's three
+/// in-plane edge normals (the box becomes a prism over the triangle) and its three vertex normals
+/// (each vertex's tangent plane, which its edge control points lie in, caps the box's top corner
+/// there).
 #[derive(Clone, Copy, Debug)]
 struct Cell {
     /// Frame axes: edge direction, in-plane perpendicular, and the base triangle's unit normal
@@ -100,19 +114,114 @@ struct Cell {
     /// The box in the frame: `lo ≤ (p·axes) ≤ hi`.
     lo: DVec3,
     hi: DVec3,
+    /// More directions, with the hull's extent along each: `slab_lo ≤ p·slabs ≤ slab_hi`.
+    slabs: [DVec3; 6],
+    slab_lo: [f64; 6],
+    slab_hi: [f64; 6],
     /// The walls of edges 0→1, 1→2, 2→0 and whether the triangle runs them as stored (`1`) or
     /// reversed (`−1`).
     walls: [(u32, i8); 3],
 }
 
 impl Cell {
+    /// The bounding polytope of the cell `net` over the triangle `corners` with unit vertex
+    /// normals `normals`, padded by a hair for rounding.
+    fn new(
+        corners: [DVec3; 3],
+        normals: [DVec3; 3],
+        net: &super::pn::CubicNet,
+        walls: [(u32, i8); 3],
+    ) -> Self {
+        let [a, b, c] = corners;
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        let x = (b - a).normalize_or_zero();
+        let y = normal.cross(x);
+        let axes = [x, y, normal];
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for p in net {
+            let l = DVec3::new(p.dot(x), p.dot(y), p.dot(normal));
+            lo = lo.min(l);
+            hi = hi.max(l);
+        }
+        let size = (hi - lo).max_element().max(1e-300);
+        let pad = 1e-9 * size + 1e-12 * lo.abs().max(hi.abs()).max_element();
+        let mut slabs = [DVec3::ZERO; 6];
+        for (k, slab) in slabs[..3].iter_mut().enumerate() {
+            // Outward in the triangle's plane across the edge from corner k to corner k + 1.
+            let edge = corners[(k + 1) % 3] - corners[k];
+            *slab = edge.cross(normal).normalize_or_zero();
+        }
+        slabs[3..].copy_from_slice(&normals);
+        let mut slab_lo = [f64::INFINITY; 6];
+        let mut slab_hi = [f64::NEG_INFINITY; 6];
+        for (k, d) in slabs.iter().enumerate() {
+            for p in net {
+                slab_lo[k] = slab_lo[k].min(p.dot(*d));
+                slab_hi[k] = slab_hi[k].max(p.dot(*d));
+            }
+            let pad = 1e-9 * size + 1e-12 * slab_lo[k].abs().max(slab_hi[k].abs());
+            slab_lo[k] -= pad;
+            slab_hi[k] += pad;
+        }
+        Self {
+            axes,
+            lo: lo - pad,
+            hi: hi + pad,
+            slabs,
+            slab_lo,
+            slab_hi,
+            walls,
+        }
+    }
+
+    /// Whether the segment `origin + λ·dir`, `0 ≤ λ ≤ max`, meets the bounding polytope (which
+    /// holds the patch too): the segment clipped by each slab in turn.
+    fn meets(&self, origin: DVec3, dir: DVec3, max: f64) -> bool {
+        let (mut near, mut far) = (0.0_f64, max);
+        let slabs = self
+            .axes
+            .iter()
+            .zip(self.lo.to_array().into_iter().zip(self.hi.to_array()));
+        for (d, (lo, hi)) in slabs.chain(
+            self.slabs.iter().zip(
+                self.slab_lo
+                    .iter()
+                    .copied()
+                    .zip(self.slab_hi.iter().copied()),
+            ),
+        ) {
+            let (o, v) = (origin.dot(*d), dir.dot(*d));
+            if v == 0.0 {
+                if o < lo || o > hi {
+                    return false;
+                }
+                continue;
+            }
+            let (t0, t1) = ((lo - o) / v, (hi - o) / v);
+            near = near.max(t0.min(t1));
+            far = far.min(t0.max(t1));
+            if near > far {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Whether `q` is in the bounding polytope (every point of the cell is).
     fn holds(&self, q: DVec3) -> bool {
         let p = DVec3::new(
             q.dot(self.axes[0]),
             q.dot(self.axes[1]),
             q.dot(self.axes[2]),
         );
-        p.cmpge(self.lo).all() && p.cmple(self.hi).all()
+        p.cmpge(self.lo).all()
+            && p.cmple(self.hi).all()
+            && self
+                .slabs
+                .iter()
+                .zip(self.slab_lo.iter().zip(&self.slab_hi))
+                .all(|(d, (&lo, &hi))| (lo..=hi).contains(&q.dot(*d)))
     }
 }
 
@@ -225,26 +334,9 @@ impl EscSolid {
             .zip(&pn.patches)
             .zip(&cell_walls)
             .map(|((tri, net), &walls)| {
-                let [a, b, c] = tri.map(|i| positions[i as usize]);
-                let normal = (b - a).cross(c - a).normalize_or_zero();
-                let x = (b - a).normalize_or_zero();
-                let y = normal.cross(x);
-                let axes = [x, y, normal];
-                let mut lo = DVec3::INFINITY;
-                let mut hi = DVec3::NEG_INFINITY;
-                for p in net {
-                    let l = DVec3::new(p.dot(x), p.dot(y), p.dot(normal));
-                    lo = lo.min(l);
-                    hi = hi.max(l);
-                }
-                let pad = 1e-9 * (hi - lo).max_element().max(1e-300)
-                    + 1e-12 * lo.abs().max(hi.abs()).max_element();
-                Cell {
-                    axes,
-                    lo: lo - pad,
-                    hi: hi + pad,
-                    walls,
-                }
+                let corners = tri.map(|i| positions[i as usize]);
+                let normals = tri.map(|i| mesh.normals[i as usize]);
+                Cell::new(corners, normals, net, walls)
             })
             .collect();
         let boxes: Vec<(DVec3, DVec3)> = pn
@@ -465,7 +557,9 @@ impl EscSolid {
         seen.dedup();
         for &t in &seen {
             let (lo, hi) = self.grid.boxes[t as usize];
-            if !ray_hits_box(&ray, lo, hi) {
+            if !ray_hits_box(&ray, lo, hi)
+                || !self.cells[t as usize].meets(ray.origin, ray.dir, len)
+            {
                 continue;
             }
             patch_hits(&self.pn.patches[t as usize], &ray, &mut |h| {

@@ -9,6 +9,8 @@ use glam::DVec3;
 
 use super::bool::Expr;
 use super::chain::{EscSolid, Stats};
+use super::pn::{CubicNet, PnSurface};
+use super::ray::bisect;
 use crate::mesh::{EdgeRoots, Mesh, SampleGrid, polygonize};
 
 /// The largest grid of a point mesh or a Boolean surface, per axis.
@@ -120,16 +122,38 @@ impl Boolean {
     /// PN surface that changes the result (an exact segment–patch intersection) and the normal of
     /// that PN patch there. Where a crossing cannot be told (a seam), the vertex is found by
     /// bisection of the membership instead.
+    ///
+    /// A solid is asked at the first sample of each row along x, and at each sample whose grid
+    /// edge from the previous one its PN surface may cross (the edge meets the box of a piece of
+    /// a patch, the patches split until each piece spans at most a cell); every other sample is
+    /// in the solid exactly when the previous one is. The work follows the surface's
+    /// area in cells rather than the grid's volume: a coarse mesh with sharp edges (a cube) has
+    /// thick free-form cells, where most samples of the grid would each need a ray–patch
+    /// intersection.
     #[must_use]
     pub fn surface(&self, res: usize) -> Mesh {
+        self.surface_in_steps(res, |_, _| {})
+    }
+
+    /// [`Boolean::surface`], calling `progress(done, total)` after each layer of samples and at
+    /// the end (`done == total`).
+    #[must_use]
+    pub fn surface_in_steps(&self, res: usize, mut progress: impl FnMut(usize, usize)) -> Mesh {
         let res = res.clamp(2, MAX_RESOLUTION);
         let (lo, hi) = self.bounds();
         if !(lo.is_finite() && hi.is_finite()) || lo == hi {
+            progress(1, 1);
             return Mesh::default();
         }
         let grid = grid_over((lo, hi), res, 1);
         let [nx, ny, nz] = grid.dims;
+        let steps = nz + 1;
         let mut stats = Stats::default();
+        let crossable: Vec<Vec<bool>> = self
+            .solids
+            .iter()
+            .map(|s| crossable_edges(s.surface(), &grid))
+            .collect();
         // Each solid's membership at each sample, then the result's.
         let mut members = vec![vec![0u8; nx * ny * nz]; self.solids.len()];
         let mut values = vec![0.0; nx * ny * nz];
@@ -138,8 +162,13 @@ impl Boolean {
                 for a in 0..nx {
                     let i = (c * ny + b) * nx + a;
                     let q = grid.point(a, b, c);
-                    for (s, m) in self.solids.iter().zip(members.iter_mut()) {
-                        m[i] = u8::from(s.value(q, &mut stats) == 1);
+                    let solids = self.solids.iter().zip(members.iter_mut());
+                    for ((s, m), crossable) in solids.zip(&crossable) {
+                        m[i] = if a > 0 && !crossable[i] {
+                            m[i - 1]
+                        } else {
+                            u8::from(s.value(q, &mut stats) == 1)
+                        };
                     }
                     let v = self
                         .expr
@@ -147,6 +176,7 @@ impl Boolean {
                     values[i] = if v == 1 { 1.0 } else { -1.0 };
                 }
             }
+            progress(c + 1, steps);
         }
         let mut roots = Crossings {
             boolean: self,
@@ -155,9 +185,104 @@ impl Boolean {
             hits: Vec::new(),
             state: vec![0; self.solids.len()],
         };
-        polygonize(&grid, &values, &mut roots)
+        let mesh = polygonize(&grid, &values, &mut roots);
+        progress(steps, steps);
+        mesh
     }
 }
+
+/// Which grid edges along x the PN surface `pn` may cross, each listed at its upper sample
+/// `(a, b, c)` (the edge from `(a − 1, b, c)`; `false` for `a = 0`). The patches are split in
+/// halves (newest vertex bisection) until each piece's control net spans at most a cell, and an
+/// edge is listed if the box of a piece's net meets it: every piece lies in its net's convex hull,
+/// so an edge left out crosses no patch. Pieces outside the grid are dropped; past a budget of
+/// pieces (a surface of very many large patches folded through the grid) every edge is listed.
+fn crossable_edges(pn: &PnSurface, grid: &SampleGrid) -> Vec<bool> {
+    let [nx, ny, nz] = grid.dims;
+    let n = nx * ny * nz;
+    let mut crossable = vec![false; n];
+    let step = grid.step.max_element();
+    let top = grid.point(nx - 1, ny - 1, nz - 1);
+    let mut marker = Marker {
+        grid,
+        crossable: &mut crossable,
+        step,
+        // A hair past the grid's box, so that rounding never drops a piece on its faces.
+        lo: grid.origin - DVec3::splat(step * 1e-6),
+        hi: top + DVec3::splat(step * 1e-6),
+        // Pieces grow as the square of the resolution and samples as its cube: a cube's surface
+        // that fills a grid of 24 cells a side takes 1.4 pieces a sample, one of 160 cells 0.3.
+        budget: 4 * n + 64 * pn.patches.len(),
+    };
+    for net in &pn.patches {
+        if !marker.mark(net, 0) {
+            return vec![true; n];
+        }
+    }
+    crossable
+}
+
+/// The state of [`crossable_edges`].
+struct Marker<'a> {
+    grid: &'a SampleGrid,
+    crossable: &'a mut [bool],
+    step: f64,
+    lo: DVec3,
+    hi: DVec3,
+    /// Pieces left to look at.
+    budget: usize,
+}
+
+impl Marker<'_> {
+    /// Lists the edges that the piece `net`, `depth` splits down, may cross; `false` when the
+    /// budget is spent.
+    fn mark(&mut self, net: &CubicNet, depth: u32) -> bool {
+        if self.budget == 0 {
+            return false;
+        }
+        self.budget -= 1;
+        let (lo, hi) = net
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            });
+        if lo.cmpgt(self.hi).any() || hi.cmplt(self.lo).any() {
+            return true;
+        }
+        if (hi - lo).max_element() > self.step && depth < MAX_SPLITS {
+            let (first, second) = bisect(net);
+            return self.mark(&first, depth + 1) && self.mark(&second, depth + 1);
+        }
+        // The grid edges along x that the padded box meets, each listed at its upper end: at
+        // samples (a, b, c) with x_(a−1) ≤ hi.x, x_a ≥ lo.x, lo.y ≤ y_b ≤ hi.y, lo.z ≤ z_c ≤ hi.z.
+        let pad = DVec3::splat(self.step * 1e-6);
+        let g = self.grid;
+        let lo = ((lo - pad - g.origin) / g.step).ceil();
+        let hi = ((hi + pad - g.origin) / g.step).floor();
+        let range = |from: f64, to: f64, least: usize, k: usize| {
+            let top = (g.dims[k] - 1) as f64;
+            (from.max(least as f64), to.min(top))
+        };
+        let (x0, x1) = range(lo.x, hi.x + 1.0, 1, 0);
+        let (y0, y1) = range(lo.y, hi.y, 0, 1);
+        let (z0, z1) = range(lo.z, hi.z, 0, 2);
+        if x0 > x1 || y0 > y1 || z0 > z1 {
+            return true;
+        }
+        let (x0, x1) = (x0 as usize, x1 as usize);
+        for z in z0 as usize..=z1 as usize {
+            for y in y0 as usize..=y1 as usize {
+                let row = (z * g.dims[1] + y) * g.dims[0];
+                self.crossable[row + x0..=row + x1].fill(true);
+            }
+        }
+        true
+    }
+}
+
+/// The most splits of a patch by [`crossable_edges`]: a piece this far down lists the edges its
+/// box meets, however large.
+const MAX_SPLITS: u32 = 48;
 
 impl Boolean {
     /// The result's boundary drawn from the solids' own PN surfaces: each patch tessellated into
@@ -478,6 +603,87 @@ mod tests {
                 assert!(mesh.volume() > 0.0);
             }
         }
+    }
+
+    /// A cube and an octahedron that cuts off its corners, read from OBJ text as an import is:
+    /// few, large triangles with sharp edges, whose free-form cells are thick.
+    fn imported_cube_minus_octahedron() -> Boolean {
+        let cube = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\n\
+                    v -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+                    f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+        let octahedron = "v 1.4 0 0\nv -1.4 0 0\nv 0 1.4 0\nv 0 -1.4 0\nv 0 0 1.4\nv 0 0 -1.4\n\
+                          f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+        let solid = |text: &str| {
+            let mesh = crate::mesh::read(text.as_bytes()).expect("a closed mesh");
+            EscSolid::new(&mesh).expect("valid")
+        };
+        Boolean {
+            solids: vec![solid(cube), solid(octahedron)],
+            expr: Expr::binary(Op::Difference, Expr::Solid(0), Expr::Solid(1)),
+        }
+    }
+
+    #[test]
+    fn surfaces_ask_the_solids_near_their_surfaces_and_come_out_as_if_asked_everywhere() {
+        for (boolean, res) in [
+            (imported_cube_minus_octahedron(), 24),
+            (scene(Op::Difference), 16),
+        ] {
+            let mesh = boolean.surface(res);
+            assert!(mesh.triangles.len() > 1000);
+            // Every solid asked at every sample, as the surface was made before it asked only
+            // near the solids' surfaces: the same mesh, bit for bit.
+            let grid = grid_over(boolean.bounds(), res, 1);
+            let [nx, ny, nz] = grid.dims;
+            let n = nx * ny * nz;
+            let mut stats = Stats::default();
+            let mut members = vec![vec![0u8; n]; boolean.solids.len()];
+            let mut values = vec![0.0; n];
+            for c in 0..nz {
+                for b in 0..ny {
+                    for a in 0..nx {
+                        let i = (c * ny + b) * nx + a;
+                        let q = grid.point(a, b, c);
+                        for (s, m) in boolean.solids.iter().zip(members.iter_mut()) {
+                            m[i] = u8::from(s.value(q, &mut stats) == 1);
+                        }
+                        let v = boolean.expr.value(&mut |s| i32::from(members[s][i]));
+                        values[i] = if v == 1 { 1.0 } else { -1.0 };
+                    }
+                }
+            }
+            // The edges left out of a solid's list join samples alike for that solid, and they
+            // are most of the edges.
+            for (solid, m) in boolean.solids.iter().zip(&members) {
+                let crossable = crossable_edges(solid.surface(), &grid);
+                let listed = crossable.iter().filter(|&&x| x).count();
+                assert!(listed * 4 < n, "{listed} of {n} edges listed");
+                for i in 0..n {
+                    if i % nx > 0 && !crossable[i] {
+                        assert_eq!(m[i], m[i - 1], "sample {i}");
+                    }
+                }
+            }
+            let mut roots = Crossings {
+                boolean: &boolean,
+                grid: &grid,
+                members: &members,
+                hits: Vec::new(),
+                state: vec![0; boolean.solids.len()],
+            };
+            assert_eq!(mesh, polygonize(&grid, &values, &mut roots));
+        }
+    }
+
+    #[test]
+    fn surfaces_report_their_progress_layer_by_layer() {
+        let boolean = imported_cube_minus_octahedron();
+        let mut steps = Vec::new();
+        let mesh = boolean.surface_in_steps(12, |done, total| steps.push((done, total)));
+        assert_eq!(mesh, boolean.surface(12));
+        let total = steps[0].1;
+        assert!(total > 12, "{steps:?}");
+        assert_eq!(steps, (1..=total).map(|d| (d, total)).collect::<Vec<_>>());
     }
 
     #[test]

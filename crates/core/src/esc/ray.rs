@@ -118,49 +118,70 @@ pub fn patch_hits(net: &CubicNet, ray: &Ray, visit: &mut dyn FnMut(Hit)) -> Resu
     }
     let (lo, hi) = bounds(&local);
     let scale = (hi - lo).max_element().max(1e-300);
-    // Crossings found so far, by their barycentric coordinates, to drop repeats found by two
-    // neighbouring sub-patches.
-    let mut found = [DVec3::ZERO; 8];
-    let mut found_count = 0usize;
-    // Stack of sub-patches: local net, barycentric corners in the original patch, depth. The edge
-    // split next is always the one from corner 0 to corner 1 (newest vertex bisection).
-    // Depth first, two children per split: at most one pending sibling per level.
-    let mut stack = [([DVec3::ZERO; 10], [DVec3::ZERO; 3], 0u32); MAX_DEPTH as usize + 2];
-    stack[0] = (local, [DVec3::X, DVec3::Y, DVec3::Z], 0);
-    let mut top = 1;
-    while top > 0 {
-        top -= 1;
-        let (sub, corners, depth) = stack[top];
-        let (lo, hi) = bounds(&sub);
-        let slack = 1e-12 * scale;
+    let mut search = Search {
+        local,
+        max: ray.max,
+        scale,
+        found: [DVec3::ZERO; 8],
+        found_count: 0,
+        visit,
+    };
+    search.sub_patch(&local, [DVec3::X, DVec3::Y, DVec3::Z], 0)
+}
+
+/// The state of one [`patch_hits`]: the patch in the ray's frame, and the crossings found so far.
+struct Search<'a> {
+    local: [DVec3; 10],
+    max: f64,
+    scale: f64,
+    /// Crossings found so far, by their barycentric coordinates, to drop repeats found by two
+    /// neighbouring sub-patches.
+    found: [DVec3; 8],
+    found_count: usize,
+    visit: &'a mut dyn FnMut(Hit),
+}
+
+impl Search<'_> {
+    /// The crossings in the sub-patch `sub` (in the ray's frame) over the barycentric `corners` of
+    /// the whole patch, `depth` splits down; the edge split next is always the one from corner 0 to
+    /// corner 1 (newest vertex bisection). Depth first, each call's frame holding one pending
+    /// sibling, so that nothing is set up beyond the levels a query visits.
+    fn sub_patch(
+        &mut self,
+        sub: &[DVec3; 10],
+        corners: [DVec3; 3],
+        depth: u32,
+    ) -> Result<(), Unsure> {
+        let (lo, hi) = bounds(sub);
+        let slack = 1e-12 * self.scale;
         if lo.x > slack || hi.x < -slack || lo.y > slack || hi.y < -slack {
-            continue;
+            return Ok(());
         }
-        if hi.z <= 0.0 || lo.z > ray.max {
-            continue;
+        if hi.z <= 0.0 || lo.z > self.max {
+            return Ok(());
         }
-        if depth >= NEWTON_DEPTH && regular(&sub) {
-            match newton(&local, &corners, ray.max, scale) {
+        if depth >= NEWTON_DEPTH && regular(sub) {
+            match newton(&self.local, &corners, self.max, self.scale) {
                 Leaf::Crossing(b, sign, lambda) => {
-                    if found[..found_count]
+                    if self.found[..self.found_count]
                         .iter()
                         .any(|f| (*f - b).abs().max_element() < 1e-9)
                     {
-                        continue;
+                        return Ok(());
                     }
-                    if b.min_element() < SEAM || found_count == found.len() {
+                    if b.min_element() < SEAM || self.found_count == self.found.len() {
                         return Err(Unsure);
                     }
-                    found[found_count] = b;
-                    found_count += 1;
-                    visit(Hit {
+                    self.found[self.found_count] = b;
+                    self.found_count += 1;
+                    (self.visit)(Hit {
                         lambda,
                         bary: b,
                         sign,
                     });
-                    continue;
+                    return Ok(());
                 }
-                Leaf::Elsewhere => continue,
+                Leaf::Elsewhere => return Ok(()),
                 Leaf::Seam => return Err(Unsure),
                 Leaf::Failed => {}
             }
@@ -170,18 +191,13 @@ pub fn patch_hits(net: &CubicNet, ray: &Ray, visit: &mut dyn FnMut(Hit)) -> Resu
             // fold along the ray, or a crossing on the seam.
             return Err(Unsure);
         }
-        if top + 2 > stack.len() {
-            return Err(Unsure); // cannot happen (see the stack's size); never index past it
-        }
-        let (first, second) = bisect(&sub);
+        let (first, second) = bisect(sub);
         let mid = (corners[0] + corners[1]) * 0.5;
         // Children (mid, B, C) and (A, mid, C), each rotated so that its newest vertex `mid` is
-        // corner 2: (B, C, mid) and (C, A, mid).
-        stack[top] = (first, [corners[1], corners[2], mid], depth + 1);
-        stack[top + 1] = (second, [corners[2], corners[0], mid], depth + 1);
-        top += 2;
+        // corner 2: (B, C, mid) and (C, A, mid); the second first.
+        self.sub_patch(&second, [corners[2], corners[0], mid], depth + 1)?;
+        self.sub_patch(&first, [corners[1], corners[2], mid], depth + 1)
     }
-    Ok(())
 }
 
 enum Leaf {
@@ -298,61 +314,62 @@ fn bounds(net: &[DVec3; 10]) -> (DVec3, DVec3) {
 
 /// The cubic net split at the midpoint of the edge from corner 0 (`P300`) to corner 1 (`P030`):
 /// the halves over `(mid, B, C)` and `(A, mid, C)`, rotated to `(B, C, mid)` and `(C, A, mid)`.
-fn bisect(net: &[DVec3; 10]) -> ([DVec3; 10], [DVec3; 10]) {
-    // Along each row of constant k the points P_(i, j, k), i + j = 3 − k, form a curve of degree
-    // 3 − k in the (A, B) direction; the split at 1/2 is a de Casteljau split of each row.
-    let mut left = [DVec3::ZERO; 10]; // over (mid, B, C): exponents (i', j', k) of (mid, B, C)
-    let mut right = [DVec3::ZERO; 10]; // over (A, mid, C)
-    for k in 0..=3usize {
-        let m = 3 - k;
-        // Row points ordered by i from 0 (at B) to m (at A): P_(i, m − i, k).
-        let mut row = [DVec3::ZERO; 4];
-        for (i, r) in row.iter_mut().enumerate().take(m + 1) {
-            *r = net[cubic_index(i, m - i)];
-        }
-        // De Casteljau at 1/2 from B (i = 0) to A (i = m): the triangle of levels.
-        let mut tri = [[DVec3::ZERO; 4]; 4];
-        tri[0][..=m].copy_from_slice(&row[..=m]);
-        for l in 1..=m {
-            for i in 0..=m - l {
-                tri[l][i] = (tri[l - 1][i] + tri[l - 1][i + 1]) * 0.5;
-            }
-        }
-        // Half near B (mid, B, C): exponent of mid is i', of B is j' = m − i'. Its points are
-        // tri[i'][0] (l = i' levels from the B end).
-        // Half near A (A, mid, C): exponent of A is i'', of mid j'' = m − i''; its points are
-        // tri[j''][i''] (levels from the A end).
-        for ip in 0..=m {
-            let jp = m - ip;
-            left[cubic_index(ip, jp)] = tri[ip][0];
-            right[cubic_index(ip, jp)] = tri[jp][ip];
-        }
-    }
-    // Rotate (mid, B, C) → (B, C, mid): new (i', j', k') = exponents of (B, C, mid), so the old
-    // (i, j, k) of (mid, B, C) is (k', i', j').
-    let rotate_left = |old: &[DVec3; 10]| {
-        let mut out = [DVec3::ZERO; 10];
-        for i in 0..=3usize {
-            for j in 0..=3 - i {
-                let k = 3 - i - j;
-                out[cubic_index(i, j)] = old[cubic_index(k, i)];
-            }
-        }
-        out
-    };
-    // Rotate (A, mid, C) → (C, A, mid): new exponents (i', j', k') of (C, A, mid), old (i, j, k)
-    // of (A, mid, C) is (j', k', i').
-    let rotate_right = |old: &[DVec3; 10]| {
-        let mut out = [DVec3::ZERO; 10];
-        for i in 0..=3usize {
-            for j in 0..=3 - i {
-                let k = 3 - i - j;
-                out[cubic_index(i, j)] = old[cubic_index(j, k)];
-            }
-        }
-        out
-    };
-    (rotate_left(&left), rotate_right(&right))
+///
+/// Along each row of constant `k` the points `P_(i, j, k)`, `i + j = 3 − k`, form a curve of degree
+/// `m = 3 − k` in the `(A, B)` direction, and the split at 1/2 is a de Casteljau split of each
+/// row: from the row `r[i] = P_(i, m − i, k)` (from `B` at `i = 0` to `A`) the levels
+/// `t[l][i] = (t[l − 1][i] + t[l − 1][i + 1])/2`. The half near `B` has the points `t[a][0]` with
+/// exponents `(a, m − a, k)` of `(mid, B, C)`, stored rotated at `(m − a, k)` of `(B, C, mid)`;
+/// the half near `A` has `t[m − a][a]` with exponents `(a, m − a, k)` of `(A, mid, C)`, stored
+/// at `(k, a)` of `(C, A, mid)`. Written out row by row: this runs in every step of a ray's
+/// subdivision.
+pub(super) fn bisect(net: &[DVec3; 10]) -> ([DVec3; 10], [DVec3; 10]) {
+    let half = |a: DVec3, b: DVec3| (a + b) * 0.5;
+    let mut first = [DVec3::ZERO; 10];
+    let mut second = [DVec3::ZERO; 10];
+    // k = 0, m = 3: r = P030, P120, P210, P300.
+    let r = [
+        net[cubic_index(0, 3)],
+        net[cubic_index(1, 2)],
+        net[cubic_index(2, 1)],
+        net[cubic_index(3, 0)],
+    ];
+    let t1 = [half(r[0], r[1]), half(r[1], r[2]), half(r[2], r[3])];
+    let t2 = [half(t1[0], t1[1]), half(t1[1], t1[2])];
+    let t3 = half(t2[0], t2[1]);
+    first[cubic_index(3, 0)] = r[0];
+    first[cubic_index(2, 0)] = t1[0];
+    first[cubic_index(1, 0)] = t2[0];
+    first[cubic_index(0, 0)] = t3;
+    second[cubic_index(0, 0)] = t3;
+    second[cubic_index(0, 1)] = t2[1];
+    second[cubic_index(0, 2)] = t1[2];
+    second[cubic_index(0, 3)] = r[3];
+    // k = 1, m = 2: r = P021, P111, P201.
+    let r = [
+        net[cubic_index(0, 2)],
+        net[cubic_index(1, 1)],
+        net[cubic_index(2, 0)],
+    ];
+    let t1 = [half(r[0], r[1]), half(r[1], r[2])];
+    let t2 = half(t1[0], t1[1]);
+    first[cubic_index(2, 1)] = r[0];
+    first[cubic_index(1, 1)] = t1[0];
+    first[cubic_index(0, 1)] = t2;
+    second[cubic_index(1, 0)] = t2;
+    second[cubic_index(1, 1)] = t1[1];
+    second[cubic_index(1, 2)] = r[2];
+    // k = 2, m = 1: r = P012, P102.
+    let r = [net[cubic_index(0, 1)], net[cubic_index(1, 0)]];
+    let t1 = half(r[0], r[1]);
+    first[cubic_index(1, 2)] = r[0];
+    first[cubic_index(0, 2)] = t1;
+    second[cubic_index(2, 0)] = t1;
+    second[cubic_index(2, 1)] = r[1];
+    // k = 3, m = 0: P003.
+    first[cubic_index(0, 3)] = net[cubic_index(0, 0)];
+    second[cubic_index(3, 0)] = net[cubic_index(0, 0)];
+    (first, second)
 }
 
 /// The ruled wall between a straight mesh edge `a → b` and its curved PN edge: `W(t, s) = L(t) +
@@ -476,7 +493,14 @@ impl Wall {
             let delta = (d1 * (1.0 - t) + d2 * t) * g;
             let dd = delta.truncate().length_squared();
             if dd == 0.0 {
-                return Crossings::Unsure;
+                // The ruling at t runs along the ray, so q(t) vanishes wherever the ray is: a
+                // crossing only if the ray lies in that ruling. Every ray along a cube's face
+                // normal meets this at the wall of the face's diagonal, whose curved edge leaves
+                // it along the normal at its middle.
+                if l.truncate().length() <= 1e-9 * (self.b - self.a).length() {
+                    return Crossings::Unsure;
+                }
+                continue;
             }
             let s = -l.truncate().dot(delta.truncate()) / dd;
             if !(-SEAM..=1.0 + SEAM).contains(&s) {
@@ -532,7 +556,7 @@ impl Wall {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::esc::pn::pn_patch;
+    use crate::esc::pn::{edge_point, pn_patch};
     use crate::testutil::Rng;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -549,6 +573,79 @@ mod tests {
             DVec3::new(0.0, 0.5, 1.0).normalize(),
         ];
         pn_patch(p, n)
+    }
+
+    /// [`bisect`] as first written, row by row in loops: the written-out one must give its bits.
+    fn bisect_by_rows(net: &[DVec3; 10]) -> ([DVec3; 10], [DVec3; 10]) {
+        // Along each row of constant k the points P_(i, j, k), i + j = 3 − k, form a curve of degree
+        // 3 − k in the (A, B) direction; the split at 1/2 is a de Casteljau split of each row.
+        let mut left = [DVec3::ZERO; 10]; // over (mid, B, C): exponents (i', j', k) of (mid, B, C)
+        let mut right = [DVec3::ZERO; 10]; // over (A, mid, C)
+        for k in 0..=3usize {
+            let m = 3 - k;
+            // Row points ordered by i from 0 (at B) to m (at A): P_(i, m − i, k).
+            let mut row = [DVec3::ZERO; 4];
+            for (i, r) in row.iter_mut().enumerate().take(m + 1) {
+                *r = net[cubic_index(i, m - i)];
+            }
+            // De Casteljau at 1/2 from B (i = 0) to A (i = m): the triangle of levels.
+            let mut tri = [[DVec3::ZERO; 4]; 4];
+            tri[0][..=m].copy_from_slice(&row[..=m]);
+            for l in 1..=m {
+                for i in 0..=m - l {
+                    tri[l][i] = (tri[l - 1][i] + tri[l - 1][i + 1]) * 0.5;
+                }
+            }
+            // Half near B (mid, B, C): exponent of mid is i', of B is j' = m − i'. Its points are
+            // tri[i'][0] (l = i' levels from the B end).
+            // Half near A (A, mid, C): exponent of A is i'', of mid j'' = m − i''; its points are
+            // tri[j''][i''] (levels from the A end).
+            for ip in 0..=m {
+                let jp = m - ip;
+                left[cubic_index(ip, jp)] = tri[ip][0];
+                right[cubic_index(ip, jp)] = tri[jp][ip];
+            }
+        }
+        // Rotate (mid, B, C) → (B, C, mid): new (i', j', k') = exponents of (B, C, mid), so the old
+        // (i, j, k) of (mid, B, C) is (k', i', j').
+        let rotate_left = |old: &[DVec3; 10]| {
+            let mut out = [DVec3::ZERO; 10];
+            for i in 0..=3usize {
+                for j in 0..=3 - i {
+                    let k = 3 - i - j;
+                    out[cubic_index(i, j)] = old[cubic_index(k, i)];
+                }
+            }
+            out
+        };
+        // Rotate (A, mid, C) → (C, A, mid): new exponents (i', j', k') of (C, A, mid), old (i, j, k)
+        // of (A, mid, C) is (j', k', i').
+        let rotate_right = |old: &[DVec3; 10]| {
+            let mut out = [DVec3::ZERO; 10];
+            for i in 0..=3usize {
+                for j in 0..=3 - i {
+                    let k = 3 - i - j;
+                    out[cubic_index(i, j)] = old[cubic_index(j, k)];
+                }
+            }
+            out
+        };
+        (rotate_left(&left), rotate_right(&right))
+    }
+
+    #[test]
+    fn bisection_gives_the_bits_of_the_split_by_rows() {
+        let mut rng = Rng::new(17);
+        for _ in 0..100 {
+            let net: CubicNet = core::array::from_fn(|_| {
+                DVec3::new(
+                    rng.range(-3.0, 3.0),
+                    rng.range(-3.0, 3.0),
+                    rng.range(-3.0, 3.0),
+                )
+            });
+            assert_eq!(bisect(&net), bisect_by_rows(&net));
+        }
     }
 
     #[test]
@@ -642,6 +739,31 @@ mod tests {
         assert_eq!(count, 2);
         assert_eq!(sum, 0);
         assert_eq!(patch_crossings(&net, &ray), Crossings::Count(0));
+    }
+
+    #[test]
+    fn rays_along_a_cube_face_normal_miss_its_diagonal_wall() {
+        // The diagonal of a cube's face, with the cube's corner normals at its ends: the curved
+        // edge bulges along the face's normal at its middle, and the wall lies in the plane
+        // x = y. A ray along the face's normal off that plane never meets it.
+        let (a, b) = (DVec3::new(-1.0, -1.0, 1.0), DVec3::new(1.0, 1.0, 1.0));
+        let (na, nb) = (a.normalize(), b.normalize());
+        let wall = Wall::new(a, b, edge_point(a, na, b), edge_point(b, nb, a));
+        let mut rng = Rng::new(8);
+        for _ in 0..200 {
+            let q = DVec3::new(
+                rng.range(-1.2, 1.2),
+                rng.range(-1.2, 1.2),
+                rng.range(0.9, 1.5),
+            );
+            if (q.x - q.y).abs() < 1e-6 {
+                continue;
+            }
+            for dir in [DVec3::Z, -DVec3::Z] {
+                let ray = Ray::new(q, dir, f64::INFINITY);
+                assert_eq!(wall.crossings(&ray), Crossings::Count(0), "{q} {dir}");
+            }
+        }
     }
 
     #[test]

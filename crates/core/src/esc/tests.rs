@@ -327,6 +327,43 @@ fn most_queries_compute_no_patch_intersection() {
     );
 }
 
+/// A cube read from OBJ text, as an import is: twelve large triangles, with normals at its corners
+/// far from its faces' normals, so that its PN patches bulge far from their triangles and the
+/// free-form cells are thick (the shell between the cube and its PN surface is most of the box).
+fn imported_cube() -> Mesh {
+    let obj = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+               f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    crate::mesh::read(obj.as_bytes()).expect("a closed mesh")
+}
+
+#[test]
+fn queries_in_the_thick_cells_of_a_coarse_mesh_are_bounded_and_told_by_the_first_ray() {
+    let solid = EscSolid::new(&imported_cube()).expect("valid");
+    let n = agrees_with_fine_surface(&solid, 11, 600);
+    assert!(n > 150, "only {n} points compared");
+    // A grid of points over the box, off the cube's planes of symmetry. With a cell's box for its
+    // bound, 0.97 ray–patch intersections a query, and rays along the faces' normals unsure at
+    // every face diagonal's wall cast again, half as many more.
+    let (lo, hi) = solid.bounds();
+    let k = 24;
+    let step = (hi - lo) / k as f64;
+    let mut stats = Stats::default();
+    for i in 0..k {
+        for j in 0..k {
+            for l in 0..k {
+                let q = lo + step * DVec3::new(i as f64 + 0.37, j as f64 + 0.41, l as f64 + 0.43);
+                let _ = solid.value(q, &mut stats);
+            }
+        }
+    }
+    assert_eq!(stats.retries, 0, "{stats:?}");
+    assert_eq!(stats.unsure, 0, "{stats:?}");
+    assert!(
+        stats.patch_intersections * 10 < stats.queries * 7,
+        "{stats:?}: more than 0.7 ray–patch intersections a query"
+    );
+}
+
 #[test]
 fn points_on_the_walls_between_cells_are_counted_once() {
     // On the icosphere the wall between two cells lies in the plane through the shared edge and
