@@ -660,7 +660,22 @@ pub mod headless {
     ///
     /// As [`surface`], or an empty result.
     pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Vec<u8>, Error> {
-        let mesh = boolean(text, resolution)?.surface(resolution);
+        mesh_in_steps(text, format, resolution, |_, _| {})
+    }
+
+    /// [`mesh`], calling `progress(done, total)` after each layer of the result's samples and at
+    /// the end ([`bezsolid_core::esc::Boolean::surface_in_steps`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`mesh`].
+    pub fn mesh_in_steps(
+        text: &str,
+        format: Format,
+        resolution: usize,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<Vec<u8>, Error> {
+        let mesh = boolean(text, resolution)?.surface_in_steps(resolution, progress);
         if mesh.triangles.is_empty() {
             return Err("the result is empty: there is no surface to export".into());
         }

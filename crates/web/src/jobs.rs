@@ -181,7 +181,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             model,
             format,
             resolution,
-        } => plain(Payload::Bytes(esc_mesh(
+        } => plain(Payload::Bytes(crate::freeform::headless::mesh_in_steps(
             model,
             *format,
             *resolution,
@@ -202,30 +202,6 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             crate::script::patch_model(script, *index)?.0.into_bytes(),
         )),
     })
-}
-
-/// [`crate::freeform::headless::mesh`], calling `progress(done, total)` after each layer of the
-/// result's samples and at the end ([`bezsolid_core::esc::Boolean::surface_in_steps`]).
-fn esc_mesh(
-    model: &str,
-    format: Format,
-    resolution: usize,
-    progress: impl FnMut(usize, usize),
-) -> Result<Vec<u8>, Error> {
-    use crate::freeform::headless::MAX_RESOLUTION;
-    if !(2..=MAX_RESOLUTION).contains(&resolution) {
-        return Err(Error::new(format!(
-            "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
-        )));
-    }
-    let boolean = crate::freeform::read_file(model)?
-        .to_boolean()
-        .map_err(Error::from)?;
-    let mesh = boolean.surface_in_steps(resolution, progress);
-    if mesh.triangles.is_empty() {
-        return Err("the result is empty: there is no surface to export".into());
-    }
-    Ok(format.write(&mesh))
 }
 
 /// A result as one buffer (see the module documentation).
