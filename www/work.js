@@ -138,7 +138,8 @@ export function workList(container) {
   const tick = () => {
     const now = performance.now();
     for (const t of tasks) {
-      const fraction = t.total ? `${t.done} of ${t.total} ${t.unit}, ` : '';
+      // Steps with a unit are counted ("3 of 9 slices"); plain steps are a share ("40%").
+      const fraction = !t.total ? '' : t.unit ? `${t.done} of ${t.total} ${t.unit}, ` : `${Math.floor((100 * t.done) / t.total)}%, `;
       t.how.textContent = t.t0 === null ? 'waiting' : `${fraction}${seconds(now - t.t0)}`;
     }
   };
@@ -184,6 +185,7 @@ export function workList(container) {
         },
         progress(done, total, unit = '') {
           Object.assign(task, { done, total, unit });
+          line.dataset.progress = String(total ? done / total : 0);
           tick();
         },
         end() {

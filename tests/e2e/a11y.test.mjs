@@ -123,7 +123,7 @@ test('the 2D view lets Tab go after Esc, says so, and shows its focus ring over 
   await page.locator('#view').focus();
   await page.keyboard.press('Tab');
   assert.equal(await focused(page), 'view', 'Tab walks the points first');
-  assert.match(await page.textContent('#point-label'), /^P00 /);
+  await page.waitForFunction(() => /^P00 /.test(document.getElementById('point-label').textContent));
   await page.keyboard.press('Escape');
   await page.keyboard.press('Tab');
   assert.notEqual(await focused(page), 'view', 'after Esc, Tab leaves the view');

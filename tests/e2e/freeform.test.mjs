@@ -202,3 +202,35 @@ test('a free-form link reopens the scene, and the model file opens back in the m
   await other.page.close();
   await page.close();
 });
+
+test('a free-form export at resolution 160 shows how far it got; Cancel stops one, saving nothing', async () => {
+  const { page, errors } = await open(browser);
+  await freeForm(page);
+  await page.fill('#ff-resolution', '160');
+  await page.dispatchEvent('#ff-resolution', 'change');
+  await waitFine(page, 160);
+  // What the export lines of the work list say, as they change.
+  await page.evaluate(() => {
+    window.shares = [];
+    new MutationObserver(() => {
+      for (const how of document.querySelectorAll('#work .task[data-kind="export"] .how')) window.shares.push(how.textContent);
+    }).observe(document.getElementById('work'), { subtree: true, childList: true, characterData: true });
+  });
+  const saved = [];
+  page.on('download', (d) => saved.push(d.suggestedFilename()));
+  const [stl] = await Promise.all([page.waitForEvent('download', { timeout: 120_000 }), pick(page, 'export', 'stl')]);
+  assert.equal(stl.suggestedFilename(), 'bezsolid-result.stl');
+  const shares = await page.evaluate(() => window.shares);
+  assert.ok(shares.some((s) => /^\d+%, [\d.]+ s$/.test(s)), `the export said how far it got: ${shares.join(' | ')}`);
+  // Two more: the second waits for the first; its Cancel stops it and nothing of it is saved.
+  await pick(page, 'export', 'obj');
+  await pick(page, 'export', 'ply');
+  await page.locator('#work .task[data-kind="export"]:has-text("Exporting PLY") button').click();
+  await page.waitForFunction(() => /Exporting PLY was cancelled; nothing was saved/.test(document.getElementById('status').textContent));
+  await page.waitForFunction(() => !(document.body.dataset.working ?? '').includes('export'), null, { timeout: 120_000 });
+  await settle(page);
+  assert.deepEqual(saved, ['bezsolid-result.stl', 'bezsolid-result.obj']);
+  assert.equal(await page.isDisabled('#undo'), true, 'exports are no undo steps');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
