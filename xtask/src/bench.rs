@@ -86,11 +86,13 @@ fn page_latency(workspace: &Path) -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{PAGE_HEADING}
-
-`tests/latency.mjs` in headless Chromium (WebGL2 on SwiftShader: the GPU is          the CPU), 1400 × 800: a control point dragged by real pointer events, first one move a          frame, then a stream of moves sent as fast as the browser takes them. \"input→drawn\" is          the page's own figure: from the oldest move a frame applies to the end of that frame. The          page applies the newest move once a frame and drops the others; under a stream the moves          applied and the frames drawn are counted. Machine: {}
-",
-        machine()
+        "{PAGE_HEADING}\n\n`tests/latency.mjs` in headless Chromium (WebGL2 on SwiftShader: the \
+         GPU is the CPU), 1400 × 800: a control point dragged by real pointer events, first one \
+         move a frame, then a stream of moves sent as fast as the browser takes them. \
+         \"input→drawn\" is the page's own figure: from the oldest move a frame applies to the \
+         end of that frame. The page applies the newest move once a frame and drops the others; \
+         under a stream the moves applied and the frames drawn are counted. Machine: {}.\n",
+        machine().split(';').next().unwrap_or_default()
     );
     for line in lines?.lines().filter(|l| !l.trim().is_empty()) {
         let _ = writeln!(s, "- {line}");

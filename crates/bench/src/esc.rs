@@ -133,6 +133,36 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
     }
+    // Meshes as they are imported: few, large triangles with sharp edges, whose PN patches bulge
+    // far from them (thick free-form cells): the unit cube of the test fixtures minus an
+    // octahedron about one of its corners.
+    let read = |text: &str| {
+        let mesh = bezsolid_core::mesh::read(text.as_bytes())
+            .unwrap_or_else(|_| unreachable!("a closed mesh"));
+        EscSolid::new(&mesh).unwrap_or_else(|_| unreachable!("valid"))
+    };
+    let octahedron = "v 1.4 0 0\nv -1.4 0 0\nv 0 1.4 0\nv 0 -1.4 0\nv 0 0 1.4\nv 0 0 -1.4\n\
+                      f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+    let imported = Boolean {
+        solids: vec![
+            read(include_str!("../../core/tests/fixtures/mesh/cube.obj")),
+            read(octahedron),
+        ],
+        expr: Expr::binary(Op::Difference, Expr::Solid(0), Expr::Solid(1)),
+    };
+    let sizes: &[usize] = if quick { &[24] } else { &[64, 160] };
+    for &res in sizes {
+        let (ms, runs, mesh) = time(clock, budget, || imported.surface(res));
+        rows.push(Row {
+            case: "closed result mesh of an imported cube − octahedron (12 and 8 triangles, sharp edges)".into(),
+            who: "bezsolid".into(),
+            n: res,
+            ms,
+            runs,
+            extra: mesh.triangles.len() as f64,
+            note: String::new(),
+        });
+    }
     let trimmed = "trimmed PN surfaces of blob − torus (the page's view at rest; n = triangles per patch edge)";
     let levels: &[usize] = if quick { &[1] } else { &[1, 4] };
     for &level in levels {
