@@ -1180,7 +1180,8 @@ fn sphere_detail(count: usize) -> (usize, usize) {
         .unwrap_or(SPHERE_DETAIL[SPHERE_DETAIL.len() - 1])
 }
 
-/// A UV sphere of `rings × segments` quads.
+/// A UV sphere of `rings × segments` quads (its directions computed once per ring and segment,
+/// not per corner: a 16 × 16 net's spheres are built at every edit).
 pub(crate) fn sphere(
     out: &mut Vec<MeshVertex>,
     c: DVec3,
@@ -1188,20 +1189,27 @@ pub(crate) fn sphere(
     color: Rgba,
     (rings, segments): (usize, usize),
 ) {
-    let at = |i: usize, j: usize| {
-        let theta = core::f64::consts::PI * i as f64 / rings as f64;
-        let phi = core::f64::consts::TAU * j as f64 / segments as f64;
-        let n = DVec3::new(
-            theta.sin() * phi.cos(),
-            theta.sin() * phi.sin(),
-            theta.cos(),
-        );
-        MeshVertex {
-            position: (c + n * r).as_vec3().to_array(),
-            normal: n.as_vec3().to_array(),
-            color,
-        }
-    };
+    let rings_at: Vec<(f64, f64)> = (0..=rings)
+        .map(|i| (core::f64::consts::PI * i as f64 / rings as f64).sin_cos())
+        .collect();
+    let segments_at: Vec<(f64, f64)> = (0..=segments)
+        .map(|j| (core::f64::consts::TAU * j as f64 / segments as f64).sin_cos())
+        .collect();
+    let corners: Vec<MeshVertex> = rings_at
+        .iter()
+        .flat_map(|&(st, ct)| {
+            segments_at.iter().map(move |&(sp, cp)| {
+                let n = DVec3::new(st * cp, st * sp, ct);
+                MeshVertex {
+                    position: (c + n * r).as_vec3().to_array(),
+                    normal: n.as_vec3().to_array(),
+                    color,
+                }
+            })
+        })
+        .collect();
+    let at = |i: usize, j: usize| corners[i * (segments + 1) + j];
+    out.reserve(rings * segments * 6);
     for i in 0..rings {
         for j in 0..segments {
             out.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
