@@ -49,6 +49,7 @@ export function setupBezier(app) {
   let pinching = false;
   // A pan with the middle button or Space held: its pointer and last position.
   let panning = null;
+  let pressRevision = -1; // the model's revision when the last drag began
   let space = false;
   const capture = (id) => {
     try {
@@ -71,9 +72,11 @@ export function setupBezier(app) {
       return;
     }
     if (e.button !== 0 || panning) return;
-    const n = down.add(e.pointerId, [x, y]);
+    // Fingers and pens make a pinch; a mouse is one pointer whatever it missed.
+    const n = e.pointerType === 'mouse' ? 1 : down.add(e.pointerId, [x, y]);
     if (n === 2) {
       // A second finger: the gesture is a pinch, and the edit begun by the first is put back.
+      app.dropInput('drag-2d');
       if (modeler.cancel_drag()) {
         canvas.classList.remove('dragging');
         app.changed();
@@ -85,6 +88,7 @@ export function setupBezier(app) {
     }
     if (n > 2 || pinching) return;
     canvas.focus();
+    pressRevision = modeler.revision();
     if (modeler.pointer_down(x, y, e.shiftKey)) {
       capture(e.pointerId);
       canvas.classList.add('dragging');
@@ -155,6 +159,7 @@ export function setupBezier(app) {
     modeler.pointer_up();
     canvas.classList.remove('dragging');
     release(e.pointerId);
+    if (modeler.revision() !== pressRevision) pointMoved();
     app.changed();
   };
   canvas.addEventListener('pointerup', endDrag);
@@ -165,7 +170,14 @@ export function setupBezier(app) {
     const [x, y] = local(e);
     // deltaMode 1 counts lines: about 33 pixels each.
     const dy = e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY;
-    if (modeler.wheel(x, y, dy, e.altKey)) {
+    // With Ctrl the wheel is a trackpad's pinch: it zooms, wherever the pointer is.
+    if (e.ctrlKey) {
+      if (modeler.zoom_at(x, y, dy)) {
+        probeSeen = -1;
+        app.redraw(VIEW2);
+      }
+    } else if (modeler.wheel(x, y, dy, e.altKey)) {
+      pointMoved();
       app.stats.lastEdit = performance.now();
       app.changed();
     } else {
@@ -191,8 +203,11 @@ export function setupBezier(app) {
       return;
     }
     const wasDragging = modeler.dragging();
+    const before = modeler.revision();
+    if (e.key === 'Escape') app.dropInput('drag-2d');
     if (modeler.key(e.key, e.shiftKey)) {
       e.preventDefault();
+      if (modeler.revision() !== before) pointMoved();
       if (wasDragging && !modeler.dragging()) canvas.classList.remove('dragging');
       app.changed();
     }
@@ -208,6 +223,9 @@ export function setupBezier(app) {
   }
 
   // Numeric entry for the selected point: ξ, and x and y (space mapping).
+  // What the point was when a field took focus: a typed value that is refused (1e9, keyed in
+  // digit by digit) puts the point back there rather than keep a prefix of it (1).
+  let atFocus = null;
   const applyInput = (which) => {
     const input = inputs[which];
     const value = input.valueAsNumber;
@@ -224,13 +242,25 @@ export function setupBezier(app) {
         modeler.set_selected_xy(which === 'x' ? value : point[0], which === 'y' ? value : point[1]);
       }
       input.removeAttribute('aria-invalid');
+      pointMoved();
       app.changed();
     } catch (err) {
       input.setAttribute('aria-invalid', 'true');
       say(messageOf(err), 'error');
+      const back = atFocus?.point;
+      if (back && atFocus.which === which) {
+        try {
+          if (which === 'xi') modeler.set_selected_xi(back[2]);
+          else modeler.set_selected_xy(back[0], back[1]);
+          app.changed();
+        } catch {
+          // The point as it was is the model as it was.
+        }
+      }
     }
   };
   for (const which of Object.keys(inputs)) {
+    inputs[which].addEventListener('focus', () => { atFocus = { which, point: app.panel().point }; });
     inputs[which].addEventListener('input', () => applyInput(which));
     inputs[which].addEventListener('change', () => {
       applyInput(which);
@@ -297,6 +327,10 @@ export function setupBezier(app) {
     storage.set(KEYS.hinted, '1');
   };
   $('hint-close').addEventListener('click', endHint);
+  /** A control point was moved (in either view, by any means): the hint has done its work. */
+  function pointMoved() {
+    if (hinting) endHint();
+  }
 
   // The panel, from one snapshot of the editor, its last frame and its 3D view.
   const update = () => {
@@ -380,8 +414,7 @@ export function setupBezier(app) {
     enableItems('#export-menu [data-value="svg"]', !(parts && parts.dimension === 3 && !parts.open));
     document.body.dataset.kind = volume ? 'volume' : 'patch';
     nameViews(volume, parts, slice);
-    if (!modeler.dragging() && probeSeen !== modeler.revision()) showProbe();
-    if (hinting && p.can_undo) endHint();
+    if (!modeler.dragging() && !modeler.busy_3d() && probeSeen !== modeler.revision()) showProbe();
     $('hint').hidden = !hinting;
     $('undo').disabled = !p.can_undo;
     $('redo').disabled = !p.can_redo;
@@ -394,6 +427,7 @@ export function setupBezier(app) {
 
   return {
     update,
+    pointMoved,
     /** Undoes (`redo` false) or redoes a step; returns whether there was one. */
     history: (redo) => (redo ? modeler.redo() : modeler.undo()),
     /** Draws the 3D view. */

@@ -137,6 +137,8 @@ async function main() {
     app.stats.moves += 1;
     app.redraw(INPUT);
   };
+  /** Drops the move waiting for gesture `key` (the gesture was cancelled). */
+  app.dropInput = (key) => waiting.delete(key);
   app.flushInput = () => {
     for (const [key, { apply, since }] of [...waiting]) {
       waiting.delete(key);

@@ -147,6 +147,7 @@ export function setupScript(app) {
   };
 
   let runSeq = 0;
+  let drew = false; // whether the drawing shown is of a run that drew something
   let runTask = null; // the run under way in the work list
   const stop = () => {
     runSeq += 1;
@@ -194,27 +195,39 @@ export function setupScript(app) {
     // A run that fails before drawing anything keeps the last drawing on screen, marked as the
     // last run's.
     const kept = !result.data.length && !!report.error;
-    if (!kept) sv.set_drawing(result.data, refit);
-    $('script-stale').hidden = !kept;
+    if (!kept) {
+      sv.set_drawing(result.data, refit);
+      drew = result.data.length > 0;
+    }
+    $('script-stale').hidden = !(kept && drew);
     showReport(report, performance.now() - t0, result.ms);
     app.redraw(VIEW3);
   };
   /** Puts `text` in the editor (kept in this browser), not run yet. */
   const load = (text) => {
-    // Through the editor's own editing, so that its undo (Ctrl+Z) brings back the text replaced.
-    editor.focus();
-    editor.select();
-    if (editor.value !== text && !document.execCommand('insertText', false, text)) editor.value = text;
-    editor.setSelectionRange(0, 0);
-    editor.scrollTop = 0;
+    // In the mode, through the editor's own editing, so that its undo (Ctrl+Z) brings back the
+    // text replaced; otherwise (a link opened at start-up, the editor hidden) set plainly.
+    if (editor.value !== text) {
+      let typed = false;
+      if (app.workspace() === 'script') {
+        editor.focus();
+        if (document.activeElement === editor) {
+          editor.select();
+          typed = document.execCommand('insertText', false, text) && editor.value === text;
+        }
+      }
+      if (!typed) editor.value = text;
+      editor.setSelectionRange(0, 0);
+      editor.scrollTop = 0;
+    }
     storage.set(KEYS.script, text);
     ran = false;
     renderGutter(true);
   };
   /** Opens `text` in the mode, says `note`, and runs it. */
   const open = (text, note) => {
-    load(text);
     app.setWorkspace('script');
+    load(text);
     app.resize();
     app.resize3();
     say(note);

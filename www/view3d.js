@@ -19,13 +19,21 @@ export function setupView3d(app) {
   const down = pointers();
   // Two fingers came down: zoom and pan until every finger is up (one left does nothing).
   let pinching = false;
+  const capture = (id) => {
+    try {
+      canvas3.setPointerCapture(id);
+    } catch {
+      // The pointer is gone already.
+    }
+  };
   canvas3.addEventListener('contextmenu', (e) => e.preventDefault());
   canvas3.addEventListener('pointerdown', (e) => {
     if (!app.viewer || (e.button !== 0 && e.button !== 2)) return;
     const [x, y] = local(e);
     // A new press of a pointer still counted (its release was missed) ends the old one.
     down.remove(e.pointerId);
-    const n = down.add(e.pointerId, [x, y]);
+    // Fingers and pens make a pinch; a mouse is one pointer whatever it missed.
+    const n = e.pointerType === 'mouse' ? 1 : down.add(e.pointerId, [x, y]);
     if (n === 2) {
       // A second finger: the gesture is a pinch; a point's drag begun by the first is put back.
       const editing = !orbiter() && modeler.editing_3d();
@@ -35,7 +43,8 @@ export function setupView3d(app) {
       clearTimeout(restTimer);
       if (!orbiter()) modeler.set_coarse(false);
       pinching = true;
-      canvas3.setPointerCapture(e.pointerId);
+      app.dropInput('drag-3d');
+      capture(e.pointerId);
       e.preventDefault();
       if (editing) app.changed();
       return;
@@ -49,7 +58,7 @@ export function setupView3d(app) {
     } else {
       grabbed = modeler.pointer_down_3d(x, y, e.button === 2, e.shiftKey);
     }
-    canvas3.setPointerCapture(e.pointerId);
+    capture(e.pointerId);
     canvas3.classList.add('dragging');
     e.preventDefault();
     if (!orbiting) app.redraw(grabbed ? VIEW2 | VIEW3 : VIEW3);
@@ -115,6 +124,7 @@ export function setupView3d(app) {
     modeler.pointer_up_3d();
     canvas3.classList.remove('dragging');
     release(e);
+    if (editing) app.bezier.pointMoved();
     if (editing) app.changed();
     else app.redraw(VIEW3);
   };

@@ -33,6 +33,9 @@ const STATES = {
   'export menu': async (page) => {
     await page.click('#export');
   },
+  'preset menu': async (page) => {
+    await page.click('#preset');
+  },
   freeform: (page) => setMode(page, 'freeform'),
   script: async (page) => {
     await setMode(page, 'script');
@@ -127,6 +130,13 @@ test('the 2D view lets Tab go after Esc, says so, and shows its focus ring over 
   await page.keyboard.press('Escape');
   await page.keyboard.press('Tab');
   assert.notEqual(await focused(page), 'view', 'after Esc, Tab leaves the view');
+  await page.keyboard.press('Shift+Tab');
+  assert.equal(await focused(page), 'view');
+  await page.keyboard.press('Tab'); // a point again
+  await page.keyboard.press('Escape');
+  await page.keyboard.press('Shift+Tab');
+  assert.notEqual(await focused(page), 'view', 'after Esc, Shift+Tab leaves it too');
+  await page.keyboard.press('Tab');
   assert.match(await page.textContent('.bezier-only .keys'), /Esc.*Tab|leave/i);
   // The ring: the view's edge takes the focus colour when focused by keyboard.
   await page.keyboard.press('Shift+Tab');

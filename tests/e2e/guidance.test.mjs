@@ -77,11 +77,26 @@ test('a new patch is a solid in the middle; ξ far past the model is refused and
   await page.waitForFunction(() => /too far from the model/.test(document.getElementById('status').textContent));
   assert.equal(await page.getAttribute('#xi', 'aria-invalid'), 'true');
   assert.equal(await model(page), before);
-  // A large value within the bound: the legend's labels stay short.
-  await page.fill('#xi', '90');
-  await page.locator('#xi').press('Enter');
+  // Typed key by key, a value past the bound puts the point back where it was, not at a prefix.
+  await page.fill('#xi', '');
+  await page.locator('#xi').pressSequentially('150');
+  await page.waitForFunction(() => /too far from the model/.test(document.getElementById('status').textContent));
+  await page.locator('#xi').press('Tab');
   await settle(page);
+  assert.equal(await model(page), before);
+  // A file whose ξ is far past the bound opens; its labels stay short, and keys bring ξ back.
+  const points = JSON.parse(before).solid.points.map((p, k) => (k === 12 ? [p[0], p[1], 2e4] : p));
+  await page.evaluate((m) => { window.bezsolid.modeler.load_model(m); window.bezsolid.redraw(); }, JSON.stringify({ ...JSON.parse(before), solid: { ...JSON.parse(before).solid, points } }));
+  await settle(page);
+  assert.match(await text(page, 'xi-max'), /^2\.00e\+4$/);
   assert.ok((await text(page, 'range-max')).length <= 9, await text(page, 'range-max'));
+  await page.locator('#view').focus();
+  await page.keyboard.press('Escape');
+  await page.keyboard.press('ArrowRight');
+  assert.match(await text(page, 'point-label'), /^P22 /);
+  await page.keyboard.press('PageDown');
+  await settle(page);
+  assert.ok(Math.abs(JSON.parse(await model(page)).solid.points[12][2] - (2e4 - 0.1)) < 1e-6);
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -49,7 +49,7 @@ test('a stream of moves over a 16 × 16 patch is applied and drawn once a frame,
   const s1 = await stats(page);
   assert.equal(s1.moves - s0.moves, 200);
   assert.ok(s1.applied - s0.applied <= 2, `${s1.applied - s0.applied} of 200 moves applied`);
-  assert.ok(s1.frames - s0.frames <= 3, `${s1.frames - s0.frames} frames for one task of moves`);
+  assert.ok(s1.frames - s0.frames <= 8, `${s1.frames - s0.frames} frames for one task of 200 moves`);
   assert.ok(s1.drawnEdit >= s1.lastEdit && s1.lastEdit > s0.lastEdit, 'the newest edit is drawn');
   const streamed = await xiOf(page, k);
   // The same drag in one move: the same ξ (the newest move won; none was lost or queued).

@@ -651,13 +651,26 @@ impl Editor {
     /// 1e-9), and would squash every other value to nothing in the views' colours.
     #[must_use]
     pub fn xi_limit(&self) -> f64 {
-        let (min, max) = self.solid.domain();
-        XI_PER_EXTENT * (max - min).max_element().max(1e-3)
+        let extent = match self.volume() {
+            Some(v) => {
+                let (min, max) = v.domain();
+                (max - min).max_element()
+            }
+            None => {
+                let (min, max) = self.solid.domain();
+                (max - min).max_element()
+            }
+        };
+        XI_PER_EXTENT * extent.max(0.01)
     }
 
+    /// Refuses `xi` for the selected point when it is past [`Self::xi_limit`] and further out than
+    /// the point's ξ now: a value past the bound (from a file, a link, a drag in 3D) can always be
+    /// brought back.
     fn check_xi(&self, xi: f64) -> Result<(), Error> {
         let limit = self.xi_limit();
-        if xi.abs() > limit {
+        let now = self.selected_xi().map_or(0.0, f64::abs);
+        if xi.abs() > limit && xi.abs() > now {
             return Err(Error::new(format!(
                 "ξ = {xi} is too far from the model: ξ stays within ±{limit} ({XI_PER_EXTENT} times the longest side of its domain)"
             )));

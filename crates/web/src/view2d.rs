@@ -281,6 +281,7 @@ impl View2 {
     /// editor's mode, or the other one when `other_mode` (the modifier key) is held. Returns whether
     /// a point was grabbed (a press on empty space keeps the selection).
     pub fn pointer_down(&mut self, editor: &mut Editor, q: DVec2, other_mode: bool) -> bool {
+        self.releasing = false;
         self.sync(editor);
         let Some(k) = self.pick(editor, q) else {
             return false;
@@ -353,6 +354,9 @@ impl View2 {
     /// the points and let focus leave the view after the last (first) one, as a composite widget
     /// does; Esc then Tab leaves at once (as in a code editor, whose Tab indents).
     pub fn key(&mut self, editor: &mut Editor, key: &str, shift: bool) -> bool {
+        if matches!(key, "Shift" | "Control" | "Alt" | "Meta") {
+            return false; // the modifier of a Shift+Tab to come: Esc still lets it leave
+        }
         let releasing = core::mem::take(&mut self.releasing);
         if key == "Tab" && releasing {
             return false;
@@ -745,6 +749,10 @@ mod tests {
         assert_eq!(v.selected(), Some((0, 0)));
         assert!(v.key("Escape", false));
         assert!(!v.key("Tab", false), "Esc then Tab leaves the view");
+        assert!(v.key("Tab", false));
+        assert!(v.key("Escape", false));
+        assert!(!v.key("Shift", true));
+        assert!(!v.key("Tab", true), "Esc then Shift+Tab leaves too");
         assert!(v.key("Tab", true));
         assert_eq!(v.selected(), Some((2, 2)));
         // Another key between Esc and Tab keeps Tab walking.
@@ -773,6 +781,15 @@ mod tests {
         assert!(!v.nudge(-0.1), "keys stop at the bound");
         assert!(!v.wheel(100.0), "and so does the wheel");
         assert_eq!(v.selected_xi(), Some(-limit));
+        assert!(v.nudge(0.1), "back towards 0 is taken");
+        // A model whose ξ is already far past the bound (a file, a link) opens, and its points
+        // come back by keys and the wheel.
+        let mut far =
+            Editor::new(Solid2::regular([2, 2], DVec2::ZERO, DVec2::ONE, |_| 2e4).unwrap());
+        far.select(Some((1, 1)));
+        assert!(far.nudge(-0.1) && far.wheel(100.0));
+        assert!(!far.nudge(0.2), "but not further out");
+        assert!(far.set_selected_xi(3e4).is_err());
         v.select(Some((3, 0)));
         assert_eq!(v.selected(), None, "outside the grid");
     }

@@ -497,6 +497,12 @@ impl Modeler {
         self.view2.pick(&self.editor, DVec2::new(x, y)).is_some()
     }
 
+    /// Zooms the 2D view about CSS pixel `(x, y)` by a wheel's `deltaY`, wherever the pointer is
+    /// (a trackpad's pinch comes as the wheel with Ctrl). Returns whether the view changed.
+    pub fn zoom_at(&mut self, x: f64, y: f64, delta_y: f64) -> bool {
+        self.view2.zoom_at(&self.editor, DVec2::new(x, y), delta_y)
+    }
+
     /// The wheel with `deltaY` at CSS pixel `(x, y)`: over the selected point, or with `xi` (the
     /// Alt key) held, changes its ξ; elsewhere zooms about the pointer ([`View2::wheel`]).
     /// Returns whether the solid changed (the view may have zoomed: redraw it either way).
