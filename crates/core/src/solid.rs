@@ -490,6 +490,18 @@ where
     /// clipping where that fails).
     #[must_use]
     pub fn f_grid(&self, axes: [&[f64]; D]) -> Vec<f64> {
+        self.f_grid_in_steps(axes, |_, _| {})
+    }
+
+    /// [`Self::f_grid`], calling `progress(done, total)` as each layer along the last axis is
+    /// begun, `done` layers being finished, out of `total` (a space mapping's grid: its points
+    /// each need the inverse map).
+    #[must_use]
+    pub fn f_grid_in_steps(
+        &self,
+        axes: [&[f64]; D],
+        mut progress: impl FnMut(usize, usize),
+    ) -> Vec<f64> {
         let count = axes.iter().map(|a| a.len()).product();
         let lens = axes.map(<[f64]>::len);
         if self.map.is_some() {
@@ -497,11 +509,15 @@ where
             let mut out = Vec::with_capacity(count);
             let mut row_seed = None;
             let mut seed = None;
+            let layer = count / lens[D - 1].max(1);
             for (k, at) in odometer(lens).enumerate() {
                 let p = core::array::from_fn(|c| axes[c][at[c]]);
                 let first = at[0] == 0;
                 if first {
                     seed = row_seed;
+                }
+                if layer > 0 && k % layer == 0 && k > 0 {
+                    progress(k / layer, lens[D - 1]);
                 }
                 let v = self.evaluate_seeded(p, Method::Fast, seed);
                 seed = Some(v.u);

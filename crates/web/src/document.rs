@@ -179,7 +179,12 @@ pub mod headless {
     /// The closed mesh of a 3D tree at `resolution` (within its bounds). With `view`, a tree
     /// that may be unbounded is meshed cut by a box a quarter larger on every side than its
     /// bounded parts ([`bezsolid_core::tree::Tree::parts_box`]): what the 3D view shows of it.
-    fn tree_mesh(tree: &ModelTree, resolution: usize, view: bool) -> Result<Mesh, Error> {
+    fn tree_mesh(
+        tree: &ModelTree,
+        resolution: usize,
+        view: bool,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<Mesh, Error> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
             return Err(Error::new(format!(
                 "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
@@ -190,9 +195,15 @@ pub mod headless {
                 let (lo, hi) = t.parts_box().unwrap_or(([-1.0; 3], [1.0; 3]));
                 let grow = (0..3).map(|i| hi[i] - lo[i]).fold(1e-3, f64::max) * 0.25;
                 let region = (lo.map(|x| x - grow), hi.map(|x| x + grow));
-                Ok(t.polygonize(resolution, MESH_ACCURACY, Some(region))?)
+                Ok(
+                    t.polygonize_in_steps(resolution, MESH_ACCURACY, Some(region), progress)?
+                        .0,
+                )
             }
-            ModelTree::Space(t) => match t.polygonize(resolution, MESH_ACCURACY, None) {
+            ModelTree::Space(t) => match t
+                .polygonize_in_steps(resolution, MESH_ACCURACY, None, progress)
+                .map(|(mesh, _)| mesh)
+            {
                 Err(TreeMeshError::Unbounded) => Err(Error::new(
                     "the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
                      blend of a space-mapped solid): intersect it with a box, or mesh it with \
@@ -270,15 +281,29 @@ pub mod headless {
     ///
     /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
     pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
+        mesh_in_steps(text, format, resolution, |_, _| {})
+    }
+
+    /// [`mesh`], calling `progress(done, total)` on the way and at the end (`done == total`).
+    ///
+    /// # Errors
+    ///
+    /// As [`mesh`].
+    pub fn mesh_in_steps(
+        text: &str,
+        format: Format,
+        resolution: usize,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<Made<Vec<u8>>, Error> {
         if let Some(t) = tree(text)? {
             return Ok(Made {
-                data: format.write(&tree_mesh(&t, resolution, false)?),
+                data: format.write(&tree_mesh(&t, resolution, false, progress)?),
                 approximate: 0,
             });
         }
         let v = volume(text, resolution)?;
         let m = v
-            .polygonize(resolution, MESH_ACCURACY)
+            .polygonize_in_steps(resolution, MESH_ACCURACY, progress)
             .map_err(Error::from)?;
         Ok(Made {
             data: format.write(&m),
@@ -295,7 +320,7 @@ pub mod headless {
     pub fn surface(text: &str, resolution: usize) -> Result<Made<Vec<f32>>, Error> {
         if let Some(t) = tree(text)? {
             return Ok(Made {
-                data: crate::view3d::mesh_floats(&tree_mesh(&t, resolution, true)?),
+                data: crate::view3d::mesh_floats(&tree_mesh(&t, resolution, true, |_, _| {})?),
                 approximate: 0,
             });
         }

@@ -163,7 +163,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             format,
             resolution,
         } => {
-            let m = bezier::mesh(model, *format, *resolution)?;
+            let m = bezier::mesh_in_steps(model, *format, *resolution, progress)?;
             counted(Payload::Bytes(m.data), m.approximate)
         }
         Job::Stack { model, axis } => {
@@ -296,10 +296,15 @@ mod tests {
         assert_eq!(decode(&stack).0["payload"], "f64");
         assert_eq!(steps.last(), Some(&(3, 3)), "a progress report per slice");
 
-        let mesh = job(
-            serde_json::json!({"kind": "mesh", "model": model, "format": "stl", "resolution": 8}),
+        let mut steps = Vec::new();
+        let mesh = run_bytes(
+            serde_json::json!({"kind": "mesh", "model": model, "format": "stl", "resolution": 8})
+                .to_string()
+                .as_bytes(),
+            |done, total| steps.push((done, total)),
         )
         .unwrap();
+        assert_eq!(steps.last(), Some(&(1, 1)), "a mesh reports its end");
         let (_, stl) = decode(&mesh);
         let mesh = bezsolid_core::mesh::Format::Stl.read(stl).unwrap();
         mesh.check_closed_manifold().unwrap();

@@ -93,14 +93,32 @@ impl Solid3 {
     /// is the boundary. Any other space mapping (it may fold) samples `f` itself, the largest clipped
     /// `S_ξ` over the preimages, on the grid over its bounds, with vertices interpolated linearly.
     pub fn polygonize(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
+        self.polygonize_in_steps(resolution, accuracy, |_, _| {})
+    }
+
+    /// [`Self::polygonize`], calling `progress(done, total)` on the way and at the end (`done ==
+    /// total`): a net that folds (whose samples each need the inverse map, seconds at a fine
+    /// resolution) reports each layer of samples along z, the others only their end.
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::polygonize`].
+    pub fn polygonize_in_steps(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<Mesh, MeshError> {
         if !(accuracy.is_finite() && accuracy > 0.0) {
             return Err(MeshError::Accuracy);
         }
-        match self.inverse() {
+        let mesh = match self.inverse() {
             None => self.polygonize_regular(resolution, accuracy),
             Some(map) if map.injective() => self.polygonize_forward(resolution, accuracy),
-            Some(_) => self.polygonize_sampled(resolution),
-        }
+            Some(_) => self.polygonize_sampled(resolution, &mut progress),
+        }?;
+        progress(1, 1);
+        Ok(mesh)
     }
 
     fn polygonize_forward(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
@@ -145,14 +163,21 @@ impl Solid3 {
         Ok(mesh)
     }
 
-    fn polygonize_sampled(&self, resolution: usize) -> Result<Mesh, MeshError> {
+    fn polygonize_sampled(
+        &self,
+        resolution: usize,
+        progress: &mut impl FnMut(usize, usize),
+    ) -> Result<Mesh, MeshError> {
         let grid = self.mesh_grid(resolution)?;
         let axis = |a: usize| -> Vec<f64> {
             (0..grid.dims[a])
                 .map(|i| grid.origin[a] + grid.step[a] * i as f64)
                 .collect()
         };
-        let values = self.f_grid([&axis(0), &axis(1), &axis(2)]);
+        // Each layer along z reported; the last step is the mesh's, after the layers.
+        let values = self.f_grid_in_steps([&axis(0), &axis(1), &axis(2)], |done, total| {
+            progress(done, total + 1);
+        });
         let mut mesh = polygonize(&grid, &values, &mut LinearRoots);
         mesh.normals = mesh
             .positions
@@ -568,8 +593,17 @@ mod tests {
             let (_, g) = solid.f_with_gradient(p);
             assert!((n + g.normalize()).length() < 1e-8, "{n} vs {g}");
         }
-        let sampled = solid.polygonize_sampled(24).unwrap();
+        let mut steps = Vec::new();
+        let sampled = solid
+            .polygonize_sampled(24, &mut |done, total| steps.push((done, total)))
+            .unwrap();
         sampled.check_closed_manifold().unwrap();
+        // Each layer of samples along z reported, in order, the mesh's step left for the end.
+        let layers = solid.mesh_grid(24).unwrap().dims[2];
+        assert_eq!(
+            steps,
+            (1..layers).map(|d| (d, layers + 1)).collect::<Vec<_>>()
+        );
         let (a, b) = (mesh.volume(), sampled.volume());
         assert!((a - b).abs() < 0.03 * a, "{a} vs {b}");
     }

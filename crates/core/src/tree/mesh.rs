@@ -270,9 +270,27 @@ impl Tree<3> {
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
     ) -> Result<(Mesh, MeshStats), TreeMeshError> {
+        self.polygonize_in_steps(resolution, accuracy, region, |_, _| {})
+    }
+
+    /// [`Tree::polygonize_with_stats`], calling `progress(done, total)` as the grid's cells are
+    /// decided (in fiftieths or coarser, and at the end with `done == total`): the share of the work that
+    /// grows with the grid.
+    ///
+    /// # Errors
+    ///
+    /// As [`Tree::polygonize`].
+    pub fn polygonize_in_steps(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<(Mesh, MeshStats), TreeMeshError> {
         let Some(Region { lo, hi, clip }) =
             self::region(self.bounds(), region, resolution, accuracy)?
         else {
+            progress(1, 1);
             return Ok((Mesh::default(), MeshStats::default()));
         };
         let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
@@ -305,6 +323,9 @@ impl Tree<3> {
         let mut programs: Vec<Vec<Step>> = Vec::new();
         let mut cell_program = alloc::vec![u32::MAX; (nx - 1) * (ny - 1) * (nz - 1)];
         let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
+        // Cells decided, and the count at the last report.
+        let (mut decided, mut reported) = (0, 0);
+        let total = stats.cells;
         while let Some((lo, hi)) = todo.pop() {
             let (plo, phi) = (
                 grid.point(lo[0], lo[1], lo[2]),
@@ -323,6 +344,13 @@ impl Tree<3> {
                 None
             };
             let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
+            if sign.is_some() || size.iter().all(|&s| s <= LEAF_CELLS) {
+                decided += size.iter().product::<usize>();
+                if decided - reported > total / 50 && decided < total {
+                    reported = decided;
+                    progress(decided, total);
+                }
+            }
             if let Some(sign) = sign {
                 stats.skipped += size.iter().product::<usize>();
                 for c in lo[2]..=hi[2] {
@@ -387,7 +415,9 @@ impl Tree<3> {
             programs,
             cell_program,
         };
-        Ok((polygonize(&grid, &values, &mut roots), stats))
+        let mesh = polygonize(&grid, &values, &mut roots);
+        progress(total, total);
+        Ok((mesh, stats))
     }
 }
 
@@ -574,9 +604,19 @@ mod tests {
         let mut skipped = 0;
         for _ in 0..8 {
             let tree = space(random_tree(&mut rng, 3));
-            let (mesh, stats) = tree.polygonize_with_stats(40, 1e-10, None).unwrap();
+            let mut steps = Vec::new();
+            let (mesh, stats) = tree
+                .polygonize_in_steps(40, 1e-10, None, |done, total| steps.push((done, total)))
+                .unwrap();
             mesh.check_closed_manifold().unwrap();
             assert!(stats.skipped <= stats.cells);
+            // Progress in order, at most about fifty steps, ending with every cell decided.
+            assert_eq!(steps.last(), Some(&(stats.cells, stats.cells)));
+            assert!(
+                steps.len() <= 52 && steps.windows(2).all(|w| w[0].0 < w[1].0),
+                "{steps:?}"
+            );
+            assert!(steps.iter().all(|&(_, total)| total == stats.cells));
             skipped += stats.skipped;
             // Every vertex is on the surface (a wrong skip would leave a hole or a stray piece,
             // which the closed-manifold check and this catch).
