@@ -138,24 +138,24 @@ fn script_3_1_arcs_are_on_the_unit_circle() {
 #[test]
 fn a_script_file_its_model_file_and_its_link_draw_the_same() {
     let script = "% a parabola %\nDEF SQR = ID * ID;\nMAP:(CONS:< S1, SQR ~ S1 >):(Domain:16);\n\
-                  Choose:<5,2>;\nDEF Pred = C:-:1;\nPred:3;\n";
+                  Chooze:<5,2>;\nDEF Pred = C:-:1;\nPred:3;\n";
     let path = scratch("parabola.psm", script);
     let link = run_ok(&["link", path.to_str().unwrap()]);
     let link = link.trim();
     assert!(link.contains("#v1."), "{link}");
     let from_file = out_path("file.obj");
     let from_link = out_path("link.obj");
-    // Choose is not defined in this script: the values before it print, then the error.
+    // Chooze is defined nowhere: the values before it print, then the error.
     let out = bezsolid(&["plasm", link, "-o", from_link.to_str().unwrap()]);
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("line 4, column 1: unknown name `Choose`"),
+        stderr.contains("line 4, column 1: unknown name `Chooze`"),
         "{stderr}"
     );
     assert!(!from_link.exists());
-    // Without Choose, the link and the file give the same OBJ.
-    let fixed = script.replace("Choose:<5,2>;\n", "");
+    // Without Chooze, the link and the file give the same OBJ.
+    let fixed = script.replace("Chooze:<5,2>;\n", "");
     let path = scratch("parabola2.psm", &fixed);
     run_ok(&[
         "plasm",

@@ -8,6 +8,7 @@ use crate::complex::Complex;
 use crate::kernel::{Kernel, LANES};
 use crate::meter::{self, Charge, buffer_bytes};
 use crate::parse::{Arith, Def, Expr, Local, Stmt, parse};
+use crate::prelude::{self, in_prelude};
 use crate::value::{Fun, Items, NAMES, Prim, Value};
 use crate::{Error, ErrorKind, Limits, Span, Warning};
 
@@ -66,6 +67,8 @@ impl Run {
 /// An interpreter: the global definitions persist from one [`Interp::run`] to the next.
 pub struct Interp {
     globals: HashMap<Rc<str>, (Rc<str>, Value)>,
+    /// The prelude's definitions (see [`crate::prelude`]), under the globals.
+    prelude: HashMap<Rc<str>, (Rc<str>, Value)>,
     /// The last `MAP`: its result, its map and its domain.
     last_map: Option<(Rc<Complex>, MapOf)>,
     limits: Limits,
@@ -104,6 +107,8 @@ struct Env<'a> {
     params: Vec<Param>,
     locals: &'a [Local],
     slots: RefCell<Vec<Slot>>,
+    /// Whether the body is the prelude's: it sees the prelude's definitions, not the script's.
+    prelude: bool,
     /// The bytes of the parameters and the slots, held while the call is under way.
     _held: Charge,
 }
@@ -117,6 +122,7 @@ impl<'a> Env<'a> {
             params,
             locals,
             slots: RefCell::new(vec![Slot::Todo; locals.len()]),
+            prelude: false,
             _held: held,
         }
     }
@@ -138,10 +144,19 @@ impl Interp {
         Self::with_limits(Limits::default())
     }
 
-    /// An interpreter with the given limits.
+    /// An interpreter with the given limits, and the prelude defined.
     pub fn with_limits(limits: Limits) -> Self {
+        let mut interp = Self::without_prelude(Limits::default());
+        interp.load_prelude();
+        interp.limits = limits;
+        interp
+    }
+
+    /// An interpreter with the given limits and without the prelude: only the built-ins.
+    pub fn without_prelude(limits: Limits) -> Self {
         Interp {
             globals: HashMap::new(),
+            prelude: HashMap::new(),
             last_map: None,
             limits,
             steps: 0,
@@ -150,6 +165,27 @@ impl Interp {
             depth: 0,
             nesting: 0,
         }
+    }
+
+    /// Defines the prelude, under the default limits; its steps are not a script's.
+    fn load_prelude(&mut self) {
+        let stmts = prelude::statements();
+        for stmt in stmts.iter() {
+            let Stmt::Def(def) = stmt else { continue };
+            let value = if def.groups.is_empty() {
+                let mut env = Env::new(Vec::new(), &def.locals);
+                env.prelude = true;
+                self.eval(&def.body, &env)
+                    .expect("the prelude's definitions evaluate")
+            } else {
+                Value::fun(Fun::User(def.clone(), Vec::new()))
+            };
+            self.prelude
+                .insert(def.key.clone(), (def.name.clone(), value));
+        }
+        self.steps = 0;
+        self.peak = 0;
+        self.base = meter::live();
     }
 
     /// Runs a script: its `DEF`s join the globals, and the values of its other statements are
@@ -196,6 +232,10 @@ impl Interp {
         for stmt in stmts {
             self.depth = 0;
             self.nesting = 0;
+            let place = match &stmt {
+                Stmt::Def(def) => def.body.span(),
+                Stmt::Expr(e) => e.span(),
+            };
             let r = match stmt {
                 Stmt::Def(def) => self.define(def),
                 Stmt::Expr(e) => {
@@ -228,7 +268,12 @@ impl Interp {
                     })
                 }
             };
-            if let Err(e) = r {
+            if let Err(mut e) = r {
+                // Errors inside the prelude are placed at their call (`call_def`); should one
+                // escape, it is placed at the statement, never at a line of the prelude.
+                if in_prelude(e.span) {
+                    e.span = place;
+                }
                 run.error = Some(e);
                 break;
             }
@@ -238,10 +283,12 @@ impl Interp {
         run
     }
 
-    /// A global definition (by any case).
+    /// A global definition (by any case): the script's, or else the prelude's.
     pub fn global(&self, name: &str) -> Option<&Value> {
+        let key = name.to_ascii_uppercase();
         self.globals
-            .get(name.to_ascii_uppercase().as_str())
+            .get(key.as_str())
+            .or_else(|| self.prelude.get(key.as_str()))
             .map(|g| &g.1)
     }
 
@@ -351,7 +398,14 @@ impl Interp {
             if let Some(i) = env.locals.iter().position(|l| hit(&l.key, &l.name)) {
                 return self.local(env, i, spelled, at);
             }
-            if let Some((s, v)) = self.globals.get(key)
+            // A script sees its globals, then the prelude's names that it has not defined; the
+            // prelude sees only its own.
+            let global = if env.prelude {
+                self.prelude.get(key)
+            } else {
+                self.globals.get(key).or_else(|| self.prelude.get(key))
+            };
+            if let Some((s, v)) = global
                 && (!exact || &**s == spelled)
             {
                 return Ok(v.clone());
@@ -393,6 +447,7 @@ impl Interp {
             return None;
         }
         let mut names: Vec<String> = self.globals.values().map(|g| g.0.to_string()).collect();
+        names.extend(self.prelude.values().map(|g| g.0.to_string()));
         names.extend(NAMES.iter().map(|n| n.0.to_string()));
         names.extend(env.params.iter().map(|p| p.1.to_string()));
         names.extend(env.locals.iter().map(|l| l.name.to_string()));
@@ -604,9 +659,19 @@ impl Interp {
     }
 
     fn call_def(&mut self, def: Rc<Def>, args: Vec<Value>, at: Span) -> R<Value> {
-        let params = self.bind(&def, args, at)?;
-        let env = Env::new(params, &def.locals);
-        self.eval(&def.body, &env)
+        let ours = in_prelude(def.body.span());
+        let r = self.bind(&def, args, at).and_then(|params| {
+            let mut env = Env::new(params, &def.locals);
+            env.prelude = ours;
+            self.eval(&def.body, &env)
+        });
+        match r {
+            // Called from a script: an error at a place in the prelude is placed at the call.
+            Err(e) if ours && !in_prelude(at) && in_prelude(e.span) => {
+                Err(placed_at_call(e, &def, at))
+            }
+            r => r,
+        }
     }
 
     /// The parameters of a call, each checked by its predicate.
@@ -1545,6 +1610,16 @@ fn builtin(key: &str) -> Option<Value> {
         .iter()
         .find(|(n, _)| *n == key)
         .map(|(_, p)| Value::fun(Fun::Prim(*p)))
+}
+
+/// An error inside the prelude's `def`, placed at the script's call of it (apart, so that
+/// [`Interp::call_def`]'s frame, which recursion stacks, stays small).
+#[cold]
+#[inline(never)]
+fn placed_at_call(mut e: Error, def: &Def, at: Span) -> Error {
+    e.span = at;
+    e.message = format!("in the prelude's `{}`: {}", def.name, e.message);
+    e
 }
 
 /// Levenshtein distance, for "did you mean".

@@ -74,10 +74,10 @@ impl Tok {
 
 /// Splits `src` into tokens; the last is [`Tok::Eof`]. Comments run from `%` to the next `%` on
 /// the same line or to the end of the line.
-pub(crate) fn lex(src: &str) -> Result<Vec<(Tok, Span)>, Error> {
+pub(crate) fn lex(src: &str, first_line: u32) -> Result<Vec<(Tok, Span)>, Error> {
     let mut out = Vec::new();
     let chars: Vec<(usize, char)> = src.char_indices().collect();
-    let (mut i, mut line, mut col) = (0usize, 1u32, 1u32);
+    let (mut i, mut line, mut col) = (0usize, first_line, 1u32);
     let at = |i: usize, line: u32, col: u32, len: usize| Span {
         start: chars.get(i).map_or(src.len(), |c| c.0) as u32,
         end: chars.get(i + len).map_or(src.len(), |c| c.0) as u32,

@@ -31,6 +31,20 @@
 //! the right operand (`C:f:a:x` is `f:<x, a>`), since the paper's `Pred = C:-:1` is the
 //! predecessor that its `Choose` recursion needs.
 //!
+//! The paper's toolbox is a prelude, defined before every script ([`prelude`], [`PRELUDE_NAMES`]):
+//! `Bezier`, `CubicHermite`, `BernsteinBasis`, `Bernstein`, `HermiteBasis`, `Choose`, `Fact`,
+//! `Pred` and their kin, so that a script may use them without defining them. A script's own
+//! `DEF` of a name wins, so the paper's scripts run verbatim to the same results:
+//!
+//! ```
+//! use bezsolid_plasm::Interp;
+//!
+//! let run = Interp::new().run("Fact:5; MAP:(Bezier:S1:<<0,0,0>,<1,1,0>>):(Domain:8);");
+//! assert_eq!(run.shown[0].value.as_num(), Some(120.0));
+//! assert_eq!(run.shown[1].value.as_pol().unwrap().point(4), &[0.5, 0.5, 0.0]);
+//! assert_eq!(Interp::new().run("DEF Fact = 1; Fact;").shown[0].value.as_num(), Some(1.0));
+//! ```
+//!
 //! Scripts are untrusted: every error has a line and column, and [`Limits`] bound the steps, the
 //! depth of calls, the length of sequences, the cells of complexes and the memory that a run's
 //! values hold, so a script ends with an error rather than a hang, an overflow of the stack, a
@@ -68,12 +82,14 @@ mod lex;
 pub mod mesh;
 mod meter;
 mod parse;
+mod prelude;
 pub mod scripts;
 pub mod value;
 
 pub use complex::{Complex, ComplexError};
 pub use eval::{Interp, MapOf, Run, Shown};
 pub use parse::{Arith, Def};
+pub use prelude::{PRELUDE_NAMES, prelude};
 pub use value::{Fun, Prim, Value};
 
 /// A place in the source: byte offsets and the 1-based line and column (in characters) of the

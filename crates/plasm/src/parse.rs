@@ -148,9 +148,19 @@ struct Parser<'w> {
 
 /// Parses a whole script.
 pub(crate) fn parse(src: &str, warnings: &mut Vec<Warning>) -> Result<Vec<Stmt>, Error> {
+    parse_from(src, 1, warnings)
+}
+
+/// Parses `src` as if its first line were line `first_line` (the prelude's lines lie past any
+/// script's).
+pub(crate) fn parse_from(
+    src: &str,
+    first_line: u32,
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<Stmt>, Error> {
     let mut p = Parser {
         src,
-        toks: lex(src)?,
+        toks: lex(src, first_line)?,
         pos: 0,
         depth: 0,
         warnings,

@@ -32,6 +32,14 @@ pub const S3_3: Script = script!("3.3", "Reversing orientation");
 /// Script 4.1, a cubic Bézier plane curve.
 pub const S4_1: Script = script!("4.1", "Cubic Bézier curve in the plane");
 /// Script 4.2, the transfinite Bézier toolbox.
+///
+/// Two of its lines are damaged in print. `Bernstein`'s body begins with a `~` that has lost its
+/// left operand, read as `* ~` with a warning. `Fact (n::IsNat) = IF:< C:EQ:0, K:1, * ~ INTSTO >`
+/// does not apply its `IF` to `n`, where `Choose`, printed just below, ends in `:< n,k >`: as
+/// printed (and as PLaSM reads it), `Fact:5` is the function `IF:<…>`, and `Fact:5:5` (or
+/// `Fact:m:5` for any `m`) is 120. The paper never calls `Fact` (its `Choose` recurses on itself),
+/// so the script runs as printed; the prelude's `Fact` applies the `IF` to `n`, and `Fact:5` is
+/// 120 there.
 pub const S4_2: Script = script!("4.2", "Transfinite Bézier toolbox");
 /// Script 4.3, the dimension-independent transfinite Bézier mapping.
 pub const S4_3: Script = script!("4.3", "Dimension-independent transfinite Bézier mapping");

@@ -395,11 +395,11 @@ fn malformed_scripts_give_located_errors() {
             "unknown name `alhpa`",
         ),
         (
-            "DEF Bezir = 1;\nBezier:S1;",
+            "DEF Surfce = 1;\nSurface:S1;",
             ErrorKind::Name,
             2,
             1,
-            "did you mean `Bezir`",
+            "did you mean `Surfce`",
         ),
         ("1 + <1, 2>;", ErrorKind::Type, 1, 3, "a sequence of 2"),
         ("SIN:ID;", ErrorKind::Type, 1, 1, "SIN ~ f"),
