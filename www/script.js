@@ -2,7 +2,7 @@
 // errors or warnings; Ctrl+Enter runs it in a worker of its own (a newer run or Stop cancels the one
 // under way) and the 3D view draws its results. A surface of two parameters opens in the Bézier
 // mode as a patch.
-import { headless_plasm, plasm_examples, script_patch_model } from './pkg/bezsolid_web.js';
+import { headless_plasm, plasm_examples, plasm_prelude, script_patch_model } from './pkg/bezsolid_web.js';
 import { $, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { lazyRunner } from './work.js';
@@ -12,6 +12,13 @@ export function setupScript(app) {
   const { sv, VIEW3 } = app;
   const editor = $('script');
   const examples = JSON.parse(plasm_examples());
+  const prelude = JSON.parse(plasm_prelude());
+  $('prelude-names').replaceChildren(...prelude.names.flatMap((name, k) => {
+    const code = document.createElement('code');
+    code.textContent = name;
+    return k ? [', ', code] : [code];
+  }));
+  $('prelude-text').textContent = prelude.text;
   editor.value = storage.get(KEYS.script) ?? examples.find((e) => e.id === '4.4').source;
   let ran = false; // whether the editor's script was run since it was opened
 

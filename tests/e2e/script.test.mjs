@@ -221,3 +221,18 @@ test('a script travels in a link and a model file, and exports parse back', asyn
   await other.page.close();
   await page.close();
 });
+
+test('the prelude: a script that only uses the paper\'s toolbox runs and draws; the panel lists it', async () => {
+  const { page, errors } = await open(browser);
+  await scriptMode(page);
+  await page.fill('#script', 'DEF c = Bezier:S1:<<0,0,0>,<1,1,0>>;\nMAP:c:(Domain:8);');
+  await page.click('#script-run');
+  assert.equal(await finished(page), 'done');
+  const [, segments] = (await page.evaluate(() => document.body.dataset.scriptCounts)).split(',').map(Number);
+  assert.equal(segments, 8, 'the curve in eight segments');
+  assert.match(await page.textContent('#prelude-names'), /Bezier.*CubicHermite/);
+  await page.click('.prelude summary');
+  assert.match(await page.textContent('#prelude-text'), /DEF Bezier/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

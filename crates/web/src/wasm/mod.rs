@@ -1670,6 +1670,17 @@ pub fn script_link(script: &str) -> Result<String, JsError> {
     crate::script::link(script).map_err(JsError::from)
 }
 
+/// The prelude every script runs after (the paper's toolbox), JSON: `{names, text}`.
+#[wasm_bindgen]
+#[must_use]
+pub fn plasm_prelude() -> String {
+    serde_json::json!({
+        "names": bezsolid_plasm::PRELUDE_NAMES,
+        "text": bezsolid_plasm::prelude(),
+    })
+    .to_string()
+}
+
 /// The paper's examples, JSON: `[{id, title, source}]`.
 #[wasm_bindgen]
 #[must_use]
