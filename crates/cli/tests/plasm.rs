@@ -6,6 +6,7 @@
 
 mod common;
 
+use bezsolid_core::mesh::{Format, Mesh};
 use common::{bezsolid, out_path, scratch};
 
 /// The objects of an OBJ file: vertices and the cells of each `o` group (indices from 0 within
@@ -233,4 +234,30 @@ fn bad_scripts_fail_with_their_place() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("no triangles"));
     let out = bezsolid(&["plasm", "example:9.9"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("the examples are 3.1, 3.3"));
+}
+
+#[test]
+fn solids_are_written_facing_outward() {
+    // The unit cube, mirrored in z by its map: the domain's cells turn inside out, the files' faces
+    // still point out (volume +1).
+    let path = scratch(
+        "mirrored.psm",
+        "MAP:<S1, S2, K:0 - S3>:(interval:<0,1>:2 * interval:<0,1>:2 * interval:<0,1>:2);\n",
+    );
+    for name in ["cube.stl", "cube.ply", "cube.obj"] {
+        let out = out_path(name);
+        run_ok(&["plasm", path.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        let bytes = std::fs::read(&out).unwrap();
+        let raw = Format::detect(&bytes).parse(&bytes).unwrap();
+        let mesh = Mesh {
+            positions: raw.positions,
+            normals: Vec::new(),
+            triangles: raw.triangles,
+        };
+        assert!(
+            (mesh.volume() - 1.0).abs() < 1e-6,
+            "{name}: {}",
+            mesh.volume()
+        );
+    }
 }

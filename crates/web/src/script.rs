@@ -502,6 +502,28 @@ mod tests {
     }
 
     #[test]
+    fn exported_solids_face_outward() {
+        // A mirrored map turns the domain's cells inside out; the file's faces still point out.
+        let src =
+            "MAP:<S1, S2, K:0 - S3>:(interval:<0,1>:2 * interval:<0,1>:2 * interval:<0,1>:2);";
+        for format in [Format::Stl, Format::Ply, Format::Obj] {
+            let raw = format
+                .parse(&export(src, format).expect("a file"))
+                .expect("parses back");
+            let mesh = bezsolid_core::mesh::Mesh {
+                positions: raw.positions,
+                normals: Vec::new(),
+                triangles: raw.triangles,
+            };
+            assert!(
+                (mesh.volume() - 1.0).abs() < 1e-6,
+                "{format}: {}",
+                mesh.volume()
+            );
+        }
+    }
+
+    #[test]
     fn plane_drawings_are_seen_from_above() {
         let d = run(&scripts::example("4.8").expect("4.8").source());
         let mut view = ScriptView::new();
