@@ -134,12 +134,6 @@ pub const EXAMPLES: &[Example] = &[
                 T:1:1.25:(MAP:(CONS:grid2):(Domain:8 * Domain:8));\n\
                 T:1:2.5:(MAP:(CONS:grid3):(Domain:8 * Domain:8));\n",
     },
-    Example {
-        id: "4.7-bezier-grid",
-        title: "After Fig. 4: grid1 as the linear Bézier blend of c1 and c2",
-        scripts: &[S4_2, S4_3, S4_5, S4_8, S4_7_BEZIER_GRID],
-        added: "",
-    },
 ];
 
 /// The example of an id ("4.4").
