@@ -1,14 +1,18 @@
-//! `bezsolid esc classify MESH --points FILE.csv [-o OUT]` and
-//! `bezsolid esc bool A OP B --points FILE.csv [-o OUT]`: point-in-solid and Booleans of the solids
-//! bounded by PN triangles over closed triangle meshes (the second paper), one `0` or `1` per point.
-//! A free-form model file or share link stands for its whole result wherever a mesh goes.
+//! `bezsolid esc classify MESH --points FILE.csv [-o OUT]`,
+//! `bezsolid esc bool A OP B --points FILE.csv [-o OUT]`, `bezsolid esc bool complement A …` and
+//! `bezsolid esc expr "EXPR" NAME=SOLID… --points FILE.csv [-o OUT]`: point-in-solid and Booleans
+//! of the solids bounded by PN triangles over closed triangle meshes (the second paper), one `0` or
+//! `1` per point. A free-form model file or share link stands for its whole result wherever a mesh
+//! goes.
 
 use anyhow::{Context, Result, bail};
 use bezsolid_core::esc::Boolean;
 use bezsolid_core::esc::Example;
+use bezsolid_core::esc::bool::is_name;
 use bezsolid_core::esc::{EscSolid, Stats};
 use bezsolid_core::esc::{Expr, Op};
 use bezsolid_core::mesh::{MAX_FILE_BYTES, read};
+use bezsolid_core::model::MAX_OPERANDS;
 use glam::DVec3;
 
 use crate::args::Args;
@@ -16,12 +20,21 @@ use crate::eval::Points;
 use crate::output::Sink;
 
 pub(crate) const USAGE: &str = "bezsolid esc classify MESH --points FILE.csv [-o OUT] | \
-     bezsolid esc bool A OP B --points FILE.csv [-o OUT] (OP: union, intersection, difference)";
+     bezsolid esc bool A OP B --points FILE.csv [-o OUT] (OP: union, intersection, difference) | \
+     bezsolid esc bool complement A --points FILE.csv [-o OUT] | \
+     bezsolid esc expr \"EXPR\" NAME=SOLID... --points FILE.csv [-o OUT] \
+     (EXPR: names, | union, & intersection, - difference, ! complement, brackets)";
+
+/// The names `complement` goes by on the command line.
+fn is_complement(word: &str) -> bool {
+    matches!(word, "complement" | "not" | "!")
+}
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
     match args.first().map(String::as_str) {
         Some("classify") => classify(&args[1..]),
         Some("bool") => boolean(&args[1..]),
+        Some("expr") => expression(&args[1..]),
         Some(other) => bail!("esc: unknown command `{other}`; usage: {USAGE}"),
         None => bail!("esc: which command? usage: {USAGE}"),
     }
@@ -39,12 +52,37 @@ fn classify(args: &[String]) -> Result<()> {
 }
 
 fn boolean(args: &[String]) -> Result<()> {
+    // `complement A` or `A complement`, then the options.
+    let unary = match args {
+        [c, a, rest @ ..] if is_complement(c) => Some((a, rest)),
+        [a, c, rest @ ..]
+            if is_complement(c) && rest.first().is_none_or(|r| r.starts_with('-')) =>
+        {
+            Some((a, rest))
+        }
+        _ => None,
+    };
+    if let Some((a, rest)) = unary {
+        let args = Args::parse("esc bool", rest, &["--points", "--output"])?;
+        if let Ok(extra) = args.model("") {
+            bail!("esc bool: unexpected argument {extra}: a complement takes one solid");
+        }
+        let solid = load_solid(a)?;
+        let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
+        let mut stats = Stats::default();
+        return write_values(points, args.value("--output"), |q| {
+            1 - i32::from(solid.value(q, &mut stats) == 1)
+        });
+    }
     // A OP B, then the options.
     let [a, op, b, rest @ ..] = args else {
-        bail!("esc bool: expected A OP B; usage: {USAGE}");
+        bail!("esc bool: expected A OP B or complement A; usage: {USAGE}");
     };
     let op = Op::from_name(op).with_context(|| {
-        format!("esc bool: unknown operation `{op}`; use union, intersection or difference")
+        format!(
+            "esc bool: unknown operation `{op}`; use union, intersection or difference \
+             (or `complement A`)"
+        )
     })?;
     let args = Args::parse("esc bool", rest, &["--points", "--output"])?;
     if let Ok(extra) = args.model("") {
@@ -57,6 +95,80 @@ fn boolean(args: &[String]) -> Result<()> {
     write_values(points, args.value("--output"), |q| {
         expr.value(&mut |i| i32::from(solids[i].value(q, &mut stats) == 1))
     })
+}
+
+fn expression(args: &[String]) -> Result<()> {
+    let Some((text, rest)) = args.split_first() else {
+        bail!("esc expr: which expression? usage: {USAGE}");
+    };
+    // NAME=SOLID operands, then the options.
+    let split = rest
+        .iter()
+        .position(|a| a.starts_with('-') && a.len() > 1)
+        .unwrap_or(rest.len());
+    let (named, options) = rest.split_at(split);
+    let args = Args::parse("esc expr", options, &["--points", "--output"])?;
+    if let Ok(extra) = args.model("") {
+        bail!("esc expr: unexpected argument {extra} after the options");
+    }
+    if named.is_empty() {
+        bail!("esc expr: no solids: give them as NAME=SOLID, e.g. A=a.obj B=example:torus");
+    }
+    if named.len() > MAX_OPERANDS {
+        bail!(
+            "esc expr: {} solids; at most {MAX_OPERANDS} are taken",
+            named.len()
+        );
+    }
+    let mut names: Vec<&str> = Vec::with_capacity(named.len());
+    let mut paths = Vec::with_capacity(named.len());
+    for arg in named {
+        let Some((name, solid)) = arg.split_once('=').filter(|(n, _)| is_name(n)) else {
+            bail!(
+                "esc expr: `{arg}` is not NAME=SOLID (a name is a letter or _, then letters, \
+                 digits or _)"
+            );
+        };
+        if names.contains(&name) {
+            bail!("esc expr: the name {name} is given twice");
+        }
+        names.push(name);
+        paths.push(solid);
+    }
+    let expr = Expr::parse(text, &names).with_context(|| format!("esc expr: {text:?}"))?;
+    let mut used = vec![false; names.len()];
+    mark(&expr, &mut used);
+    for (name, used) in names.iter().zip(&used) {
+        if !used {
+            eprintln!("bezsolid: esc expr: {name} is not in the expression; it is not read");
+        }
+    }
+    let solids = paths
+        .iter()
+        .zip(&used)
+        .map(|(path, &used)| used.then(|| load_solid(path)).transpose())
+        .collect::<Result<Vec<_>>>()?;
+    let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
+    let mut stats = Stats::default();
+    write_values(points, args.value("--output"), |q| {
+        expr.value(&mut |i| {
+            solids[i]
+                .as_ref()
+                .map_or(0, |s| i32::from(s.value(q, &mut stats) == 1))
+        })
+    })
+}
+
+/// Marks every solid `expr` names.
+fn mark(expr: &Expr, used: &mut [bool]) {
+    match expr {
+        Expr::Solid(i) => used[*i] = true,
+        Expr::Complement(a) => mark(a, used),
+        Expr::Binary(_, a, b) => {
+            mark(a, used);
+            mark(b, used);
+        }
+    }
 }
 
 /// A mesh file (OBJ, or STL binary or ASCII), a built-in example (`example:NAME`), or a free-form

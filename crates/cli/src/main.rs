@@ -53,7 +53,12 @@ commands (DESIGN §5):
                                    a closed triangle mesh (OBJ or STL): one 0 or 1 per point
   esc bool A OP B --points FILE.csv [-o OUT]
                                    the same for A OP B, OP one of union, intersection,
-                                   difference
+                                   difference; `esc bool complement A` for A's complement
+  esc expr \"EXPR\" NAME=SOLID... --points FILE.csv [-o OUT]
+                                   the same for an expression of many solids: names, | union,
+                                   & intersection, - difference, ! complement, brackets (!
+                                   binds tightest, then &, then | and - left to right), e.g.
+                                   esc expr \"!(A|B)-C\" A=a.obj B=example:torus C=c.stl
   plasm SCRIPT [-o OUT.{obj,stl,ply}]
                                    run a PLaSM script (the third paper's language) and write
                                    what its top-level expressions draw: OBJ with faces, lines
@@ -65,7 +70,7 @@ MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many soli
 Bézier solids, set operations, blends, morphs and transforms, DESIGN §5), a share link (the whole URL or its #v1. fragment; quote it
 in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. MESH, A and B are mesh files or
 built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
-links (`mesh` writes the surface of a free-form model's result). SCRIPT is a script file (.psm),
+links (`mesh` writes the surface of a free-form model's result); SOLID likewise. SCRIPT is a script file (.psm),
 a model file or link holding one, or one of the paper's examples: example:3.1, example:3.3,
 example:4.1, example:4.4, example:4.6, example:4.7, example:4.8.
 

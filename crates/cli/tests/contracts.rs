@@ -123,6 +123,7 @@ fn models() -> Vec<(String, ModelFile)> {
                     example: None,
                     mesh: Some(octahedron),
                     offset: [0.6, 0.1, 0.0],
+                    ..EscOperand::default()
                 },
             ],
         ),

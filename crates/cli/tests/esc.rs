@@ -133,6 +133,124 @@ fn booleans_agree_with_the_set_operations() {
 }
 
 #[test]
+fn complements_and_expressions_of_many_solids_agree_with_the_set_operations() {
+    let pts = points();
+    let file = scratch("expr.csv", &csv(&pts));
+    let file = file.to_str().unwrap();
+    // A complement, written either way round.
+    for args in [
+        ["complement", "example:icosphere"],
+        ["example:icosphere", "complement"],
+    ] {
+        let got = run(&[&["esc", "bool"][..], &args, &["--points", file]].concat());
+        assert_eq!(got.len(), pts.len());
+        for (p, &g) in pts.iter().zip(&got) {
+            if sphere(*p).abs() > 0.02 {
+                assert_eq!(g == 1, sphere(*p) < 0.0, "complement at {p:?}");
+            }
+        }
+    }
+    // Three solids, one of them a free-form model file that places a ball of radius 0.5 at
+    // (1, 0, 0) by scale and offset, and one a mesh file.
+    let small = scratch(
+        "small-ball.bsolid.json",
+        r#"{ "format": "bezsolid", "version": 1,
+             "solid": { "kind": "esc", "operands": [
+               { "example": "icosphere", "scale": [0.5, 0.5, 0.5], "offset": [1, 0, 0] }] } }"#,
+    );
+    let ball = |p: [f64; 3]| sphere([2.0 * (p[0] - 1.0), 2.0 * p[1], 2.0 * p[2]]) / 2.0;
+    let mut obj = String::new();
+    let cube = |v: usize| [v & 1, (v >> 1) & 1, (v >> 2) & 1].map(|b| b as f64 * 1.2 - 1.4);
+    for v in 0..8 {
+        let [x, y, z] = cube(v);
+        obj.push_str(&format!("v {x} {y} {z}\n"));
+    }
+    for [a, b, c, d] in [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ] {
+        obj.push_str(&format!(
+            "f {} {} {}\nf {} {} {}\n",
+            a + 1,
+            b + 1,
+            c + 1,
+            a + 1,
+            c + 1,
+            d + 1
+        ));
+    }
+    let cube_file = scratch("corner.obj", &obj);
+    // The cube [−1.4, −0.2]³: a coarse mesh whose PN surface bulges, so points are compared
+    // only where the cube and its bulge agree.
+    let corner = |p: [f64; 3]| -> Option<bool> {
+        let d = p.iter().map(|c| (c + 0.8).abs()).fold(0.0, f64::max);
+        if d < 0.4 {
+            Some(true)
+        } else if d > 0.8 {
+            Some(false)
+        } else {
+            None
+        }
+    };
+    let a = "A=example:icosphere".to_string();
+    let b = format!("Ball={}", small.to_str().unwrap());
+    let c = format!("c_1={}", cube_file.to_str().unwrap());
+    let got = run(&[
+        "esc",
+        "expr",
+        "!(A | Ball) - c_1 | A & Ball",
+        &a,
+        &b,
+        &c,
+        "--points",
+        file,
+    ]);
+    assert_eq!(got.len(), pts.len());
+    let mut compared = 0;
+    for (p, &g) in pts.iter().zip(&got) {
+        let (s, t) = (sphere(*p), ball(*p));
+        let Some(k) = corner(*p) else { continue };
+        if s.abs() > 0.02 && t.abs() > 0.02 {
+            let (s, t) = (s > 0.0, t > 0.0);
+            assert_eq!(g == 1, (!(s || t) && !k) || (s && t), "at {p:?}");
+            compared += 1;
+        }
+    }
+    assert!(compared > 200, "only {compared} points compared");
+}
+
+#[test]
+fn bad_expressions_say_what_and_where() {
+    let file = scratch("bad-expr.csv", "0,0,0\n");
+    let file = file.to_str().unwrap();
+    for (args, says) in [
+        (vec!["A | B", "A=example:blob"], "no solid is named \"B\""),
+        (
+            vec!["A | (B", "A=example:blob", "B=example:torus"],
+            "character 7",
+        ),
+        (vec!["A", "1A=example:blob"], "not NAME=SOLID"),
+        (
+            vec!["A", "A=example:blob", "A=example:torus"],
+            "given twice",
+        ),
+        (vec!["A"], "no solids"),
+        (vec!["A", "A=example:cube"], "no example `cube`"),
+    ] {
+        let out = common::bezsolid(&[&["esc", "expr"][..], &args, &["--points", file]].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(says),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+#[test]
 fn mesh_files_are_read_and_bad_ones_refused() {
     let fixtures = concat!(env!("CARGO_MANIFEST_DIR"), "/../core/tests/fixtures/mesh/");
     let file = scratch("two.csv", "0.5,0.5,0.5\n5,5,5\n");

@@ -7,9 +7,16 @@
 //!
 //! - `kind: "patch"`: `degree [n, m]`, points `[x, y, ξ]`, `P_ij` at `i·(m + 1) + j`.
 //! - `kind: "volume"`: `degree [n, m, l]`, points `[x, y, z, ξ]`, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
-//! - `kind: "esc"` (free-form): `operands`, one or two of `{ "example": "torus",
-//!   "offset": [x, y, z] }` or `{ "mesh": { "positions": [[x, y, z], …], "triangles": [[a, b, c],
-//!   …] }, "offset": … }`, and with two an `operation`: `union`, `intersection` or `difference`.
+//! - `kind: "esc"` (free-form): `operands`, each `{ "example": "torus", "offset": [x, y, z] }` or
+//!   `{ "mesh": { "positions": [[x, y, z], …], "triangles": [[a, b, c], …] }, "offset": … }`, and
+//!   how they combine: one operand alone; two with an `operation` (`union`, `intersection` or
+//!   `difference`); one with the `operation` `complement`; or any number (up to
+//!   [`MAX_OPERANDS`]) with an `expression` over their names, e.g. `"(A | B) - !C"` (the syntax of
+//!   [`Expr::parse`]). An operand's `name` is optional: unnamed operands are `A`, `B`, `C`, … by
+//!   position. An operand is placed by `offset`, and optionally `rotate` (`[rx, ry, rz]`, degrees)
+//!   and `scale` (per axis, non-zero; a negative one mirrors): each point `p` goes to
+//!   `offset + Rz·Ry·Rx·S·p`, as a tree's `transform` moves its solid. `crease` (degrees, 0 to 180)
+//!   sets the angle between neighbouring faces past which an edge stays sharp.
 //!   A mesh holds at most [`MAX_VERTICES`] positions and [`MAX_TRIANGLES`] triangles: a reader
 //!   refuses a longer list while reading it, before the rest of the file is read.
 //! - `kind: "plasm"` (scripts): `script`, the text of a PLaSM script (at most
@@ -42,6 +49,16 @@ mod de;
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "bezsolid";
+/// The most operands a free-form model has.
+pub const MAX_OPERANDS: usize = 26;
+/// The most triangles of all a free-form model's meshes together (two meshes at the cap of one).
+pub const MAX_TOTAL_TRIANGLES: usize = 2 * MAX_TRIANGLES;
+/// The longest name of an operand, in characters.
+pub const MAX_NAME_CHARS: usize = 32;
+/// The farthest a free-form operand is moved, on any axis.
+pub const MAX_OFFSET: f64 = 1e9;
+/// The largest scale of a free-form operand, and the inverse of the smallest.
+pub const MAX_SCALE: f64 = 1e6;
 /// The longest script a model file may hold, in bytes.
 pub const MAX_SCRIPT_BYTES: usize = 256 * 1024;
 /// The model file version this build writes and reads.
@@ -82,16 +99,23 @@ pub enum SolidSpec {
         /// `(n + 1)(m + 1)(l + 1)` points, `P_ijk` at `(i·(m + 1) + j)·(l + 1) + k`.
         points: Vec<[f64; 4]>,
     },
-    /// A free-form solid: one or two solids bounded by the PN triangles of closed
-    /// triangle meshes, combined by `operation` when there are two.
+    /// A free-form solid: solids bounded by the PN triangles of closed triangle meshes, combined
+    /// by `operation` (two, or one for `complement`) or by `expression` (any number).
     Esc {
-        /// `union`, `intersection` or `difference`; absent for one operand.
+        /// `union`, `intersection` or `difference` of two operands, or `complement` of one; absent
+        /// for one operand alone or with an `expression`.
         #[cfg_attr(
             feature = "serde",
             serde(default, skip_serializing_if = "Option::is_none")
         )]
         operation: Option<String>,
-        /// The solids, in order (`A`, then `B`).
+        /// A Boolean expression over the operands' names ([`Expr::parse`]), e.g. `(A | B) - C`.
+        #[cfg_attr(
+            feature = "serde",
+            serde(default, skip_serializing_if = "Option::is_none")
+        )]
+        expression: Option<String>,
+        /// The solids, in order (`A`, `B`, … unless named).
         operands: Vec<EscOperand>,
     },
     /// A PLaSM script, run by `bezsolid-plasm`.
@@ -345,10 +369,18 @@ pub enum Rotation {
     Angles([f64; 3]),
 }
 
-/// One solid of a free-form model: a built-in example or a triangle mesh, moved by `offset`.
+/// One solid of a free-form model: a built-in example or a triangle mesh, placed by `offset`,
+/// `rotate` and `scale`.
 #[derive(Clone, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EscOperand {
+    /// Its name in an `expression` ([`is_name`](crate::esc::bool::is_name)); unnamed operands
+    /// are `A`, `B`, `C`, … by position.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub name: Option<String>,
     /// The name of a built-in example (`icosphere`, `torus`, `blob`).
     #[cfg_attr(
         feature = "serde",
@@ -361,9 +393,28 @@ pub struct EscOperand {
         serde(default, skip_serializing_if = "Option::is_none")
     )]
     pub mesh: Option<MeshSpec>,
-    /// Added to every vertex.
+    /// Added to every vertex (after `scale` and `rotate`).
     #[cfg_attr(feature = "serde", serde(default))]
     pub offset: [f64; 3],
+    /// Rotation about the axes in degrees, `[rx, ry, rz]`, applied x first (`Rz·Ry·Rx`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub rotate: Option<[f64; 3]>,
+    /// Scale along each axis, applied first; non-zero, a negative one mirrors.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub scale: Option<[f64; 3]>,
+    /// The angle in degrees between neighbouring faces' normals past which their edge is a crease
+    /// that stays sharp (0 to 180; 180 keeps none); absent: the default.
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    pub crease: Option<f64>,
 }
 
 /// A triangle mesh in a model file: at most [`MAX_VERTICES`] positions and [`MAX_TRIANGLES`]
@@ -585,6 +636,34 @@ impl ModelFile {
     pub fn from_esc(operation: Option<Op>, operands: Vec<EscOperand>) -> Self {
         Self::new(SolidSpec::Esc {
             operation: operation.map(|o| o.name().into()),
+            expression: None,
+            operands,
+        })
+    }
+
+    /// The model file of a free-form model whose operands combine by `expr` (solid `i` is
+    /// `operands[i]`). It is written in the shortest form that says it: one operand alone, an
+    /// `operation` of two operands in order or a `complement` of one, else an `expression` over the
+    /// operands' names ([`operand_names`]).
+    #[must_use]
+    pub fn from_esc_expr(expr: &Expr, operands: Vec<EscOperand>) -> Self {
+        let named = operands.iter().any(|o| o.name.is_some());
+        let (operation, expression) = match (expr, operands.len()) {
+            (Expr::Solid(0), 1) => (None, None),
+            (Expr::Complement(a), 1) if **a == Expr::Solid(0) => (Some(COMPLEMENT.into()), None),
+            (Expr::Binary(op, a, b), 2)
+                if !named && **a == Expr::Solid(0) && **b == Expr::Solid(1) =>
+            {
+                (Some(op.name().into()), None)
+            }
+            _ => {
+                let names = default_names(&operands);
+                (None, Some(expr.text(&names)))
+            }
+        };
+        Self::new(SolidSpec::Esc {
+            operation,
+            expression,
             operands,
         })
     }
@@ -600,11 +679,12 @@ impl ModelFile {
     /// solid).
     pub fn to_boolean(&self) -> Result<Boolean, ModelError> {
         self.check_header()?;
-        let (operation, operands) = match &self.solid {
+        let (operation, expression, operands) = match &self.solid {
             SolidSpec::Esc {
                 operation,
+                expression,
                 operands,
-            } => (operation, operands),
+            } => (operation, expression, operands),
             SolidSpec::Plasm { .. } => {
                 return Err(ModelError::Kind(
                     "this is a PLaSM script, not a free-form model",
@@ -616,23 +696,9 @@ impl ModelFile {
                 ));
             }
         };
-        let op = match operation {
-            None => None,
-            Some(name) => Some(Op::from_name(name).ok_or_else(|| {
-                ModelError::Esc(format!(
-                    "unknown operation {name:?}: use union, intersection or difference"
-                ))
-            })?),
-        };
-        let want = if op.is_some() { 2 } else { 1 };
-        if operands.len() != want {
-            return Err(ModelError::Esc(format!(
-                "{} operand(s) with {}: expected {want}",
-                operands.len(),
-                operation.as_deref().unwrap_or("no operation")
-            )));
-        }
+        let expr = esc_expr(operation.as_deref(), expression.as_deref(), operands)?;
         // Every operand's counts before any operand is built.
+        let mut total = 0;
         for (i, o) in operands.iter().enumerate() {
             if let Err(TooMany { what, count, max }) = o.check_counts() {
                 return Err(ModelError::MeshTooLarge {
@@ -642,6 +708,13 @@ impl ModelFile {
                     max,
                 });
             }
+            total += o.mesh.as_ref().map_or(0, |m| m.triangles.len());
+        }
+        if total > MAX_TOTAL_TRIANGLES {
+            return Err(ModelError::Esc(format!(
+                "the meshes have {total} triangles together, more than the \
+                 {MAX_TOTAL_TRIANGLES} a free-form model takes"
+            )));
         }
         let solids = operands
             .iter()
@@ -651,11 +724,116 @@ impl ModelFile {
                     .map_err(|e| ModelError::Esc(format!("operand {}: {e}", i + 1)))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let expr = match op {
-            None => Expr::Solid(0),
-            Some(op) => Expr::binary(op, Expr::Solid(0), Expr::Solid(1)),
-        };
         Ok(Boolean { solids, expr })
+    }
+}
+
+/// The `operation` of a free-form model of one operand that takes its complement.
+pub const COMPLEMENT: &str = "complement";
+
+/// The names of a free-form model's operands: each one's `name`, or `A`, `B`, `C`, … by position.
+///
+/// # Errors
+///
+/// [`ModelError::Esc`] for more than [`MAX_OPERANDS`] operands, a name that is not a name
+/// ([`is_name`](crate::esc::bool::is_name)) or is longer than [`MAX_NAME_CHARS`], or two
+/// operands of the same name.
+pub fn operand_names(operands: &[EscOperand]) -> Result<Vec<String>, ModelError> {
+    if operands.len() > MAX_OPERANDS {
+        return Err(ModelError::Esc(format!(
+            "{} operands; a free-form model has at most {MAX_OPERANDS}",
+            operands.len()
+        )));
+    }
+    let names = default_names(operands);
+    for (i, name) in names.iter().enumerate() {
+        if !crate::esc::bool::is_name(name) || name.chars().count() > MAX_NAME_CHARS {
+            return Err(ModelError::Esc(format!(
+                "operand {}: {name:?} is not a name (a letter or _, then letters, digits or _; \
+                 at most {MAX_NAME_CHARS})",
+                i + 1
+            )));
+        }
+        if let Some(j) = names[..i].iter().position(|n| n == name) {
+            return Err(ModelError::Esc(format!(
+                "operands {} and {} are both named {name:?}",
+                j + 1,
+                i + 1
+            )));
+        }
+    }
+    Ok(names)
+}
+
+/// Each operand's name or letter, unchecked.
+fn default_names(operands: &[EscOperand]) -> Vec<String> {
+    operands
+        .iter()
+        .enumerate()
+        .map(|(i, o)| match &o.name {
+            Some(name) => name.clone(),
+            None => letter(i),
+        })
+        .collect()
+}
+
+/// `A` … `Z`, then `S27`, `S28`, … (past [`MAX_OPERANDS`], for messages only).
+fn letter(i: usize) -> String {
+    match u8::try_from(i).ok().filter(|&i| i < 26) {
+        Some(i) => char::from(b'A' + i).to_string(),
+        None => format!("S{}", i + 1),
+    }
+}
+
+/// The expression a free-form model's `operation`, `expression` and operands say.
+///
+/// # Errors
+///
+/// [`ModelError::Esc`]: both or an unknown operation, the wrong number of operands for it, bad
+/// names ([`operand_names`]), or an expression that does not parse.
+pub fn esc_expr(
+    operation: Option<&str>,
+    expression: Option<&str>,
+    operands: &[EscOperand],
+) -> Result<Expr, ModelError> {
+    let names = operand_names(operands)?;
+    let count = |want: usize, what: &str| {
+        if operands.len() == want {
+            Ok(())
+        } else {
+            Err(ModelError::Esc(format!(
+                "{} operand(s) with {what}: expected {want}",
+                operands.len()
+            )))
+        }
+    };
+    match (operation, expression) {
+        (Some(_), Some(_)) => Err(ModelError::Esc(
+            "give an operation or an expression, not both".into(),
+        )),
+        (None, Some(text)) => {
+            if operands.is_empty() {
+                return Err(ModelError::Esc("an expression needs operands".into()));
+            }
+            Expr::parse(text, &names).map_err(|e| ModelError::Esc(format!("expression: {e}")))
+        }
+        (Some(COMPLEMENT), None) => {
+            count(1, COMPLEMENT)?;
+            Ok(Expr::complement(Expr::Solid(0)))
+        }
+        (Some(name), None) => {
+            let op = Op::from_name(name).ok_or_else(|| {
+                ModelError::Esc(format!(
+                    "unknown operation {name:?}: use union, intersection, difference or complement"
+                ))
+            })?;
+            count(2, name)?;
+            Ok(Expr::binary(op, Expr::Solid(0), Expr::Solid(1)))
+        }
+        (None, None) => {
+            count(1, "no operation")?;
+            Ok(Expr::Solid(0))
+        }
     }
 }
 
@@ -682,9 +860,46 @@ impl EscOperand {
     pub fn example(example: Example, offset: [f64; 3]) -> Self {
         Self {
             example: Some(example.name().into()),
-            mesh: None,
             offset,
+            ..Self::default()
         }
+    }
+
+    /// The placement: the linear part `Rz·Ry·Rx·S` and the offset.
+    ///
+    /// # Errors
+    ///
+    /// In words: an offset past [`MAX_OFFSET`], an angle that is not finite, a scale that is zero,
+    /// not finite, or past [`MAX_SCALE`] (or its inverse).
+    pub fn placement(&self) -> Result<(glam::DMat3, DVec3), String> {
+        let offset = DVec3::from_array(self.offset);
+        if !offset.is_finite() || offset.abs().max_element() > MAX_OFFSET {
+            return Err(format!(
+                "the offset must be finite numbers of at most {MAX_OFFSET:e}"
+            ));
+        }
+        let mut linear = glam::DMat3::IDENTITY;
+        if let Some(scale) = self.scale {
+            if let Some(s) = scale
+                .iter()
+                .find(|s| !(s.is_finite() && (1.0 / MAX_SCALE..=MAX_SCALE).contains(&s.abs())))
+            {
+                return Err(format!(
+                    "the scale {s} is refused: each axis's must be non-zero, finite, and between \
+                     {:e} and {MAX_SCALE:e} in size",
+                    1.0 / MAX_SCALE
+                ));
+            }
+            linear = glam::DMat3::from_diagonal(DVec3::from_array(scale));
+        }
+        if let Some(angles) = self.rotate {
+            if angles.iter().any(|a| !a.is_finite() || a.abs() > 1e6) {
+                return Err("the rotation must be finite angles of at most 1e6 degrees".into());
+            }
+            let rows = crate::tree::rotation3(angles);
+            linear = glam::DMat3::from_cols_array_2d(&rows).transpose() * linear;
+        }
+        Ok((linear, offset))
     }
 
     /// Whether its mesh, if it has one, is within [`MAX_VERTICES`] positions and
@@ -712,10 +927,8 @@ impl EscOperand {
     /// copied.
     pub fn to_mesh(&self) -> Result<Mesh, String> {
         self.check_counts().map_err(|e| e.to_string())?;
-        let offset = DVec3::from_array(self.offset);
-        if !offset.is_finite() || offset.abs().max_element() > 1e9 {
-            return Err("the offset must be finite numbers of at most 1e9".into());
-        }
+        let (linear, offset) = self.placement()?;
+        let mirrored = linear.determinant() < 0.0;
         let mut mesh = match (&self.example, &self.mesh) {
             (Some(name), None) => Example::from_name(name)
                 .ok_or_else(|| {
@@ -728,17 +941,33 @@ impl EscOperand {
                     positions: spec
                         .positions
                         .iter()
-                        .map(|&p| DVec3::from_array(p) + offset)
+                        .map(|&p| linear * DVec3::from_array(p) + offset)
                         .collect(),
                     normals: None,
-                    triangles: spec.triangles.clone(),
+                    triangles: if mirrored {
+                        spec.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect()
+                    } else {
+                        spec.triangles.clone()
+                    },
                 };
                 return from_raw(&raw).map_err(|e| e.to_string());
             }
             _ => return Err("give either an example or a mesh".into()),
         };
         for p in &mut mesh.positions {
-            *p += offset;
+            *p = linear * *p + offset;
+        }
+        if linear != glam::DMat3::IDENTITY {
+            // Normals go by the inverse transpose; a mirror turns the triangles over.
+            let normal = linear.inverse().transpose();
+            for n in &mut mesh.normals {
+                *n = (normal * *n).normalize_or_zero();
+            }
+            if mirrored {
+                for t in &mut mesh.triangles {
+                    t.swap(1, 2);
+                }
+            }
         }
         Ok(mesh)
     }
@@ -749,6 +978,11 @@ impl EscOperand {
     ///
     /// As [`EscOperand::to_mesh`], and a mesh that cannot be a chain.
     pub fn to_solid(&self) -> Result<EscSolid, String> {
+        if let Some(angle) = self.crease.filter(|a| !(0.0..=180.0).contains(a)) {
+            return Err(format!(
+                "the crease angle {angle} is refused: give degrees from 0 to 180"
+            ));
+        }
         EscSolid::new(&self.to_mesh()?).map_err(|e| e.to_string())
     }
 }
@@ -757,6 +991,7 @@ impl EscOperand {
 mod tests {
     use super::*;
     use crate::tensor::PatchError;
+    use alloc::vec;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -786,6 +1021,7 @@ mod tests {
                 triangles: alloc::vec![[0, 1, 2]; triangles],
             }),
             offset: [0.0; 3],
+            ..EscOperand::default()
         };
         let one = ModelFile::from_esc(None, alloc::vec![mesh(3, MAX_TRIANGLES + 1)]);
         let err = one.to_boolean().err();
@@ -848,6 +1084,256 @@ mod tests {
                     got: 8
                 }
             )))
+        );
+    }
+
+    /// A cube `[−1, 1]³` as a model file's mesh, triangles counter-clockwise from outside.
+    fn cube() -> MeshSpec {
+        let positions = (0..8)
+            .map(|i| [i & 1, (i >> 1) & 1, (i >> 2) & 1].map(|b| 2.0 * f64::from(b) - 1.0))
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let triangles = quads
+            .iter()
+            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+            .collect();
+        MeshSpec {
+            positions,
+            triangles,
+        }
+    }
+
+    fn esc(
+        operation: Option<&str>,
+        expression: Option<&str>,
+        operands: Vec<EscOperand>,
+    ) -> ModelFile {
+        ModelFile::from_spec(SolidSpec::Esc {
+            operation: operation.map(Into::into),
+            expression: expression.map(Into::into),
+            operands,
+        })
+    }
+
+    #[test]
+    fn free_form_expressions_name_operands_by_letter_or_name() {
+        let ex = |e: Example, x: f64| EscOperand::example(e, [x, 0.0, 0.0]);
+        let three = vec![
+            ex(Example::Icosphere, 0.0),
+            ex(Example::Icosphere, 3.0),
+            EscOperand {
+                name: Some("far".into()),
+                ..ex(Example::Icosphere, 6.0)
+            },
+        ];
+        let b = esc(None, Some("A | B | far"), three.clone())
+            .to_boolean()
+            .unwrap();
+        let mut stats = crate::esc::Stats::default();
+        for x in [0.0, 3.0, 6.0] {
+            assert_eq!(b.value(DVec3::new(x, 0.0, 0.0), &mut stats), 1);
+        }
+        assert_eq!(b.value(DVec3::new(1.5, 0.0, 0.0), &mut stats), 0);
+        let b = esc(None, Some("!(A | far)"), three.clone())
+            .to_boolean()
+            .unwrap();
+        assert_eq!(b.value(DVec3::ZERO, &mut stats), 0);
+        assert_eq!(b.value(DVec3::new(3.0, 0.0, 0.0), &mut stats), 1);
+        assert_eq!(b.value(DVec3::new(1.5, 0.0, 0.0), &mut stats), 1);
+        // The file's text survives JSON.
+        let file = esc(None, Some("(A|B) - far"), three.clone());
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(json.contains(r#""expression":"(A|B) - far""#), "{json}");
+        assert_eq!(serde_json::from_str::<ModelFile>(&json).unwrap(), file);
+        // from_esc_expr writes the shortest form.
+        let e = Expr::parse("A - B", &["A", "B"]).unwrap();
+        let two = ModelFile::from_esc_expr(&e, three[..2].to_vec());
+        assert!(
+            matches!(&two.solid, SolidSpec::Esc { operation: Some(o), expression: None, .. } if o == "difference")
+        );
+        let e = Expr::parse("!A", &["A"]).unwrap();
+        let not = ModelFile::from_esc_expr(&e, three[..1].to_vec());
+        assert!(matches!(&not.solid, SolidSpec::Esc { operation: Some(o), .. } if o == COMPLEMENT));
+        let e = Expr::parse("B - A", &["A", "B"]).unwrap();
+        let swapped = ModelFile::from_esc_expr(&e, three[..2].to_vec());
+        assert!(
+            matches!(&swapped.solid, SolidSpec::Esc { expression: Some(t), .. } if t == "B - A")
+        );
+        assert_eq!(swapped.to_boolean().unwrap().expr, e);
+    }
+
+    #[test]
+    fn free_form_models_that_say_too_much_or_too_little_are_refused() {
+        let ball = || EscOperand::example(Example::Icosphere, [0.0; 3]);
+        let named = |n: &str| EscOperand {
+            name: Some(n.into()),
+            ..ball()
+        };
+        let refused = |f: ModelFile, says: &str| {
+            let e = f.to_boolean().unwrap_err().to_string();
+            assert!(e.contains(says), "{e:?} should say {says:?}");
+        };
+        refused(
+            esc(Some("union"), Some("A|B"), vec![ball(), ball()]),
+            "not both",
+        );
+        refused(
+            esc(None, Some("A|C"), vec![ball(), ball()]),
+            "no solid is named \"C\"",
+        );
+        refused(esc(None, Some("A|"), vec![ball(), ball()]), "character 3");
+        refused(esc(None, Some("A"), vec![]), "needs operands");
+        refused(
+            esc(Some("complement"), None, vec![ball(), ball()]),
+            "expected 1",
+        );
+        refused(esc(Some("xor"), None, vec![ball(), ball()]), "complement");
+        refused(
+            esc(None, Some("A|B"), vec![named("B"), ball()]),
+            "both named \"B\"",
+        );
+        refused(esc(None, Some("A"), vec![named("1x")]), "not a name");
+        refused(
+            esc(None, Some("A"), vec![ball(); MAX_OPERANDS + 1]),
+            "at most 26",
+        );
+        let bad = |o: EscOperand| esc(None, None, vec![o]);
+        refused(
+            bad(EscOperand {
+                scale: Some([1.0, 0.0, 1.0]),
+                ..ball()
+            }),
+            "scale 0",
+        );
+        refused(
+            bad(EscOperand {
+                scale: Some([f64::NAN, 1.0, 1.0]),
+                ..ball()
+            }),
+            "scale",
+        );
+        refused(
+            bad(EscOperand {
+                rotate: Some([f64::INFINITY, 0.0, 0.0]),
+                ..ball()
+            }),
+            "rotation",
+        );
+        refused(
+            bad(EscOperand {
+                crease: Some(200.0),
+                ..ball()
+            }),
+            "crease angle 200",
+        );
+    }
+
+    #[test]
+    fn free_form_operands_are_rotated_scaled_and_mirrored() {
+        let mut stats = crate::esc::Stats::default();
+        let inside = |o: EscOperand, p: [f64; 3], stats: &mut crate::esc::Stats| {
+            esc(None, None, vec![o])
+                .to_boolean()
+                .unwrap()
+                .value(DVec3::from_array(p), stats)
+                == 1
+        };
+        let cube = EscOperand {
+            mesh: Some(cube()),
+            ..EscOperand::default()
+        };
+        // Stretched along x to [−2, 2], then turned a quarter about z: along y.
+        let long = EscOperand {
+            scale: Some([2.0, 1.0, 1.0]),
+            rotate: Some([0.0, 0.0, 90.0]),
+            offset: [0.0, 0.0, 5.0],
+            ..cube.clone()
+        };
+        assert!(inside(long.clone(), [0.0, 1.8, 5.0], &mut stats));
+        assert!(!inside(long.clone(), [1.8, 0.0, 5.0], &mut stats));
+        assert!(!inside(long, [0.0, 0.0, 0.0], &mut stats));
+        // A mirror keeps the solid a solid (its triangles turned over), for meshes and examples.
+        let mirrored = EscOperand {
+            scale: Some([-1.0, 0.5, 1.0]),
+            ..cube
+        };
+        assert!(inside(mirrored.clone(), [0.9, 0.4, 0.0], &mut stats));
+        assert!(!inside(mirrored, [0.0, 0.9, 0.0], &mut stats));
+        let ball = EscOperand {
+            scale: Some([-2.0, 1.0, 1.0]),
+            rotate: Some([0.0, 90.0, 0.0]),
+            ..EscOperand::example(Example::Icosphere, [0.0; 3])
+        };
+        // x stretched to ±2, then turned about y: x goes to −z.
+        assert!(inside(ball.clone(), [0.0, 0.0, 1.8], &mut stats));
+        assert!(!inside(ball.clone(), [1.8, 0.0, 0.0], &mut stats));
+        let mesh = ball.to_mesh().unwrap();
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            // The ellipsoid's outward normal: the gradient of x² + y² + (z/2)².
+            let g = DVec3::new(p.x, p.y, p.z / 4.0).normalize();
+            assert!(n.dot(g) > 0.99, "normal {n} at {p}");
+        }
+    }
+
+    #[test]
+    fn free_form_expressions_agree_with_ray_parity_on_the_pn_surfaces() {
+        let file = esc(
+            None,
+            Some("!(A | wing) - C & A | (B & !C)"),
+            vec![
+                EscOperand::example(Example::Blob, [0.0; 3]),
+                EscOperand {
+                    rotate: Some([0.0, 70.0, 20.0]),
+                    scale: Some([0.8, 0.8, 1.4]),
+                    ..EscOperand::example(Example::Torus, [0.2, 0.0, 0.3])
+                },
+                EscOperand {
+                    scale: Some([0.6, -0.5, 0.7]),
+                    ..EscOperand::example(Example::Icosphere, [0.4, 0.2, -0.1])
+                },
+                EscOperand {
+                    name: Some("wing".into()),
+                    mesh: Some(cube()),
+                    scale: Some([0.3, 1.2, 0.3]),
+                    ..EscOperand::default()
+                },
+            ],
+        );
+        let boolean = file.to_boolean().unwrap();
+        let (lo, hi) = boolean.scene_bounds();
+        let mut stats = crate::esc::Stats::default();
+        let mut seen = Vec::new();
+        let mut seed = 11_u64;
+        let mut unit = move || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1_u64 << 53) as f64
+        };
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..400 {
+            let q = lo + (hi - lo) * DVec3::new(unit(), unit(), unit());
+            let parity = boolean
+                .expr
+                .value(&mut |i| boolean.solids[i].parity_value(q, &mut stats, &mut seen));
+            let chain = boolean.value(q, &mut stats);
+            assert_eq!(chain, parity, "at {q}");
+            if chain == 1 {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+        assert!(
+            inside > 40 && outside > 40,
+            "{inside} inside, {outside} outside"
         );
     }
 }

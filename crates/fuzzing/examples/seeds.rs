@@ -60,6 +60,7 @@ fn main() -> std::io::Result<()> {
                     triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
                 }),
                 offset: [0.0; 3],
+                ..EscOperand::default()
             }],
         ),
     ));

@@ -173,14 +173,17 @@ pub(crate) fn same_solid(a: &SolidSpec, b: &SolidSpec) -> bool {
         (
             SolidSpec::Esc {
                 operation,
+                expression,
                 operands,
             },
             SolidSpec::Esc {
                 operation: o,
+                expression: e,
                 operands: ops,
             },
         ) => {
             operation == o
+                && expression == e
                 && operands.len() == ops.len()
                 && operands.iter().zip(ops).all(|(x, y)| same_operand(x, y))
         }
@@ -201,8 +204,13 @@ pub(crate) fn same_solid(a: &SolidSpec, b: &SolidSpec) -> bool {
 fn same_operand(a: &EscOperand, b: &EscOperand) -> bool {
     let same_mesh =
         |x: &MeshSpec, y: &MeshSpec| x.triangles == y.triangles && bits(&x.positions, &y.positions);
+    let bits_of = |x: Option<[f64; 3]>| x.map(|v| v.map(f64::to_bits));
     a.example == b.example
+        && a.name == b.name
         && bits(&[a.offset], &[b.offset])
+        && bits_of(a.rotate) == bits_of(b.rotate)
+        && bits_of(a.scale) == bits_of(b.scale)
+        && a.crease.map(f64::to_bits) == b.crease.map(f64::to_bits)
         && match (&a.mesh, &b.mesh) {
             (None, None) => true,
             (Some(x), Some(y)) => same_mesh(x, y),

@@ -1,6 +1,6 @@
-//! The Free-form mode as plain Rust: one or two solids bounded by PN triangles over
-//! triangle meshes (built-in examples or imported files), a Boolean operation, and what the 3D view
-//! shows of them: the result's surface, the paper's point mesh with the points the last term of the
+//! The Free-form mode as plain Rust: solids bounded by PN triangles over triangle meshes
+//! (built-in examples or imported files), each placed by an offset, a rotation and a scale, a
+//! Boolean expression over them (`(A | B) - !C`, [`Expr`]), and what the 3D view shows of them: the result's surface, the paper's point mesh with the points the last term of the
 //! chain removes marked red (Figs. 12–17), or the operands' PN surfaces.
 //!
 //! The model is a free-form model file (`kind: "esc"`), so it saves, opens and shares as the
@@ -13,8 +13,8 @@ use bezsolid_core::esc::EscSolid;
 use bezsolid_core::esc::Example;
 use bezsolid_core::esc::{Expr, Op};
 use bezsolid_core::mesh::Mesh;
-use bezsolid_core::model::{EscOperand, MeshSpec, ModelFile, SolidSpec};
-use glam::DVec3;
+use bezsolid_core::model::{EscOperand, MAX_OPERANDS, MeshSpec, ModelFile, SolidSpec};
+use glam::{DVec2, DVec3};
 
 use crate::camera::{Camera, OrbitView};
 use crate::color::Rgba;
@@ -35,8 +35,15 @@ pub const GHOST_TRIANGLES: usize = 150_000;
 pub const POINT_MESH: usize = 25;
 
 const RESULT_COLOR: Rgba = [0.42, 0.62, 0.86, 1.0];
-const A_COLOR: Rgba = [0.42, 0.62, 0.86, 1.0];
-const B_COLOR: Rgba = [0.92, 0.6, 0.32, 1.0];
+/// The operands' colours, in turn: A blue, B orange, then green, purple, teal, red.
+const OPERAND_COLORS: [Rgba; 6] = [
+    [0.42, 0.62, 0.86, 1.0],
+    [0.92, 0.6, 0.32, 1.0],
+    [0.4, 0.72, 0.42, 1.0],
+    [0.66, 0.5, 0.82, 1.0],
+    [0.3, 0.7, 0.7, 1.0],
+    [0.85, 0.4, 0.45, 1.0],
+];
 const GHOST_ALPHA: f32 = 0.1;
 const INSIDE_COLOR: Rgba = [0.3, 0.34, 0.42, 1.0];
 const MARKED_COLOR: Rgba = [0.9, 0.12, 0.1, 1.0];
@@ -64,12 +71,23 @@ type Geometry = (GeometryKey, u64, Vec<MeshVertex>, Vec<MeshVertex>);
 /// imported mesh whole): past it the oldest steps go, the newest always stays.
 pub const HISTORY_BYTES: usize = 64 << 20;
 
-/// The scene as an undo step keeps it: the operands, their file names and the operation.
+/// How the operands combine, as the panel's operation menu says it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Combine {
+    /// Solid A alone.
+    Alone,
+    /// The operation over every operand, left to right (`A | B | C`).
+    Binary(Op),
+    /// A's complement, `!A`.
+    Complement,
+}
+
+/// The scene as an undo step keeps it: the operands, their file names and the expression.
 #[derive(Clone, Debug, PartialEq)]
 struct Snapshot {
     operands: Vec<EscOperand>,
     names: Vec<Option<String>>,
-    operation: Option<Op>,
+    expr: Expr,
 }
 
 impl Weighed for Snapshot {
@@ -94,7 +112,6 @@ pub struct FreeForm {
     /// The file names of imported meshes, by operand (`None` for a built-in example, which is
     /// named by the operand itself).
     names: Vec<Option<String>>,
-    operation: Option<Op>,
     display: Display,
     resolution: usize,
     boolean: Boolean,
@@ -106,8 +123,20 @@ pub struct FreeForm {
     /// The point mesh's counts `(inside, marked)` for a revision.
     point_counts: Option<(u64, usize, usize)>,
     generation: u64,
-    /// The steps to undo and redo: every change of an operand, its place or the operation.
+    /// The steps to undo and redo: every change of an operand, its place or the expression.
     history: History<Snapshot>,
+    /// A drag that moves an operand: the operand, where it was, the plane it moves in (a point
+    /// and the view's direction) and the point of the plane first under the pointer.
+    moving: Option<Moving>,
+}
+
+#[derive(Clone, Debug)]
+struct Moving {
+    slot: usize,
+    before: Snapshot,
+    offset: DVec3,
+    normal: DVec3,
+    grab: DVec3,
 }
 
 impl Default for FreeForm {
@@ -128,7 +157,6 @@ impl FreeForm {
         let mut f = Self {
             operands: Vec::new(),
             names: Vec::new(),
-            operation: None,
             display: Display::Result,
             resolution: DEFAULT_RESOLUTION,
             boolean: Boolean {
@@ -142,6 +170,7 @@ impl FreeForm {
             point_counts: None,
             generation: 0,
             history: History::new(HISTORY_BYTES),
+            moving: None,
         };
         f.open(&file)
             .unwrap_or_else(|_| unreachable!("the default scene is valid"));
@@ -152,7 +181,7 @@ impl FreeForm {
     /// The model file of the scene.
     #[must_use]
     pub fn model_file(&self) -> ModelFile {
-        ModelFile::from_esc(self.operation, self.operands.clone())
+        ModelFile::from_esc_expr(&self.boolean.expr, self.operands.clone())
     }
 
     /// Opens a free-form model file.
@@ -162,15 +191,11 @@ impl FreeForm {
     /// What is wrong with it (the scene is kept).
     pub fn open(&mut self, file: &ModelFile) -> Result<(), Error> {
         let boolean = file.to_boolean().map_err(Error::from)?;
-        let SolidSpec::Esc {
-            operation,
-            operands,
-        } = &file.solid
-        else {
+        let SolidSpec::Esc { operands, .. } = &file.solid else {
             return Err("not a free-form model".into());
         };
         let before = self.snapshot();
-        self.operation = operation.as_deref().and_then(Op::from_name);
+        self.moving = None;
         self.operands = operands.clone();
         self.names = vec![None; operands.len()];
         self.boolean = boolean;
@@ -184,14 +209,14 @@ impl FreeForm {
         Snapshot {
             operands: self.operands.clone(),
             names: self.names.clone(),
-            operation: self.operation,
+            expr: self.boolean.expr.clone(),
         }
     }
 
     /// Keeps `before` as an undo step if the scene is no longer that.
     fn record(&mut self, before: Snapshot) {
         if before.operands != self.operands
-            || before.operation != self.operation
+            || before.expr != self.boolean.expr
             || before.names != self.names
         {
             self.history.push(before);
@@ -218,8 +243,9 @@ impl FreeForm {
         }) else {
             return false;
         };
+        self.moving = None;
         // A step was a scene that was built: it builds again.
-        if self.apply(to.operands, to.operation).is_ok() {
+        if self.apply(to.operands, to.expr).is_ok() {
             self.names = to.names;
         }
         true
@@ -248,7 +274,16 @@ impl FreeForm {
     }
 
     /// Rebuilds the solids from a changed operand list; on failure the scene stays as it was.
-    fn apply(&mut self, operands: Vec<EscOperand>, operation: Option<Op>) -> Result<(), Error> {
+    fn apply(&mut self, operands: Vec<EscOperand>, expr: Expr) -> Result<(), Error> {
+        if operands.is_empty() || operands.len() > MAX_OPERANDS {
+            return Err(Error::new(format!(
+                "a free-form model has 1 to {MAX_OPERANDS} solids"
+            )));
+        }
+        if expr.arity() > operands.len() {
+            return Err("the expression names a solid that is not there".into());
+        }
+        bezsolid_core::model::operand_names(&operands).map_err(Error::from)?;
         // Solids whose operand is unchanged are kept (moved, not rebuilt or copied): changing the
         // operation rebuilds nothing. On an error they are put back.
         let mut old: Vec<Option<EscSolid>> = core::mem::take(&mut self.boolean.solids)
@@ -276,11 +311,6 @@ impl FreeForm {
                 }
             }
         }
-        let expr = match operation {
-            None if operands.len() == 1 => Expr::Solid(0),
-            Some(op) if operands.len() == 2 => Expr::binary(op, Expr::Solid(0), Expr::Solid(1)),
-            _ => return Err("an operation needs two solids, and one solid no operation".into()),
-        };
         let boolean = Boolean { solids, expr };
         // A replaced or dropped operand's file name goes with it; a moved one keeps it.
         fn shape(o: Option<&EscOperand>) -> Option<(&Option<String>, &Option<MeshSpec>)> {
@@ -293,7 +323,6 @@ impl FreeForm {
         }
         self.names.resize(operands.len(), None);
         self.operands = operands;
-        self.operation = operation;
         self.boolean = boolean;
         self.changed();
         Ok(())
@@ -322,25 +351,37 @@ impl FreeForm {
                 triangles: mesh.triangles.clone(),
             }),
             offset: [0.0; 3],
+            ..EscOperand::default()
         };
         self.replace(slot, name, op)?;
         self.fit();
         Ok(())
     }
 
-    /// Operand `slot` becomes `op`, named `name`; a new B comes with a union.
+    /// Operand `slot` becomes `op` (keeping its name in the expression and its placement), named
+    /// `name`; a new operand just past the last joins the result's union.
     fn replace(&mut self, slot: usize, name: &str, op: EscOperand) -> Result<(), Error> {
         let mut operands = self.operands.clone();
-        match slot {
-            _ if slot < operands.len() => operands[slot] = op,
-            1 if operands.len() == 1 => operands.push(op),
-            _ => return Err(Error::new(format!("no operand {}", slot + 1))),
+        let mut expr = self.boolean.expr.clone();
+        let count = operands.len();
+        match operands.get_mut(slot) {
+            Some(old) => {
+                *old = EscOperand {
+                    name: old.name.take(),
+                    rotate: old.rotate,
+                    scale: old.scale,
+                    crease: old.crease,
+                    ..op
+                };
+            }
+            None if slot == count => {
+                operands.push(op);
+                expr = Expr::binary(Op::Union, expr, Expr::Solid(slot));
+            }
+            None => return Err(Error::new(format!("no operand {}", slot + 1))),
         }
-        let operation = self
-            .operation
-            .or((operands.len() == 2).then_some(Op::Union));
         let before = self.snapshot();
-        self.apply(operands, operation)?;
+        self.apply(operands, expr)?;
         self.set_name(slot, name);
         self.record(before);
         Ok(())
@@ -359,47 +400,260 @@ impl FreeForm {
     ///
     /// An unknown slot or an offset that is not finite.
     pub fn set_offset(&mut self, slot: usize, offset: [f64; 3]) -> Result<(), Error> {
-        let mut operands = self.operands.clone();
-        let o = operands
-            .get_mut(slot)
-            .ok_or_else(|| Error::new(format!("no operand {}", slot + 1)))?;
-        o.offset = offset;
+        let (_, rotate, scale) = self.placement(slot).ok_or_else(|| no_operand(slot))?;
+        self.set_placement(slot, offset, rotate, scale)
+    }
+
+    /// Places operand `slot`: each point `p` of its mesh goes to `offset + Rz·Ry·Rx·S·p`, with
+    /// `rotate` in degrees about x, y, z and `scale` per axis (non-zero; negative mirrors).
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot, or numbers the model file refuses (the scene is kept).
+    pub fn set_placement(
+        &mut self,
+        slot: usize,
+        offset: [f64; 3],
+        rotate: [f64; 3],
+        scale: [f64; 3],
+    ) -> Result<(), Error> {
         let before = self.snapshot();
-        self.apply(operands, self.operation)?;
+        self.place(slot, offset, rotate, scale)?;
         self.record(before);
         Ok(())
     }
 
-    /// The operation on A and B, or `None` for solid A alone (a new B is a torus).
+    fn place(
+        &mut self,
+        slot: usize,
+        offset: [f64; 3],
+        rotate: [f64; 3],
+        scale: [f64; 3],
+    ) -> Result<(), Error> {
+        let mut operands = self.operands.clone();
+        let o = operands.get_mut(slot).ok_or_else(|| no_operand(slot))?;
+        o.offset = offset;
+        o.rotate = (rotate != [0.0; 3]).then_some(rotate);
+        o.scale = (scale != [1.0; 3]).then_some(scale);
+        if operands == self.operands {
+            return Ok(());
+        }
+        self.apply(operands, self.boolean.expr.clone())
+    }
+
+    /// Operand `slot`'s placement: offset, rotation (degrees) and scale.
+    #[must_use]
+    pub fn placement(&self, slot: usize) -> Option<([f64; 3], [f64; 3], [f64; 3])> {
+        let o = self.operands.get(slot)?;
+        Some((
+            o.offset,
+            o.rotate.unwrap_or([0.0; 3]),
+            o.scale.unwrap_or([1.0; 3]),
+        ))
+    }
+
+    /// How the operands combine: A alone (the others go), an operation over all of them left to
+    /// right (with A alone, a torus B comes), or A's complement (the others go).
+    ///
+    /// # Errors
+    ///
+    /// When the new model cannot be built.
+    pub fn set_combine(&mut self, combine: Combine) -> Result<(), Error> {
+        let mut operands = self.operands.clone();
+        let expr = match combine {
+            Combine::Alone | Combine::Complement => {
+                operands.truncate(1);
+                if combine == Combine::Alone {
+                    Expr::Solid(0)
+                } else {
+                    Expr::complement(Expr::Solid(0))
+                }
+            }
+            Combine::Binary(op) => {
+                if operands.len() == 1 {
+                    operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
+                }
+                (1..operands.len()).fold(Expr::Solid(0), |e, i| Expr::binary(op, e, Expr::Solid(i)))
+            }
+        };
+        let before = self.snapshot();
+        self.apply(operands, expr)?;
+        self.record(before);
+        Ok(())
+    }
+
+    /// [`FreeForm::set_combine`] of an operation on A and B, or `None` for A alone.
     ///
     /// # Errors
     ///
     /// When the new model cannot be built.
     pub fn set_operation(&mut self, operation: Option<Op>) -> Result<(), Error> {
-        let mut operands = self.operands.clone();
-        match operation {
-            None => operands.truncate(1),
-            Some(_) if operands.len() == 1 => {
-                operands.push(EscOperand::example(Example::Torus, [0.0, 0.0, 0.35]));
+        self.set_combine(operation.map_or(Combine::Alone, Combine::Binary))
+    }
+
+    /// How the operands combine, when the menu can say it (`None`: another expression).
+    #[must_use]
+    pub fn combine(&self) -> Option<Combine> {
+        let n = self.operands.len();
+        match &self.boolean.expr {
+            Expr::Solid(0) if n == 1 => Some(Combine::Alone),
+            Expr::Complement(a) if n == 1 && **a == Expr::Solid(0) => Some(Combine::Complement),
+            e @ Expr::Binary(op, ..) if n >= 2 => {
+                let fold = (1..n).fold(Expr::Solid(0), |e, i| Expr::binary(*op, e, Expr::Solid(i)));
+                (*e == fold).then_some(Combine::Binary(*op))
             }
-            Some(_) => {}
+            _ => None,
+        }
+    }
+
+    /// The expression over the operands' names (`A`, `B`, … unless a file named them).
+    #[must_use]
+    pub fn expression(&self) -> String {
+        self.boolean.expr.text(&self.letters())
+    }
+
+    /// The operands' names in the expression.
+    #[must_use]
+    pub fn letters(&self) -> Vec<String> {
+        bezsolid_core::model::operand_names(&self.operands).unwrap_or_default()
+    }
+
+    /// Combines the operands by the expression `text` (`|` union, `&` intersection, `-`
+    /// difference, `!` complement, brackets, over the operands' names).
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the text, with its place (the scene is kept).
+    pub fn set_expression(&mut self, text: &str) -> Result<(), Error> {
+        let expr = Expr::parse(text, &self.letters()).map_err(|e| Error::new(e.to_string()))?;
+        if expr == self.boolean.expr {
+            return Ok(());
         }
         let before = self.snapshot();
-        self.apply(operands, operation)?;
+        self.apply(self.operands.clone(), expr)?;
         self.record(before);
         Ok(())
+    }
+
+    /// Adds a built-in example as a new operand beside the scene, joining the result's union;
+    /// returns its slot.
+    ///
+    /// # Errors
+    ///
+    /// Past [`MAX_OPERANDS`] operands.
+    pub fn add_operand(&mut self, example: Example) -> Result<usize, Error> {
+        if self.operands.len() >= MAX_OPERANDS {
+            return Err(Error::new(format!(
+                "a free-form model has at most {MAX_OPERANDS} solids"
+            )));
+        }
+        let (lo, hi) = self.extent_box();
+        let at = if lo.is_finite() && hi.is_finite() {
+            DVec3::new(hi.x + 0.5, (lo.y + hi.y) / 2.0, (lo.z + hi.z) / 2.0)
+        } else {
+            DVec3::ZERO
+        };
+        let slot = self.operands.len();
+        self.replace(
+            slot,
+            example.name(),
+            EscOperand::example(example, at.to_array()),
+        )?;
+        Ok(slot)
+    }
+
+    /// Removes operand `slot`: the expression loses it (an operation with it becomes its other
+    /// operand, a complement of it goes too) and names the later operands anew.
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot, or the last operand.
+    pub fn remove_operand(&mut self, slot: usize) -> Result<(), Error> {
+        if slot >= self.operands.len() {
+            return Err(no_operand(slot));
+        }
+        if self.operands.len() == 1 {
+            return Err("the model needs a solid: this is the last one".into());
+        }
+        let expr = without(&self.boolean.expr, slot).unwrap_or(Expr::Solid(0));
+        let mut operands = self.operands.clone();
+        operands.remove(slot);
+        let before = self.snapshot();
+        self.names.remove(slot);
+        if let Err(e) = self.apply(operands, expr) {
+            self.names.insert(slot, None);
+            return Err(e);
+        }
+        self.record(before);
+        Ok(())
+    }
+
+    /// The number of operands.
+    #[must_use]
+    pub fn operand_count(&self) -> usize {
+        self.operands.len()
+    }
+
+    /// Begins a drag that moves operand `slot` in the plane through its centre facing the view,
+    /// from CSS pixel `q` of the 3D view. Returns whether it began.
+    pub fn move_start(&mut self, slot: usize, q: DVec2) -> bool {
+        let Some(o) = self.operands.get(slot) else {
+            return false;
+        };
+        let Some(s) = self.boolean.solids.get(slot) else {
+            return false;
+        };
+        let (lo, hi) = s.bounds();
+        let center = (lo + hi) / 2.0;
+        let size = self.orbit.size();
+        let (_, normal) = self.orbit.ray(size / 2.0);
+        let Some(grab) = on_plane(self.orbit.ray(q), center, normal) else {
+            return false;
+        };
+        self.moving = Some(Moving {
+            slot,
+            before: self.snapshot(),
+            offset: DVec3::from_array(o.offset),
+            normal,
+            grab,
+        });
+        true
+    }
+
+    /// Moves the operand being dragged so that the point first grabbed follows CSS pixel `q`.
+    /// Returns whether it moved.
+    pub fn move_to(&mut self, q: DVec2) -> bool {
+        let Some(m) = self.moving.clone() else {
+            return false;
+        };
+        let Some(at) = on_plane(self.orbit.ray(q), m.grab, m.normal) else {
+            return false;
+        };
+        let offset = (m.offset + (at - m.grab)).to_array();
+        let Some((_, rotate, scale)) = self.placement(m.slot) else {
+            return false;
+        };
+        let before = self.operands.clone();
+        self.place(m.slot, offset, rotate, scale).is_ok() && before != self.operands
+    }
+
+    /// Ends the drag: the move is one undo step.
+    pub fn move_end(&mut self) {
+        if let Some(m) = self.moving.take() {
+            self.record(m.before);
+        }
+    }
+
+    /// Whether an operand is being dragged.
+    #[must_use]
+    pub fn is_moving(&self) -> bool {
+        self.moving.is_some()
     }
 
     /// Changes whenever the scene does.
     #[must_use]
     pub fn revision(&self) -> u64 {
         self.revision
-    }
-
-    /// The operation on A and B, or `None` for solid A alone.
-    #[must_use]
-    pub fn operation(&self) -> Option<Op> {
-        self.operation
     }
 
     /// Operand `slot`: its name (an example's, or the imported file's) and offset.
@@ -543,21 +797,24 @@ impl FreeForm {
                 out.extend(mesh_vertices(&s.surface().tessellate(level), color));
             }
         };
+        let color = |k: usize| OPERAND_COLORS[k % OPERAND_COLORS.len()];
+        let n = self.boolean.solids.len();
         match self.display {
             Display::Result => {
                 if let Some(m) = self.surface.drawn() {
                     opaque.extend_from_slice(&m.vertices);
                 }
-                pn(0, ghost(A_COLOR), &mut translucent);
-                pn(1, ghost(B_COLOR), &mut translucent);
+                for k in 0..n {
+                    pn(k, ghost(color(k)), &mut translucent);
+                }
             }
             Display::Operands => {
-                pn(0, A_COLOR, &mut opaque);
-                pn(
-                    1,
-                    [B_COLOR[0], B_COLOR[1], B_COLOR[2], 0.55],
-                    &mut translucent,
-                );
+                // A opaque, the others see-through so that what they overlap shows.
+                pn(0, color(0), &mut opaque);
+                for k in 1..n {
+                    let c = color(k);
+                    pn(k, [c[0], c[1], c[2], 0.55], &mut translucent);
+                }
             }
             Display::Points => {
                 let points = self.boolean.point_mesh(POINT_MESH);
@@ -581,6 +838,35 @@ impl FreeForm {
         self.point_counts
             .filter(|c| c.0 == self.revision)
             .map(|c| (c.1, c.2))
+    }
+}
+
+fn no_operand(slot: usize) -> Error {
+    Error::new(format!("no operand {}", slot + 1))
+}
+
+/// Where the ray `(origin, dir)` meets the plane through `p` with normal `n`, in front of the
+/// origin.
+fn on_plane((origin, dir): (DVec3, DVec3), p: DVec3, n: DVec3) -> Option<DVec3> {
+    let d = dir.dot(n);
+    if d.abs() < 1e-9 {
+        return None;
+    }
+    let t = (p - origin).dot(n) / d;
+    (t > 0.0 && t.is_finite()).then(|| origin + dir * t)
+}
+
+/// `expr` without solid `slot`, the later solids numbered one lower: an operation with it becomes
+/// its other operand, a complement of it goes too; `None` when nothing is left.
+fn without(expr: &Expr, slot: usize) -> Option<Expr> {
+    match expr {
+        Expr::Solid(i) if *i == slot => None,
+        Expr::Solid(i) => Some(Expr::Solid(if *i > slot { i - 1 } else { *i })),
+        Expr::Complement(a) => without(a, slot).map(Expr::complement),
+        Expr::Binary(op, a, b) => match (without(a, slot), without(b, slot)) {
+            (Some(a), Some(b)) => Some(Expr::binary(*op, a, b)),
+            (a, b) => a.or(b),
+        },
     }
 }
 
@@ -780,9 +1066,12 @@ mod tests {
         let mut g = FreeForm::new();
         g.open(&file).unwrap();
         assert_eq!(g.model_file(), file);
-        assert_eq!(g.operation(), Some(Op::Intersection));
+        assert_eq!(g.combine(), Some(Combine::Binary(Op::Intersection)));
         let before = f.model_file();
-        assert!(f.set_example(2, Example::Blob).is_err(), "no third operand");
+        assert!(
+            f.set_example(3, Example::Blob).is_err(),
+            "no fourth operand"
+        );
         assert!(f.set_offset(1, [f64::NAN, 0.0, 0.0]).is_err());
         let open = bezsolid_core::esc::examples::icosphere(1);
         let mut broken = open.clone();
@@ -916,5 +1205,99 @@ mod tests {
         assert!(f.camera().distance > start.distance);
         f.fit();
         assert_eq!(*f.camera(), start);
+    }
+
+    #[test]
+    fn expressions_of_many_solids_are_edited_saved_and_undone() {
+        let mut f = FreeForm::new();
+        assert_eq!(f.expression(), "A - B");
+        assert_eq!(f.combine(), Some(Combine::Binary(Op::Difference)));
+        let c = f.add_operand(Example::Icosphere).unwrap();
+        assert_eq!((c, f.operand_count()), (2, 3));
+        assert_eq!(f.expression(), "A - B | C", "a new solid joins the union");
+        assert_eq!(f.combine(), None);
+        f.set_expression("!(A | C) & B").unwrap();
+        assert_eq!(f.expression(), "!(A | C) & B");
+        // A bad text says where, and keeps the scene.
+        let e = f.set_expression("A | D").unwrap_err().to_string();
+        assert!(e.contains("\"D\"") && e.contains("character 5"), "{e}");
+        assert!(f.set_expression("(A").is_err());
+        assert_eq!(f.expression(), "!(A | C) & B");
+        // The file says the expression; it opens to the same scene.
+        let file = f.model_file();
+        assert!(
+            matches!(&file.solid, SolidSpec::Esc { expression: Some(t), .. } if t == "!(A | C) & B")
+        );
+        let mut g = FreeForm::new();
+        g.open(&file).unwrap();
+        assert_eq!(g.expression(), f.expression());
+        let link = bezsolid_core::link::encode(&file).unwrap();
+        g.open(&read_file(&link).unwrap()).unwrap();
+        assert_eq!(g.model_file(), file);
+        // The result is the expression's, at points.
+        let mut stats = bezsolid_core::esc::Stats::default();
+        let q = DVec3::new(0.0, 0.0, 0.35);
+        let v = |i: usize, stats: &mut bezsolid_core::esc::Stats| {
+            i32::from(f.boolean().solids[i].value(q, stats) == 1)
+        };
+        let (a, b, c) = (v(0, &mut stats), v(1, &mut stats), v(2, &mut stats));
+        let want = (1 - (a + c - a * c)) * b;
+        assert_eq!(f.boolean().value(q, &mut stats), want);
+        // Removing B: the intersection with it becomes its other side.
+        f.remove_operand(1).unwrap();
+        assert_eq!(f.expression(), "!(A | B)");
+        assert_eq!(f.operand_count(), 2);
+        assert!(f.undo());
+        assert_eq!(f.expression(), "!(A | C) & B");
+        assert!(f.undo() && f.undo());
+        assert_eq!(f.expression(), "A - B");
+        // The menu's operations go over every solid; complement takes A alone.
+        f.add_operand(Example::Blob).unwrap();
+        f.set_combine(Combine::Binary(Op::Intersection)).unwrap();
+        assert_eq!(f.expression(), "A & B & C");
+        f.set_combine(Combine::Complement).unwrap();
+        assert_eq!((f.expression(), f.operand_count()), ("!A".into(), 1));
+        assert!(f.boolean().value(DVec3::splat(9.0), &mut stats) == 1);
+        assert!(f.remove_operand(0).is_err(), "the last solid stays");
+    }
+
+    #[test]
+    fn solids_are_placed_by_numbers_and_by_dragging() {
+        let mut f = FreeForm::new();
+        f.set_placement(1, [0.0, 0.0, 0.35], [90.0, 0.0, 0.0], [1.0, 1.0, 2.0])
+            .unwrap();
+        assert_eq!(
+            f.placement(1),
+            Some(([0.0, 0.0, 0.35], [90.0, 0.0, 0.0], [1.0, 1.0, 2.0]))
+        );
+        let file = f.model_file();
+        assert!(matches!(&file.solid, SolidSpec::Esc { operands, .. }
+            if operands[1].rotate == Some([90.0, 0.0, 0.0]) && operands[1].scale == Some([1.0, 1.0, 2.0])));
+        // A zero scale is refused and the scene kept.
+        assert!(
+            f.set_placement(1, [0.0; 3], [0.0; 3], [0.0, 1.0, 1.0])
+                .is_err()
+        );
+        assert_eq!(f.model_file(), file);
+        // A drag moves the solid in the plane facing the view, as far as the pointer went there.
+        f.resize(800.0, 600.0);
+        let (lo, hi) = f.boolean().solids[1].bounds();
+        let center = (lo + hi) / 2.0;
+        let q0 = f.orbit.screen_of(center).unwrap();
+        assert!(f.move_start(1, q0));
+        assert!(f.move_to(q0 + DVec2::new(80.0, -40.0)));
+        assert!(f.move_to(q0 + DVec2::new(120.0, 0.0)));
+        f.move_end();
+        let moved = DVec3::from_array(f.placement(1).unwrap().0);
+        let (lo, hi) = f.boolean().solids[1].bounds();
+        let q1 = f.orbit.screen_of((lo + hi) / 2.0).unwrap();
+        assert!(
+            (q1 - (q0 + DVec2::new(120.0, 0.0))).length() < 1.0,
+            "{q1} under the pointer"
+        );
+        assert!(moved != DVec3::new(0.0, 0.0, 0.35));
+        // One undo step for the whole drag.
+        assert!(f.undo());
+        assert_eq!(f.model_file(), file);
     }
 }

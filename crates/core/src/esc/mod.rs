@@ -34,7 +34,7 @@ pub mod pn;
 pub mod predicates;
 pub mod ray;
 
-pub use bool::{Expr, Op};
+pub use bool::{Expr, ExprError, Op};
 pub use chain::{EscError, EscSolid, Stats};
 pub use draw::{Boolean, PointMesh};
 pub use examples::Example;

@@ -14,7 +14,9 @@
 //! - variant `1`, a volume: `degree: [u8; 3]`, then four sequences: `x`, `y`, `z`, `ξ`;
 //! - variant `2`, a free-form model; variant `3`, a PLaSM script, as text;
 //! - variant `4`, a tree of many solids: its nodes in prefix order, each without its children
-//!   (an operation says how many follow it), patches and volumes laid out as above.
+//!   (an operation says how many follow it), patches and volumes laid out as above;
+//! - variant `5`, a free-form model that variant `2` cannot say (a complement, an expression,
+//!   named, rotated or scaled operands, a crease angle): each operand with its optional fields.
 //!
 //! One sequence per coordinate (rather than per point) puts like numbers together, which deflate
 //! turns into shorter links: the paper's Fig. 9 model gives a link of about 100 characters.
@@ -77,6 +79,103 @@ enum Wire {
     Plasm { script: String },
     /// A tree of many solids: its nodes in prefix order ([`tree`]).
     Tree { nodes: Vec<tree::Node> },
+    /// A free-form model: operation as [`Wire::Esc`]'s, or 4 complement; an expression over the
+    /// operands' names; operands with their optional fields.
+    EscPlaced {
+        operation: u8,
+        expression: Option<String>,
+        operands: Vec<WirePlaced>,
+    },
+}
+
+/// One operand of [`Wire::EscPlaced`]: [`WireOperand`] with its name, rotation, scale and crease
+/// angle.
+#[derive(Serialize, Deserialize)]
+struct WirePlaced {
+    name: Option<String>,
+    rotate: Option<[f64; 3]>,
+    scale: Option<[f64; 3]>,
+    crease: Option<f64>,
+    operand: WireOperand,
+}
+
+/// The operation code of [`Wire::Esc`] and [`Wire::EscPlaced`]: 0 none, 1–3 the operations of
+/// [`Op::ALL`], 4 complement ([`Wire::EscPlaced`] only), 255 a name no reader knows (it fails
+/// validation when read).
+fn operation_code(operation: Option<&str>) -> u8 {
+    match operation {
+        None => 0,
+        Some(crate::model::COMPLEMENT) => 4,
+        Some(name) => Op::from_name(name)
+            .and_then(|op| Op::ALL.iter().position(|&o| o == op))
+            .map_or(u8::MAX, |i| i as u8 + 1),
+    }
+}
+
+fn operation_name(code: u8) -> Option<String> {
+    match code {
+        0 => None,
+        4 => Some(crate::model::COMPLEMENT.into()),
+        k => Some(
+            Op::ALL
+                .get(usize::from(k) - 1)
+                .map_or_else(|| "unknown".to_string(), |o| o.name().to_string()),
+        ),
+    }
+}
+
+fn wire_operand(o: &EscOperand) -> WireOperand {
+    let example = o.example.as_deref().map_or(0, |name| {
+        EXAMPLES
+            .iter()
+            .position(|&e| e == name)
+            .map_or(u8::MAX, |i| i as u8 + 1)
+    });
+    let (positions, triangles) = o
+        .mesh
+        .as_ref()
+        .map_or((&[][..], &[][..]), |m| (&m.positions[..], &m.triangles[..]));
+    let [x, y, z] = columns(positions);
+    WireOperand {
+        example,
+        offset: o.offset,
+        x,
+        y,
+        z,
+        triangles: triangles.iter().flatten().copied().collect(),
+    }
+}
+
+fn operand_from_wire(o: WireOperand) -> Result<EscOperand, LinkError> {
+    let example = match o.example {
+        0 => None,
+        k => Some(
+            EXAMPLES
+                .get(usize::from(k) - 1)
+                .map_or_else(|| "unknown".to_string(), |e| (*e).to_string()),
+        ),
+    };
+    let mesh = if o.example == 0 {
+        if !o.triangles.len().is_multiple_of(3) {
+            return Err(LinkError::Decode);
+        }
+        Some(MeshSpec {
+            positions: rows([o.x, o.y, o.z])?,
+            triangles: o
+                .triangles
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect(),
+        })
+    } else {
+        None
+    };
+    Ok(EscOperand {
+        example,
+        mesh,
+        offset: o.offset,
+        ..EscOperand::default()
+    })
 }
 
 /// One operand of [`Wire::Esc`]: `example` 1, 2, 3 for icosphere, torus, blob, or 0 with a mesh
@@ -220,39 +319,40 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
         }
         SolidSpec::Esc {
             operation,
+            expression,
             operands,
-        } => Wire::Esc {
-            // An unknown name is carried as one no reader knows (it fails validation when read).
-            operation: operation.as_deref().map_or(0, |name| {
-                Op::from_name(name)
-                    .and_then(|op| Op::ALL.iter().position(|&o| o == op))
-                    .map_or(u8::MAX, |i| i as u8 + 1)
-            }),
-            operands: operands
-                .iter()
-                .map(|o| {
-                    let example = o.example.as_deref().map_or(0, |name| {
-                        EXAMPLES
-                            .iter()
-                            .position(|&e| e == name)
-                            .map_or(u8::MAX, |i| i as u8 + 1)
-                    });
-                    let (positions, triangles) = o
-                        .mesh
-                        .as_ref()
-                        .map_or((&[][..], &[][..]), |m| (&m.positions[..], &m.triangles[..]));
-                    let [x, y, z] = columns(positions);
-                    WireOperand {
-                        example,
-                        offset: o.offset,
-                        x,
-                        y,
-                        z,
-                        triangles: triangles.iter().flatten().copied().collect(),
-                    }
-                })
-                .collect(),
-        },
+        } => {
+            let code = operation_code(operation.as_deref());
+            let plain = expression.is_none()
+                && code != 4
+                && operands.iter().all(|o| {
+                    o.name.is_none()
+                        && o.rotate.is_none()
+                        && o.scale.is_none()
+                        && o.crease.is_none()
+                });
+            if plain {
+                Wire::Esc {
+                    operation: code,
+                    operands: operands.iter().map(wire_operand).collect(),
+                }
+            } else {
+                Wire::EscPlaced {
+                    operation: code,
+                    expression: expression.clone(),
+                    operands: operands
+                        .iter()
+                        .map(|o| WirePlaced {
+                            name: o.name.clone(),
+                            rotate: o.rotate,
+                            scale: o.scale,
+                            crease: o.crease,
+                            operand: wire_operand(o),
+                        })
+                        .collect(),
+                }
+            }
+        }
         SolidSpec::Plasm { script } => Wire::Plasm {
             script: script.clone(),
         },
@@ -339,47 +439,32 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
             operation,
             operands,
         } => SolidSpec::Esc {
-            operation: match operation {
-                0 => None,
-                k => Some(
-                    Op::ALL
-                        .get(usize::from(k) - 1)
-                        .map_or_else(|| "unknown".to_string(), |o| o.name().to_string()),
-                ),
-            },
+            operation: operation_name(operation),
+            expression: None,
+            operands: operands
+                .into_iter()
+                .map(operand_from_wire)
+                .collect::<Result<_, _>>()?,
+        },
+        Wire::EscPlaced {
+            operation,
+            expression,
+            operands,
+        } => SolidSpec::Esc {
+            operation: operation_name(operation),
+            expression,
             operands: operands
                 .into_iter()
                 .map(|o| {
-                    let example = match o.example {
-                        0 => None,
-                        k => Some(
-                            EXAMPLES
-                                .get(usize::from(k) - 1)
-                                .map_or_else(|| "unknown".to_string(), |e| (*e).to_string()),
-                        ),
-                    };
-                    let mesh = if o.example == 0 {
-                        if o.triangles.len() % 3 != 0 {
-                            return Err(LinkError::Decode);
-                        }
-                        Some(MeshSpec {
-                            positions: rows([o.x, o.y, o.z])?,
-                            triangles: o
-                                .triangles
-                                .chunks_exact(3)
-                                .map(|t| [t[0], t[1], t[2]])
-                                .collect(),
-                        })
-                    } else {
-                        None
-                    };
                     Ok(EscOperand {
-                        example,
-                        mesh,
-                        offset: o.offset,
+                        name: o.name,
+                        rotate: o.rotate,
+                        scale: o.scale,
+                        crease: o.crease,
+                        ..operand_from_wire(o.operand)?
                     })
                 })
-                .collect::<Result<_, _>>()?,
+                .collect::<Result<_, LinkError>>()?,
         },
         Wire::Plasm { script } => SolidSpec::Plasm { script },
         Wire::Tree { nodes } => tree::build(nodes)?,
@@ -533,6 +618,7 @@ mod tests {
                     triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
                 }),
                 offset: [0.0; 3],
+                ..EscOperand::default()
             }],
         );
         let link = encode(&tetra).unwrap();
@@ -556,9 +642,63 @@ mod tests {
                     triangles: ball.triangles.clone(),
                 }),
                 offset: [0.0; 3],
+                ..EscOperand::default()
             }],
         );
         assert!(matches!(encode(&big), Err(LinkError::TooLong { .. })));
+    }
+
+    #[test]
+    fn free_form_expressions_and_placements_round_trip() {
+        use crate::esc::examples::Example;
+        use crate::model::{COMPLEMENT, EscOperand};
+        let placed = |example, name: Option<&str>| EscOperand {
+            name: name.map(Into::into),
+            rotate: Some([10.0, -20.0, 30.0]),
+            scale: Some([1.5, 1.0, -0.5]),
+            crease: Some(35.0),
+            ..EscOperand::example(example, [0.25, 0.0, -1.0])
+        };
+        let many = ModelFile::from_spec(SolidSpec::Esc {
+            operation: None,
+            expression: Some("!(A | wing) - C & A".into()),
+            operands: vec![
+                EscOperand::example(Example::Blob, [0.0; 3]),
+                placed(Example::Torus, Some("wing")),
+                placed(Example::Icosphere, None),
+            ],
+        });
+        let link = encode(&many).unwrap();
+        assert_eq!(decode_file(&link).unwrap(), many);
+        let boolean = decode_file(&link).unwrap().to_boolean().unwrap();
+        assert_eq!(boolean.solids.len(), 3);
+        // A complement of one operand.
+        let not = ModelFile::from_spec(SolidSpec::Esc {
+            operation: Some(COMPLEMENT.into()),
+            expression: None,
+            operands: vec![EscOperand::example(Example::Blob, [0.0; 3])],
+        });
+        let link = encode(&not).unwrap();
+        assert_eq!(decode_file(&link).unwrap(), not);
+        let boolean = decode_file(&link).unwrap().to_boolean().unwrap();
+        let mut stats = crate::esc::Stats::default();
+        assert_eq!(boolean.value(glam::DVec3::ZERO, &mut stats), 0);
+        assert_eq!(boolean.value(glam::DVec3::splat(5.0), &mut stats), 1);
+        // What the first links could say is still written as they wrote it.
+        let two = ModelFile::from_esc(
+            Some(Op::Union),
+            vec![
+                EscOperand::example(Example::Blob, [0.0; 3]),
+                EscOperand::example(Example::Torus, [0.0; 3]),
+            ],
+        );
+        let bytes = inflate(
+            &URL_SAFE_NO_PAD
+                .decode(&encode(&two).unwrap()[1 + PREFIX.len()..])
+                .unwrap(),
+        )
+        .unwrap();
+        assert_eq!(bytes[0], 2, "variant 2, as before expressions");
     }
 
     #[test]
@@ -568,6 +708,7 @@ mod tests {
             format: crate::model::FORMAT.into(),
             version: crate::model::VERSION,
             solid: SolidSpec::Esc {
+                expression: None,
                 operation: operation.map(Into::into),
                 operands,
             },
@@ -576,6 +717,7 @@ mod tests {
             example: Some(name.into()),
             mesh: None,
             offset: [0.0; 3],
+            ..EscOperand::default()
         };
         for (m, says) in [
             (
@@ -841,6 +983,7 @@ mod tests {
             format: crate::model::FORMAT.into(),
             version: crate::model::VERSION,
             solid: SolidSpec::Esc {
+                expression: None,
                 operation: None,
                 operands: vec![EscOperand {
                     example: None,
@@ -849,6 +992,7 @@ mod tests {
                         triangles: vec![[0, 1, 2]],
                     }),
                     offset: [0.0; 3],
+                    ..EscOperand::default()
                 }],
             },
         };

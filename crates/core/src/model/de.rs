@@ -164,6 +164,7 @@ enum Key {
     Points,
     Operation,
     Operands,
+    Expression,
     Script,
     /// A field of a tree's node: its index in [`NODE_KEYS`].
     Node(usize),
@@ -203,6 +204,7 @@ impl Key {
             Self::Points => "points",
             Self::Operation => "operation",
             Self::Operands => "operands",
+            Self::Expression => "expression",
             Self::Script => "script",
             Self::Node(i) => NODE_KEYS[i],
             Self::Other => "",
@@ -225,6 +227,7 @@ impl<'de> Deserialize<'de> for Key {
                     "points" => Key::Points,
                     "operation" => Key::Operation,
                     "operands" => Key::Operands,
+                    "expression" => Key::Expression,
                     "script" => Key::Script,
                     _ => NODE_KEYS
                         .iter()
@@ -256,6 +259,7 @@ enum Fields {
     },
     Esc {
         operation: Option<Option<String>>,
+        expression: Option<Option<String>>,
         operands: Option<Vec<EscOperand>>,
     },
     Plasm {
@@ -426,6 +430,7 @@ impl Fields {
             },
             Kind::Esc => Self::Esc {
                 operation: None,
+                expression: None,
                 operands: None,
             },
             Kind::Plasm => Self::Plasm { script: None },
@@ -447,9 +452,11 @@ impl Fields {
             },
             Self::Esc {
                 operation,
+                expression,
                 operands,
             } => SolidSpec::Esc {
                 operation: operation.unwrap_or_default(),
+                expression: expression.unwrap_or_default(),
                 operands: operands.ok_or_else(|| missing(Key::Operands))?,
             },
             Self::Plasm { script } => SolidSpec::Plasm {
@@ -492,6 +499,7 @@ impl<'de> DeserializeSeed<'de> for Field<'_> {
             (Fields::Volume { points, .. }, Key::Points) => fill(points, key, d),
             (Fields::Esc { operation, .. }, Key::Operation) => fill(operation, key, d),
             (Fields::Esc { operands, .. }, Key::Operands) => fill(operands, key, d),
+            (Fields::Esc { expression, .. }, Key::Expression) => fill(expression, key, d),
             (Fields::Plasm { script }, Key::Script) => fill(script, key, d),
             // `name` and `hidden` are a part's: on other kinds they are ignored, as any field no
             // kind has (what files written before parts may hold).
@@ -567,11 +575,18 @@ impl<'de> Visitor<'de> for SolidVisitor {
                 degree: element(&mut seq, 1)?,
                 points: element(&mut seq, 2)?,
             },
-            Kind::Esc => SolidSpec::Esc {
+            // The layout of files before expressions, which are read after the operands.
+            Kind::Esc => {
                 // `#[serde(default)]`: absent at the end, it is none.
-                operation: seq.next_element()?.unwrap_or_default(),
-                operands: element(&mut seq, 2)?,
-            },
+                let operation = seq.next_element()?.unwrap_or_default();
+                let operands = element(&mut seq, 2)?;
+                let expression = seq.next_element()?.unwrap_or_default();
+                SolidSpec::Esc {
+                    operation,
+                    expression,
+                    operands,
+                }
+            }
             Kind::Plasm => SolidSpec::Plasm {
                 script: element(&mut seq, 1)?,
             },
@@ -819,6 +834,7 @@ mod tests {
                     operands,
                 } => Self::Esc {
                     operation,
+                    expression: None,
                     operands,
                 },
                 Derived::Plasm { script } => Self::Plasm { script },

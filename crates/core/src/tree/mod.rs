@@ -1701,6 +1701,7 @@ mod tests {
             of: vec![
                 sphere([0.0; 3], 1.0),
                 S::Esc {
+                    expression: None,
                     operation: None,
                     operands: Vec::new(),
                 },

@@ -1379,19 +1379,118 @@ impl FreeFormView {
             .map_err(JsError::from)
     }
 
-    /// `union`, `intersection`, `difference`, or `none` (A alone).
+    /// `union`, `intersection` or `difference` over every solid, `complement` (of A alone), or
+    /// `none` (A alone).
     ///
     /// # Errors
     ///
     /// An unknown operation.
     pub fn set_operation(&mut self, operation: Operation) -> Result<(), JsError> {
-        Ok(self.state.set_operation(operation.try_into()?)?)
+        Ok(self.state.set_combine(operation.try_into()?)?)
     }
 
-    /// The operation, or `none`.
+    /// The operation as [`FreeFormView::set_operation`] names it, or `expression` for any other
+    /// expression.
     #[must_use]
-    pub fn operation(&self) -> Operation {
-        self.state.operation().into()
+    pub fn operation(&self) -> String {
+        self.state
+            .combine()
+            .map_or_else(|| "expression".into(), |c| Operation::from(c).text().into())
+    }
+
+    /// Combines the solids by an expression over their names: `|` union, `&` intersection,
+    /// `-` difference, `!` complement, brackets.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the text and where (the scene is kept).
+    pub fn set_expression(&mut self, text: &str) -> Result<(), JsError> {
+        Ok(self.state.set_expression(text)?)
+    }
+
+    /// The expression over the solids' names.
+    #[must_use]
+    pub fn expression(&self) -> String {
+        self.state.expression()
+    }
+
+    /// The solids' names in the expression (`A`, `B`, …).
+    #[must_use]
+    pub fn letters(&self) -> Vec<String> {
+        self.state.letters()
+    }
+
+    /// The number of solids.
+    #[must_use]
+    pub fn operand_count(&self) -> usize {
+        self.state.operand_count()
+    }
+
+    /// Adds a built-in example beside the scene, joining the union; returns its slot.
+    ///
+    /// # Errors
+    ///
+    /// Past the most solids a model has.
+    pub fn add_operand(&mut self, example: FreeFormExample) -> Result<usize, JsError> {
+        Ok(self.state.add_operand(example.try_into()?)?)
+    }
+
+    /// Removes solid `slot` (and it from the expression).
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot, or the last solid.
+    pub fn remove_operand(&mut self, slot: usize) -> Result<(), JsError> {
+        Ok(self.state.remove_operand(slot)?)
+    }
+
+    /// Places solid `slot`: offset, rotation about x, y, z in degrees, scale per axis.
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot, or numbers that are refused (not finite, a zero scale).
+    #[allow(clippy::too_many_arguments)] // nine numbers, as the panel's fields give them
+    pub fn set_placement(
+        &mut self,
+        slot: usize,
+        x: f64,
+        y: f64,
+        z: f64,
+        rx: f64,
+        ry: f64,
+        rz: f64,
+        sx: f64,
+        sy: f64,
+        sz: f64,
+    ) -> Result<(), JsError> {
+        Ok(self
+            .state
+            .set_placement(slot, [x, y, z], [rx, ry, rz], [sx, sy, sz])?)
+    }
+
+    /// Solid `slot`'s placement: offset, rotation (degrees) and scale, nine numbers, or
+    /// `undefined`.
+    #[must_use]
+    pub fn placement(&self, slot: usize) -> Option<Vec<f64>> {
+        self.state
+            .placement(slot)
+            .map(|(o, r, s)| [o, r, s].concat())
+    }
+
+    /// Begins dragging solid `slot` from CSS pixel `(x, y)` of the view: it moves in the plane
+    /// facing the view. Returns whether it began.
+    pub fn move_start(&mut self, slot: usize, x: f64, y: f64) -> bool {
+        self.state.move_start(slot, glam::DVec2::new(x, y))
+    }
+
+    /// Moves the dragged solid under the pointer; returns whether it moved.
+    pub fn move_to(&mut self, x: f64, y: f64) -> bool {
+        self.state.move_to(glam::DVec2::new(x, y))
+    }
+
+    /// Ends the drag (one undo step).
+    pub fn move_end(&mut self) {
+        self.state.move_end();
     }
 
     /// Operand `slot`'s name (an example's or the imported file's), or `undefined`.

@@ -17,7 +17,7 @@ use wasm_bindgen::prelude::*;
 
 use crate::editor::Mode;
 use crate::error::Error;
-use crate::freeform::Display;
+use crate::freeform::{Combine, Display};
 use crate::outline::{NewNode, Wrap};
 
 /// The error for a string that is none of `names`: "unknown mesh format: use "obj", "stl" or "ply"".
@@ -45,6 +45,17 @@ macro_rules! page_names {
         #[derive(Clone, Copy, Debug, PartialEq, Eq)]
         pub enum $name {
             $($variant = $text,)+
+        }
+
+        impl $name {
+            /// The page's name for it.
+            #[allow(dead_code)] // not every enum is named back to the page
+            pub(crate) fn text(self) -> &'static str {
+                match self {
+                    $($name::$variant => $text,)+
+                    _ => "",
+                }
+            }
         }
 
         impl TryFrom<$name> for $domain {
@@ -75,12 +86,14 @@ page_names! {
         Ply = "ply" => Format::Ply,
     }
 
-    /// The Free-form mode's operation on solids A and B, or `"none"` for A alone.
-    Operation => Option<Op>, "operation" {
-        Union = "union" => Some(Op::Union),
-        Intersection = "intersection" => Some(Op::Intersection),
-        Difference = "difference" => Some(Op::Difference),
-        None = "none" => None,
+    /// How the Free-form mode's solids combine: an operation over all of them, A's complement, or
+    /// `"none"` for A alone.
+    Operation => Combine, "operation" {
+        Union = "union" => Combine::Binary(Op::Union),
+        Intersection = "intersection" => Combine::Binary(Op::Intersection),
+        Difference = "difference" => Combine::Binary(Op::Difference),
+        Complement = "complement" => Combine::Complement,
+        None = "none" => Combine::Alone,
     }
 
     /// What the Free-form view shows: the result, the paper's point mesh, or the operands.
@@ -129,13 +142,14 @@ page_names! {
     }
 }
 
-impl From<Option<Op>> for Operation {
-    fn from(op: Option<Op>) -> Self {
-        match op {
-            Some(Op::Union) => Self::Union,
-            Some(Op::Intersection) => Self::Intersection,
-            Some(Op::Difference) => Self::Difference,
-            None => Self::None,
+impl From<Combine> for Operation {
+    fn from(c: Combine) -> Self {
+        match c {
+            Combine::Binary(Op::Union) => Self::Union,
+            Combine::Binary(Op::Intersection) => Self::Intersection,
+            Combine::Binary(Op::Difference) => Self::Difference,
+            Combine::Complement => Self::Complement,
+            Combine::Alone => Self::None,
         }
     }
 }
