@@ -15,6 +15,8 @@ export function setupView3d(app) {
   // The free-form and script views only move their camera.
   const orbiter = () => ({ freeform: ff, script: sv })[app.workspace()] ?? null;
   let orbiting = false;
+  // A free-form solid being dragged (Alt-drag, or with Drag to move pressed).
+  let movingSolid = false;
   let restTimer = 0;
   const down = pointers();
   // Two fingers came down: zoom and pan until every finger is up (one left does nothing).
@@ -37,6 +39,12 @@ export function setupView3d(app) {
     if (n === 2) {
       // A second finger: the gesture is a pinch; a point's drag begun by the first is put back.
       const editing = !orbiter() && modeler.editing_3d();
+      if (movingSolid) {
+        // The move so far stays, one undo step; the fingers now pinch.
+        ff.move_end();
+        movingSolid = false;
+        app.changed();
+      }
       if (orbiter()) orbiter().pointer_up();
       else modeler.cancel_3d();
       orbiting = false;
@@ -52,7 +60,9 @@ export function setupView3d(app) {
     if (n > 2 || pinching) return;
     canvas3.focus();
     let grabbed = false;
-    if (orbiter()) {
+    if (app.workspace() === 'freeform' && app.freeform.movesSolid(e) && ff.move_start(app.freeform.slot(), x, y)) {
+      movingSolid = true;
+    } else if (orbiter()) {
       orbiter().pointer_down(x, y, e.button === 2 || e.shiftKey);
       orbiting = true;
     } else {
@@ -73,6 +83,15 @@ export function setupView3d(app) {
         ? orbiter().pinch(step.scale, step.dx, step.dy)
         : modeler.pinch_3d(step.scale, step.dx, step.dy);
       if (moved) app.redraw(VIEW3);
+      return;
+    }
+    if (movingSolid) {
+      app.coalesce('drag-3d', (since) => {
+        if (!movingSolid || !ff.move_to(x, y)) return;
+        app.stats.lastEdit = since;
+        app.redraw(VIEW3);
+        app.freeform.update();
+      });
       return;
     }
     if (orbiter()) {
@@ -107,6 +126,15 @@ export function setupView3d(app) {
         canvas3.classList.remove('dragging');
       }
       release(e);
+      return;
+    }
+    if (movingSolid) {
+      app.flushInput(); // the last move counts
+      movingSolid = false;
+      ff.move_end();
+      canvas3.classList.remove('dragging');
+      release(e);
+      app.changed();
       return;
     }
     if (app.viewer && orbiting) {

@@ -56,7 +56,7 @@ async function download(page, value) {
 test('the default free-form scene draws, meshes finely in the worker and shows the point mesh', async () => {
   const { page, errors } = await open(browser);
   await freeForm(page);
-  assert.match(await page.textContent('#model-name'), /Free-form: A − B/);
+  assert.match(await page.textContent('#model-name'), /Free-form: A - B/);
   await waitFine(page);
   assert.match(await page.textContent('#ff-info'), /Result surface: [\d,]+ triangles at 64/);
   const result = await colours(page, 'freeform-result');
@@ -168,8 +168,8 @@ test('a free-form link reopens the scene, and the model file opens back in the m
   const { page, errors } = await open(browser);
   await freeForm(page);
   await page.selectOption('#ff-a', 'icosphere');
-  await page.fill('#ff-bx', '0.6');
-  await page.dispatchEvent('#ff-bx', 'change');
+  await page.fill('#ff-x', '0.6');
+  await page.dispatchEvent('#ff-x', 'change');
   await page.selectOption('#ff-op', 'union');
   await page.click('#copy-link');
   await page.waitForFunction(() => document.body.dataset.link);
@@ -187,7 +187,7 @@ test('a free-form link reopens the scene, and the model file opens back in the m
   await other.page.waitForSelector('body[data-workspace="freeform"]');
   await settle(other.page);
   assert.equal(await other.page.evaluate(() => window.bezsolid.ff.model_json()), model);
-  assert.equal(await other.page.inputValue('#ff-bx'), '0.6');
+  assert.equal(await other.page.inputValue('#ff-x'), '0.6');
   // The model file opens too (picker), after another edit, from the Bézier mode into this one.
   await other.page.selectOption('#ff-op', 'intersection');
   await other.page.check('input[name="workspace"][value="bezier"]');
@@ -232,5 +232,93 @@ test('a free-form export at resolution 160 shows how far it got; Cancel stops on
   assert.deepEqual(saved, ['bezsolid-result.stl', 'bezsolid-result.obj']);
   assert.equal(await page.isDisabled('#undo'), true, 'exports are no undo steps');
   assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('solids are added, combined by a typed expression, placed by numbers and by dragging, and a link carries it all', async () => {
+  const { page, errors } = await open(browser);
+  await freeForm(page);
+  const ffExpr = () => page.evaluate(() => document.body.dataset.ffExpression);
+  assert.equal(await ffExpr(), 'A - B');
+  // A third solid joins the union, with its own row, letter and controls.
+  await page.click('#ff-add');
+  await page.waitForFunction(() => document.body.dataset.ffExpression === 'A - B | C');
+  assert.equal(await page.locator('#ff-operands li').count(), 3);
+  assert.equal(await page.inputValue('#ff-c'), 'icosphere');
+  assert.equal(await page.inputValue('#ff-op'), 'expression');
+  // A typed expression; a bad one is marked and said, and the scene is kept.
+  await page.fill('#ff-expr', '!(A | C) & B');
+  await page.press('#ff-expr', 'Enter');
+  await page.waitForFunction(() => document.body.dataset.ffExpression === '!(A | C) & B');
+  await page.fill('#ff-expr', 'A | D');
+  await page.press('#ff-expr', 'Enter');
+  await page.waitForFunction(() => /no solid is named "D" \(at character 5\)/.test(document.getElementById('status').textContent));
+  assert.equal(await page.getAttribute('#ff-expr', 'aria-invalid'), 'true');
+  assert.equal(await ffExpr(), '!(A | C) & B');
+  await page.press('#ff-expr', 'Escape');
+  assert.equal(await page.inputValue('#ff-expr'), '!(A | C) & B');
+  await page.fill('#ff-expr', '(A | C) - B');
+  await page.press('#ff-expr', 'Enter');
+  await page.waitForFunction(() => document.body.dataset.ffExpression === 'A | C - B');
+  await waitFine(page);
+  // C is placed by typed numbers: turned, scaled, moved.
+  await page.selectOption('#ff-slot', '2');
+  for (const [id, v] of [['#ff-rz', '30'], ['#ff-sx', '0.5'], ['#ff-sz', '1.5'], ['#ff-y', '0.4']]) {
+    await page.fill(id, v);
+    await page.dispatchEvent(id, 'change');
+  }
+  const placed = JSON.parse(await page.evaluate(() => window.bezsolid.ff.model_json()));
+  const c = placed.solid.operands[2];
+  assert.deepEqual([c.rotate, c.scale, c.offset[1]], [[0, 0, 30], [0.5, 1, 1.5], 0.4]);
+  assert.equal(placed.solid.expression, 'A | C - B');
+  // A zero scale is refused, marked, and the model kept.
+  await page.fill('#ff-sy', '0');
+  await page.dispatchEvent('#ff-sy', 'change');
+  await page.waitForFunction(() => /Place C: .*scale 0/.test(document.getElementById('status').textContent));
+  assert.equal(await page.getAttribute('#ff-sy', 'aria-invalid'), 'true');
+  assert.deepEqual(JSON.parse(await page.evaluate(() => window.bezsolid.ff.model_json())), placed);
+  await page.fill('#ff-sy', '1');
+  await page.dispatchEvent('#ff-sy', 'change');
+  // Dragging in the 3D view with Drag to move pressed moves C in the plane facing the view: one
+  // undo step gives the typed place back.
+  await page.click('#ff-drag');
+  assert.equal(await page.getAttribute('#ff-drag', 'aria-pressed'), 'true');
+  const box = await page.locator('#view3d').boundingBox();
+  const [x0, y0] = [box.x + box.width / 2, box.y + box.height / 2];
+  await page.mouse.move(x0, y0);
+  await page.mouse.down();
+  for (let k = 1; k <= 10; k++) await page.mouse.move(x0 + 8 * k, y0 - 3 * k);
+  await page.mouse.up();
+  await settle(page);
+  const dragged = JSON.parse(await page.evaluate(() => window.bezsolid.ff.model_json()));
+  assert.notDeepEqual(dragged.solid.operands[2].offset, c.offset, 'the drag moved C');
+  assert.deepEqual(dragged.solid.operands[1], placed.solid.operands[1], 'and nothing else');
+  assert.notEqual(await page.inputValue('#ff-x'), String(c.offset[0]), 'the fields follow');
+  await page.click('#undo');
+  await settle(page);
+  assert.deepEqual(JSON.parse(await page.evaluate(() => window.bezsolid.ff.model_json())), placed);
+  await page.click('#ff-drag');
+  // The link carries the expression and the placement; a new page opens the same model.
+  await page.click('#copy-link');
+  await page.waitForFunction(() => document.body.dataset.link);
+  const link = await page.evaluate(() => document.body.dataset.link);
+  const other = await open(browser);
+  await other.page.goto(link);
+  await other.page.waitForSelector('body[data-ready="true"]');
+  await other.page.waitForSelector('body[data-workspace="freeform"]');
+  await settle(other.page);
+  assert.deepEqual(JSON.parse(await other.page.evaluate(() => window.bezsolid.ff.model_json())), placed);
+  assert.equal(await other.page.inputValue('#ff-expr'), 'A | C - B');
+  // Removing B drops it from the expression; complement takes A alone.
+  await other.page.click('button[aria-label="Remove solid B"]');
+  await other.page.waitForFunction(() => document.body.dataset.ffExpression === 'A | B');
+  await other.page.selectOption('#ff-op', 'complement');
+  await other.page.waitForFunction(() => document.body.dataset.ffExpression === '!A');
+  assert.equal(await other.page.locator('#ff-operands li').count(), 1);
+  assert.equal(await other.page.isDisabled('button[aria-label="Remove solid A"]'), true);
+  await colours(other.page, 'freeform-complement');
+  assert.deepEqual(other.errors, []);
+  assert.deepEqual(errors, []);
+  await other.page.close();
   await page.close();
 });

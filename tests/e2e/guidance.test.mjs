@@ -132,8 +132,8 @@ test('Free-form: every change is undone and redone; an imported mesh is said smo
   await page.waitForFunction(() => /Imported cube\.obj as solid B, smoothed/.test(document.getElementById('status').textContent));
   await settle(page);
   assert.match(await text(page, 'ff-info'), /smoothed by PN triangles/);
-  await page.fill('#ff-bx', '0.3');
-  await page.locator('#ff-bx').press('Enter');
+  await page.fill('#ff-x', '0.3');
+  await page.locator('#ff-x').press('Enter');
   await settle(page);
   assert.match(await page.textContent('#ff-b option[value="imported"]'), /cube\.obj/, 'the moved mesh keeps its name');
   await page.selectOption('#ff-op', 'intersection');
@@ -145,7 +145,7 @@ test('Free-form: every change is undone and redone; an imported mesh is said smo
   await page.waitForSelector('body[data-ff-operation="difference"]');
   await page.keyboard.press('Control+z');
   await settle(page);
-  assert.equal(await page.inputValue('#ff-bx'), '0');
+  assert.equal(await page.inputValue('#ff-x'), '0');
   await page.click('#undo');
   await settle(page);
   assert.equal(await scene(), start);

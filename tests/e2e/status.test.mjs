@@ -57,7 +57,7 @@ test('Open… and the mesh imports are buttons a keyboard reaches and presses', 
       await page.waitForSelector('body[data-workspace="freeform"]');
       if (input === 'ff-import-b') {
         await page.selectOption('#ff-op', 'union');
-        await page.waitForSelector('#ff-b-controls:not([disabled])');
+        await page.waitForSelector('#ff-import-b', { state: 'attached' });
       }
     }
     const button = page.getByRole('button', { name, exact: true });
