@@ -54,7 +54,7 @@ use super::pn::{DEFAULT_CREASE_ANGLE, PnSurface, creases, cubic_index, valid_cre
 use super::predicates::{orient_sign, side};
 use super::ray::{Crossings, Ray, Unsure, Wall, patch_crossings, patch_hits};
 use crate::mesh::Mesh;
-use crate::mesh::{MeshDefects, ShellsIntersect, orient_shells, validate};
+use crate::mesh::{MeshDefects, ShellError, orient_shells, validate};
 
 /// Why a mesh cannot make an [`EscSolid`].
 #[derive(Clone, Debug, PartialEq)]
@@ -72,9 +72,9 @@ pub enum EscError {
         /// The angle given.
         degrees: f64,
     },
-    /// Two shells (connected pieces) of the mesh cross each other (see [`ShellsIntersect`] for
-    /// what is detected).
-    ShellsIntersect(ShellsIntersect),
+    /// The shells (connected pieces) of the mesh cannot be oriented: two cross each other (see
+    /// [`ShellError::Intersect`] for what is detected), or too many overlap.
+    Shells(ShellError),
 }
 
 impl fmt::Display for EscError {
@@ -88,7 +88,7 @@ impl fmt::Display for EscError {
                 f,
                 "the crease angle must be a number of degrees from 0 to 180, not {degrees}"
             ),
-            Self::ShellsIntersect(e) => write!(f, "{e}"),
+            Self::Shells(e) => write!(f, "{e}"),
         }
     }
 }
@@ -365,7 +365,7 @@ impl EscSolid {
             return Err(EscError::NotFinite);
         }
         let mut mesh = mesh.clone();
-        let shells = orient_shells(&mut mesh).map_err(EscError::ShellsIntersect)?;
+        let shells = orient_shells(&mut mesh).map_err(EscError::Shells)?;
         let apex = options
             .apex
             .unwrap_or_else(|| choose_apex(&mesh.positions, &mesh.triangles));

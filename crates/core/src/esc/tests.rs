@@ -13,6 +13,7 @@ use super::chain::{EscError, EscSolid, Stats};
 use super::examples::{Example, icosphere, torus};
 use super::pn::{DEFAULT_CREASE_ANGLE, PnSurface, angle_degrees, eval_cubic, pn_normals, pn_patch};
 use crate::mesh::Mesh;
+use crate::mesh::ShellError;
 use crate::mesh::angle_weighted_normals;
 use crate::testutil::Rng;
 #[cfg(target_arch = "wasm32")]
@@ -836,6 +837,6 @@ fn cavities_face_inward_whichever_way_they_come() {
     let crossing = boxes(&[(a, b, false), (DVec3::splat(1.0), DVec3::splat(3.0), false)]);
     assert!(matches!(
         EscSolid::new(&crossing),
-        Err(EscError::ShellsIntersect(_))
+        Err(EscError::Shells(ShellError::Intersect { .. }))
     ));
 }

@@ -30,7 +30,7 @@ pub use read::{
     MAX_FILE_BYTES, MAX_TRIANGLES, MAX_VERTICES, RawMesh, ReadError, angle_weighted_normals,
     from_raw, read,
 };
-pub use shells::{ShellOrientation, ShellsIntersect, orient_shells, shells};
+pub use shells::{MAX_SHELL_WORK, ShellError, ShellOrientation, orient_shells, shells};
 
 /// A mesh file format: what the command line, the page and scripts export to and import from.
 /// With the `serde` feature it is written as its extension (`"obj"`, `"stl"`, `"ply"`).

@@ -15,30 +15,52 @@ use glam::DVec3;
 use super::Mesh;
 use crate::esc::predicates::orient_sign;
 
-/// Two shells of a mesh that cross (or touch) each other, found where it is cheap to tell: a vertex
-/// of one is inside the other but its bounding box is not within the other's, or each is inside the
-/// other. Shells are numbered from 0 in the order of their first triangle.
+/// The most work [`orient_shells`] does to tell the shells' nesting, in pairs of boxes compared
+/// and triangles tested: about a second. A hostile mesh of thousands of shells whose boxes all
+/// overlap would otherwise take hours.
+pub const MAX_SHELL_WORK: usize = 50_000_000;
+
+/// Why [`orient_shells`] cannot orient a mesh's shells. Shells are numbered from 0 in the order of
+/// their first triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct ShellsIntersect {
-    /// The lower shell number.
-    pub first: usize,
-    /// The higher shell number.
-    pub second: usize,
+pub enum ShellError {
+    /// Two shells cross (or touch) each other, found where it is cheap to tell: a vertex of one is
+    /// inside the other but its bounding box is not within the other's, or each is inside the
+    /// other.
+    Intersect {
+        /// The lower shell number.
+        first: usize,
+        /// The higher shell number.
+        second: usize,
+    },
+    /// So many shells overlap that telling their nesting would take more than
+    /// [`MAX_SHELL_WORK`].
+    TooManyOverlaps {
+        /// The number of shells.
+        shells: usize,
+    },
 }
 
-impl fmt::Display for ShellsIntersect {
+impl fmt::Display for ShellError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "the mesh does not bound a solid: its pieces {} and {} (numbered from 1 in the order \
-             of their triangles) cross each other",
-            self.first + 1,
-            self.second + 1
-        )
+        match self {
+            Self::Intersect { first, second } => write!(
+                f,
+                "the mesh does not bound a solid: its pieces {} and {} (numbered from 1 in the \
+                 order of their triangles) cross each other",
+                first + 1,
+                second + 1
+            ),
+            Self::TooManyOverlaps { shells } => write!(
+                f,
+                "the mesh has {shells} pieces whose bounding boxes overlap too much to tell which \
+                 lie inside which"
+            ),
+        }
     }
 }
 
-impl core::error::Error for ShellsIntersect {}
+impl core::error::Error for ShellError {}
 
 /// What [`orient_shells`] found and did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -108,17 +130,22 @@ fn find(parent: &mut [usize], mut i: usize) -> usize {
 ///
 /// The mesh should be a closed, consistently oriented 2-manifold ([`super::validate`]); shells that
 /// cross each other do not bound a solid, and are refused only where that is cheap to see (see
-/// [`ShellsIntersect`]): two shells that cross without either condition are oriented as if the
-/// tested vertices told their nesting.
+/// [`ShellError::Intersect`]): two shells that cross without either condition are oriented as if
+/// the tested vertices told their nesting.
 ///
 /// # Errors
 ///
-/// [`ShellsIntersect`], the mesh unchanged.
+/// [`ShellError`], the mesh unchanged: shells that cross, or more work than [`MAX_SHELL_WORK`].
 ///
 /// # Panics
 ///
 /// If a triangle indexes past `mesh.positions`.
-pub fn orient_shells(mesh: &mut Mesh) -> Result<ShellOrientation, ShellsIntersect> {
+pub fn orient_shells(mesh: &mut Mesh) -> Result<ShellOrientation, ShellError> {
+    orient_shells_within(mesh, MAX_SHELL_WORK)
+}
+
+/// [`orient_shells`] with at most `budget` work.
+fn orient_shells_within(mesh: &mut Mesh, budget: usize) -> Result<ShellOrientation, ShellError> {
     let (labels, count) = shells(mesh.positions.len(), &mesh.triangles);
     // Per shell: its triangles, bounding box, one list of vertices to test.
     let mut members: Vec<Vec<u32>> = vec![Vec::new(); count];
@@ -147,20 +174,27 @@ pub fn orient_shells(mesh: &mut Mesh) -> Result<ShellOrientation, ShellsIntersec
     let mut order: Vec<usize> = (0..count).collect();
     order.sort_unstable_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
     let mut active: Vec<usize> = Vec::new();
+    let mut budget = budget;
+    let too_much = ShellError::TooManyOverlaps { shells: count };
     for &b in &order {
         let (blo, bhi) = boxes[b];
         active.retain(|&a| boxes[a].1.x >= blo.x);
+        budget = budget.checked_sub(active.len()).ok_or(too_much)?;
         for &a in &active {
             let (alo, ahi) = boxes[a];
             if !(alo.cmple(bhi).all() && blo.cmple(ahi).all()) {
                 continue;
             }
-            let crossing = Err(ShellsIntersect {
+            let crossing = Err(ShellError::Intersect {
                 first: a.min(b),
                 second: a.max(b),
             });
-            let b_in_a = shell_holds(mesh, &members[a], boxes[a], &members[b]) == Some(true);
-            let a_in_b = shell_holds(mesh, &members[b], boxes[b], &members[a]) == Some(true);
+            let b_in_a = shell_holds(mesh, &members[a], boxes[a], &members[b], &mut budget)
+                .ok_or(too_much)?
+                == Some(true);
+            let a_in_b = shell_holds(mesh, &members[b], boxes[b], &members[a], &mut budget)
+                .ok_or(too_much)?
+                == Some(true);
             // A point of one inside the other and one outside the other's box, or each inside the
             // other: their surfaces cross.
             if (b_in_a && !(alo.cmple(blo).all() && bhi.cmple(ahi).all()))
@@ -222,28 +256,32 @@ const DIRECTIONS: [[f64; 3]; 4] = [
 ];
 
 /// Whether the shell `inner` (its triangles) has a vertex inside the shell `outer` (bounding box
-/// `outer_box`): `None` when every vertex tried lies on `outer` or no ray told.
+/// `outer_box`): `Some(None)` when every vertex tried lies on `outer` or no ray told; `None` when
+/// the triangles to test would take more than `budget`, which is spent by those tested.
+#[allow(clippy::option_option)]
 fn shell_holds(
     mesh: &Mesh,
     outer: &[u32],
     outer_box: (DVec3, DVec3),
     inner: &[u32],
-) -> Option<bool> {
+    budget: &mut usize,
+) -> Option<Option<bool>> {
     let mut tried = 0;
     for &t in inner {
         for &v in &mesh.triangles[t as usize] {
             if tried == MAX_TRIES {
-                return None;
+                return Some(None);
             }
             tried += 1;
-            match point_in_shell(mesh, outer, outer_box, mesh.positions[v as usize]) {
-                Parity::Inside => return Some(true),
-                Parity::Outside => return Some(false),
+            let q = mesh.positions[v as usize];
+            match point_in_shell(mesh, outer, outer_box, q, budget)? {
+                Parity::Inside => return Some(Some(true)),
+                Parity::Outside => return Some(Some(false)),
                 Parity::OnSurface | Parity::Unsure => {}
             }
         }
     }
-    None
+    Some(None)
 }
 
 /// Where a point is against a closed shell.
@@ -258,17 +296,25 @@ enum Parity {
 }
 
 /// Ray parity of `q` against the flat triangles `shell`, whose box is `bounds`: segments from `q` to
-/// points beyond the box, each crossing decided by exact orientation signs.
-fn point_in_shell(mesh: &Mesh, shell: &[u32], bounds: (DVec3, DVec3), q: DVec3) -> Parity {
+/// points beyond the box, each crossing decided by exact orientation signs. `None` when a ray's
+/// triangles would take more than `budget`, which is spent by each ray cast.
+fn point_in_shell(
+    mesh: &Mesh,
+    shell: &[u32],
+    bounds: (DVec3, DVec3),
+    q: DVec3,
+    budget: &mut usize,
+) -> Option<Parity> {
     let (lo, hi) = bounds;
     if !(q.cmpge(lo).all() && q.cmple(hi).all()) {
-        return Parity::Outside;
+        return Some(Parity::Outside);
     }
     let reach = 2.0 * (hi - lo).length() + 1.0;
     'directions: for d in DIRECTIONS {
+        *budget = budget.checked_sub(shell.len())?;
         let r = q + DVec3::from_array(d) * reach;
         if !r.is_finite() {
-            return Parity::Unsure;
+            return Some(Parity::Unsure);
         }
         let mut odd = false;
         for &t in shell {
@@ -276,13 +322,13 @@ fn point_in_shell(mesh: &Mesh, shell: &[u32], bounds: (DVec3, DVec3), q: DVec3) 
             match crossing(q, r, a, b, c) {
                 Crossing::No => {}
                 Crossing::Yes => odd = !odd,
-                Crossing::OnSurface => return Parity::OnSurface,
+                Crossing::OnSurface => return Some(Parity::OnSurface),
                 Crossing::Degenerate => continue 'directions,
             }
         }
-        return if odd { Parity::Inside } else { Parity::Outside };
+        return Some(if odd { Parity::Inside } else { Parity::Outside });
     }
-    Parity::Unsure
+    Some(Parity::Unsure)
 }
 
 /// How the segment `q → r` meets a triangle.
@@ -460,6 +506,35 @@ mod tests {
     }
 
     #[test]
+    fn too_many_overlapping_shells_are_refused() {
+        // Twenty nested cubes: 190 pairs, each testing a vertex against 12 triangles or more.
+        let parts: Vec<_> = (1..=20)
+            .map(|i| {
+                (
+                    DVec3::splat(-f64::from(i)),
+                    DVec3::splat(f64::from(i)),
+                    false,
+                )
+            })
+            .collect();
+        let mut mesh = mesh_of(&parts);
+        let before = mesh.clone();
+        assert_eq!(
+            orient_shells_within(&mut mesh, 1000),
+            Err(ShellError::TooManyOverlaps { shells: 20 })
+        );
+        assert_eq!(mesh, before);
+        // Within the budget: every other one is a cavity.
+        let done = orient_shells(&mut mesh).expect("nested");
+        assert_eq!(done.turned_over, 10);
+        let v = shell_volumes(&mesh);
+        for (k, v) in v.iter().enumerate() {
+            // Shell k is the cube of half-side k + 1, inside 19 − k others.
+            assert_eq!(*v > 0.0, (19 - k) % 2 == 0, "{k}");
+        }
+    }
+
+    #[test]
     fn crossing_shells_are_refused_where_it_shows() {
         // The second cube's corner is inside the first, and it reaches outside its box.
         let mut mesh = mesh_of(&[
@@ -469,7 +544,7 @@ mod tests {
         let before = mesh.clone();
         assert_eq!(
             orient_shells(&mut mesh),
-            Err(ShellsIntersect {
+            Err(ShellError::Intersect {
                 first: 0,
                 second: 1
             })
@@ -489,14 +564,14 @@ mod tests {
             let mut mesh = mesh_of(&parts);
             assert_eq!(
                 orient_shells(&mut mesh),
-                Err(ShellsIntersect {
+                Err(ShellError::Intersect {
                     first: 0,
                     second: 1
                 })
             );
         }
         assert!(
-            ShellsIntersect {
+            ShellError::Intersect {
                 first: 0,
                 second: 1
             }
@@ -510,30 +585,15 @@ mod tests {
         let mesh = mesh_of(&[(DVec3::splat(-1.0), DVec3::splat(1.0), false)]);
         let all: Vec<u32> = (0..12).collect();
         let bounds = (DVec3::splat(-1.0), DVec3::splat(1.0));
-        assert_eq!(
-            point_in_shell(&mesh, &all, bounds, DVec3::ZERO),
-            Parity::Inside
-        );
-        assert_eq!(
-            point_in_shell(&mesh, &all, bounds, DVec3::new(1.0, 0.2, 0.3)),
-            Parity::OnSurface
-        );
-        assert_eq!(
-            point_in_shell(&mesh, &all, bounds, DVec3::new(1.0, 1.0, 1.0)),
-            Parity::OnSurface
-        );
+        let mut budget = usize::MAX;
+        let mut at =
+            |q: DVec3| point_in_shell(&mesh, &all, bounds, q, &mut budget).expect("budget");
+        assert_eq!(at(DVec3::ZERO), Parity::Inside);
+        assert_eq!(at(DVec3::new(1.0, 0.2, 0.3)), Parity::OnSurface);
+        assert_eq!(at(DVec3::new(1.0, 1.0, 1.0)), Parity::OnSurface);
         // On a face's diagonal, inside the face.
-        assert_eq!(
-            point_in_shell(&mesh, &all, bounds, DVec3::new(0.5, 0.5, 1.0)),
-            Parity::OnSurface
-        );
-        assert_eq!(
-            point_in_shell(&mesh, &all, bounds, DVec3::new(0.999, 0.0, 0.0)),
-            Parity::Inside
-        );
-        assert_eq!(
-            point_in_shell(&mesh, &all, bounds, DVec3::new(1.5, 0.0, 0.0)),
-            Parity::Outside
-        );
+        assert_eq!(at(DVec3::new(0.5, 0.5, 1.0)), Parity::OnSurface);
+        assert_eq!(at(DVec3::new(0.999, 0.0, 0.0)), Parity::Inside);
+        assert_eq!(at(DVec3::new(1.5, 0.0, 0.0)), Parity::Outside);
     }
 }
