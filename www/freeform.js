@@ -137,6 +137,12 @@ export function setupFreeForm(app) {
       else $(id).setAttribute('aria-invalid', 'true');
     });
   }
+  $('ff-crease').addEventListener('change', (e) => {
+    const v = e.target.valueAsNumber;
+    const ok = Number.isFinite(v) && app.attempt(`Crease angle of ${letter(slot)}`, () => ff.set_crease(slot, v));
+    if (ok) e.target.removeAttribute('aria-invalid');
+    else e.target.setAttribute('aria-invalid', 'true');
+  });
   const drag = $('ff-drag');
   drag.addEventListener('click', () => {
     drag.setAttribute('aria-pressed', String(drag.getAttribute('aria-pressed') !== 'true'));
@@ -190,6 +196,7 @@ export function setupFreeForm(app) {
         if (document.activeElement !== $(id)) $(id).value = String(Math.round(placement[k] * 1e6) / 1e6);
       });
     }
+    if (document.activeElement !== $('ff-crease')) $('ff-crease').value = String(ff.crease(slot) ?? 50);
     drag.textContent = drag.getAttribute('aria-pressed') === 'true' ? `Dragging moves ${letter(slot)}` : 'Drag to move';
     const counts = ff.triangle_counts();
     const info = ff.surface_info();

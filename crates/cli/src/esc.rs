@@ -23,7 +23,8 @@ pub(crate) const USAGE: &str = "bezsolid esc classify MESH --points FILE.csv [-o
      bezsolid esc bool A OP B --points FILE.csv [-o OUT] (OP: union, intersection, difference) | \
      bezsolid esc bool complement A --points FILE.csv [-o OUT] | \
      bezsolid esc expr \"EXPR\" NAME=SOLID... --points FILE.csv [-o OUT] \
-     (EXPR: names, | union, & intersection, - difference, ! complement, brackets)";
+     (EXPR: names, | union, & intersection, - difference, ! complement, brackets); \
+     every command takes --crease DEG (edges sharper than DEG degrees stay sharp; default 50)";
 
 /// The names `complement` goes by on the command line.
 fn is_complement(word: &str) -> bool {
@@ -41,9 +42,9 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
 }
 
 fn classify(args: &[String]) -> Result<()> {
-    let args = Args::parse("esc classify", args, &["--points", "--output"])?;
+    let args = Args::parse("esc classify", args, &["--points", "--output", "--crease"])?;
     let mesh = args.model(USAGE)?;
-    let solid = load_solid(mesh)?;
+    let solid = load_solid(mesh, crease(&args)?)?;
     let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
     let mut stats = Stats::default();
     write_values(points, args.value("--output"), |q| {
@@ -63,11 +64,11 @@ fn boolean(args: &[String]) -> Result<()> {
         _ => None,
     };
     if let Some((a, rest)) = unary {
-        let args = Args::parse("esc bool", rest, &["--points", "--output"])?;
+        let args = Args::parse("esc bool", rest, &["--points", "--output", "--crease"])?;
         if let Ok(extra) = args.model("") {
             bail!("esc bool: unexpected argument {extra}: a complement takes one solid");
         }
-        let solid = load_solid(a)?;
+        let solid = load_solid(a, crease(&args)?)?;
         let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
         let mut stats = Stats::default();
         return write_values(points, args.value("--output"), |q| {
@@ -84,11 +85,12 @@ fn boolean(args: &[String]) -> Result<()> {
              (or `complement A`)"
         )
     })?;
-    let args = Args::parse("esc bool", rest, &["--points", "--output"])?;
+    let args = Args::parse("esc bool", rest, &["--points", "--output", "--crease"])?;
     if let Ok(extra) = args.model("") {
         bail!("esc bool: unexpected argument {extra}");
     }
-    let solids = [load_solid(a)?, load_solid(b)?];
+    let crease = crease(&args)?;
+    let solids = [load_solid(a, crease)?, load_solid(b, crease)?];
     let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
     let expr = Expr::binary(op, Expr::Solid(0), Expr::Solid(1));
     let mut stats = Stats::default();
@@ -107,7 +109,7 @@ fn expression(args: &[String]) -> Result<()> {
         .position(|a| a.starts_with('-') && a.len() > 1)
         .unwrap_or(rest.len());
     let (named, options) = rest.split_at(split);
-    let args = Args::parse("esc expr", options, &["--points", "--output"])?;
+    let args = Args::parse("esc expr", options, &["--points", "--output", "--crease"])?;
     if let Ok(extra) = args.model("") {
         bail!("esc expr: unexpected argument {extra} after the options");
     }
@@ -143,10 +145,11 @@ fn expression(args: &[String]) -> Result<()> {
             eprintln!("bezsolid: esc expr: {name} is not in the expression; it is not read");
         }
     }
+    let crease = crease(&args)?;
     let solids = paths
         .iter()
         .zip(&used)
-        .map(|(path, &used)| used.then(|| load_solid(path)).transpose())
+        .map(|(path, &used)| used.then(|| load_solid(path, crease)).transpose())
         .collect::<Result<Vec<_>>>()?;
     let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
     let mut stats = Stats::default();
@@ -171,9 +174,19 @@ fn mark(expr: &Expr, used: &mut [bool]) {
     }
 }
 
-/// A mesh file (OBJ, or STL binary or ASCII), a built-in example (`example:NAME`), or a free-form
-/// model file or share link (its whole result).
-fn load_solid(arg: &str) -> Result<Boolean> {
+/// `--crease DEG`: the angle between neighbouring faces past which an edge stays sharp.
+fn crease(args: &Args) -> Result<f64> {
+    let degrees = args.number("--crease", bezsolid_core::esc::DEFAULT_CREASE_ANGLE)?;
+    if !bezsolid_core::esc::pn::valid_crease_angle(degrees) {
+        bail!(bezsolid_core::esc::EscError::CreaseAngle { degrees });
+    }
+    Ok(degrees)
+}
+
+/// A mesh file (OBJ, or STL binary or ASCII) or a built-in example (`example:NAME`), its edges
+/// sharp past `crease` degrees; or a free-form model file or share link (its whole result, with
+/// the crease angles it says).
+fn load_solid(arg: &str, crease: f64) -> Result<Boolean> {
     let is_model = crate::is_link(arg)
         || std::path::Path::new(arg)
             .extension()
@@ -191,7 +204,8 @@ fn load_solid(arg: &str) -> Result<Boolean> {
         let bytes = crate::input::read_bytes(arg, MAX_FILE_BYTES as u64, "mesh file")?;
         read(&bytes).with_context(|| format!("{arg} is not a usable mesh"))?
     };
-    let solid = EscSolid::new(&mesh).with_context(|| format!("{arg} does not bound a solid"))?;
+    let solid = EscSolid::with_crease_angle(&mesh, crease)
+        .with_context(|| format!("{arg} does not bound a solid"))?;
     Ok(Boolean {
         solids: vec![solid],
         expr: Expr::Solid(0),

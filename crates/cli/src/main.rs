@@ -59,6 +59,9 @@ commands (DESIGN §5):
                                    & intersection, - difference, ! complement, brackets (!
                                    binds tightest, then &, then | and - left to right), e.g.
                                    esc expr \"!(A|B)-C\" A=a.obj B=example:torus C=c.stl
+                                   (esc commands take --crease DEG: an edge whose faces turn
+                                   by more than DEG degrees stays sharp; default 50, 180
+                                   rounds every edge)
   plasm SCRIPT [-o OUT.{obj,stl,ply}]
                                    run a PLaSM script (the third paper's language) and write
                                    what its top-level expressions draw: OBJ with faces, lines

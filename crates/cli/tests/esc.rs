@@ -184,13 +184,12 @@ fn complements_and_expressions_of_many_solids_agree_with_the_set_operations() {
         ));
     }
     let cube_file = scratch("corner.obj", &obj);
-    // The cube [−1.4, −0.2]³: a coarse mesh whose PN surface bulges, so points are compared
-    // only where the cube and its bulge agree.
+    // The cube [−1.4, −0.2]³, its edges sharp (creases).
     let corner = |p: [f64; 3]| -> Option<bool> {
         let d = p.iter().map(|c| (c + 0.8).abs()).fold(0.0, f64::max);
-        if d < 0.4 {
+        if d < 0.59 {
             Some(true)
-        } else if d > 0.8 {
+        } else if d > 0.61 {
             Some(false)
         } else {
             None
@@ -221,6 +220,53 @@ fn complements_and_expressions_of_many_solids_agree_with_the_set_operations() {
         }
     }
     assert!(compared > 200, "only {compared} points compared");
+}
+
+#[test]
+fn crease_angles_keep_edges_sharp_or_round_them() {
+    let mut obj = String::new();
+    for v in 0..8 {
+        let [x, y, z] = [v & 1, (v >> 1) & 1, (v >> 2) & 1].map(|b| b as f64 * 2.0 - 1.0);
+        obj.push_str(&format!("v {x} {y} {z}\n"));
+    }
+    for [a, b, c, d] in [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ] {
+        obj.push_str(&format!(
+            "f {} {} {}\nf {} {} {}\n",
+            a + 1,
+            b + 1,
+            c + 1,
+            a + 1,
+            c + 1,
+            d + 1
+        ));
+    }
+    let cube = scratch("unit-cube.obj", &obj);
+    let cube = cube.to_str().unwrap();
+    let file = scratch("crease.csv", "1.2,0,0\n0,0,1.05\n0.99,0.99,0.99\n0,0,0\n");
+    let file = file.to_str().unwrap();
+    assert_eq!(
+        run(&["esc", "classify", cube, "--points", file]),
+        [0, 0, 1, 1]
+    );
+    let round = ["esc", "classify", cube, "--crease", "180", "--points", file];
+    assert_eq!(
+        run(&round),
+        [1, 1, 1, 1],
+        "every edge rounded bulges the faces"
+    );
+    let a = format!("A={cube}");
+    let expr = ["esc", "expr", "A", &a, "--crease", "180", "--points", file];
+    assert_eq!(run(&expr), [1, 1, 1, 1]);
+    let out = common::bezsolid(&["esc", "classify", cube, "--crease", "200", "--points", file]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("from 0 to 180, not 200"));
 }
 
 #[test]

@@ -978,12 +978,11 @@ impl EscOperand {
     ///
     /// As [`EscOperand::to_mesh`], and a mesh that cannot be a chain.
     pub fn to_solid(&self) -> Result<EscSolid, String> {
-        if let Some(angle) = self.crease.filter(|a| !(0.0..=180.0).contains(a)) {
-            return Err(format!(
-                "the crease angle {angle} is refused: give degrees from 0 to 180"
-            ));
+        let crease = self.crease.unwrap_or(crate::esc::DEFAULT_CREASE_ANGLE);
+        if !crate::esc::pn::valid_crease_angle(crease) {
+            return Err(crate::esc::EscError::CreaseAngle { degrees: crease }.to_string());
         }
-        EscSolid::new(&self.to_mesh()?).map_err(|e| e.to_string())
+        EscSolid::with_crease_angle(&self.to_mesh()?, crease).map_err(|e| e.to_string())
     }
 }
 
@@ -1265,7 +1264,14 @@ mod tests {
             ..cube
         };
         assert!(inside(mirrored.clone(), [0.9, 0.4, 0.0], &mut stats));
-        assert!(!inside(mirrored, [0.0, 0.9, 0.0], &mut stats));
+        assert!(!inside(mirrored.clone(), [0.0, 0.55, 0.0], &mut stats));
+        // Its edges are creases, kept sharp by default; an angle of 180 rounds them.
+        assert!(!inside(mirrored.clone(), [1.02, 0.0, 0.0], &mut stats));
+        let round = EscOperand {
+            crease: Some(180.0),
+            ..mirrored
+        };
+        assert!(inside(round, [1.02, 0.0, 0.0], &mut stats));
         let ball = EscOperand {
             scale: Some([-2.0, 1.0, 1.0]),
             rotate: Some([0.0, 90.0, 0.0]),

@@ -441,6 +441,32 @@ impl FreeForm {
         self.apply(operands, self.boolean.expr.clone())
     }
 
+    /// Operand `slot`'s crease angle: an edge whose faces' normals differ by more than `degrees`
+    /// stays sharp (0 to 180; 180 rounds every edge).
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot or an angle outside 0 to 180 (the scene is kept).
+    pub fn set_crease(&mut self, slot: usize, degrees: f64) -> Result<(), Error> {
+        let mut operands = self.operands.clone();
+        let o = operands.get_mut(slot).ok_or_else(|| no_operand(slot))?;
+        o.crease = (degrees != bezsolid_core::esc::DEFAULT_CREASE_ANGLE).then_some(degrees);
+        if operands == self.operands {
+            return Ok(());
+        }
+        let before = self.snapshot();
+        self.apply(operands, self.boolean.expr.clone())?;
+        self.record(before);
+        Ok(())
+    }
+
+    /// Operand `slot`'s crease angle in degrees.
+    #[must_use]
+    pub fn crease(&self, slot: usize) -> Option<f64> {
+        let o = self.operands.get(slot)?;
+        Some(o.crease.unwrap_or(bezsolid_core::esc::DEFAULT_CREASE_ANGLE))
+    }
+
     /// Operand `slot`'s placement: offset, rotation (degrees) and scale.
     #[must_use]
     pub fn placement(&self, slot: usize) -> Option<([f64; 3], [f64; 3], [f64; 3])> {
@@ -1299,5 +1325,32 @@ mod tests {
         // One undo step for the whole drag.
         assert!(f.undo());
         assert_eq!(f.model_file(), file);
+    }
+
+    #[test]
+    fn an_imported_cube_keeps_its_edges_unless_its_crease_angle_rounds_them() {
+        let cube = bezsolid_core::mesh::read(
+            b"v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+              f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\n\
+              f 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n",
+        )
+        .unwrap();
+        let mut f = FreeForm::new();
+        f.set_mesh(0, "cube.obj", &cube).unwrap();
+        f.set_combine(Combine::Alone).unwrap();
+        let mut stats = bezsolid_core::esc::Stats::default();
+        let q = DVec3::new(1.2, 0.0, 0.0);
+        assert_eq!(f.boolean().value(q, &mut stats), 0);
+        assert_eq!(f.crease(0), Some(bezsolid_core::esc::DEFAULT_CREASE_ANGLE));
+        f.set_crease(0, 180.0).unwrap();
+        assert_eq!(
+            f.boolean().value(q, &mut stats),
+            1,
+            "rounded, the faces bulge"
+        );
+        assert!(f.set_crease(0, 181.0).is_err());
+        assert_eq!(f.crease(0), Some(180.0));
+        assert!(f.undo());
+        assert_eq!(f.boolean().value(q, &mut stats), 0);
     }
 }

@@ -1,7 +1,9 @@
 //! The extended simplicial chain of a closed PN surface (the paper's §4) and its associated
 //! function: point-in-solid.
 //!
-//! For a closed, consistently oriented triangle mesh with vertex normals, the chain is
+//! For a closed, consistently oriented triangle mesh with vertex normals (each shell turned to face
+//! the way its nesting says first, [`crate::mesh::orient_shells`]; the PN surface keeps the mesh's
+//! creases, [`super::pn`]), the chain is
 //! `δ = Σᵢ sᵢ·Sᵢ + Σᵢ aᵢ·ffcᵢ`, one term of each kind per triangle `tᵢ`:
 //!
 //! - the *original simplex* `Sᵢ`, the tetrahedron of `tᵢ` and an apex `A`, with `sᵢ` the sign of its
@@ -36,10 +38,11 @@
 //! hull of its patch's ten control points, and for a fine mesh it is thin, so a uniform grid over
 //! their bounding boxes plus a bounding polytope per cell (its frame's box cut by six slabs) rejects
 //! almost every query without touching a patch: most queries compute no ray–patch intersection at
-//! all. A coarse mesh with sharp edges (a cube) has thick cells, and a query in the shell between
-//! the mesh and its PN surface computes one; a Boolean's surface
-//! ([`super::draw::Boolean::surface`]) asks the solids only near their surfaces. Ray parity ([`EscSolid::parity_value`]), the classic
-//! test, walks a ray through the same grid and intersects every patch whose box it meets.
+//! all. A coarse mesh with rounded edges (a cube with a crease angle of 180°) has thick cells, and a
+//! query in the shell between the mesh and its PN surface computes one; a Boolean's surface
+//! ([`super::draw::Boolean::surface`]) asks the solids only near their surfaces. Ray parity
+//! ([`EscSolid::parity_value`]), the classic test, walks a ray through the same grid and intersects
+//! every patch whose box it meets.
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -47,11 +50,11 @@ use core::fmt;
 
 use glam::DVec3;
 
-use super::pn::{PnSurface, cubic_index};
+use super::pn::{DEFAULT_CREASE_ANGLE, PnSurface, creases, cubic_index, valid_crease_angle};
 use super::predicates::{orient_sign, side};
 use super::ray::{Crossings, Ray, Unsure, Wall, patch_crossings, patch_hits};
 use crate::mesh::Mesh;
-use crate::mesh::{MeshDefects, validate};
+use crate::mesh::{MeshDefects, ShellError, orient_shells, validate};
 
 /// Why a mesh cannot make an [`EscSolid`].
 #[derive(Clone, Debug, PartialEq)]
@@ -64,6 +67,14 @@ pub enum EscError {
     Normals,
     /// A coordinate is not finite.
     NotFinite,
+    /// The crease angle is not a finite number of degrees from 0 to 180.
+    CreaseAngle {
+        /// The angle given.
+        degrees: f64,
+    },
+    /// The shells (connected pieces) of the mesh cannot be oriented: two cross each other (see
+    /// [`ShellError::Intersect`] for what is detected), or too many overlap.
+    Shells(ShellError),
 }
 
 impl fmt::Display for EscError {
@@ -73,6 +84,11 @@ impl fmt::Display for EscError {
             Self::Empty => f.write_str("the mesh has no triangles"),
             Self::Normals => f.write_str("the mesh needs one unit normal per vertex"),
             Self::NotFinite => f.write_str("a vertex coordinate is not a finite number"),
+            Self::CreaseAngle { degrees } => write!(
+                f,
+                "the crease angle must be a number of degrees from 0 to 180, not {degrees}"
+            ),
+            Self::Shells(e) => write!(f, "{e}"),
         }
     }
 }
@@ -101,11 +117,11 @@ pub struct Stats {
 /// a point of the curved edge), so the hull's extents along a few directions bound it: the frame's
 /// box, and six slabs that cut the box's corners. The box alone is a loose bound for a large cell:
 /// a right triangle's box is the square over it, and a patch that bulges far from its base (a
-/// coarse mesh with sharp edges, such as a cube, whose corner normals are far from its face
-/// normals) fills the box's top only near its middle. The slabs are the base triangle's three
-/// in-plane edge normals (the box becomes a prism over the triangle) and its three vertex normals
-/// (each vertex's tangent plane, which its edge control points lie in, caps the box's top corner
-/// there).
+/// coarse mesh with rounded edges, such as a cube with a crease angle of 180°, whose corner normals
+/// are far from its face normals) fills the box's top only near its middle. The slabs are the base
+/// triangle's three in-plane edge normals (the box becomes a prism over the triangle) and its three
+/// corner normals (each corner's tangent plane, which its edge control points lie in unless the
+/// edge is a crease, caps the box's top corner there).
 #[derive(Clone, Copy, Debug)]
 struct Cell {
     /// Frame axes: edge direction, in-plane perpendicular, and the base triangle's unit normal
@@ -225,6 +241,26 @@ impl Cell {
     }
 }
 
+/// How to make an [`EscSolid`]: [`EscSolid::with_options`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EscOptions {
+    /// The crease angle in degrees, from 0 to 180: an edge whose two triangles' normals differ by
+    /// more is kept sharp (see [`super::pn`]); 180 rounds every edge. [`DEFAULT_CREASE_ANGLE`] by
+    /// default.
+    pub crease_angle: f64,
+    /// The apex of the original simplices; `None` (the default) chooses one as the module says.
+    pub apex: Option<DVec3>,
+}
+
+impl Default for EscOptions {
+    fn default() -> Self {
+        Self {
+            crease_angle: DEFAULT_CREASE_ANGLE,
+            apex: None,
+        }
+    }
+}
+
 /// A solid bounded by the PN surface of a closed triangle mesh, as an extended simplicial chain
 /// (see the module documentation).
 #[derive(Clone, Debug)]
@@ -233,6 +269,10 @@ pub struct EscSolid {
     triangles: Vec<[u32; 3]>,
     pn: PnSurface,
     apex: DVec3,
+    crease_angle: f64,
+    crease_edges: usize,
+    shells: usize,
+    shells_turned_over: usize,
     /// The sign of each original simplex (0 for a flat one).
     coefficients: Vec<i8>,
     cube: CubeMap,
@@ -260,17 +300,20 @@ const PARITY_DIRECTIONS: [[f64; 3]; 4] = [
 ];
 
 impl EscSolid {
-    /// The chain of `mesh`, a closed, consistently oriented (outward) triangle mesh with one unit
-    /// normal per vertex, with the apex chosen as the module says.
+    /// The chain of `mesh`, a closed, consistently oriented triangle mesh with one unit normal per
+    /// vertex, with the apex chosen as the module says and the edges sharper than
+    /// [`DEFAULT_CREASE_ANGLE`] kept sharp.
+    ///
+    /// Each shell (connected piece) of the mesh is turned over first if it faces the wrong way for
+    /// its nesting: outward at the outside, inward around a cavity ([`orient_shells`];
+    /// [`EscSolid::shells_turned_over`] counts them).
     ///
     /// # Errors
     ///
     /// [`EscError`] when the mesh is empty, not closed and consistently oriented, has a coordinate
-    /// that is not finite, or lacks unit normals.
+    /// that is not finite, lacks unit normals, or has shells that visibly cross.
     pub fn new(mesh: &Mesh) -> Result<Self, EscError> {
-        check(mesh)?;
-        let apex = choose_apex(&mesh.positions, &mesh.triangles);
-        Ok(Self::build(mesh, apex))
+        Self::with_options(mesh, EscOptions::default())
     }
 
     /// The chain of `mesh` with the apex `apex` (the paper uses the origin).
@@ -279,17 +322,67 @@ impl EscSolid {
     ///
     /// As [`EscSolid::new`], and [`EscError::NotFinite`] for an apex that is not finite.
     pub fn with_apex(mesh: &Mesh, apex: DVec3) -> Result<Self, EscError> {
-        check(mesh)?;
-        if !apex.is_finite() {
-            return Err(EscError::NotFinite);
-        }
-        Ok(Self::build(mesh, apex))
+        Self::with_options(
+            mesh,
+            EscOptions {
+                apex: Some(apex),
+                ..EscOptions::default()
+            },
+        )
     }
 
-    fn build(mesh: &Mesh, apex: DVec3) -> Self {
-        let positions = mesh.positions.clone();
-        let triangles = mesh.triangles.clone();
-        let pn = PnSurface::new(mesh);
+    /// The chain of `mesh` with the crease angle `degrees` (0 to 180; 180 rounds every edge): an
+    /// edge whose two triangles' normals differ by more is kept sharp.
+    ///
+    /// # Errors
+    ///
+    /// As [`EscSolid::new`], and [`EscError::CreaseAngle`] for an angle that is not a finite number
+    /// from 0 to 180.
+    pub fn with_crease_angle(mesh: &Mesh, degrees: f64) -> Result<Self, EscError> {
+        Self::with_options(
+            mesh,
+            EscOptions {
+                crease_angle: degrees,
+                ..EscOptions::default()
+            },
+        )
+    }
+
+    /// The chain of `mesh` made as `options` say.
+    ///
+    /// # Errors
+    ///
+    /// As [`EscSolid::new`], [`EscError::CreaseAngle`] for a crease angle that is not a finite
+    /// number from 0 to 180, and [`EscError::NotFinite`] for an apex that is not finite.
+    pub fn with_options(mesh: &Mesh, options: EscOptions) -> Result<Self, EscError> {
+        if !valid_crease_angle(options.crease_angle) {
+            return Err(EscError::CreaseAngle {
+                degrees: options.crease_angle,
+            });
+        }
+        check(mesh)?;
+        if options.apex.is_some_and(|a| !a.is_finite()) {
+            return Err(EscError::NotFinite);
+        }
+        let mut mesh = mesh.clone();
+        let shells = orient_shells(&mut mesh).map_err(EscError::Shells)?;
+        let apex = options
+            .apex
+            .unwrap_or_else(|| choose_apex(&mesh.positions, &mesh.triangles));
+        let mut solid = Self::build(mesh, apex, options.crease_angle);
+        solid.shells = shells.shells;
+        solid.shells_turned_over = shells.turned_over;
+        Ok(solid)
+    }
+
+    fn build(mesh: Mesh, apex: DVec3, crease_angle: f64) -> Self {
+        let creases = creases(&mesh, crease_angle);
+        let pn = PnSurface::creased(&mesh, &creases);
+        let Mesh {
+            positions,
+            triangles,
+            ..
+        } = mesh;
         let coefficients: Vec<i8> = triangles
             .iter()
             .map(|t| {
@@ -333,10 +426,10 @@ impl EscSolid {
             .iter()
             .zip(&pn.patches)
             .zip(&cell_walls)
-            .map(|((tri, net), &walls)| {
+            .enumerate()
+            .map(|(t, ((tri, net), &walls))| {
                 let corners = tri.map(|i| positions[i as usize]);
-                let normals = tri.map(|i| mesh.normals[i as usize]);
-                Cell::new(corners, normals, net, walls)
+                Cell::new(corners, pn.corner_normals(t), net, walls)
             })
             .collect();
         let boxes: Vec<(DVec3, DVec3)> = pn
@@ -358,6 +451,10 @@ impl EscSolid {
             triangles,
             pn,
             apex,
+            crease_angle,
+            crease_edges: creases.edges,
+            shells: 1,
+            shells_turned_over: 0,
             coefficients,
             cube,
             cells,
@@ -378,13 +475,39 @@ impl EscSolid {
         &self.pn
     }
 
+    /// The crease angle the solid was made with, in degrees.
+    #[must_use]
+    pub fn crease_angle(&self) -> f64 {
+        self.crease_angle
+    }
+
+    /// The number of the mesh's edges kept sharp (creases).
+    #[must_use]
+    pub fn crease_edges(&self) -> usize {
+        self.crease_edges
+    }
+
+    /// The number of shells (connected pieces) of the mesh's surface.
+    #[must_use]
+    pub fn shells(&self) -> usize {
+        self.shells
+    }
+
+    /// The number of shells that faced the wrong way for their nesting and were turned over
+    /// (outward at even depth, inward around a cavity): 0 for a well-oriented mesh.
+    #[must_use]
+    pub fn shells_turned_over(&self) -> usize {
+        self.shells_turned_over
+    }
+
     /// The mesh's vertices.
     #[must_use]
     pub fn positions(&self) -> &[DVec3] {
         &self.positions
     }
 
-    /// The mesh's triangles.
+    /// The mesh's triangles, with every shell facing the way its nesting says (see
+    /// [`EscSolid::new`]).
     #[must_use]
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles

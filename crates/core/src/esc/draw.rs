@@ -126,10 +126,10 @@ impl Boolean {
     /// A solid is asked at the first sample of each row along x, and at each sample whose grid
     /// edge from the previous one its PN surface may cross (the edge meets the box of a piece of
     /// a patch, the patches split until each piece spans at most a cell); every other sample is
-    /// in the solid exactly when the previous one is. The work follows the surface's
-    /// area in cells rather than the grid's volume: a coarse mesh with sharp edges (a cube) has
-    /// thick free-form cells, where most samples of the grid would each need a ray–patch
-    /// intersection.
+    /// in the solid exactly when the previous one is. The work follows the surface's area in cells
+    /// rather than the grid's volume: a coarse mesh with rounded edges (a cube with a crease angle
+    /// of 180°) has thick free-form cells, where most samples of the grid would each need a
+    /// ray–patch intersection.
     #[must_use]
     pub fn surface(&self, res: usize) -> Mesh {
         self.surface_in_steps(res, |_, _| {})
@@ -525,6 +525,7 @@ mod tests {
     use super::*;
     use crate::esc::bool::Op;
     use crate::esc::examples::Example;
+    use crate::esc::pn::DEFAULT_CREASE_ANGLE;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -569,6 +570,37 @@ mod tests {
     }
 
     #[test]
+    fn surfaces_of_solids_with_sharp_edges_are_closed_and_flat_on_the_faces() {
+        let boolean = imported_cube_minus_octahedron(DEFAULT_CREASE_ANGLE);
+        let mesh = boolean.surface(24);
+        mesh.check_closed_manifold().expect("closed");
+        assert!(mesh.volume() > 0.0);
+        let mut stats = Stats::default();
+        let mut on_cube = 0;
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            if *n == DVec3::ZERO {
+                continue;
+            }
+            let h = 1e-4;
+            assert_eq!(boolean.value(*p - *n * h, &mut stats), 1, "{p}");
+            assert_eq!(boolean.value(*p + *n * h, &mut stats), 0, "{p}");
+            // On the cube's faces the normal is the face's: the cube stays flat.
+            if (p.abs().max_element() - 1.0).abs() < 1e-12 {
+                assert!((n.abs().max_element() - 1.0).abs() < 1e-12, "{p} {n}");
+                on_cube += 1;
+            }
+        }
+        assert!(on_cube > 100, "{on_cube}");
+        // The octahedron's faces, x + y + z = 1.4 and the like, are flat too.
+        for p in &mesh.positions {
+            assert!(
+                p.abs().element_sum() >= 1.4 - 1e-9,
+                "{p} inside the octahedron"
+            );
+        }
+    }
+
+    #[test]
     fn trimmed_surfaces_lie_on_the_boundary_of_the_result() {
         for op in Op::ALL {
             // A torus that crosses the sphere steeply (the default scene's meets it at a shallow
@@ -606,8 +638,9 @@ mod tests {
     }
 
     /// A cube and an octahedron that cuts off its corners, read from OBJ text as an import is:
-    /// few, large triangles with sharp edges, whose free-form cells are thick.
-    fn imported_cube_minus_octahedron() -> Boolean {
+    /// few, large triangles with sharp edges. With the crease angle 180 the edges are rounded and
+    /// the free-form cells are thick; with the default they stay sharp and the cells flat.
+    fn imported_cube_minus_octahedron(crease_angle: f64) -> Boolean {
         let cube = "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\n\
                     v -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
                     f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
@@ -615,7 +648,7 @@ mod tests {
                           f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
         let solid = |text: &str| {
             let mesh = crate::mesh::read(text.as_bytes()).expect("a closed mesh");
-            EscSolid::new(&mesh).expect("valid")
+            EscSolid::with_crease_angle(&mesh, crease_angle).expect("valid")
         };
         Boolean {
             solids: vec![solid(cube), solid(octahedron)],
@@ -626,7 +659,8 @@ mod tests {
     #[test]
     fn surfaces_ask_the_solids_near_their_surfaces_and_come_out_as_if_asked_everywhere() {
         for (boolean, res) in [
-            (imported_cube_minus_octahedron(), 24),
+            (imported_cube_minus_octahedron(180.0), 24),
+            (imported_cube_minus_octahedron(DEFAULT_CREASE_ANGLE), 24),
             (scene(Op::Difference), 16),
         ] {
             let mesh = boolean.surface(res);
@@ -677,7 +711,7 @@ mod tests {
 
     #[test]
     fn surfaces_report_their_progress_layer_by_layer() {
-        let boolean = imported_cube_minus_octahedron();
+        let boolean = imported_cube_minus_octahedron(180.0);
         let mut steps = Vec::new();
         let mesh = boolean.surface_in_steps(12, |done, total| steps.push((done, total)));
         assert_eq!(mesh, boolean.surface(12));

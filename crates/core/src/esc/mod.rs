@@ -14,8 +14,12 @@
 //! - [`mod@bool`]: Boolean expressions as chain algebra.
 //! - [`draw`]: point meshes and surfaces of Boolean results.
 //!
-//! The types a caller needs are re-exported here: [`EscSolid`], [`Expr`] and [`Op`], [`Boolean`],
-//! [`Example`], [`PnSurface`].
+//! The types a caller needs are re-exported here: [`EscSolid`] (and [`EscOptions`],
+//! [`DEFAULT_CREASE_ANGLE`]), [`Expr`] and [`Op`], [`Boolean`], [`Example`], [`PnSurface`].
+//!
+//! Edges of the mesh sharper than the crease angle stay sharp (a cube stays a cube, see [`pn`]),
+//! and each shell (connected piece) of the mesh is turned to face the way its nesting says, out of
+//! the solid, into a cavity ([`crate::mesh::orient_shells`]).
 //!
 //! ```
 //! use bezsolid_core::esc::{EscSolid, Example};
@@ -35,10 +39,10 @@ pub mod predicates;
 pub mod ray;
 
 pub use bool::{Expr, ExprError, Op};
-pub use chain::{EscError, EscSolid, Stats};
+pub use chain::{EscError, EscOptions, EscSolid, Stats};
 pub use draw::{Boolean, PointMesh};
 pub use examples::Example;
-pub use pn::PnSurface;
+pub use pn::{DEFAULT_CREASE_ANGLE, PnSurface};
 
 #[cfg(test)]
 mod tests;

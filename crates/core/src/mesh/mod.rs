@@ -2,8 +2,9 @@
 //! are read from and written to: one [`Format`] per file kind ([`obj`], binary and ASCII [`stl`],
 //! binary and ASCII [`ply`]), each module with its reader beside its writer, and [`svg`] for 2D
 //! contours. Reading is shared ([`read`], [`from_raw`]) and so is the one check that triangles
-//! bound a solid ([`validate`], [`Mesh::check_closed_manifold`]). Core does no file I/O: readers
-//! take bytes, writers return them.
+//! bound a solid ([`validate`], [`Mesh::check_closed_manifold`]). A solid of several pieces or with
+//! cavities has one shell per piece of its surface, oriented by nesting ([`orient_shells`]). Core
+//! does no file I/O: readers take bytes, writers return them.
 
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -18,6 +19,7 @@ pub mod obj;
 pub mod ply;
 mod polygonize;
 mod read;
+mod shells;
 pub mod stl;
 pub mod svg;
 
@@ -28,6 +30,7 @@ pub use read::{
     MAX_FILE_BYTES, MAX_TRIANGLES, MAX_VERTICES, RawMesh, ReadError, angle_weighted_normals,
     from_raw, read,
 };
+pub use shells::{MAX_SHELL_WORK, ShellError, ShellOrientation, orient_shells, shells};
 
 /// A mesh file format: what the command line, the page and scripts export to and import from.
 /// With the `serde` feature it is written as its extension (`"obj"`, `"stl"`, `"ply"`).

@@ -1468,6 +1468,21 @@ impl FreeFormView {
             .set_placement(slot, [x, y, z], [rx, ry, rz], [sx, sy, sz])?)
     }
 
+    /// Solid `slot`'s crease angle: edges whose faces turn by more than `degrees` stay sharp.
+    ///
+    /// # Errors
+    ///
+    /// An unknown slot or an angle outside 0 to 180.
+    pub fn set_crease(&mut self, slot: usize, degrees: f64) -> Result<(), JsError> {
+        Ok(self.state.set_crease(slot, degrees)?)
+    }
+
+    /// Solid `slot`'s crease angle in degrees, or `undefined`.
+    #[must_use]
+    pub fn crease(&self, slot: usize) -> Option<f64> {
+        self.state.crease(slot)
+    }
+
     /// Solid `slot`'s placement: offset, rotation (degrees) and scale, nine numbers, or
     /// `undefined`.
     #[must_use]
