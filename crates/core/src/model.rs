@@ -1230,7 +1230,7 @@ mod tests {
                 crease: Some(200.0),
                 ..ball()
             }),
-            "crease angle 200",
+            "not 200",
         );
     }
 
