@@ -184,7 +184,7 @@ test('a free-form model: its result surface and mesh files, from the file and it
 test("PLaSM scripts: the paper's examples draw and export; endless recursion stops within wasm's stack", () => {
   const { headless_plasm, headless_plasm_mesh, plasm_examples, script_link, script_of } = glue;
   const examples = JSON.parse(plasm_examples());
-  assert.deepEqual(examples.map((e) => e.id), ['3.1', '3.3', '4.1', '4.4', '4.6', '4.7', '4.8']);
+  assert.deepEqual(examples.map((e) => e.id), ['3.1', '3.3', '4.1', '4.4', '4.6', '4.7', '4.8', '4.7-bezier-grid']);
   for (const e of examples) {
     const run = headless_plasm(e.source);
     const report = JSON.parse(run.report());
