@@ -226,7 +226,7 @@ test("PLaSM scripts: the paper's examples draw and export; endless recursion sto
   assert.equal(volume.kind, 'volume');
   assert.deepEqual(volume.degree, [3, 3, 1]);
   assert.ok(volume.points.every((p) => p.length === 4 && p[3] === 0.25));
-  assert.deepEqual(volume.points[1].map((x) => Math.round(x * 1e9) / 1e9), [0, 0, 4]);
+  assert.deepEqual(volume.points[1].map((x) => Math.round(x * 1e9) / 1e9), [0, 0, 4, 0.25]);
   assert.throws(() => script_volume_model(slab, 0), /that value is a surface in 3 coordinates/);
   // The module still works after all of that.
   assert.ok(JSON.parse(headless_plasm(examples[0].source).report()).error === null);
