@@ -1,8 +1,8 @@
 // The Script mode: a PLaSM script in an editor with line numbers and marks where the last run had
 // errors or warnings; Ctrl+Enter runs it in a worker of its own (a newer run or Stop cancels the one
 // under way) and the 3D view draws its results. A surface of two parameters opens in the Bézier
-// mode as a patch.
-import { headless_plasm, plasm_examples, plasm_prelude, script_patch_model } from './pkg/bezsolid_web.js';
+// mode as a patch, a solid of three parameters as a volume.
+import { headless_plasm, plasm_examples, plasm_prelude, script_patch_model, script_volume_model } from './pkg/bezsolid_web.js';
 import { $, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { lazyRunner } from './work.js';
@@ -68,19 +68,21 @@ export function setupScript(app) {
   // The script worker starts with the first run (most visits never open this mode).
   const worker = lazyRunner(!!app.runners.surface);
 
-  // A top-level value that is a surface of two parameters: its Bézier net, to edit point by point
-  // (ξ = z). The script runs again to find the net: in the worker, cancellable.
-  const editAsPatch = async (script, index, line) => {
+  // A top-level value that is a surface of two parameters (a patch, ξ = z) or a solid of three (a
+  // volume, ξ = 1/4 everywhere: the solid is the map's image): its Bézier net, to edit point by
+  // point. The script runs again to find the net: in the worker, cancellable.
+  const editAsNet = async (script, index, line, volume) => {
     const w = worker();
     let json;
+    const what = volume ? 'solid' : 'surface';
     const task = w && app.work.start('script', 'Finding the Bézier net', () => running.cancel());
-    const running = w?.run({ kind: 'plasm-patch', script, index }, { onStart: () => task.started() });
+    const running = w?.run({ kind: volume ? 'plasm-volume' : 'plasm-patch', script, index }, { onStart: () => task.started() });
     try {
-      json = w ? new TextDecoder().decode((await running).data) : script_patch_model(script, index);
+      json = w ? new TextDecoder().decode((await running).data) : (volume ? script_volume_model : script_patch_model)(script, index);
       app.modeler.load_model(json);
     } catch (err) {
       if (err.cancelled) say('Finding the Bézier net was cancelled; the model was kept.');
-      else say(`This surface has no Bézier net: ${messageOf(err)}`, 'error');
+      else say(`This ${what} has no Bézier net: ${messageOf(err)}`, 'error');
       return;
     } finally {
       task?.end();
@@ -88,8 +90,14 @@ export function setupScript(app) {
     app.setWorkspace('bezier');
     app.resize();
     app.resize3();
-    const [n, m] = app.panel().degree;
-    say(`Opened the surface of line ${line} as a ${n + 1} × ${m + 1}-point patch (ξ = z); Undo brings back the previous model.`);
+    const panel = app.panel();
+    if (volume) {
+      const [n, m, l] = panel.volume_degree;
+      say(`Opened the solid of line ${line} as a ${n + 1} × ${m + 1} × ${l + 1}-point volume, its net found exactly from the map (ξ = 1/4 everywhere: the solid is the map's image); Undo brings back the previous model.`);
+    } else {
+      const [n, m] = panel.degree;
+      say(`Opened the surface of line ${line} as a ${n + 1} × ${m + 1}-point patch (ξ = z); Undo brings back the previous model.`);
+    }
     app.changed();
   };
 
@@ -142,7 +150,16 @@ export function setupScript(app) {
         edit.className = 'edit-patch';
         edit.textContent = 'Edit as a Bézier patch';
         edit.title = 'Open this surface in the Bézier mode as a patch solid (x, y, ξ = z): its control net, found from the map';
-        edit.addEventListener('click', () => editAsPatch(ranScript, index, v.line));
+        edit.addEventListener('click', () => editAsNet(ranScript, index, v.line, false));
+        li.append(edit);
+      }
+      if (v.volume) {
+        const edit = document.createElement('button');
+        edit.type = 'button';
+        edit.className = 'edit-volume';
+        edit.textContent = 'Edit as a Bézier volume';
+        edit.title = 'Open this solid in the Bézier mode as a volume solid (x, y, z, ξ = 1/4 everywhere): its control net, found from the map';
+        edit.addEventListener('click', () => editAsNet(ranScript, index, v.line, true));
         li.append(edit);
       }
       return li;

@@ -1,7 +1,8 @@
 // The Script mode in a real browser, on the backend under test: each of the paper's examples runs
 // in the worker and draws its figure (screenshots kept, run times written to script-times.json),
 // an error is shown at its line with a way to it, endless work stops within the limits while the
-// page stays responsive, and a script travels through a link, a model file and the exports.
+// page stays responsive, a script travels through a link, a model file and the exports, and a
+// drawn surface or solid opens in the Bézier mode as its Bézier patch or volume.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
@@ -57,7 +58,7 @@ test("each of the paper's examples runs and draws its figure", async () => {
   assert.deepEqual(await counts(page), [800, 128, 0]);
   const expected = {
     3.1: [0, 30, 0], 3.3: [0, 20, 0], 4.1: [0, 32, 0], 4.4: [800, 128, 0],
-    4.6: [392, 0, 0], 4.7: [392, 0, 0], 4.8: [384, 0, 0],
+    4.6: [392, 0, 0], 4.7: [392, 0, 0], 4.8: [384, 0, 0], '4.7-bezier-grid': [128, 0, 0],
   };
   const times = {};
   let previous = null;
@@ -219,6 +220,69 @@ test('a script travels in a link and a model file, and exports parse back', asyn
   assert.deepEqual(other.errors, []);
   assert.deepEqual(errors, []);
   await other.page.close();
+  await page.close();
+});
+
+test('a solid a script draws opens in the Bézier mode as its Bézier volume, whose 3D view draws; Undo brings back the model', async () => {
+  const { page, errors } = await open(browser);
+  const previous = await page.evaluate(() => window.bezsolid.modeler.model_json());
+  await scriptMode(page);
+  // Fig. 4's curves: grid1 (the plane quarter ring between c1 and c2) and the same grid at z = 1,
+  // blended by Bezier:S3 into a slab.
+  await pick(page, 'script-example', '4.8');
+  assert.equal(await finished(page), 'done');
+  const slab = 'DEF a1 = CubicHermite:S1:<<1,0,1>,<0,1,1>,<0,3,0>,<-3,0,0>>;\n'
+    + 'DEF a2 = CubicHermite:S1:<<0.5,0,1>,<0,0.5,1>,<0,1,0>,<-1,0,0>>;\n'
+    + 'DEF Slab = Bezier:S3:<grid1, CubicHermite:S2:<a1,a2,d,d>>;\n'
+    + 'MAP:Slab:(Domain:8 * Domain:4 * Domain:2);\n';
+  await page.fill('#script', `${await page.inputValue('#script')}${slab}`);
+  await page.click('#script-run');
+  assert.equal(await finished(page), 'done', await page.textContent('#script-message'));
+  const { ink } = await drawn(page, 'script-slab');
+  assert.ok(ink > 300, `the slab draws (${ink} pixels)`);
+  // Only the solid (the fourth value) offers a volume; the plane grids offer neither net.
+  assert.equal(await page.locator('#script-values li').count(), 4);
+  assert.equal(await page.locator('#script-values .edit-volume').count(), 1);
+  assert.equal(await page.locator('#script-values .edit-patch').count(), 0);
+  assert.equal(await page.textContent('#script-values li:nth-child(4) .edit-volume'), 'Edit as a Bézier volume');
+  await page.click('#script-values li:nth-child(4) .edit-volume');
+  await page.waitForSelector('body[data-workspace="bezier"]');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await settle(page);
+  assert.match(await page.textContent('#model-name'), /Volume solid, 4 × 2 × 2 points, space-mapped/);
+  assert.match(await page.textContent('#status'), /Opened the solid of line \d+ as a 4 × 2 × 2-point volume, its net found exactly from the map/);
+  const net = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.model_json()));
+  assert.equal(net.solid.kind, 'volume');
+  assert.deepEqual(net.solid.degree, [3, 1, 1]);
+  const round = (p) => p.map((x) => Math.round(x * 1e9) / 1e9);
+  // The corners are the map's: c1(0) at z = 0, and c2(1) at z = 1; ξ = 1/4 everywhere.
+  assert.deepEqual(round(net.solid.points[0]), [1, 0, 0, 0.25]);
+  assert.deepEqual(round(net.solid.points[15]), [0, 0.5, 1, 0.25]);
+  assert.ok(net.solid.points.every((p) => p[3] === 0.25));
+  // Its 3D view draws the slab's surface, shaded in the volume's warm colour.
+  await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 60_000 });
+  await settle(page);
+  assert.match(await page.textContent('#surface-info'), /Surface: [\d,]+ triangles at 64/);
+  const shot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'script-slab-volume-3d.png'), shot);
+  const img = decodePng(shot);
+  const tones = new Set();
+  for (let y = 0; y < img.height; y += 3) {
+    for (let x = 0; x < img.width; x += 3) {
+      const [r, g, b] = img.at(x, y);
+      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
+    }
+  }
+  assert.ok(tones.size > 20, `the shaded surface is drawn (${tones.size} tones)`);
+  await page.click('#undo');
+  assert.equal(await page.evaluate(() => window.bezsolid.modeler.model_json()), previous);
+  // A surface in space has no volume: Fig. 1's surface offers a patch only.
+  await page.check('input[name="workspace"][value="script"]');
+  await pick(page, 'script-example', '4.4');
+  assert.equal(await finished(page), 'done');
+  assert.equal(await page.locator('#script-values .edit-volume').count(), 0);
+  assert.equal(await page.locator('#script-values .edit-patch').count(), 1);
+  assert.deepEqual(errors, []);
   await page.close();
 });
 

@@ -184,7 +184,7 @@ test('a free-form model: its result surface and mesh files, from the file and it
 test("PLaSM scripts: the paper's examples draw and export; endless recursion stops within wasm's stack", () => {
   const { headless_plasm, headless_plasm_mesh, plasm_examples, script_link, script_of } = glue;
   const examples = JSON.parse(plasm_examples());
-  assert.deepEqual(examples.map((e) => e.id), ['3.1', '3.3', '4.1', '4.4', '4.6', '4.7', '4.8']);
+  assert.deepEqual(examples.map((e) => e.id), ['3.1', '3.3', '4.1', '4.4', '4.6', '4.7', '4.8', '4.7-bezier-grid']);
   for (const e of examples) {
     const run = headless_plasm(e.source);
     const report = JSON.parse(run.report());
@@ -215,6 +215,19 @@ test("PLaSM scripts: the paper's examples draw and export; endless recursion sto
     assert.equal(report.error.kind, 'Limit', script);
   }
   assert.throws(() => headless_plasm_mesh('1 +;', 'obj'), /line 1, column 3/);
+  // A solid blended from surfaces opens as its Bézier volume (ξ = 1/4: the solid is the map's image);
+  // a surface does not.
+  const { script_volume_model } = glue;
+  const slab = `${fig1}DEF Body = Bezier:S3:<Surf1, <S1:Surf1, S2:Surf1, K:4 + S3:Surf1>>;\nMAP:Body:(Domain:4 * Domain:4 * Domain:2);\n`;
+  const report = JSON.parse(headless_plasm(slab).report());
+  const solidAt = report.values.findIndex((v) => v.volume);
+  assert.equal(solidAt, 5, JSON.stringify(report.values));
+  const volume = JSON.parse(script_volume_model(slab, solidAt)).solid;
+  assert.equal(volume.kind, 'volume');
+  assert.deepEqual(volume.degree, [3, 3, 1]);
+  assert.ok(volume.points.every((p) => p.length === 4 && p[3] === 0.25));
+  assert.deepEqual(volume.points[1].map((x) => Math.round(x * 1e9) / 1e9), [0, 0, 4, 0.25]);
+  assert.throws(() => script_volume_model(slab, 0), /that value is a surface in 3 coordinates/);
   // The module still works after all of that.
   assert.ok(JSON.parse(headless_plasm(examples[0].source).report()).error === null);
 });
@@ -240,6 +253,8 @@ test("the worker's protocol: a job as JSON in, one buffer out, as the worker dec
   assert.deepEqual(stl, headless_mesh(MODEL, 'stl', 16));
   const plasm = job({ kind: 'plasm', script: 'MAP:(CONS:<S1, S1>):(Domain:4);' });
   assert.equal(JSON.parse(plasm.header.report).error, null);
+  const volume = job({ kind: 'plasm-volume', script: 'MAP:<S1, S2, S3 + S1>:(Domain:2 * Domain:2 * Domain:2);', index: 0 });
+  assert.equal(JSON.parse(new TextDecoder().decode(volume.data)).solid.kind, 'volume');
   assert.throws(() => job({ kind: 'format-disk' }), /not a job/);
   assert.throws(() => job({ kind: 'surface', model: '{', resolution: 16 }), /model/);
 });

@@ -75,7 +75,8 @@ in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. M
 built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
 links (`mesh` writes the surface of a free-form model's result); SOLID likewise. SCRIPT is a script file (.psm),
 a model file or link holding one, or one of the paper's examples: example:3.1, example:3.3,
-example:4.1, example:4.4, example:4.6, example:4.7, example:4.8.
+example:4.1, example:4.4, example:4.6, example:4.7, example:4.8,
+example:4.7-bezier-grid.
 
 Inputs are read up to a cap, whatever they are (files, pipes, devices): a model file 16 MiB, a
 script file 256 KiB, a mesh file 128 MiB, a points file 256 MiB.

@@ -241,7 +241,8 @@ pub enum BlendError {
     TooManyCells(usize),
     /// Control nets that do not make a patch or volume.
     Net(PatchError),
-    /// A map that is not defined (or not finite) at a parameter point, for [`fit_patch`].
+    /// A map that is not defined (or not finite) at a parameter point, for [`fit_patch`] and
+    /// [`fit_volume`].
     Undefined,
     /// A map that is not a polynomial of degree at most `MAX_DEGREE` in each parameter.
     NotPolynomial,
@@ -527,6 +528,72 @@ mod fit_tests {
         );
         assert_eq!(
             fit_patch(&mut |u, v| (u < 0.6).then_some(DVec3::new(u, v, 0.0))).err(),
+            Some(BlendError::Undefined)
+        );
+    }
+
+    #[test]
+    fn fitting_finds_the_net_of_a_solid_blended_from_patches() {
+        // Three patches of degrees (1, 1), (2, 1) and (1, 2), blended in the first parameter: a
+        // volume of degree (2, 2, 2) whose net the fit finds, and which equals the blend.
+        let patch = |points: &[[f64; 3]], degree: [usize; 2]| {
+            Patch::try_new(
+                degree,
+                points.iter().map(|p| DVec3::from_array(*p)).collect(),
+            )
+            .expect("a patch")
+        };
+        let patches = [
+            patch(
+                &[[0., 0., 0.], [0., 1., 0.], [1., 0., 0.], [1., 1., 0.2]],
+                [1, 1],
+            ),
+            patch(
+                &[
+                    [0., 0., 1.],
+                    [0., 1., 1.],
+                    [0.5, -0.3, 1.2],
+                    [0.5, 1.3, 0.8],
+                    [1., 0., 1.],
+                    [1., 1., 1.],
+                ],
+                [2, 1],
+            ),
+            patch(
+                &[
+                    [0., 0., 2.],
+                    [0.1, 0.5, 2.5],
+                    [0., 1., 2.],
+                    [1., 0., 2.],
+                    [0.9, 0.5, 1.5],
+                    [1., 1., 2.],
+                ],
+                [1, 2],
+            ),
+        ];
+        let blend = |u: f64, v: f64, w: f64| -> DVec3 {
+            (0..3)
+                .map(|i| patches[i].eval([v, w]) * crate::bernstein::bernstein(2, i, u))
+                .sum()
+        };
+        let volume = fit_volume(&mut |u, v, w| Some(blend(u, v, w))).expect("a polynomial");
+        assert_eq!(volume.degree(), [2, 2, 2]);
+        for t in [[0.2, 0.3, 0.4], [0.9, 0.1, 0.6], [1.0, 0.0, 1.0]] {
+            assert!((volume.eval(t) - blend(t[0], t[1], t[2])).length() < 1e-12);
+        }
+        // The corners of the net are the corners of the first and last patches.
+        assert!((volume[[0, 0, 0]] - DVec3::ZERO).length() < 1e-12);
+        assert!((volume[[0, 2, 2]] - DVec3::new(1.0, 1.0, 0.2)).length() < 1e-12);
+        assert!((volume[[2, 2, 0]] - DVec3::new(1.0, 0.0, 2.0)).length() < 1e-12);
+        // A box is degree (1, 1, 1); a twist by sin is no polynomial; a hole is undefined.
+        let cube = fit_volume(&mut |u, v, w| Some(DVec3::new(u, 2.0 * v, w - u))).expect("a box");
+        assert_eq!(cube.degree(), [1, 1, 1]);
+        assert_eq!(
+            fit_volume(&mut |u, v, w| Some(DVec3::new(u, v, (30.0 * w).sin()))).err(),
+            Some(BlendError::NotPolynomial)
+        );
+        assert_eq!(
+            fit_volume(&mut |u, v, w| (w < 0.6).then_some(DVec3::new(u, v, w))).err(),
             Some(BlendError::Undefined)
         );
     }
@@ -856,6 +923,96 @@ pub fn fit_patch(f: &mut dyn FnMut(f64, f64) -> Option<DVec3>) -> Result<Patch<D
         }
     }
     Ok(patch)
+}
+
+/// The tensor-product Bézier volume equal to a polynomial map of the unit cube, such as any
+/// transfinite Bézier or Hermite blend of Bézier or Hermite patches (`Bezier:S3:<…>` of the
+/// paper's surfaces): a solid blended from surfaces becomes a net to edit point by point. `f` is
+/// sampled only.
+///
+/// The degree `n` in the first parameter is found as [`fit_patch`] finds its degrees; the slices
+/// `f(k/n, ·, ·)` are fitted as patches ([`fit_patch`]) and elevated to one degree; the control
+/// patches whose Bernstein blend in the first parameter interpolates the slices are solved for,
+/// and [`volume_from_patches`] makes them the volume, so that the volume at `(u, v, w)` is
+/// `f(u, v, w)`. The volume is then checked against `f` at points off the grid.
+///
+/// # Errors
+///
+/// As [`fit_patch`]: [`BlendError::Undefined`] where `f` gives `None` or a coordinate that is not
+/// finite, [`BlendError::NotPolynomial`] for a map of higher degree or none.
+pub fn fit_volume(
+    f: &mut dyn FnMut(f64, f64, f64) -> Option<DVec3>,
+) -> Result<Volume<DVec3>, BlendError> {
+    let mut eval = |u: f64, v: f64, w: f64| {
+        f(u, v, w)
+            .filter(|p| p.is_finite())
+            .ok_or(BlendError::Undefined)
+    };
+    // Lines across the cube, off its faces and diagonals.
+    let n = degree_along(&mut |t, line| eval(t, line, 1.0 - 0.61 * line))?;
+    let mut slices = Vec::with_capacity(n + 1);
+    let mut failed = None;
+    for k in 0..=n {
+        let u = k as f64 / n as f64;
+        let slice = fit_patch(&mut |v, w| match eval(u, v, w) {
+            Ok(p) => Some(p),
+            Err(e) => {
+                failed.get_or_insert(e);
+                None
+            }
+        });
+        slices.push(slice.map_err(|e| failed.take().unwrap_or(e))?);
+    }
+    // One degree for all slices (a slice may be of lower degree, or flat).
+    let top = slices.iter().fold([1, 1], |[a, b], s| {
+        let [n, m] = s.degree();
+        [a.max(n), b.max(m)]
+    });
+    for s in &mut slices {
+        for (axis, a) in [(crate::Axis::U, 0), (crate::Axis::V, 1)] {
+            while s.degree()[a] < top[a] {
+                *s = s.elevate(axis).map_err(BlendError::Net)?;
+            }
+        }
+    }
+    // Control patches C_i with Σ_i C_i β_iⁿ(k/n) = slice k, point by point.
+    let a_n = collocation(n);
+    let count = (top[0] + 1) * (top[1] + 1);
+    let mut control: Vec<Vec<DVec3>> = (0..=n).map(|_| Vec::with_capacity(count)).collect();
+    for p in 0..count {
+        let column: Vec<DVec3> = slices.iter().map(|s| s.points()[p]).collect();
+        let solved = solve(&a_n, &column).ok_or(BlendError::NotPolynomial)?;
+        for (c, q) in control.iter_mut().zip(solved) {
+            c.push(q);
+        }
+    }
+    let patches = control
+        .into_iter()
+        .map(|points| Patch::try_new(top, points).map_err(BlendError::Net))
+        .collect::<Result<Vec<_>, _>>()?;
+    let volume = volume_from_patches(&patches)?;
+    let checks = [
+        [0.31, 0.77, 0.52],
+        [0.9, 0.05, 0.71],
+        [0.137, 0.421, 0.96],
+        [0.66, 0.93, 0.18],
+        [0.5, 0.5, 0.5],
+        [0.0, 1.0, 0.0],
+    ];
+    let mut values = Vec::with_capacity(checks.len());
+    for [u, v, w] in checks {
+        values.push(eval(u, v, w)?);
+    }
+    let scale = values
+        .iter()
+        .chain(slices.iter().flat_map(|s| s.points()))
+        .fold(1e-300f64, |s, p| s.max(p.abs().max_element()));
+    for (t, value) in checks.into_iter().zip(values) {
+        if (volume.eval(t) - value).abs().max_element() > 1e-10 * scale {
+            return Err(BlendError::NotPolynomial);
+        }
+    }
+    Ok(volume)
 }
 
 /// The least degree `d` (1 to `MAX_DEGREE`) whose `(d + 1)`-th differences of `g(·, line)` on

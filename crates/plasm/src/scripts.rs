@@ -87,7 +87,8 @@ impl Example {
     }
 }
 
-/// The examples, one per script of the paper that draws something.
+/// The examples, one per script of the paper that draws something, and the lines after Fig. 4
+/// that make `grid1` a Bézier blend.
 pub const EXAMPLES: &[Example] = &[
     Example {
         id: "3.1",
@@ -133,6 +134,12 @@ pub const EXAMPLES: &[Example] = &[
         added: "MAP:(CONS:grid1):(Domain:8 * Domain:8);\n\
                 T:1:1.25:(MAP:(CONS:grid2):(Domain:8 * Domain:8));\n\
                 T:1:2.5:(MAP:(CONS:grid3):(Domain:8 * Domain:8));\n",
+    },
+    Example {
+        id: "4.7-bezier-grid",
+        title: "After Fig. 4: grid1 as the linear Bézier blend of c1 and c2",
+        scripts: &[S4_2, S4_3, S4_5, S4_8, S4_7_BEZIER_GRID],
+        added: "",
     },
 ];
 

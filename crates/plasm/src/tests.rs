@@ -340,6 +340,31 @@ fn script_4_8_grid1_is_the_linear_blend() {
 }
 
 #[test]
+fn the_bezier_grid_example_draws_fig_4s_grid1() {
+    // The menu's example of the lines after Fig. 4 draws what Fig. 4's grid1 (as Hermite) is: the
+    // same cells on the same points.
+    let drawn = |id: &str| {
+        let r = Interp::new().run(&scripts::example(id).expect("an example").source());
+        assert!(r.error.is_none(), "{id}: {:?}", r.error);
+        r.shown
+            .iter()
+            .filter_map(|s| s.value.as_pol())
+            .map(|c| (c.dim, c.order, c.cells.clone(), c.points.clone()))
+            .collect::<Vec<_>>()
+    };
+    let bezier = drawn("4.7-bezier-grid");
+    let fig4 = drawn("4.8");
+    assert_eq!(bezier.len(), 1);
+    let ((dim, order, cells, points), (dim4, order4, cells4, points4)) = (&bezier[0], &fig4[0]);
+    assert_eq!((dim, order, cells.len()), (&2, &3, 128 * 3));
+    assert_eq!((dim, order, cells), (dim4, order4, cells4));
+    assert_eq!(points.len(), points4.len());
+    for (a, b) in points.iter().zip(points4) {
+        assert!((a - b).abs() < 1e-12, "{a} ≠ {b}");
+    }
+}
+
+#[test]
 fn every_example_runs_and_draws() {
     for e in scripts::EXAMPLES {
         let mut p = Interp::new();

@@ -83,6 +83,13 @@ pub enum Job {
         /// Which top-level value.
         index: usize,
     },
+    /// The Bézier net of a script's solid: a volume model file.
+    PlasmVolume {
+        /// The script.
+        script: String,
+        /// Which top-level value.
+        index: usize,
+    },
 }
 
 /// An axis on the wire: its number, 0 (u), 1 (v) or 2 (w), as the page numbers axes.
@@ -201,6 +208,9 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
         Job::PlasmPatch { script, index } => plain(Payload::Bytes(
             crate::script::patch_model(script, *index)?.0.into_bytes(),
         )),
+        Job::PlasmVolume { script, index } => plain(Payload::Bytes(
+            crate::script::volume_model(script, *index)?.0.into_bytes(),
+        )),
     })
 }
 
@@ -318,6 +328,20 @@ mod tests {
         assert!(report["error"].is_null(), "{report}");
         assert!(!payload.is_empty());
         assert!(header.get("approximate").is_none());
+
+        // A script's solid: the volume model file, as the page opens it.
+        let script = "MAP:<S1, S2 + S1, S3>:(Domain:2 * Domain:2 * Domain:2);";
+        let volume =
+            job(serde_json::json!({"kind": "plasm-volume", "script": script, "index": 0})).unwrap();
+        let (header, payload) = decode(&volume);
+        assert_eq!(header["payload"], "bytes");
+        let file: serde_json::Value = serde_json::from_slice(payload).unwrap();
+        assert_eq!(file["solid"]["kind"], "volume");
+        assert_eq!(file["solid"]["degree"], serde_json::json!([1, 1, 1]));
+        let curve = job(
+            serde_json::json!({"kind": "plasm-volume", "script": "MAP:<S1, S1, S1>:(Domain:2);", "index": 0}),
+        );
+        assert!(curve.is_err_and(|e| e.to_string().contains("a curve")));
     }
 
     #[test]

@@ -89,6 +89,7 @@ pub fn run(script: &str) -> Drawing {
                 "text": s.value.to_string(),
                 "drawn": s.value.as_pol().is_some(),
                 "patch": is_surface_map(s),
+                "volume": is_solid_map(s),
             })
         }).collect::<Vec<_>>(),
         "complexes": complexes.len(),
@@ -219,6 +220,91 @@ fn is_surface_map(s: &bezsolid_plasm::Shown) -> bool {
     matches!((s.value.as_pol(), &s.map), (Some(p), Some(m)) if p.order == 3 && p.dim >= 3 && m.domain.dim == 2)
 }
 
+/// Whether a value is a solid made by `MAP` of a map of three parameters into three coordinates
+/// (tetrahedra in space): one that may become a Bézier volume solid.
+fn is_solid_map(s: &bezsolid_plasm::Shown) -> bool {
+    matches!((s.value.as_pol(), &s.map), (Some(p), Some(m)) if p.order == 4 && p.dim == 3 && m.domain.dim == 3)
+}
+
+/// What a value is, in words, for a refusal: "a curve", "a surface in 2 coordinates", ….
+fn what_it_is(s: &bezsolid_plasm::Shown) -> String {
+    let Some(p) = s.value.as_pol() else {
+        return "not a drawing (no complex)".into();
+    };
+    let what = match p.order {
+        1 => "points",
+        2 => "a curve",
+        3 => "a surface",
+        4 => "a solid",
+        _ => "a complex of cells of more than three dimensions",
+    };
+    let made = match &s.map {
+        Some(m) => format!(
+            ", made by MAP of a map of {} parameter{}",
+            m.domain.dim,
+            if m.domain.dim == 1 { "" } else { "s" }
+        ),
+        None => ", not made by MAP".into(),
+    };
+    format!("{what} in {} coordinates{made}", p.dim)
+}
+
+/// Runs `script` and gives its top-level value number `index` if `fits` takes it (else why not:
+/// `wanted`, and what the value is), with the interpreter to sample its map in, the map, and the
+/// box of the map's domain (its first `D` coordinates).
+fn mapped<const D: usize>(
+    script: &str,
+    index: usize,
+    fits: fn(&bezsolid_plasm::Shown) -> bool,
+    wanted: &str,
+) -> Result<(Interp, bezsolid_plasm::MapOf, [f64; D], [f64; D]), Error> {
+    let mut interp = Interp::new();
+    let run = interp.run(script);
+    if let Some(e) = run.error {
+        return Err(Error::new(e.to_string()));
+    }
+    let shown = run
+        .shown
+        .get(index)
+        .ok_or_else(|| Error::new(format!("the script has no top-level value {index}")))?;
+    if !fits(shown) {
+        return Err(Error::new(format!(
+            "that value is {}, not {wanted}",
+            what_it_is(shown)
+        )));
+    }
+    let map = shown.map.clone().ok_or("no map")?;
+    let d = &map.domain;
+    let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
+    for i in 0..d.point_count() {
+        for k in 0..D {
+            lo[k] = lo[k].min(d.point(i)[k]);
+            hi[k] = hi[k].max(d.point(i)[k]);
+        }
+    }
+    Ok((interp, map, lo, hi))
+}
+
+/// The first three coordinates of `f` at the point of the domain's box `[lo, hi]` of parameters
+/// `t` (in the unit box), or `None` (the first error kept in `failure`).
+fn sample<const D: usize>(
+    interp: &mut Interp,
+    f: &bezsolid_plasm::Value,
+    (lo, hi): ([f64; D], [f64; D]),
+    t: [f64; D],
+    failure: &mut Option<String>,
+) -> Option<DVec3> {
+    let at: [f64; D] = core::array::from_fn(|k| lo[k] + (hi[k] - lo[k]) * t[k]);
+    match interp.call(f, &at).map(|p| p.as_point()) {
+        Ok(Some(p)) if p.len() >= 3 => Some(DVec3::new(p[0], p[1], p[2])),
+        Ok(_) => None,
+        Err(e) => {
+            failure.get_or_insert(e.to_string());
+            None
+        }
+    }
+}
+
 /// The model file of a patch solid equal to the surface of the top-level value number `index` of
 /// `script` (see [`bezsolid_core::blend::fit_patch`]): its map over the box of its domain, with
 /// `(x, y, ξ)` its first three coordinates. A surface blended from Bézier curves thus becomes a
@@ -229,41 +315,59 @@ fn is_surface_map(s: &bezsolid_plasm::Shown) -> bool {
 /// The script's error, a value that is not such a surface, or a map that is no polynomial of
 /// degree at most 16 in each parameter.
 pub fn patch_model(script: &str, index: usize) -> Result<(String, [usize; 2]), Error> {
-    let mut interp = Interp::new();
-    let run = interp.run(script);
-    if let Some(e) = run.error {
-        return Err(Error::new(e.to_string()));
-    }
-    let shown = run
-        .shown
-        .get(index)
-        .filter(|s| is_surface_map(s))
-        .ok_or("that value is not a surface made by MAP of a map of two parameters")?;
-    let map = shown.map.as_ref().ok_or("no map")?;
-    let d = &map.domain;
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for i in 0..d.point_count() {
-        for k in 0..2 {
-            lo[k] = lo[k].min(d.point(i)[k]);
-            hi[k] = hi[k].max(d.point(i)[k]);
-        }
-    }
+    let (mut interp, map, lo, hi) = mapped::<2>(
+        script,
+        index,
+        is_surface_map,
+        "a surface made by MAP of a map of two parameters into at least three coordinates",
+    )?;
     let mut failure = None;
     let patch = bezsolid_core::blend::fit_patch(&mut |u, v| {
-        let at = [lo[0] + (hi[0] - lo[0]) * u, lo[1] + (hi[1] - lo[1]) * v];
-        match interp.call(&map.f, &at).map(|p| p.as_point()) {
-            Ok(Some(p)) if p.len() >= 3 => Some(DVec3::new(p[0], p[1], p[2])),
-            Ok(_) => None,
-            Err(e) => {
-                failure.get_or_insert(e.to_string());
-                None
-            }
-        }
+        sample(&mut interp, &map.f, (lo, hi), [u, v], &mut failure)
     })
     .map_err(|e| failure.clone().unwrap_or_else(|| e.to_string()))?;
     let degree = patch.degree();
     let solid = bezsolid_core::Solid2::try_from_net(patch).map_err(Error::from)?;
     let json = serde_json::to_string_pretty(&ModelFile::from_solid2(&solid)).unwrap_or_default();
+    Ok((json, degree))
+}
+
+/// ξ of every control point of a volume made from a script's solid: the Bézier mode's value for a
+/// new net of two points per axis ([`crate::editor::dome`], 1/4), positive everywhere, so that
+/// the volume solid is the whole image of its box: the solid the script's `MAP` draws.
+#[must_use]
+pub fn volume_xi() -> f64 {
+    crate::editor::dome([0; 3], [1; 3])
+}
+
+/// The model file of a volume solid equal to the solid of the top-level value number `index` of
+/// `script`: the tensor Bézier volume of its map over the box of its domain (see
+/// [`bezsolid_core::blend::fit_volume`]: a solid blended from Bézier or Hermite surfaces, as
+/// `Bezier:S3:<…>` makes one, is such a volume exactly), `(x, y, z)` its three coordinates and ξ
+/// [`volume_xi`] everywhere, so that the solid is the map's image. The parameters `(u, v, w)`
+/// are the map's first, second and third. Also gives the degree.
+///
+/// # Errors
+///
+/// The script's error, a value that is not such a solid (a curve, a surface, a plane drawing),
+/// or a map that is no polynomial of degree at most 16 in each parameter.
+pub fn volume_model(script: &str, index: usize) -> Result<(String, [usize; 3]), Error> {
+    let (mut interp, map, lo, hi) = mapped::<3>(
+        script,
+        index,
+        is_solid_map,
+        "a solid made by MAP of a map of three parameters into three coordinates",
+    )?;
+    let mut failure = None;
+    let volume = bezsolid_core::blend::fit_volume(&mut |u, v, w| {
+        sample(&mut interp, &map.f, (lo, hi), [u, v, w], &mut failure)
+    })
+    .map_err(|e| failure.clone().unwrap_or_else(|| e.to_string()))?;
+    let degree = volume.degree();
+    let xi = volume_xi();
+    let net = volume.map(|p| p.extend(xi));
+    let solid = bezsolid_core::Solid3::try_from_net(net).map_err(Error::from)?;
+    let json = serde_json::to_string_pretty(&ModelFile::from_solid3(&solid)).unwrap_or_default();
     Ok((json, degree))
 }
 
@@ -499,6 +603,169 @@ mod tests {
         // Hermite surfaces are cubic too.
         let hermite = scripts::example("4.6").expect("4.6").source();
         assert_eq!(patch_model(&hermite, 0).expect("a patch").1, [3, 3]);
+    }
+
+    /// Scripts 4.5 and 4.8 (the curves `c1`, `c2` and `grid1`), then `added`.
+    fn after_4_8(added: &str) -> String {
+        format!("{}\n{}\n{added}", scripts::S4_5.text, scripts::S4_8.text)
+    }
+
+    /// The volume of a model file, checked to be one with ξ = [`volume_xi`] everywhere.
+    fn volume_of(json: &str) -> bezsolid_core::Solid3 {
+        let file: ModelFile = serde_json::from_str(json).expect("a model file");
+        let bezsolid_core::model::ModelSolid::Volume(solid) = file.to_solid().expect("a solid")
+        else {
+            panic!("a volume");
+        };
+        assert!(solid.net().points().iter().all(|p| p.w == volume_xi()));
+        solid
+    }
+
+    /// The script's map of its top-level value `index` at `t`, and the volume's point there.
+    fn both_at(
+        src: &str,
+        index: usize,
+        solid: &bezsolid_core::Solid3,
+        t: [f64; 3],
+    ) -> (DVec3, DVec3) {
+        let mut interp = Interp::new();
+        let run = interp.run(src);
+        let f = run.shown[index].map.as_ref().expect("a map").f.clone();
+        let p = interp
+            .call(&f, &t)
+            .expect("defined")
+            .as_point()
+            .expect("a point");
+        (DVec3::from_slice(&p), solid.net().eval(t).truncate())
+    }
+
+    #[test]
+    fn a_solid_blended_from_hermite_surfaces_becomes_a_volume_exactly() {
+        // After Fig. 4: grid1 (the plane quarter ring between c1 and c2) and the same grid lifted to
+        // z = 1, blended by Bezier:S3 into a slab: cubic along the curves, linear across them and up.
+        let src = after_4_8(
+            "DEF a1 = CubicHermite:S1:<<1,0,1>,<0,1,1>,<0,3,0>,<-3,0,0>>;\n\
+             DEF a2 = CubicHermite:S1:<<0.5,0,1>,<0,0.5,1>,<0,1,0>,<-1,0,0>>;\n\
+             DEF top = CubicHermite:S2:<a1,a2,d,d>;\n\
+             DEF Slab = Bezier:S3:<grid1, top>;\n\
+             MAP:Slab:(Domain:8 * Domain:4 * Domain:2);\n",
+        );
+        let r = report(&run(&src));
+        assert!(r["error"].is_null(), "{}", r["error"]);
+        assert_eq!(
+            (&r["values"][0]["volume"], &r["values"][0]["patch"]),
+            (&serde_json::json!(true), &serde_json::json!(false))
+        );
+        let (json, degree) = volume_model(&src, 0).expect("a volume");
+        assert_eq!(degree, [3, 1, 1]);
+        let solid = volume_of(&json);
+        // The net's corners are the map's values at the domain's corners.
+        let [n, m, l] = degree;
+        for (i, j, k) in (0..8).map(|c| (c & 1, (c >> 1) & 1, c >> 2)) {
+            let t = [i as f64, j as f64, k as f64];
+            let (want, _) = both_at(&src, 0, &solid, t);
+            let corner = solid.net()[[i * n, j * m, k * l]].truncate();
+            assert!(
+                (corner - want).length() < 1e-12,
+                "corner {t:?}: {corner} vs {want}"
+            );
+        }
+        // Along the edges, on the faces and inside, the volume is the map.
+        for t in [
+            [0.3, 0.0, 0.0],
+            [1.0, 0.7, 1.0],
+            [0.0, 1.0, 0.45],
+            [0.25, 0.5, 0.0],
+            [0.81, 0.33, 0.62],
+        ] {
+            let (want, got) = both_at(&src, 0, &solid, t);
+            assert!((got - want).length() < 1e-12, "{t:?}: {got} vs {want}");
+        }
+        // The solid is the slab: inside at the map's image of the middle, not in the ring's hole
+        // or above it.
+        let (middle, _) = both_at(&src, 0, &solid, [0.5, 0.5, 0.5]);
+        assert!(solid.f(middle) > 0.0);
+        assert!(solid.f(DVec3::new(0.1, 0.1, 0.5)) < 0.0);
+        assert!(solid.f(DVec3::new(0.5, 0.5, 1.5)) < 0.0);
+        // Script 4.7's surface over grid1: a lens, cubic both ways.
+        let lens = after_4_8(
+            "DEF Surf3 = CubicHermite:S2:<c1,c2,<1,1,1>,<-1,-1,-1>>;\n\
+             MAP:(Bezier:S3:<grid1, Surf3>):(Domain:6 * Domain:6 * Domain:2);\n",
+        );
+        let (json, degree) = volume_model(&lens, 0).expect("a volume");
+        assert_eq!(degree, [3, 3, 1]);
+        let solid = volume_of(&json);
+        for t in [
+            [0.0, 0.0, 0.0],
+            [1.0, 1.0, 1.0],
+            [0.2, 0.9, 0.5],
+            [0.5, 0.5, 1.0],
+        ] {
+            let (want, got) = both_at(&lens, 0, &solid, t);
+            assert!((got - want).length() < 1e-12, "{t:?}: {got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn a_bezier_blend_of_bezier_patches_gives_their_control_points() {
+        // Fig. 1's Surf1 over a flat floor at z = -2: Bezier:S3 of two Bézier surfaces. The net is
+        // the floor's (elevated to bicubic) under Surf1's, whose points are Script 4.4's.
+        let src = format!(
+            "{}\n{}\n{}\n\
+             DEF Floor = Bezier:S2:<Bezier:S1:<<0,0,-2>,<10,0,-2>>, Bezier:S1:<<0,6,-2>,<10,6,-2>>>;\n\
+             DEF Body = Bezier:S3:<Floor, Surf1>;\n\
+             MAP:Body:(Intervals:1:10 * Intervals:1:10 * Intervals:1:2);\n",
+            scripts::S4_2.text,
+            scripts::S4_3.text,
+            scripts::S4_4.text
+        );
+        let r = report(&run(&src));
+        assert!(r["error"].is_null(), "{}", r["error"]);
+        assert_eq!(r["values"][0]["volume"], false, "Surf1 is a surface");
+        assert_eq!(r["values"][1]["volume"], true);
+        let (json, degree) = volume_model(&src, 1).expect("a volume");
+        assert_eq!(degree, [3, 3, 1]);
+        let solid = volume_of(&json);
+        let p = |i: usize, j: usize, k: usize| solid.net()[[i, j, k]].truncate();
+        for (got, want) in [
+            (p(0, 0, 1), [0.0, 0.0, 0.0]),
+            (p(3, 0, 1), [10.0, 0.0, 0.0]),
+            (p(1, 2, 1), [7.0, 5.0, -1.0]),
+            (p(2, 2, 1), [8.0, 5.0, 1.0]),
+            (p(3, 3, 1), [10.0, 6.0, -1.0]),
+            (p(0, 0, 0), [0.0, 0.0, -2.0]),
+            (p(1, 1, 0), [10.0 / 3.0, 2.0, -2.0]),
+            (p(3, 3, 0), [10.0, 6.0, -2.0]),
+        ] {
+            assert!(
+                (got - DVec3::from_array(want)).length() < 1e-9,
+                "{got} vs {want:?}"
+            );
+        }
+        for t in [[0.1, 0.2, 0.3], [0.9, 0.5, 0.75], [1.0, 0.0, 0.5]] {
+            let (want, got) = both_at(&src, 1, &solid, t);
+            assert!((got - want).length() < 1e-11, "{t:?}: {got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn what_is_not_a_polynomial_solid_has_no_volume() {
+        let fig1 = default_script();
+        let refusal =
+            |src: &str, index: usize| volume_model(src, index).expect_err("refused").to_string();
+        assert!(refusal(&fig1, 0).contains("a surface in 3 coordinates"));
+        assert!(refusal(&fig1, 1).contains("a curve in 3 coordinates"));
+        let grids = scripts::example("4.8").expect("4.8").source();
+        assert!(refusal(&grids, 0).contains("a surface in 2 coordinates"));
+        let flat = "MAP:<S1, S2>:(Domain:2 * Domain:2 * Domain:2);";
+        assert!(refusal(flat, 0).contains("a solid in 2 coordinates"));
+        assert!(refusal("1 + 2;", 0).contains("not a drawing"));
+        assert!(refusal("1 + 2;", 3).contains("no top-level value 3"));
+        let twisted = "MAP:<S1, S2, SIN ~ (K:30 * S3)>:(Domain:2 * Domain:2 * Domain:2);";
+        assert!(refusal(twisted, 0).contains("not a polynomial"));
+        assert!(refusal("1 +;", 0).starts_with("line 1, column 3"));
+        // A patch is no volume either way round.
+        assert!(patch_model(flat, 0).is_err_and(|e| e.to_string().contains("a solid")));
     }
 
     #[test]

@@ -1818,3 +1818,16 @@ pub fn script_patch_model(script: &str, index: usize) -> Result<String, JsError>
         .map(|(json, _)| json)
         .map_err(JsError::from)
 }
+
+/// The model file of a volume solid equal to the solid of a script's top-level value `index`
+/// (`script::volume_model`), to edit in the Bézier mode.
+///
+/// # Errors
+///
+/// Why that value has no Bézier volume (not a solid, or a map that is no polynomial).
+#[wasm_bindgen]
+pub fn script_volume_model(script: &str, index: usize) -> Result<String, JsError> {
+    crate::script::volume_model(script, index)
+        .map(|(json, _)| json)
+        .map_err(JsError::from)
+}
