@@ -77,7 +77,7 @@ export function setupFreeForm(app) {
       file.id = `ff-import-${id}`;
       file.addEventListener('change', (e) => { importMesh(k, e.target.files?.[0]); e.target.value = ''; });
       const pick = row.querySelector('.ff-import');
-      pick.textContent = `Import mesh as ${name}…`;
+      pick.setAttribute('aria-label', `Import mesh as ${name}…`);
       pick.addEventListener('click', () => file.click());
       const remove = row.querySelector('.ff-remove');
       remove.setAttribute('aria-label', `Remove solid ${name}`);
@@ -201,7 +201,7 @@ export function setupFreeForm(app) {
     const counts = ff.triangle_counts();
     const info = ff.surface_info();
     $('model-name').textContent = `Free-form: ${text}`;
-    let line = counts.map((n, k) => `${letter(k)}: ${n.toLocaleString('en')} triangles`).join(', ') + '. ';
+    let line = Array.from(counts, (n) => n).map((n, k) => `${letter(k)}: ${n.toLocaleString('en')} triangles`).join(', ') + '. ';
     const pointCounts = ff.point_counts();
     if (display === 'points' && pointCounts) {
       const [inside, marked] = pointCounts;

@@ -229,6 +229,9 @@ test('a free-form export at resolution 160 shows how far it got; Cancel stops on
   await page.waitForFunction(() => /Exporting PLY was cancelled; nothing was saved/.test(document.getElementById('status').textContent));
   await page.waitForFunction(() => !(document.body.dataset.working ?? '').includes('export'), null, { timeout: 120_000 });
   await settle(page);
+  // The browser's download event may come a moment after the page has saved.
+  await expect(() => saved.length >= 2);
+  await settle(page);
   assert.deepEqual(saved, ['bezsolid-result.stl', 'bezsolid-result.obj']);
   assert.equal(await page.isDisabled('#undo'), true, 'exports are no undo steps');
   assert.deepEqual(errors, []);

@@ -121,7 +121,7 @@ test('a volume slice names its points by three indices and its plane by its axes
   await page.close();
 });
 
-test('Free-form: every change is undone and redone; an imported mesh is said smoothed and keeps its name when moved', async () => {
+test('Free-form: every change is undone and redone; an imported mesh is said to keep its sharp edges and keeps its name when moved', async () => {
   const { page, errors } = await open(browser);
   await page.check('input[name="workspace"][value="freeform"]');
   await page.waitForSelector('body[data-workspace="freeform"]');
@@ -129,9 +129,9 @@ test('Free-form: every change is undone and redone; an imported mesh is said smo
   const start = await scene();
   assert.equal(await page.isDisabled('#undo'), true);
   await page.setInputFiles('#ff-import-b', join(FIXTURES, 'cube.obj'));
-  await page.waitForFunction(() => /Imported cube\.obj as solid B, smoothed/.test(document.getElementById('status').textContent));
+  await page.waitForFunction(() => /Imported cube\.obj as solid B\. .*edges sharper than the crease angle stay sharp/.test(document.getElementById('status').textContent));
   await settle(page);
-  assert.match(await text(page, 'ff-info'), /smoothed by PN triangles/);
+  assert.match(await text(page, 'ff-info'), /B: 12 triangles/);
   await page.fill('#ff-x', '0.3');
   await page.locator('#ff-x').press('Enter');
   await settle(page);
