@@ -134,9 +134,10 @@ impl Boolean {
     /// intersection.
     ///
     /// A few samples fall in parts of the result thinner than a cell (where two surfaces meet at
-    /// a small angle), apart from the rest of their side: those that the solids show joined to
-    /// more of the result than their cells take their neighbours' side, so that the surface has
-    /// no bubble that the result does not have ([`Boolean::settle_specks`]).
+    /// a small angle) with no neighbour on their side. Where the solids, asked on a finer lattice
+    /// around such a sample, show its part joined to more of the result (or of the outside), it
+    /// takes its neighbours' side: the thin part is below the grid's resolution, and the surface
+    /// gets no bubble that the result does not have.
     #[must_use]
     pub fn surface(&self, res: usize) -> Mesh {
         self.surface_in_steps(res, |_, _| {})
@@ -216,11 +217,12 @@ impl Boolean {
     /// result's boundary (a sample in the result with all six neighbours outside, or the reverse).
     ///
     /// Marching cubes draws each speck as a closed surface of its own, a bubble smaller than a
-    /// cell or two. The solids classify such samples right: they fall in the result's thin parts,
-    /// where two surfaces meet at a small angle (the wedge between them is thinner than a cell
-    /// along the whole intersection curve, and only here and there does a sample fall in it). Such
-    /// a wedge is part of a larger piece of the result, joined to it between the samples, and its
-    /// speck would add a component that the result does not have. So a speck is kept only where
+    /// cell or two. The solids classify such samples right (ray parity on the PN surfaces agrees):
+    /// they fall in the result's thin parts, where two surfaces meet at a small angle (the wedge
+    /// between them stays thinner than a cell for some way from their intersection curve, and
+    /// only here and there does a sample fall in it). Such a wedge is part of a larger piece of the
+    /// result, joined to it between the samples, and its speck would add a component that the
+    /// result does not have. So a speck is kept only where
     /// the solids confirm a piece of the result of its own there ([`Boolean::holds_piece`]);
     /// otherwise its samples take their neighbours' side: the thin part is below the grid's
     /// resolution, and left out as in the rest of the wedge.
@@ -297,7 +299,8 @@ impl Boolean {
     /// filled on a finer lattice over those cells ([`SPECK_LEVELS`]), and it is confirmed when
     /// the fill reaches neither the cells' outer faces nor another sample of the grid. A piece of
     /// too few lattice points is filled again on a finer one (a wedge thinner than the lattice's
-    /// spacing falls apart into single points); past the finest, it is kept.
+    /// spacing falls apart into single points); past the finest, or where a finer lattice would
+    /// be too large ([`SPECK_LATTICE`]), the speck is kept.
     fn holds_piece(
         &self,
         grid: &SampleGrid,
