@@ -925,11 +925,12 @@ mod tests {
         // vertices of fine tessellations of both PN surfaces (the result's boundary is where
         // the result changes across a surface; the Euler characteristics of those parts add up).
         let cases = [
-            // The ring moved 0.3 along x leaves the blob on the +x side (its tube reaches 1.7)
-            // and runs through it elsewhere: the difference is the blob with a groove and a
-            // tunnel that open into each other, one piece without a handle. Where the tube
-            // grazes the blob's surface the wedge between them is thinner than a cell, and
-            // samples in it used to come out as bubbles of their own (11 at 64 cells).
+            // The ring moved 0.3 along x leaves the blob altogether on the +x side (its tube
+            // reaches 1.7) and runs through it elsewhere with part of its tube outside all the
+            // way round: the difference is the blob with an open groove along an arc, one piece
+            // without a handle. On the −x side the blob almost closes over the tube, and where
+            // its surface grazes the tube the wedge between them is thinner than a cell: samples
+            // in it used to come out as bubbles of their own (11 at 64 cells).
             (
                 Example::Blob,
                 Op::Difference,
