@@ -2,8 +2,10 @@
 //! and a closed surface of a Boolean result whose vertices are the exact crossings of grid edges
 //! with the PN surfaces.
 
+use alloc::collections::BinaryHeap;
 use alloc::vec;
 use alloc::vec::Vec;
+use core::cmp::Reverse;
 
 use glam::DVec3;
 
@@ -130,6 +132,12 @@ impl Boolean {
     /// rather than the grid's volume: a coarse mesh with rounded edges (a cube with a crease angle
     /// of 180°) has thick free-form cells, where most samples of the grid would each need a
     /// ray–patch intersection.
+    ///
+    /// A few samples fall in parts of the result thinner than a cell (where two surfaces meet at
+    /// a small angle) with no neighbour on their side. Where the solids, asked on a finer lattice
+    /// around such a sample, show its part joined to more of the result (or of the outside), it
+    /// takes its neighbours' side: the thin part is below the grid's resolution, and the surface
+    /// gets no bubble that the result does not have.
     #[must_use]
     pub fn surface(&self, res: usize) -> Mesh {
         self.surface_in_steps(res, |_, _| {})
@@ -178,6 +186,7 @@ impl Boolean {
             }
             progress(c + 1, steps);
         }
+        self.settle_specks(&grid, &mut values, &mut stats);
         let mut roots = Crossings {
             boolean: self,
             grid: &grid,
@@ -188,6 +197,195 @@ impl Boolean {
         let mesh = polygonize(&grid, &values, &mut roots);
         progress(steps, steps);
         mesh
+    }
+}
+
+/// The most samples of a speck that [`Boolean::settle_specks`] looks at.
+const MAX_SPECK: usize = 8;
+
+/// The subdivisions of a cell tried in turn by [`Boolean::holds_piece`], and the fewest points of
+/// that fine lattice a piece must hold to count as seen at that level.
+const SPECK_LEVELS: [usize; 4] = [8, 16, 32, 64];
+const SPECK_RESOLVED: usize = 64;
+
+/// The most points of the fine lattice around one speck.
+const SPECK_LATTICE: usize = 1 << 22;
+
+impl Boolean {
+    /// Settles the specks among the samples: sets of at most [`MAX_SPECK`] samples, joined along
+    /// grid edges, whose every other neighbour along a grid edge is on the other side of the
+    /// result's boundary (a sample in the result with all six neighbours outside, or the reverse).
+    ///
+    /// Marching cubes draws each speck as a closed surface of its own, a bubble smaller than a
+    /// cell or two. The solids classify such samples right (ray parity on the PN surfaces agrees):
+    /// they fall in the result's thin parts, where two surfaces meet at a small angle (the wedge
+    /// between them stays thinner than a cell for some way from their intersection curve, and
+    /// only here and there does a sample fall in it). Such a wedge is part of a larger piece of the
+    /// result, joined to it between the samples, and its speck would add a component that the
+    /// result does not have. So a speck is kept only where
+    /// the solids confirm a piece of the result of its own there ([`Boolean::holds_piece`]);
+    /// otherwise its samples take their neighbours' side: the thin part is below the grid's
+    /// resolution, and left out as in the rest of the wedge.
+    fn settle_specks(&self, grid: &SampleGrid, values: &mut [f64], stats: &mut Stats) {
+        let [nx, ny, nz] = grid.dims;
+        if nx < 3 || ny < 3 || nz < 3 {
+            return;
+        }
+        let layer = nx * ny;
+        let inside = |i: usize| values[i] > 0.0;
+        let border = |i: usize| {
+            let (a, b, c) = (i % nx, (i / nx) % ny, i / layer);
+            a == 0 || b == 0 || c == 0 || a == nx - 1 || b == ny - 1 || c == nz - 1
+        };
+        let neighbours = |i: usize| [i - 1, i + 1, i - nx, i + nx, i - layer, i + layer];
+        // Samples already in a speck or in a set found to be larger.
+        let mut seen = vec![false; values.len()];
+        let mut specks: Vec<(bool, Vec<usize>)> = Vec::new();
+        let mut queue: Vec<usize> = Vec::with_capacity(MAX_SPECK + 1);
+        for c in 1..nz - 1 {
+            for b in 1..ny - 1 {
+                let row = (c * ny + b) * nx;
+                let first = inside(row);
+                // A speck's row holds samples on both sides (its own and its neighbours along x).
+                if (row + 1..row + nx).all(|i| inside(i) == first) {
+                    continue;
+                }
+                for i in row + 1..row + nx - 1 {
+                    // Every speck has a sample whose neighbour along x is on the other side.
+                    let side = inside(i);
+                    if (inside(i - 1) == side && inside(i + 1) == side) || seen[i] {
+                        continue;
+                    }
+                    // The samples joined to i on its side, until more than a speck's.
+                    queue.clear();
+                    queue.push(i);
+                    seen[i] = true;
+                    let mut large = false;
+                    let mut k = 0;
+                    'fill: while k < queue.len() {
+                        let s = queue[k];
+                        k += 1;
+                        for j in neighbours(s) {
+                            if inside(j) != side || queue.contains(&j) {
+                                continue;
+                            }
+                            // A sample seen before and not in this set is in a larger one (a
+                            // speck's samples join none outside it).
+                            if seen[j] || border(j) || queue.len() == MAX_SPECK {
+                                large = true;
+                                break 'fill;
+                            }
+                            seen[j] = true;
+                            queue.push(j);
+                        }
+                    }
+                    if !large {
+                        specks.push((side, queue.clone()));
+                    }
+                }
+            }
+        }
+        for (side, speck) in specks {
+            if !self.holds_piece(grid, &speck, side, values, stats) {
+                for i in speck {
+                    values[i] = -values[i];
+                }
+            }
+        }
+    }
+
+    /// Whether the solids confirm that the samples `speck` (on the side `inside` of the result)
+    /// lie in a piece of that side of their own, within the cells around them: the piece is
+    /// filled on a finer lattice over those cells ([`SPECK_LEVELS`]), and it is confirmed when
+    /// the fill reaches neither the cells' outer faces nor another sample of the grid. A piece of
+    /// too few lattice points is filled again on a finer one (a wedge thinner than the lattice's
+    /// spacing falls apart into single points); past the finest, or where a finer lattice would
+    /// be too large ([`SPECK_LATTICE`]), the speck is kept.
+    fn holds_piece(
+        &self,
+        grid: &SampleGrid,
+        speck: &[usize],
+        inside: bool,
+        values: &[f64],
+        stats: &mut Stats,
+    ) -> bool {
+        let [nx, ny, _] = grid.dims;
+        let coords = |i: usize| [i % nx, (i / nx) % ny, i / (nx * ny)];
+        let (mut lo, mut hi) = ([usize::MAX; 3], [0; 3]);
+        for &i in speck {
+            let p = coords(i);
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k] - 1);
+                hi[k] = hi[k].max(p[k] + 1);
+            }
+        }
+        for level in SPECK_LEVELS {
+            let dims = [0, 1, 2].map(|k| (hi[k] - lo[k]) * level + 1);
+            let total = dims[0] * dims[1] * dims[2];
+            if total > SPECK_LATTICE {
+                return true;
+            }
+            // 0: not yet asked; 1: on the speck's side; 2: on the other.
+            let mut state = vec![0u8; total];
+            let index = |f: [usize; 3]| (f[2] * dims[1] + f[1]) * dims[0] + f[0];
+            // Filled first nearest the outer faces, so that a piece joined to them is found
+            // after few points.
+            let margin = |f: [usize; 3]| (0..3).map(|a| f[a].min(dims[a] - 1 - f[a])).min();
+            let mut queue: BinaryHeap<Reverse<(usize, [usize; 3])>> = BinaryHeap::new();
+            for &i in speck {
+                let p = coords(i);
+                let f = [0, 1, 2].map(|k| (p[k] - lo[k]) * level);
+                state[index(f)] = 1;
+                queue.push(Reverse((margin(f).unwrap_or(0), f)));
+            }
+            let mut filled = queue.len();
+            while let Some(Reverse((_, f))) = queue.pop() {
+                for d in 0..27 {
+                    if d == 13 {
+                        continue;
+                    }
+                    let step = [d % 3, (d / 3) % 3, d / 9];
+                    let mut g = [0; 3];
+                    let mut off = false;
+                    for a in 0..3 {
+                        // f + step − 1, within the lattice.
+                        match (f[a] + step[a]).checked_sub(1) {
+                            Some(x) if x < dims[a] => g[a] = x,
+                            _ => off = true,
+                        }
+                    }
+                    if off || state[index(g)] != 0 {
+                        continue;
+                    }
+                    let sample = g.iter().all(|&x| x % level == 0);
+                    let here = if sample {
+                        let [a, b, c] = [0, 1, 2].map(|a| lo[a] + g[a] / level);
+                        values[(c * grid.dims[1] + b) * nx + a] > 0.0
+                    } else {
+                        let t = DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64) / level as f64;
+                        let q = grid.point(lo[0], lo[1], lo[2]) + grid.step * t;
+                        self.value(q, stats) == 1
+                    };
+                    if here != inside {
+                        state[index(g)] = 2;
+                        continue;
+                    }
+                    // Joined to the cells' outer faces, or to another sample: not a piece of
+                    // its own.
+                    let m = margin(g).unwrap_or(0);
+                    if sample || m == 0 {
+                        return false;
+                    }
+                    state[index(g)] = 1;
+                    filled += 1;
+                    queue.push(Reverse((m, g)));
+                }
+            }
+            if filled >= SPECK_RESOLVED {
+                return true;
+            }
+        }
+        true
     }
 }
 
@@ -526,6 +724,7 @@ mod tests {
     use crate::esc::bool::Op;
     use crate::esc::examples::Example;
     use crate::esc::pn::DEFAULT_CREASE_ANGLE;
+    use alloc::format;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -686,6 +885,7 @@ mod tests {
                     }
                 }
             }
+            boolean.settle_specks(&grid, &mut values, &mut stats);
             // The edges left out of a solid's list join samples alike for that solid, and they
             // are most of the edges.
             for (solid, m) in boolean.solids.iter().zip(&members) {
@@ -706,6 +906,202 @@ mod tests {
                 state: vec![0; boolean.solids.len()],
             };
             assert_eq!(mesh, polygonize(&grid, &values, &mut roots));
+        }
+    }
+
+    /// The connected components of a mesh (triangles joined by shared vertices).
+    fn components(mesh: &Mesh) -> usize {
+        let mut parent: Vec<usize> = (0..mesh.positions.len()).collect();
+        fn root(parent: &mut [usize], mut x: usize) -> usize {
+            while parent[x] != x {
+                parent[x] = parent[parent[x]];
+                x = parent[x];
+            }
+            x
+        }
+        for t in &mesh.triangles {
+            let a = root(&mut parent, t[0] as usize);
+            for &v in &t[1..] {
+                let b = root(&mut parent, v as usize);
+                parent[b] = a;
+            }
+        }
+        let mut roots: Vec<usize> = mesh
+            .triangles
+            .iter()
+            .map(|t| root(&mut parent, t[0] as usize))
+            .collect();
+        roots.sort_unstable();
+        roots.dedup();
+        roots.len()
+    }
+
+    /// The built-in solids `a` and `b`, `b` moved by `offset`, under `op`.
+    fn pair(a: Example, op: Op, b: Example, offset: DVec3) -> Boolean {
+        let mut mesh = b.mesh();
+        for p in &mut mesh.positions {
+            *p += offset;
+        }
+        Boolean {
+            solids: vec![
+                EscSolid::new(&a.mesh()).expect("valid"),
+                EscSolid::new(&mesh).expect("valid"),
+            ],
+            expr: Expr::binary(op, Expr::Solid(0), Expr::Solid(1)),
+        }
+    }
+
+    /// The Euler characteristic of the result's boundary, independently of the grid: each
+    /// solid's PN surface tessellated finely (edges a few thousandths of the unit long), welded,
+    /// and cut down to the vertices where the result changes across it (as
+    /// [`Boolean::trimmed_surface`] keeps them) with the edges and triangles between them. The
+    /// boundary is those parts glued along closed intersection curves, whose Euler
+    /// characteristic is 0, so the parts' characteristics add up.
+    fn tessellated_boundary_euler(boolean: &Boolean) -> i64 {
+        let mut stats = Stats::default();
+        let mut total = 0;
+        for (i, solid) in boolean.solids.iter().enumerate() {
+            let level = libm::ceil(libm::sqrt(200_000.0 / solid.triangles().len() as f64));
+            let fine = solid.surface().tessellate(level as usize);
+            let mut ids = alloc::collections::BTreeMap::new();
+            let mut kept = Vec::new();
+            let weld: Vec<usize> = fine
+                .positions
+                .iter()
+                .map(|&p| {
+                    let key = [p.x, p.y, p.z].map(|x| libm::round(x * 1e9) as i64);
+                    *ids.entry(key).or_insert_with(|| {
+                        let mut changes = |v: i32| {
+                            boolean.expr.value(&mut |j| {
+                                if j == i {
+                                    v
+                                } else {
+                                    i32::from(boolean.solids[j].value(p, &mut stats) == 1)
+                                }
+                            })
+                        };
+                        kept.push(changes(1) != changes(0));
+                        kept.len() - 1
+                    })
+                })
+                .collect();
+            let mut edges = Vec::new();
+            let mut faces = 0;
+            for t in &fine.triangles {
+                let t = t.map(|v| weld[v as usize]);
+                for e in 0..3 {
+                    let (a, b) = (t[e], t[(e + 1) % 3]);
+                    if kept[a] && kept[b] {
+                        edges.push((a.min(b), a.max(b)));
+                    }
+                }
+                faces += i64::from(t.iter().all(|&v| kept[v]));
+            }
+            edges.sort_unstable();
+            edges.dedup();
+            let vertices = kept.iter().filter(|&&k| k).count();
+            total += vertices as i64 - edges.len() as i64 + faces;
+        }
+        total
+    }
+
+    #[test]
+    fn boolean_surfaces_have_the_components_and_euler_characteristic_of_the_result() {
+        // The torus is the ring of radius 1 in the plane z = 0 swept by a tube of radius 0.4
+        // (from 0.6 to 1.4 from the z axis); the blob's radius is between 0.6 and 1.4, the
+        // icosphere's 1. Each expected Euler characteristic is also that of the boundary found
+        // from fine tessellations of the PN surfaces, apart from the grid.
+        let cases = [
+            // The ring moved 0.3 along x leaves the blob altogether on the +x side (its tube
+            // reaches 1.7) and runs through it elsewhere with part of its tube outside all the
+            // way round: the difference is the blob with an open groove along an arc, one piece
+            // without a handle. On the −x side the blob almost closes over the tube, and where
+            // its surface grazes the tube the wedge between them is thinner than a cell: samples
+            // in it used to come out as bubbles of their own (11 at 64 cells).
+            (
+                Example::Blob,
+                Op::Difference,
+                DVec3::new(0.3, 0.0, 0.0),
+                1,
+                2,
+            ),
+            // The page's default scene: the ring raised by 0.35 cuts a groove into the blob.
+            (
+                Example::Blob,
+                Op::Difference,
+                DVec3::new(0.0, 0.0, 0.35),
+                1,
+                2,
+            ),
+            // The arc of the ring outside the blob is a handle on it.
+            (Example::Blob, Op::Union, DVec3::new(0.3, 0.0, 0.0), 1, 0),
+            // The ring's hole is within the blob (radius at least 0.6): the union is a ball.
+            (Example::Blob, Op::Union, DVec3::ZERO, 1, 2),
+            // The arc of the ring inside the blob: a bent rod.
+            (
+                Example::Blob,
+                Op::Intersection,
+                DVec3::new(0.3, 0.0, 0.0),
+                1,
+                2,
+            ),
+            // The ring's part within radius 1: a thinner ring.
+            (Example::Icosphere, Op::Intersection, DVec3::ZERO, 1, 0),
+            // The ball less a groove all around it, its two halves joined within radius 0.6.
+            (Example::Icosphere, Op::Difference, DVec3::ZERO, 1, 2),
+        ];
+        for (a, op, offset, parts, euler) in cases {
+            let boolean = pair(a, op, Example::Torus, offset);
+            assert_eq!(tessellated_boundary_euler(&boolean), euler, "{a:?} {op}");
+            for res in [40, 64] {
+                let mesh = boolean.surface(res);
+                let case = format!("{a:?} {op} torus moved by {offset} at {res}");
+                mesh.check_closed_manifold().expect(&case);
+                assert!(mesh.volume() > 0.0, "{case}: outward");
+                assert_eq!(components(&mesh), parts, "{case}");
+                assert_eq!(mesh.euler_characteristic(), euler, "{case}");
+            }
+        }
+    }
+
+    #[test]
+    fn surfaces_keep_pieces_smaller_than_a_cell_that_the_result_has() {
+        // A ball and a tiny ball (a third of a cell across) around a sample of the grid, away
+        // from it (union) or inside it (difference: a tiny cavity): the only sample of the tiny
+        // ball, or of the cavity, is a speck that the solids confirm, so it stays a component.
+        let res = 32;
+        let ball = Example::Icosphere.mesh();
+        let solid = EscSolid::new(&ball).expect("valid");
+        let grid = grid_over(solid.bounds(), res, 1);
+        for (op, at) in [
+            (Op::Union, DVec3::splat(0.8)),
+            (Op::Difference, DVec3::new(0.3, -0.2, 0.1)),
+        ] {
+            let g = ((at - grid.origin) / grid.step).round();
+            let centre = grid.point(g.x as usize, g.y as usize, g.z as usize);
+            let mut tiny = crate::esc::examples::icosphere(2);
+            for p in &mut tiny.positions {
+                *p = centre + *p * (grid.step.x / 6.0);
+            }
+            let boolean = Boolean {
+                solids: vec![solid.clone(), EscSolid::new(&tiny).expect("valid")],
+                expr: Expr::binary(op, Expr::Solid(0), Expr::Solid(1)),
+            };
+            assert_eq!(boolean.bounds(), solid.bounds(), "the same grid");
+            let mesh = boolean.surface(res);
+            mesh.check_closed_manifold().expect("closed");
+            assert_eq!(components(&mesh), 2, "{op}");
+            assert_eq!(mesh.euler_characteristic(), 4, "{op}");
+            // The speck's surface: eight triangles around the centre.
+            let near = mesh
+                .triangles
+                .iter()
+                .filter(|t| {
+                    t.iter()
+                        .all(|&v| (mesh.positions[v as usize] - centre).length() < grid.step.x)
+                })
+                .count();
+            assert_eq!(near, 8, "{op}");
         }
     }
 
