@@ -585,6 +585,8 @@ impl FreeForm {
             example.name(),
             EscOperand::example(example, at.to_array()),
         )?;
+        // Beside the scene may be outside the view: the view takes in the new scene.
+        self.fit();
         Ok(slot)
     }
 
