@@ -16,7 +16,8 @@
 //!   position. An operand is placed by `offset`, and optionally `rotate` (`[rx, ry, rz]`, degrees)
 //!   and `scale` (per axis, non-zero; a negative one mirrors): each point `p` goes to
 //!   `offset + Rz·Ry·Rx·S·p`, as a tree's `transform` moves its solid. `crease` (degrees, 0 to 180)
-//!   sets the angle between neighbouring faces past which an edge stays sharp.
+//!   sets the angle between neighbouring faces past which an edge stays sharp; absent, it is 180
+//!   (every edge rounded), as files written before creases were read.
 //!   A mesh holds at most [`MAX_VERTICES`] positions and [`MAX_TRIANGLES`] triangles: a reader
 //!   refuses a longer list while reading it, before the rest of the file is read.
 //! - `kind: "plasm"` (scripts): `script`, the text of a PLaSM script (at most
@@ -49,6 +50,9 @@ mod de;
 
 /// The value of the `format` field.
 pub const FORMAT: &str = "bezsolid";
+/// The crease angle of a free-form operand whose file says none: 180°, no creases, as every file
+/// written before creases was read.
+pub const FILE_CREASE_ANGLE: f64 = 180.0;
 /// The most operands a free-form model has.
 pub const MAX_OPERANDS: usize = 26;
 /// The most triangles of all a free-form model's meshes together (two meshes at the cap of one).
@@ -409,7 +413,10 @@ pub struct EscOperand {
     )]
     pub scale: Option<[f64; 3]>,
     /// The angle in degrees between neighbouring faces' normals past which their edge is a crease
-    /// that stays sharp (0 to 180; 180 keeps none); absent: the default.
+    /// that stays sharp (0 to 180; 180 keeps none). Absent, it is [`FILE_CREASE_ANGLE`] (180:
+    /// every edge rounded), what files written before creases meant, so that they keep their
+    /// numbers; the page writes the angle it uses for an imported mesh
+    /// ([`DEFAULT_CREASE_ANGLE`](crate::esc::DEFAULT_CREASE_ANGLE) unless changed).
     #[cfg_attr(
         feature = "serde",
         serde(default, skip_serializing_if = "Option::is_none")
@@ -978,7 +985,7 @@ impl EscOperand {
     ///
     /// As [`EscOperand::to_mesh`], and a mesh that cannot be a chain.
     pub fn to_solid(&self) -> Result<EscSolid, String> {
-        let crease = self.crease.unwrap_or(crate::esc::DEFAULT_CREASE_ANGLE);
+        let crease = self.crease.unwrap_or(FILE_CREASE_ANGLE);
         if !crate::esc::pn::valid_crease_angle(crease) {
             return Err(crate::esc::EscError::CreaseAngle { degrees: crease }.to_string());
         }
@@ -1261,17 +1268,24 @@ mod tests {
         // A mirror keeps the solid a solid (its triangles turned over), for meshes and examples.
         let mirrored = EscOperand {
             scale: Some([-1.0, 0.5, 1.0]),
+            crease: Some(crate::esc::DEFAULT_CREASE_ANGLE),
             ..cube
         };
         assert!(inside(mirrored.clone(), [0.9, 0.4, 0.0], &mut stats));
         assert!(!inside(mirrored.clone(), [0.0, 0.55, 0.0], &mut stats));
-        // Its edges are creases, kept sharp by default; an angle of 180 rounds them.
+        // Its edges are creases, kept sharp at the page's angle; 180 rounds them, and so does a
+        // file that says no angle, as files written before creases did.
         assert!(!inside(mirrored.clone(), [1.02, 0.0, 0.0], &mut stats));
         let round = EscOperand {
             crease: Some(180.0),
-            ..mirrored
+            ..mirrored.clone()
         };
         assert!(inside(round, [1.02, 0.0, 0.0], &mut stats));
+        let old = EscOperand {
+            crease: None,
+            ..mirrored
+        };
+        assert!(inside(old, [1.02, 0.0, 0.0], &mut stats));
         let ball = EscOperand {
             scale: Some([-2.0, 1.0, 1.0]),
             rotate: Some([0.0, 90.0, 0.0]),

@@ -346,6 +346,7 @@ impl FreeForm {
     pub fn set_mesh(&mut self, slot: usize, name: &str, mesh: &Mesh) -> Result<(), Error> {
         let op = EscOperand {
             example: None,
+            crease: Some(bezsolid_core::esc::DEFAULT_CREASE_ANGLE),
             mesh: Some(MeshSpec {
                 positions: mesh.positions.iter().map(|p| p.to_array()).collect(),
                 triangles: mesh.triangles.clone(),
@@ -370,7 +371,7 @@ impl FreeForm {
                     name: old.name.take(),
                     rotate: old.rotate,
                     scale: old.scale,
-                    crease: old.crease,
+                    crease: old.crease.or(op.crease),
                     ..op
                 };
             }
@@ -450,7 +451,7 @@ impl FreeForm {
     pub fn set_crease(&mut self, slot: usize, degrees: f64) -> Result<(), Error> {
         let mut operands = self.operands.clone();
         let o = operands.get_mut(slot).ok_or_else(|| no_operand(slot))?;
-        o.crease = (degrees != bezsolid_core::esc::DEFAULT_CREASE_ANGLE).then_some(degrees);
+        o.crease = Some(degrees);
         if operands == self.operands {
             return Ok(());
         }
@@ -464,7 +465,7 @@ impl FreeForm {
     #[must_use]
     pub fn crease(&self, slot: usize) -> Option<f64> {
         let o = self.operands.get(slot)?;
-        Some(o.crease.unwrap_or(bezsolid_core::esc::DEFAULT_CREASE_ANGLE))
+        Some(o.crease.unwrap_or(bezsolid_core::model::FILE_CREASE_ANGLE))
     }
 
     /// Operand `slot`'s placement: offset, rotation (degrees) and scale.
