@@ -77,9 +77,11 @@ export function setupFreeForm(app) {
       file.id = `ff-import-${id}`;
       file.addEventListener('change', (e) => { importMesh(k, e.target.files?.[0]); e.target.value = ''; });
       const pick = row.querySelector('.ff-import');
+      pick.id = `ff-pick-${id}`;
       pick.setAttribute('aria-label', `Import mesh as ${name}…`);
       pick.addEventListener('click', () => file.click());
       const remove = row.querySelector('.ff-remove');
+      remove.id = `ff-remove-${id}`;
       remove.setAttribute('aria-label', `Remove solid ${name}`);
       remove.disabled = letters.length === 1;
       remove.addEventListener('click', () => {
