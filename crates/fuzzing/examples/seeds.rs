@@ -64,6 +64,43 @@ fn main() -> std::io::Result<()> {
             }],
         ),
     ));
+    models.push((
+        "esc-expression".into(),
+        ModelFile::from_spec(bezsolid_core::model::SolidSpec::Esc {
+            operation: None,
+            expression: Some("!(A | wing) - C & A".into()),
+            operands: vec![
+                EscOperand::example(Example::Blob, [0.0; 3]),
+                EscOperand {
+                    name: Some("wing".into()),
+                    rotate: Some([0.0, 70.0, 20.0]),
+                    scale: Some([0.8, 0.8, -1.4]),
+                    ..EscOperand::example(Example::Torus, [0.2, 0.0, 0.3])
+                },
+                EscOperand {
+                    crease: Some(40.0),
+                    mesh: Some(MeshSpec {
+                        positions: vec![
+                            [0.0; 3],
+                            [1.0, 0.0, 0.0],
+                            [0.0, 1.0, 0.0],
+                            [0.0, 0.0, 1.0],
+                        ],
+                        triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+                    }),
+                    ..EscOperand::default()
+                },
+            ],
+        }),
+    ));
+    models.push((
+        "esc-complement".into(),
+        ModelFile::from_spec(bezsolid_core::model::SolidSpec::Esc {
+            operation: Some("complement".into()),
+            expression: None,
+            operands: vec![EscOperand::example(Example::Icosphere, [0.0; 3])],
+        }),
+    ));
     let example = scripts::example("4.1").expect("the paper's example 4.1");
     models.push(("plasm-4.1".into(), ModelFile::from_plasm(&example.source())));
 

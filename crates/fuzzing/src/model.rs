@@ -94,6 +94,18 @@ pub(crate) fn check_model(file: &ModelFile) -> bool {
                 "a free-form solid's bounds {lo} .. {hi}"
             );
         }
+        // The expression is written back as the same expression, whatever form the file had.
+        if let SolidSpec::Esc { operands, .. } = &file.solid {
+            let again = ModelFile::from_esc_expr(&boolean.expr, operands.clone());
+            let expr = again.to_boolean().map(|b| b.expr);
+            assert_eq!(expr.as_ref(), Ok(&boolean.expr), "{again:?}");
+            let mut stats = bezsolid_core::esc::Stats::default();
+            let v = boolean.value(glam::DVec3::new(0.1, -0.2, 0.3), &mut stats);
+            assert!(
+                v == 0 || v == 1,
+                "a normal chain's value is 0 or 1, not {v}"
+            );
+        }
         valid = true;
     }
     if let Ok(tree) = file.to_tree() {

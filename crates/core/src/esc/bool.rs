@@ -649,4 +649,30 @@ mod tests {
         assert_eq!(Expr::parse(&at_caps, &names), Ok(Expr::Solid(0)));
         assert!(is_name("A_1") && is_name("_x") && is_name("Ω") && !is_name("1A") && !is_name(""));
     }
+
+    #[test]
+    fn any_text_parses_or_is_refused_and_what_parses_round_trips() {
+        let names = ["A", "B", "wing"];
+        let pieces = [
+            "A", "B", "wing", "C", "|", "&", "-", "!", "(", ")", " ", "∪", "¬", "\\", "#", "1", "_",
+        ];
+        let mut seed = 3_u64;
+        let mut next = move |n: usize| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) as usize % n
+        };
+        let mut parsed = 0;
+        for _ in 0..5000 {
+            let len = 1 + next(12);
+            let text: String = (0..len).map(|_| pieces[next(pieces.len())]).collect();
+            if let Ok(e) = Expr::parse(&text, &names) {
+                parsed += 1;
+                assert!(e.arity() <= names.len());
+                assert_eq!(Expr::parse(&e.text(&names), &names), Ok(e), "{text}");
+            }
+        }
+        assert!(parsed > 50, "only {parsed} texts parsed");
+    }
 }
