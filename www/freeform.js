@@ -94,6 +94,9 @@ export function setupFreeForm(app) {
     $('ff-slot').replaceChildren(...letters.map((name, k) => new Option(name, String(k))));
   };
 
+  // The rows are there from the start, before the mode is first shown.
+  buildRows();
+
   $('ff-add').addEventListener('click', () => {
     let added = -1;
     if (app.attempt('Add a solid', () => { added = ff.add_operand('icosphere'); })) {
