@@ -132,6 +132,26 @@ fn booleans_agree_with_the_set_operations() {
     );
 }
 
+/// The cube `[lo, hi]³` as an OBJ file of 12 triangles, counter-clockwise from outside.
+fn cube_obj(lo: f64, hi: f64) -> String {
+    let mut obj = String::new();
+    for v in 0..8 {
+        let [x, y, z] = [v & 1, (v >> 1) & 1, (v >> 2) & 1].map(|b| if b == 1 { hi } else { lo });
+        obj.push_str(&format!("v {x} {y} {z}\n"));
+    }
+    for [a, b, c, d] in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        obj.push_str(&format!("f {a} {b} {c}\nf {a} {c} {d}\n"));
+    }
+    obj
+}
+
 #[test]
 fn complements_and_expressions_of_many_solids_agree_with_the_set_operations() {
     let pts = points();
@@ -159,31 +179,7 @@ fn complements_and_expressions_of_many_solids_agree_with_the_set_operations() {
                { "example": "icosphere", "scale": [0.5, 0.5, 0.5], "offset": [1, 0, 0] }] } }"#,
     );
     let ball = |p: [f64; 3]| sphere([2.0 * (p[0] - 1.0), 2.0 * p[1], 2.0 * p[2]]) / 2.0;
-    let mut obj = String::new();
-    let cube = |v: usize| [v & 1, (v >> 1) & 1, (v >> 2) & 1].map(|b| b as f64 * 1.2 - 1.4);
-    for v in 0..8 {
-        let [x, y, z] = cube(v);
-        obj.push_str(&format!("v {x} {y} {z}\n"));
-    }
-    for [a, b, c, d] in [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ] {
-        obj.push_str(&format!(
-            "f {} {} {}\nf {} {} {}\n",
-            a + 1,
-            b + 1,
-            c + 1,
-            a + 1,
-            c + 1,
-            d + 1
-        ));
-    }
-    let cube_file = scratch("corner.obj", &obj);
+    let cube_file = scratch("corner.obj", &cube_obj(-1.4, -0.2));
     // The cube [−1.4, −0.2]³, its edges sharp (creases).
     let corner = |p: [f64; 3]| -> Option<bool> {
         let d = p.iter().map(|c| (c + 0.8).abs()).fold(0.0, f64::max);
@@ -224,30 +220,7 @@ fn complements_and_expressions_of_many_solids_agree_with_the_set_operations() {
 
 #[test]
 fn crease_angles_keep_edges_sharp_or_round_them() {
-    let mut obj = String::new();
-    for v in 0..8 {
-        let [x, y, z] = [v & 1, (v >> 1) & 1, (v >> 2) & 1].map(|b| b as f64 * 2.0 - 1.0);
-        obj.push_str(&format!("v {x} {y} {z}\n"));
-    }
-    for [a, b, c, d] in [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ] {
-        obj.push_str(&format!(
-            "f {} {} {}\nf {} {} {}\n",
-            a + 1,
-            b + 1,
-            c + 1,
-            a + 1,
-            c + 1,
-            d + 1
-        ));
-    }
-    let cube = scratch("unit-cube.obj", &obj);
+    let cube = scratch("unit-cube.obj", &cube_obj(-1.0, 1.0));
     let cube = cube.to_str().unwrap();
     let file = scratch("crease.csv", "1.2,0,0\n0,0,1.05\n0.99,0.99,0.99\n0,0,0\n");
     let file = file.to_str().unwrap();

@@ -1095,23 +1095,9 @@ mod tests {
 
     /// A cube `[−1, 1]³` as a model file's mesh, triangles counter-clockwise from outside.
     fn cube() -> MeshSpec {
-        let positions = (0..8)
-            .map(|i| [i & 1, (i >> 1) & 1, (i >> 2) & 1].map(|b| 2.0 * f64::from(b) - 1.0))
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let triangles = quads
-            .iter()
-            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-            .collect();
+        let (positions, triangles) = crate::testutil::box_mesh(DVec3::splat(-1.0), DVec3::ONE, 0);
         MeshSpec {
-            positions,
+            positions: positions.iter().map(|p| p.to_array()).collect(),
             triangles,
         }
     }

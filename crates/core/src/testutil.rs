@@ -1,6 +1,32 @@
 //! Helpers shared by the unit tests: a small deterministic generator (tests run the same natively and
 //! in node, where no OS randomness is needed).
 
+/// The box `[lo, hi]` as 8 corners (corner `i` takes `hi` on axis `k` where bit `k` of `i` is
+/// set) and 12 triangles, counter-clockwise seen from outside, its vertices numbered from `base`.
+pub(crate) fn box_mesh(
+    lo: glam::DVec3,
+    hi: glam::DVec3,
+    base: u32,
+) -> (alloc::vec::Vec<glam::DVec3>, alloc::vec::Vec<[u32; 3]>) {
+    let positions = (0..8)
+        .map(|i| glam::DVec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), hi, lo))
+        .collect();
+    let quads: [[u32; 4]; 6] = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let triangles = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .map(|t| t.map(|i| i + base))
+        .collect();
+    (positions, triangles)
+}
+
 /// xorshift64*: enough for test data, reproducible from its seed.
 pub(crate) struct Rng(u64);
 

@@ -746,27 +746,13 @@ fn boxes(parts: &[(DVec3, DVec3, bool)]) -> Mesh {
     let mut mesh = Mesh::default();
     for &(lo, hi, inward) in parts {
         let base = mesh.positions.len() as u32;
-        mesh.positions.extend((0..8).map(|i| {
-            DVec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            )
-        }));
-        for q in [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
-            for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
-                let t = t.map(|i: u32| i + base);
-                mesh.triangles
-                    .push(if inward { [t[0], t[2], t[1]] } else { t });
-            }
-        }
+        let (positions, triangles) = crate::testutil::box_mesh(lo, hi, base);
+        mesh.positions.extend(positions);
+        mesh.triangles.extend(
+            triangles
+                .into_iter()
+                .map(|t| if inward { [t[0], t[2], t[1]] } else { t }),
+        );
     }
     mesh.normals = angle_weighted_normals(&mesh.positions, &mesh.triangles);
     mesh

@@ -384,29 +384,7 @@ mod tests {
 
     /// The box `[lo, hi]` as 12 outward triangles, its vertices numbered from `base`.
     fn cube(lo: DVec3, hi: DVec3, base: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        let positions = (0..8)
-            .map(|i| {
-                DVec3::new(
-                    if i & 1 == 0 { lo.x } else { hi.x },
-                    if i & 2 == 0 { lo.y } else { hi.y },
-                    if i & 4 == 0 { lo.z } else { hi.z },
-                )
-            })
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let triangles = quads
-            .iter()
-            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-            .map(|t: [u32; 3]| t.map(|i| i + base))
-            .collect();
-        (positions, triangles)
+        crate::testutil::box_mesh(lo, hi, base)
     }
 
     fn mesh_of(parts: &[(DVec3, DVec3, bool)]) -> Mesh {
