@@ -652,18 +652,23 @@ impl FreeForm {
     /// Moves the operand being dragged so that the point first grabbed follows CSS pixel `q`.
     /// Returns whether it moved.
     pub fn move_to(&mut self, q: DVec2) -> bool {
-        let Some(m) = self.moving.clone() else {
+        // The drag's numbers only: its undo step holds the operands, meshes and all.
+        let Some((slot, start, normal, grab)) = self
+            .moving
+            .as_ref()
+            .map(|m| (m.slot, m.offset, m.normal, m.grab))
+        else {
             return false;
         };
-        let Some(at) = on_plane(self.orbit.ray(q), m.grab, m.normal) else {
+        let Some(at) = on_plane(self.orbit.ray(q), grab, normal) else {
             return false;
         };
-        let offset = (m.offset + (at - m.grab)).to_array();
-        let Some((_, rotate, scale)) = self.placement(m.slot) else {
+        let offset = (start + (at - grab)).to_array();
+        let Some((_, rotate, scale)) = self.placement(slot) else {
             return false;
         };
-        let before = self.operands.clone();
-        self.place(m.slot, offset, rotate, scale).is_ok() && before != self.operands
+        let revision = self.revision;
+        self.place(slot, offset, rotate, scale).is_ok() && self.revision != revision
     }
 
     /// Ends the drag: the move is one undo step.
