@@ -144,22 +144,18 @@ export function setupScript(app) {
       line.className = 'line';
       line.textContent = `line ${v.line}`;
       li.append(line, v.text);
-      if (v.patch) {
+      // A surface opens as a patch, a solid as a volume, each as the control net of its map.
+      for (const [volume, kind, title] of [
+        [false, 'patch', 'Open this surface in the Bézier mode as a patch solid (x, y, ξ = z): its control net, found from the map'],
+        [true, 'volume', 'Open this solid in the Bézier mode as a volume solid (x, y, z, ξ = 1/4 everywhere): its control net, found from the map'],
+      ]) {
+        if (!v[kind]) continue;
         const edit = document.createElement('button');
         edit.type = 'button';
-        edit.className = 'edit-patch';
-        edit.textContent = 'Edit as a Bézier patch';
-        edit.title = 'Open this surface in the Bézier mode as a patch solid (x, y, ξ = z): its control net, found from the map';
-        edit.addEventListener('click', () => editAsNet(ranScript, index, v.line, false));
-        li.append(edit);
-      }
-      if (v.volume) {
-        const edit = document.createElement('button');
-        edit.type = 'button';
-        edit.className = 'edit-volume';
-        edit.textContent = 'Edit as a Bézier volume';
-        edit.title = 'Open this solid in the Bézier mode as a volume solid (x, y, z, ξ = 1/4 everywhere): its control net, found from the map';
-        edit.addEventListener('click', () => editAsNet(ranScript, index, v.line, true));
+        edit.className = `edit-${kind}`;
+        edit.textContent = `Edit as a Bézier ${kind}`;
+        edit.title = title;
+        edit.addEventListener('click', () => editAsNet(ranScript, index, v.line, volume));
         li.append(edit);
       }
       return li;

@@ -496,27 +496,8 @@ mod tests {
                 assert!((pn.normal(t, bc) - mesh.normals[v]).length() < 1e-15);
             }
         }
-        // Every edge's curve is the same from both sides, bit for bit in its control points.
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            let patch = pn.patch(t);
-            for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
-                let (u, other) = mesh
-                    .triangles
-                    .iter()
-                    .enumerate()
-                    .find_map(|(u, o)| {
-                        (0..3)
-                            .find(|&f| o[f] == b && o[(f + 1) % 3] == a)
-                            .map(|f| (u, f))
-                    })
-                    .expect("closed mesh");
-                let mine = patch.edge(e).expect("edge").points().to_vec();
-                let mut theirs = pn.patch(u).edge(other).expect("edge").points().to_vec();
-                theirs.reverse();
-                assert_eq!(mine, theirs);
-            }
-        }
+        // Every edge's curve is the same from both sides.
+        crate::esc::tests::assert_watertight(&pn, &mesh);
     }
 
     #[test]

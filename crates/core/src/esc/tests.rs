@@ -602,7 +602,7 @@ fn the_examples_have_no_creases_and_are_unchanged() {
 
 /// Every edge's curve is the same from both of its patches: the control points bit for bit, and
 /// points along it evaluated on each patch agree to rounding.
-fn assert_watertight(pn: &PnSurface, mesh: &Mesh) {
+pub(crate) fn assert_watertight(pn: &PnSurface, mesh: &Mesh) {
     for (t, tri) in mesh.triangles.iter().enumerate() {
         for e in 0..3 {
             let (a, b) = (tri[e], tri[(e + 1) % 3]);
