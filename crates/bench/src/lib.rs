@@ -146,16 +146,56 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(esc::suite(clock, quick));
     rows.extend(plasm::suite(clock, quick));
     rows.extend(tree::suite(clock, quick));
-    let mesh_sizes: &[usize] = if quick { &[20] } else { &[20, 64, 128, 256] };
+    rows.extend(mesh_suite(clock, quick));
+    rows
+}
+
+/// Polygonizing the benchmark's solid: the adaptive mesher (what `Solid3::polygonize` does) at
+/// each size up to 512, the uniform grid it is checked against (the plain path, every sample
+/// evaluated and every cube marched), and the meshing step alone on a sampled array.
+pub fn mesh_suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let solid = bench_solid();
+    let mut rows = Vec::new();
+    let mesh_sizes: &[usize] = if quick {
+        &[20, 128]
+    } else {
+        &[20, 64, 128, 256, 512]
+    };
     for &n in mesh_sizes {
+        let (ms, runs, (mesh, stats)) = time(clock, budget, || {
+            solid
+                .polygonize_with_stats(n, 1e-9)
+                .ok()
+                .flatten()
+                .unwrap_or_else(|| unreachable!("valid arguments, no space mapping"))
+        });
+        rows.push(Row {
+            case: "polygonize".into(),
+            who: ADAPTIVE.into(),
+            n,
+            ms,
+            runs,
+            extra: mesh.triangle_count() as f64,
+            note: format!(
+                "{:.1} % of {} cells skipped by the Bernstein bounds; {} blocks, {} samples evaluated",
+                100.0 * stats.skipped as f64 / stats.cells.max(1) as f64,
+                stats.cells,
+                stats.blocks,
+                stats.evaluated
+            ),
+        });
+        if n > 256 {
+            continue;
+        }
         let (ms, runs, mesh) = time(clock, budget, || {
             solid
-                .polygonize(n, 1e-9)
+                .polygonize_uniform(n, 1e-9)
                 .unwrap_or_else(|_| unreachable!("valid arguments"))
         });
         rows.push(Row {
             case: "polygonize".into(),
-            who: "bezsolid (uniform; vertices on f = 0 within 1e-9; normals from ∇f)".into(),
+            who: UNIFORM.into(),
             n,
             ms,
             runs,
@@ -178,6 +218,12 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     }
     rows
 }
+
+/// Who the adaptive mesher's rows are by.
+pub const ADAPTIVE: &str =
+    "bezsolid (adaptive: Bernstein bounds; vertices on f = 0 within 1e-9; normals from ∇f)";
+/// Who the uniform grid's rows are by.
+pub const UNIFORM: &str = "bezsolid (uniform grid, the plain path)";
 
 /// The wasm entry point `cargo xtask bench` calls from node.
 #[cfg(target_arch = "wasm32")]

@@ -14,8 +14,30 @@ impl Clock for Wall {
 }
 
 fn main() {
+    // Every row is one thread's unless it says otherwise: a pool of one is installed around them.
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap_or_else(|e| {
+            eprintln!("bezsolid-bench: no thread pool: {e}");
+            std::process::exit(1)
+        });
+    one.install(one_thread);
+}
+
+fn one_thread() {
     let quick = std::env::args().any(|a| a == "--quick");
     let mut clock = Wall(Instant::now());
+    // `--mesh`: only the polygonizer's cases (for working on them).
+    if std::env::args().any(|a| a == "--mesh") {
+        #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
+        let mut rows = bezsolid_bench::mesh_suite(&mut clock, quick);
+        rows.extend(threaded(quick));
+        #[cfg(feature = "peers")]
+        rows.extend(peers::polygonize_peer(&mut clock, quick));
+        println!("{}", serde_json::to_string(&rows).unwrap_or_default());
+        return;
+    }
     // `--esc`: only the point-in-solid cases (for working on them).
     if std::env::args().any(|a| a == "--esc") {
         let rows = bezsolid_bench::esc::suite(&mut clock, quick);
@@ -39,6 +61,7 @@ fn main() {
     }
     #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
     let mut rows: Vec<Row> = suite(&mut clock, quick);
+    rows.extend(threaded(quick));
     #[cfg(feature = "peers")]
     rows.extend(peers::run(&mut clock, quick));
     match serde_json::to_string(&rows) {
@@ -48,6 +71,40 @@ fn main() {
             std::process::exit(1);
         }
     }
+}
+
+/// The adaptive mesher on every core of the machine (a pool of that many threads), each time taken
+/// on its own clock inside the pool.
+fn threaded(quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
+    let solid = bezsolid_bench::bench_solid();
+    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(threads).build() else {
+        return Vec::new();
+    };
+    let sizes: &[usize] = if quick { &[128] } else { &[128, 256, 512] };
+    let mut rows = Vec::new();
+    for &n in sizes {
+        let (ms, runs, triangles) = pool.install(|| {
+            let mut clock = Wall(Instant::now());
+            let (ms, runs, mesh) = bezsolid_bench::time(&mut clock, budget, || {
+                solid
+                    .polygonize(n, 1e-9)
+                    .unwrap_or_else(|_| unreachable!("valid arguments"))
+            });
+            (ms, runs, mesh.triangle_count())
+        });
+        rows.push(Row {
+            case: "polygonize".into(),
+            who: format!("bezsolid (adaptive, {threads} threads)"),
+            n,
+            ms,
+            runs,
+            extra: triangles as f64,
+            note: String::new(),
+        });
+    }
+    rows
 }
 
 #[cfg(feature = "peers")]

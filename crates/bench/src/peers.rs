@@ -33,20 +33,26 @@ pub(crate) fn run(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
     }
-    // fidget: depth d meshes 2^d cells per axis; only powers of two compare, and 256 takes seconds.
+    rows.extend(polygonize_peer(clock, quick));
+    rows.extend(tree_peer(clock, quick));
+    rows
+}
+
+/// fidget meshing the benchmark's polynomial over its box at 2^depth cells per axis (64, 128 and
+/// 256: only powers of two compare; 256 takes seconds).
+pub(crate) fn polygonize_peer(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let budget = if quick { 50.0 } else { 1000.0 };
     let to_unit_cube = nalgebra::Matrix4::new_translation(&nalgebra::Vector3::repeat(0.5f32))
         * nalgebra::Matrix4::new_scaling(0.5f32);
-    let depths: &[u8] = if quick { &[4] } else { &[6, 7] };
-    rows.extend(fidget_rows(
+    let depths: &[u8] = if quick { &[7] } else { &[6, 7, 8] };
+    fidget_rows(
         clock,
         budget,
         "polygonize",
         -bernstein_tree(),
         to_unit_cube,
         depths,
-    ));
-    rows.extend(tree_peer(clock, quick));
-    rows
+    )
 }
 
 /// fidget meshing the benchmark's tree of 20 solids ([`bezsolid_bench::tree`]), built from the

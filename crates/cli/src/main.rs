@@ -40,10 +40,11 @@ commands (DESIGN §5):
                                    side, default 256; vertices refined to |f| <= A, default
                                    1e-9; a tree that may be unbounded needs --box)
   mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
-                                   closed boundary mesh of a volume solid or a 3D tree (N cells
+       [--threads T]               closed boundary mesh of a volume solid or a 3D tree (N cells
                                    along the longest side, default 64; vertices refined to
                                    |f| <= A, default 1e-9; a tree that may be unbounded, such as
-                                   a half-space, needs --box, and is cut by it)
+                                   a half-space, needs --box, and is cut by it; a volume solid
+                                   is meshed on T threads, default every core, the same mesh)
   hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum; a tree with
                                    HyperFun's set operations, blends and primitives)
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,

@@ -1,6 +1,7 @@
-//! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]`:
-//! the closed boundary mesh of a volume solid, of a 3D tree of many solids (within its bounds, or
-//! within the box, cut by it), or of the result of a free-form model.
+//! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
+//! [--threads T]`: the closed boundary mesh of a volume solid, of a 3D tree of many solids (within
+//! its bounds, or within the box, cut by it), or of the result of a free-form model. A volume
+//! solid is meshed on `T` threads (default: every core), the same mesh as on one.
 
 use anyhow::{Context, Result, bail};
 
@@ -10,12 +11,24 @@ use bezsolid_core::mesh::{Format, MAX_RESOLUTION};
 use bezsolid_core::model::{ModelSolid, SolidSpec};
 use bezsolid_core::tree::{ModelTree, TreeMeshError};
 
+/// The most threads `--threads` may ask for.
+const MAX_THREADS: usize = 256;
+
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("mesh", args, &["--res", "--accuracy", "--output", "--box"])?;
+    let args = Args::parse(
+        "mesh",
+        args,
+        &["--res", "--accuracy", "--output", "--box", "--threads"],
+    )?;
     let model = args.model("bezsolid mesh MODEL --res N -o OUT.stl")?;
     let out = args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?;
     let res: usize = args.number("--res", 64)?;
     let accuracy: f64 = args.number("--accuracy", 1e-9)?;
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    let threads: usize = args.number("--threads", cores)?;
+    if !(1..=MAX_THREADS).contains(&threads) {
+        bail!("--threads {threads} is outside 1..={MAX_THREADS}");
+    }
     let Some(format) = Format::of_path(out) else {
         bail!("mesh: {out} should end in .stl, .obj or .ply");
     };
@@ -53,7 +66,11 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         let ModelSolid::Volume(solid) = solid else {
             bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
         };
-        let mesh = solid.polygonize(res, accuracy)?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .context("cannot start the threads")?;
+        let mesh = pool.install(|| solid.polygonize(res, accuracy))?;
         crate::warn_exhausted(solid.exhausted());
         mesh
     };

@@ -52,6 +52,32 @@ fn every_preset_meshes_to_a_closed_surface_of_its_genus() {
 }
 
 #[test]
+fn threads_write_the_same_file_as_one_thread() {
+    let mut files = Vec::new();
+    for threads in ["1", "2", "3"] {
+        let path = out_path(&format!("blob-threads-{threads}.ply"));
+        let out = bezsolid(&[
+            "mesh",
+            "preset:blob",
+            "--res",
+            "48",
+            "--threads",
+            threads,
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        files.push(std::fs::read(&path).unwrap());
+    }
+    assert!(files[0].len() > 1000);
+    assert!(files.iter().all(|f| *f == files[0]), "the files differ");
+}
+
+#[test]
 fn stl_and_ply_hold_the_same_triangles_as_obj() {
     let obj = out_path("blob16.obj");
     let stl = out_path("blob16.stl");
@@ -119,6 +145,10 @@ fn mesh_refuses_bad_input_with_a_message() {
         (vec!["mesh", "preset:fig9", "-o", o], "volume"),
         (vec!["mesh", "preset:whale", "-o", o], "no preset"),
         (vec!["mesh", "preset:blob"], "-o"),
+        (
+            vec!["mesh", "preset:blob", "--threads", "0", "-o", o],
+            "--threads 0",
+        ),
     ] {
         let out = bezsolid(&args);
         let err = String::from_utf8_lossy(&out.stderr);

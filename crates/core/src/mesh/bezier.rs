@@ -11,8 +11,13 @@ use glam::DVec3;
 use glam::DVec4;
 
 use super::Mesh;
-use super::polygonize::{EdgeRoots, LinearRoots, SampleGrid, linear_root, polygonize};
-use crate::bernstein::{MAX_DEGREE, basis_and_derivative};
+use super::adaptive::{self, AdaptiveStats};
+#[cfg(feature = "parallel")]
+use super::polygonize::weld;
+use super::polygonize::{
+    Block, EdgeRoots, LinearRoots, Marcher, SampleGrid, linear_root, polygonize, polygonize_blocks,
+};
+use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative};
 use crate::inverse::{Forward, solve_jac};
 use crate::math::illinois;
 use crate::rfunc::{clip_with_gradient, clip3};
@@ -188,11 +193,81 @@ impl Solid3 {
     }
 
     fn polygonize_regular(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
+        self.polygonize_adaptive(resolution, accuracy)
+            .map(|(mesh, _)| mesh)
+    }
+
+    /// The regular solid's mesh, sampled only where the surface may be: boxes of cells whose
+    /// Bernstein bounds clear zero are skipped, the rest sampled as blocks and marched (see
+    /// [`Solid3::polygonize_uniform`] for the mesh it equals), on every thread of the pool with the
+    /// `parallel` feature. With how much of the grid it skipped.
+    fn polygonize_adaptive(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+    ) -> Result<(Mesh, AdaptiveStats), MeshError> {
         let grid = self.mesh_grid(resolution)?;
-        let mut roots = SolidRoots::new(self, &grid, accuracy);
+        let roots = SolidRoots::new(self, &grid, accuracy);
+        let samples = BlockSamples::new(&roots.xi, &roots.params);
+        let (blocks, stats) = adaptive::blocks(roots.xi.points(), roots.xi.degree(), &roots.params);
+        let marcher = Marcher::new();
+        let sample = |block: &Block, out: &mut Vec<f64>| samples.fill(block, out);
+        #[cfg(feature = "parallel")]
+        let mesh = {
+            use rayon::prelude::*;
+            // Pieces of consecutive blocks, welded in order: the mesh one walk over all would give.
+            let pieces = 4 * rayon::current_num_threads();
+            let chunk = blocks.len().div_ceil(pieces).max(1);
+            let parts: Vec<(Mesh, Vec<u64>)> = blocks
+                .par_chunks(chunk)
+                .map(|part| polygonize_blocks(&grid, part, sample, &mut &roots, &marcher))
+                .collect();
+            weld(parts)
+        };
+        #[cfg(not(feature = "parallel"))]
+        let mesh = polygonize_blocks(&grid, &blocks, sample, &mut &roots, &marcher).0;
+        Ok((mesh, stats))
+    }
+
+    /// [`Solid3::polygonize`] of a solid without a space mapping, with what the adaptive meshing
+    /// skipped; `None` for one with a space mapping.
+    ///
+    /// # Errors
+    ///
+    /// As [`Solid3::polygonize`].
+    pub fn polygonize_with_stats(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+    ) -> Result<Option<(Mesh, AdaptiveStats)>, MeshError> {
+        if !(accuracy.is_finite() && accuracy > 0.0) {
+            return Err(MeshError::Accuracy);
+        }
+        if self.inverse().is_some() {
+            return Ok(None);
+        }
+        self.polygonize_adaptive(resolution, accuracy).map(Some)
+    }
+
+    /// The plain path that [`Solid3::polygonize`] is checked against, for a solid without a space
+    /// mapping: every sample of the uniform grid evaluated, every cube marched. The adaptive path
+    /// gives the same triangles on the same vertices (in another order); this one costs the cube of
+    /// the resolution. A solid with a space mapping is meshed as by [`Solid3::polygonize`].
+    ///
+    /// # Errors
+    ///
+    /// As [`Solid3::polygonize`].
+    pub fn polygonize_uniform(&self, resolution: usize, accuracy: f64) -> Result<Mesh, MeshError> {
+        if !(accuracy.is_finite() && accuracy > 0.0) {
+            return Err(MeshError::Accuracy);
+        }
+        if self.inverse().is_some() {
+            return self.polygonize(resolution, accuracy);
+        }
+        let grid = self.mesh_grid(resolution)?;
+        let roots = SolidRoots::new(self, &grid, accuracy);
         let [us, vs, ws] = &roots.params;
         let mut values = roots.xi.eval_grid([us, vs, ws]);
-        let inner = |t: f64| t > 0.0 && t < 1.0;
         let mut i = 0;
         for &w in ws {
             for &v in vs {
@@ -205,8 +280,85 @@ impl Solid3 {
                 }
             }
         }
-        Ok(polygonize(&grid, &values, &mut roots))
+        Ok(polygonize(&grid, &values, &mut &roots))
     }
+}
+
+/// Strictly inside `(0, 1)`: a parameter where the clipping does not change the sign of `S_ξ`.
+fn inner(t: f64) -> bool {
+    t > 0.0 && t < 1.0
+}
+
+/// The samples of blocks of the grid, each the very value [`Tensor::eval_grid`] gives it (the same
+/// basis rows, contracted in the same order: last axis, then the middle, then the first), clipped
+/// where a parameter is outside `(0, 1)` as the uniform path clips it. Equal values, equal signs:
+/// the blocks mesh as the uniform grid does.
+///
+/// [`Tensor::eval_grid`]: crate::Tensor::eval_grid
+struct BlockSamples<'a> {
+    params: &'a [Vec<f64>; 3],
+    degree: [usize; 3],
+    /// Basis rows at each sample's `u` and `v`.
+    rows: [Vec<f64>; 2],
+    /// The net contracted along `w` at each sample's `w`: `(n + 1)(m + 1)` values each.
+    planes: Vec<f64>,
+}
+
+impl<'a> BlockSamples<'a> {
+    fn new(xi: &Volume<f64>, params: &'a [Vec<f64>; 3]) -> Self {
+        let degree = xi.degree();
+        let table = |axis: usize| {
+            let d = degree[axis] + 1;
+            let mut table = vec![0.0; params[axis].len() * d];
+            for (row, &t) in table.chunks_exact_mut(d).zip(&params[axis]) {
+                basis(degree[axis], t, row);
+            }
+            table
+        };
+        let ws = table(2);
+        let dl = degree[2] + 1;
+        let mut planes = Vec::with_capacity(params[2].len() * xi.points().len() / dl);
+        for w in ws.chunks_exact(dl) {
+            planes.extend(xi.points().chunks_exact(dl).map(|line| dot(line, w)));
+        }
+        Self {
+            params,
+            degree,
+            rows: [table(0), table(1)],
+            planes,
+        }
+    }
+
+    fn fill(&self, block: &Block, out: &mut Vec<f64>) {
+        let [dn, dm, _] = self.degree.map(|d| d + 1);
+        let [us, vs, ws] = self.params;
+        let span = |k: usize| (block.lo[k], block.size[k] + 1);
+        let ((a0, na), (b0, nb), (c0, nc)) = (span(0), span(1), span(2));
+        let mut line = [0.0; MAX_DEGREE + 1];
+        let planes = self.planes.chunks_exact(dn * dm).zip(ws);
+        for (plane, &w) in planes.skip(c0).take(nc) {
+            for (v_row, &v) in self.rows[1].chunks_exact(dm).zip(vs).skip(b0).take(nb) {
+                for (slot, l) in line.iter_mut().zip(plane.chunks_exact(dm)) {
+                    *slot = dot(l, v_row);
+                }
+                let row_inside = inner(v) && inner(w);
+                for (u_row, &u) in self.rows[0].chunks_exact(dn).zip(us).skip(a0).take(na) {
+                    let value = dot(&line[..dn], u_row);
+                    out.push(if row_inside && inner(u) {
+                        value
+                    } else {
+                        clip3(value, u, v, w)
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// `Σ_i p_i b_i`, summed as [`crate::Tensor::eval_grid`] sums (from zero, in order).
+#[inline(always)]
+fn dot(line: &[f64], b: &[f64]) -> f64 {
+    line.iter().zip(b).fold(0.0, |acc, (p, &w)| acc + *p * w)
 }
 
 /// Roots on grid edges of a [`Solid3`]: along an edge two parameters are fixed, so `S_ξ` is a Bézier
@@ -348,6 +500,61 @@ impl<'a> SolidRoots<'a> {
     }
 }
 
+/// A root in `[0, 1]` of the Bézier curve `c[..=degree]` taken along `[t0, t1]`, whose values at
+/// the ends are `ends` (the samples there) of opposite signs: Newton's method from the linear
+/// estimate, kept in the bracket (a step that leaves it bisects), until `|value| ≤ accuracy`.
+/// Along one grid edge the curve is nearly a line, so two or three steps do. `None` where the
+/// ends do not bracket a root or the steps run out.
+fn newton_on_edge(
+    c: &[f64; MAX_DEGREE + 1],
+    degree: usize,
+    t0: f64,
+    t1: f64,
+    (p0, p1): (f64, f64),
+    accuracy: f64,
+) -> Option<f64> {
+    let at = |t: f64| bezier1_with_slope(c, degree, t0 + (t1 - t0) * t);
+    if (p0 > 0.0) == (p1 > 0.0) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut t = linear_root(p0, p1);
+    for _ in 0..crate::math::ROOT_STEPS {
+        let (v, slope) = at(t);
+        if v.abs() <= accuracy {
+            return Some(t);
+        }
+        if (v > 0.0) == (p0 > 0.0) {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let next = t - v / (slope * (t1 - t0));
+        t = if next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 1e-15 {
+            break;
+        }
+    }
+    None
+}
+
+/// A Bézier curve with coefficients `c[..=degree]` at `t` and its derivative there, by de
+/// Casteljau (the derivative is `degree` times the difference of the last level's two points).
+fn bezier1_with_slope(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> (f64, f64) {
+    let mut p = *c;
+    for k in 1..degree {
+        for i in 0..=degree - k {
+            p[i] += (p[i + 1] - p[i]) * t;
+        }
+    }
+    let slope = degree as f64 * (p[1] - p[0]);
+    (p[0] + (p[1] - p[0]) * t, slope)
+}
+
 /// A Bézier curve with coefficients `c[..=degree]` at `t`, by de Casteljau.
 fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
     let mut p = *c;
@@ -359,7 +566,7 @@ fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
     p[0]
 }
 
-impl EdgeRoots for SolidRoots<'_> {
+impl EdgeRoots for &SolidRoots<'_> {
     fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
         let [coef, dp, dq] = self.line(axis, lower);
         let [n, m, l] = self.xi.degree();
@@ -393,11 +600,8 @@ impl EdgeRoots for SolidRoots<'_> {
             .all(|(ax, &t)| ax == axis || inner(t))
             && inner(t0)
             && inner(t1);
-        let poly = |t: f64| bezier1(&coef, degree, t0 + (t1 - t0) * t);
         let quick = if interior {
-            let (p0, p1) = (poly(0.0), poly(1.0));
-            ((p0 > 0.0) != (p1 > 0.0))
-                .then(|| illinois(poly, p0, p1, 0.5 * self.accuracy))
+            newton_on_edge(&coef, degree, t0, t1, (f0, f1), 0.5 * self.accuracy)
                 .filter(|&t| g(t).abs() <= self.accuracy)
         } else {
             None
@@ -673,5 +877,111 @@ mod tests {
         let solid = Solid3::try_from_net(volume).unwrap();
         let mesh = solid.polygonize(12, 1e-9).unwrap();
         mesh.check_closed_manifold().unwrap();
+    }
+
+    /// `a` and `b` are the same mesh up to the order of vertices and triangles: the same vertices
+    /// within `tol` (positions and normals) and the same triangles on them, the same way round.
+    fn assert_same_mesh(a: &Mesh, b: &Mesh, tol: f64) {
+        assert_eq!(a.positions.len(), b.positions.len(), "vertex counts");
+        assert_eq!(a.triangles.len(), b.triangles.len(), "triangle counts");
+        let order = |m: &Mesh| {
+            let mut o: Vec<usize> = (0..m.positions.len()).collect();
+            o.sort_by(|&i, &j| {
+                let (p, q) = (m.positions[i].to_array(), m.positions[j].to_array());
+                p.partial_cmp(&q).unwrap_or(core::cmp::Ordering::Equal)
+            });
+            o
+        };
+        let (oa, ob) = (order(a), order(b));
+        let mut to_b = vec![0u32; a.positions.len()];
+        for (&i, &j) in oa.iter().zip(&ob) {
+            assert!(a.positions[i].distance(b.positions[j]) <= tol, "vertex {i}");
+            assert!(a.normals[i].distance(b.normals[j]) <= tol, "normal {i}");
+            to_b[i] = j as u32;
+        }
+        let canonical = |t: [u32; 3]| {
+            let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+        };
+        let mut ta: Vec<[u32; 3]> = a
+            .triangles
+            .iter()
+            .map(|t| canonical(t.map(|v| to_b[v as usize])))
+            .collect();
+        let mut tb: Vec<[u32; 3]> = b.triangles.iter().map(|&t| canonical(t)).collect();
+        ta.sort_unstable();
+        tb.sort_unstable();
+        assert!(ta == tb, "the triangles differ");
+    }
+
+    use crate::Axis;
+
+    /// A degree-`d` ball in `[min, max]` with pseudo-random ripples on its control values.
+    fn rippled(d: usize, ripple: f64, seed: u64, min: DVec3, max: DVec3) -> Solid3 {
+        let mut xi = ball(0.4, min, max).xi_net();
+        for axis in [Axis::U, Axis::V, Axis::W] {
+            for _ in 2..d {
+                xi = xi.elevate(axis).unwrap();
+            }
+        }
+        let mut rng = crate::testutil::Rng::new(seed);
+        let [n, m, l] = xi.degree();
+        let pts = xi.points().to_vec();
+        Solid3::regular([n, m, l], min, max, |[i, j, k]| {
+            pts[(i * (m + 1) + j) * (l + 1) + k] + rng.range(-ripple, ripple)
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn adaptive_meshes_equal_the_uniform_grid_on_the_same_cells() {
+        let solids = [
+            ball(0.3, DVec3::ZERO, DVec3::ONE),
+            // Past the box: the surface meets the box's faces, where the clipping makes it.
+            ball(0.6, DVec3::new(-1.0, 0.0, 2.0), DVec3::new(1.0, 0.5, 3.0)),
+            rippled(4, 0.05, 1, DVec3::ZERO, DVec3::ONE),
+            rippled(
+                3,
+                0.2,
+                2,
+                DVec3::new(-2.0, -1.0, 0.0),
+                DVec3::new(2.0, 1.0, 0.5),
+            ),
+            rippled(6, 0.1, 3, DVec3::ZERO, DVec3::splat(10.0)),
+        ];
+        for (s, solid) in solids.iter().enumerate() {
+            for res in [1, 5, 16, 33, 70] {
+                let uniform = solid.polygonize_uniform(res, 1e-9).unwrap();
+                let (adaptive, stats) = solid.polygonize_with_stats(res, 1e-9).unwrap().unwrap();
+                assert_same_mesh(&adaptive, &uniform, 1e-9);
+                adaptive.check_closed_manifold().unwrap();
+                // A solid inside its box skips most of the grid; one that fills it, some.
+                if res == 70 {
+                    let share = if s == 1 || s == 3 { 5 } else { 2 };
+                    assert!(stats.skipped * share > stats.cells, "solid {s}: {stats:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn pieces_welded_in_order_are_the_mesh_of_one_walk() {
+        let solid = rippled(4, 0.05, 4, DVec3::ZERO, DVec3::ONE);
+        let grid = solid.mesh_grid(40).unwrap();
+        let roots = SolidRoots::new(&solid, &grid, 1e-9);
+        let samples = BlockSamples::new(&roots.xi, &roots.params);
+        let (blocks, _) = adaptive::blocks(roots.xi.points(), roots.xi.degree(), &roots.params);
+        assert!(blocks.len() > 10);
+        let marcher = Marcher::new();
+        let sample = |block: &Block, out: &mut Vec<f64>| samples.fill(block, out);
+        let whole = polygonize_blocks(&grid, &blocks, sample, &mut &roots, &marcher).0;
+        for chunk in [1, 3, 17] {
+            let pieces = blocks
+                .chunks(chunk)
+                .map(|part| polygonize_blocks(&grid, part, sample, &mut &roots, &marcher))
+                .collect();
+            let welded = super::super::polygonize::weld(pieces);
+            assert_eq!(welded, whole, "chunks of {chunk}");
+        }
     }
 }

@@ -13,6 +13,7 @@ use core::str::FromStr;
 
 use glam::DVec3;
 
+mod adaptive;
 mod bezier;
 mod manifold;
 pub mod obj;
@@ -23,6 +24,7 @@ mod shells;
 pub mod stl;
 pub mod svg;
 
+pub use adaptive::AdaptiveStats;
 pub use bezier::{MAX_RESOLUTION, MeshError};
 pub use manifold::{MeshDefects, validate};
 pub use polygonize::{EdgeRoots, LinearRoots, SampleGrid, polygonize};

@@ -215,7 +215,7 @@ fn cube_loops(v: &[f64; 8], next: &mut [u8; 12]) {
 ///
 /// `values.len()` must be `dims[0]·dims[1]·dims[2]`; a mismatch gives an empty mesh.
 #[must_use]
-pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots) -> Mesh {
+pub fn polygonize<R: EdgeRoots>(grid: &SampleGrid, values: &[f64], roots: &mut R) -> Mesh {
     let [nx, ny, nz] = grid.dims;
     let mut mesh = Mesh::default();
     if nx < 2 || ny < 2 || nz < 2 || values.len() != nx * ny * nz {
@@ -241,19 +241,7 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
             }
         })
         .collect();
-    // The face loops of every corner pattern without an ambiguous face depend on the pattern alone.
-    let mut table = [[255u8; 12]; 256];
-    let mut ambiguous = [false; 256];
-    for (mask, (next, amb)) in table.iter_mut().zip(&mut ambiguous).enumerate() {
-        let v: [f64; 8] = core::array::from_fn(|k| if mask >> k & 1 == 1 { 1.0 } else { -1.0 });
-        *amb = FACES.iter().any(|face| {
-            let s = face.map(|c| mask >> c & 1);
-            s[0] == s[2] && s[1] == s[3] && s[0] != s[1]
-        });
-        cube_loops(&v, next);
-    }
-    let mut next = [255u8; 12];
-    let mut ids = [u32::MAX; 12];
+    let marcher = Marcher::new();
     for c in 0..nz - 1 {
         for b in 0..ny - 1 {
             let r = [
@@ -279,30 +267,22 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
                     continue;
                 }
                 let base = (c * ny + b) * nx + a;
-                if ambiguous[mask as usize] {
-                    let v: [f64; 8] = core::array::from_fn(|k| {
+                let corners = || {
+                    core::array::from_fn(|k| {
                         let [dx, dy, dz] = corner_offset(k);
                         values[base + dz * layer + dy * nx + dx]
-                    });
-                    cube_loops(&v, &mut next);
-                } else {
-                    next = table[mask as usize];
-                }
+                    })
+                };
                 // Vertex of every crossed cube edge, shared through the caches.
-                for (e, id) in ids.iter_mut().enumerate() {
-                    if next[e] == 255 {
-                        continue;
-                    }
-                    let axis = e / 4;
-                    let (bb, dd) = ((axis + 1) % 3, (axis + 2) % 3);
-                    let mut off = [0usize; 3];
-                    off[bb] = e & 1;
-                    off[dd] = (e >> 1) & 1;
-                    let lower = [a + off[0], b + off[1], c + off[2]];
+                let vertex = |mesh: &mut Mesh, roots: &mut R, axis: usize, lower: [usize; 3]| {
                     let slot = lower[1] * nx + lower[0];
                     let cache = match axis {
                         0 | 1 => {
-                            let cache = if off[2] == 0 { &mut xy_lo } else { &mut xy_hi };
+                            let cache = if lower[2] == c {
+                                &mut xy_lo
+                            } else {
+                                &mut xy_hi
+                            };
                             &mut cache[2 * slot + axis]
                         }
                         _ => &mut z_mid[slot],
@@ -310,71 +290,362 @@ pub fn polygonize(grid: &SampleGrid, values: &[f64], roots: &mut impl EdgeRoots)
                     if *cache == u32::MAX {
                         let i0 = (lower[2] * ny + lower[1]) * nx + lower[0];
                         let i1 = i0 + [1, nx, layer][axis];
-                        let (f0, f1) = (values[i0], values[i1]);
-                        let (t, normal) = roots.vertex(axis, lower, f0, f1);
-                        let mut p = grid.point(lower[0], lower[1], lower[2]);
-                        p[axis] += t * grid.step[axis];
-                        *cache = mesh.positions.len() as u32;
-                        mesh.positions.push(p);
-                        mesh.normals.push(normal);
+                        *cache =
+                            edge_vertex(grid, mesh, roots, axis, lower, values[i0], values[i1]);
                     }
-                    *id = *cache;
-                }
-                // Each loop as a disk: a fan where one fits, a centre vertex where none does.
-                let mut done = 0u16;
-                for start in 0..12 {
-                    if next[start] == 255 || done & (1 << start) != 0 {
-                        continue;
-                    }
-                    let mut ring = [0u8; 12];
-                    let mut k = 0;
-                    let mut at = start;
-                    while k < 12 && done & (1 << at) == 0 {
-                        done |= 1 << at;
-                        ring[k] = at as u8;
-                        k += 1;
-                        at = next[at] as usize;
-                        if at >= 12 {
-                            break;
-                        }
-                    }
-                    let ring = &ring[..k];
-                    match fan_start(ring) {
-                        Some(s) => {
-                            for j in 1..k - 1 {
-                                mesh.triangles.push([
-                                    ids[ring[s] as usize],
-                                    ids[ring[(s + j) % k] as usize],
-                                    ids[ring[(s + j + 1) % k] as usize],
-                                ]);
-                            }
-                        }
-                        None => {
-                            let mean = ring
-                                .iter()
-                                .map(|&e| mesh.positions[ids[e as usize] as usize])
-                                .sum::<DVec3>()
-                                / k as f64;
-                            let lo = grid.point(a, b, c);
-                            let (p, normal) = roots.centre(mean, lo, lo + grid.step);
-                            let centre = mesh.positions.len() as u32;
-                            mesh.positions.push(p);
-                            mesh.normals.push(normal);
-                            for j in 0..k {
-                                mesh.triangles.push([
-                                    centre,
-                                    ids[ring[j] as usize],
-                                    ids[ring[(j + 1) % k] as usize],
-                                ]);
-                            }
-                        }
-                    }
-                }
+                    *cache
+                };
+                marcher.cube(mask, corners, [a, b, c], grid, &mut mesh, roots, vertex);
             }
         }
         core::mem::swap(&mut xy_lo, &mut xy_hi);
         xy_hi.fill(u32::MAX);
         z_mid.fill(u32::MAX);
+    }
+    mesh
+}
+
+/// A new vertex on the grid edge from sample `lower` along `axis`, whose end values are `f0` and
+/// `f1`: its index in `mesh`.
+fn edge_vertex<R: EdgeRoots>(
+    grid: &SampleGrid,
+    mesh: &mut Mesh,
+    roots: &mut R,
+    axis: usize,
+    lower: [usize; 3],
+    f0: f64,
+    f1: f64,
+) -> u32 {
+    let (t, normal) = roots.vertex(axis, lower, f0, f1);
+    let mut p = grid.point(lower[0], lower[1], lower[2]);
+    p[axis] += t * grid.step[axis];
+    let id = mesh.positions.len() as u32;
+    mesh.positions.push(p);
+    mesh.normals.push(normal);
+    id
+}
+
+/// The half of the polygonizer that sees one cube: its face loops (from a table of the 256 sign
+/// patterns, or from the values where a face is ambiguous) filled with disks. The walk over the
+/// whole grid ([`polygonize`]) and the walk over blocks of cells ([`polygonize_blocks`]) share it,
+/// so a cube gives the same triangles whichever walk meets it.
+pub(crate) struct Marcher {
+    table: [[u8; 12]; 256],
+    ambiguous: [bool; 256],
+}
+
+impl Marcher {
+    pub(crate) fn new() -> Self {
+        // The face loops of every corner pattern without an ambiguous face depend on the pattern alone.
+        let mut table = [[255u8; 12]; 256];
+        let mut ambiguous = [false; 256];
+        for (mask, (next, amb)) in table.iter_mut().zip(&mut ambiguous).enumerate() {
+            let v: [f64; 8] = core::array::from_fn(|k| if mask >> k & 1 == 1 { 1.0 } else { -1.0 });
+            *amb = FACES.iter().any(|face| {
+                let s = face.map(|c| mask >> c & 1);
+                s[0] == s[2] && s[1] == s[3] && s[0] != s[1]
+            });
+            cube_loops(&v, next);
+        }
+        Self { table, ambiguous }
+    }
+
+    /// The triangles of the cube whose lowest sample is `cube`, whose corner `k` is inside where bit
+    /// `k` of `mask` is set: `values()` gives the eight corner values (asked for only when a face is
+    /// ambiguous), `vertex(mesh, roots, axis, lower)` the index of the vertex on the grid edge from
+    /// sample `lower` along `axis` (made on first use, shared after). A loop that cannot be fanned
+    /// gets a centre vertex of its own.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub(crate) fn cube<R: EdgeRoots>(
+        &self,
+        mask: u8,
+        values: impl FnOnce() -> [f64; 8],
+        cube: [usize; 3],
+        grid: &SampleGrid,
+        mesh: &mut Mesh,
+        roots: &mut R,
+        mut vertex: impl FnMut(&mut Mesh, &mut R, usize, [usize; 3]) -> u32,
+    ) {
+        let mut loops = [255u8; 12];
+        let next = if self.ambiguous[mask as usize] {
+            cube_loops(&values(), &mut loops);
+            &loops
+        } else {
+            &self.table[mask as usize]
+        };
+        let mut ids = [u32::MAX; 12];
+        for (e, id) in ids.iter_mut().enumerate() {
+            if next[e] == 255 {
+                continue;
+            }
+            let axis = e / 4;
+            let (bb, dd) = ((axis + 1) % 3, (axis + 2) % 3);
+            let mut lower = cube;
+            lower[bb] += e & 1;
+            lower[dd] += (e >> 1) & 1;
+            *id = vertex(mesh, roots, axis, lower);
+        }
+        // Each loop as a disk: a fan where one fits, a centre vertex where none does.
+        let mut done = 0u16;
+        for start in 0..12 {
+            if next[start] == 255 || done & (1 << start) != 0 {
+                continue;
+            }
+            let mut ring = [0u8; 12];
+            let mut k = 0;
+            let mut at = start;
+            while k < 12 && done & (1 << at) == 0 {
+                done |= 1 << at;
+                ring[k] = at as u8;
+                k += 1;
+                at = next[at] as usize;
+                if at >= 12 {
+                    break;
+                }
+            }
+            let ring = &ring[..k];
+            match fan_start(ring) {
+                Some(s) => {
+                    for j in 1..k - 1 {
+                        mesh.triangles.push([
+                            ids[ring[s] as usize],
+                            ids[ring[(s + j) % k] as usize],
+                            ids[ring[(s + j + 1) % k] as usize],
+                        ]);
+                    }
+                }
+                None => {
+                    let mean = ring
+                        .iter()
+                        .map(|&e| mesh.positions[ids[e as usize] as usize])
+                        .sum::<DVec3>()
+                        / k as f64;
+                    let lo = grid.point(cube[0], cube[1], cube[2]);
+                    let (p, normal) = roots.centre(mean, lo, lo + grid.step);
+                    let centre = mesh.positions.len() as u32;
+                    mesh.positions.push(p);
+                    mesh.normals.push(normal);
+                    for j in 0..k {
+                        mesh.triangles.push([
+                            centre,
+                            ids[ring[j] as usize],
+                            ids[ring[(j + 1) % k] as usize],
+                        ]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A box of cells `[lo, lo + size)` of a grid (its samples `lo ..= lo + size`), sampled whole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Block {
+    pub(crate) lo: [usize; 3],
+    pub(crate) size: [usize; 3],
+}
+
+impl Block {
+    /// Its samples along each axis.
+    pub(crate) fn samples(&self) -> [usize; 3] {
+        self.size.map(|s| s + 1)
+    }
+}
+
+/// The key of the grid edge from sample `lower` along `axis`: unique over the grid, so pieces of a
+/// mesh made apart weld on it.
+fn edge_key(dims: [usize; 3], axis: usize, lower: [usize; 3]) -> u64 {
+    (((lower[2] * dims[1] + lower[1]) * dims[0] + lower[0]) * 3 + axis) as u64
+}
+
+/// No grid edge: the key of a vertex that is not on one (a loop's centre).
+pub(crate) const NO_EDGE: u64 = u64::MAX;
+
+/// Vertex indices by grid edge: open addressing, linear probing, kept at most half full.
+struct EdgeMap {
+    keys: Vec<u64>,
+    ids: Vec<u32>,
+    len: usize,
+}
+
+impl EdgeMap {
+    fn new() -> Self {
+        Self {
+            keys: vec![NO_EDGE; 1024],
+            ids: vec![0; 1024],
+            len: 0,
+        }
+    }
+
+    fn slot(keys: &[u64], key: u64) -> usize {
+        let mask = keys.len() - 1;
+        let mut i = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) as usize & mask;
+        while keys[i] != key && keys[i] != NO_EDGE {
+            i = (i + 1) & mask;
+        }
+        i
+    }
+
+    /// The index stored for `key`, or the one `make()` gives, stored.
+    fn get_or_insert(&mut self, key: u64, make: impl FnOnce() -> u32) -> u32 {
+        let i = Self::slot(&self.keys, key);
+        if self.keys[i] == key {
+            return self.ids[i];
+        }
+        let id = make();
+        self.keys[i] = key;
+        self.ids[i] = id;
+        self.len += 1;
+        if 2 * self.len > self.keys.len() {
+            let size = 2 * self.keys.len();
+            let old_keys = core::mem::replace(&mut self.keys, vec![NO_EDGE; size]);
+            let old_ids = core::mem::replace(&mut self.ids, vec![0; size]);
+            for (k, v) in old_keys.into_iter().zip(old_ids) {
+                if k != NO_EDGE {
+                    let j = Self::slot(&self.keys, k);
+                    self.keys[j] = k;
+                    self.ids[j] = v;
+                }
+            }
+        }
+        id
+    }
+}
+
+/// The cells of `blocks` alone polygonized, each block's samples given by `sample(block, values)`
+/// (`(size + 1)` per axis, `x` fastest, as [`polygonize`] takes them). Cells outside every block
+/// must hold no surface. Every vertex comes with the key of its grid edge ([`NO_EDGE`] for a
+/// centre or a vertex inside a block, which no other block can have), so meshes of disjoint sets
+/// of blocks weld into the mesh of their union ([`weld`]).
+///
+/// The samples a block shares with its neighbours must be the same values in both, as a function
+/// of the sample would give them; then each cube gives what [`polygonize`] gives it.
+pub(crate) fn polygonize_blocks<R: EdgeRoots>(
+    grid: &SampleGrid,
+    blocks: &[Block],
+    mut sample: impl FnMut(&Block, &mut Vec<f64>),
+    roots: &mut R,
+    marcher: &Marcher,
+) -> (Mesh, Vec<u64>) {
+    let mut mesh = Mesh::default();
+    let mut keys: Vec<u64> = Vec::new();
+    // Edges on a block's faces are shared with its neighbours: their vertices go by grid edge.
+    // Edges inside a block are its own: their vertices go by a table of the block's edges, each
+    // entry stamped with the block it was made in (so the table is never cleared).
+    let mut map = EdgeMap::new();
+    let mut own: Vec<(u32, u32)> = Vec::new();
+    let mut values = Vec::new();
+    // A block that the surface crosses holds some dozens of vertices and twice as many triangles.
+    mesh.positions.reserve(48 * blocks.len());
+    mesh.normals.reserve(48 * blocks.len());
+    mesh.triangles.reserve(96 * blocks.len());
+    let dims = grid.dims;
+    for (stamp, block) in blocks.iter().enumerate() {
+        let stamp = stamp as u32;
+        values.clear();
+        sample(block, &mut values);
+        let [sx, sy, sz] = block.samples();
+        if values.len() != sx * sy * sz {
+            continue;
+        }
+        if own.len() < 3 * values.len() {
+            own.resize(3 * values.len(), (u32::MAX, 0));
+        }
+        let (row, layer) = (sx, sx * sy);
+        let at = |x: usize, y: usize, z: usize| (z * sy + y) * sx + x;
+        for z in 0..sz - 1 {
+            for y in 0..sy - 1 {
+                for x in 0..sx - 1 {
+                    let base = at(x, y, z);
+                    let mut mask = 0u8;
+                    for k in 0..8 {
+                        let [dx, dy, dz] = corner_offset(k);
+                        let v = values[base + dz * layer + dy * row + dx];
+                        mask |= u8::from(v > 0.0) << k;
+                    }
+                    if mask == 0 || mask == 255 {
+                        continue;
+                    }
+                    let corners = || {
+                        core::array::from_fn(|k| {
+                            let [dx, dy, dz] = corner_offset(k);
+                            values[base + dz * layer + dy * row + dx]
+                        })
+                    };
+                    let cube = [block.lo[0] + x, block.lo[1] + y, block.lo[2] + z];
+                    let vertex = |mesh: &mut Mesh,
+                                  roots: &mut R,
+                                  axis: usize,
+                                  lower: [usize; 3]| {
+                        let l = [0, 1, 2].map(|k| lower[k] - block.lo[k]);
+                        let i0 = at(l[0], l[1], l[2]);
+                        let i1 = i0 + [1, row, layer][axis];
+                        let (f0, f1) = (values[i0], values[i1]);
+                        let on_face =
+                            (0..3).any(|k| k != axis && (l[k] == 0 || l[k] == block.size[k]));
+                        if on_face {
+                            map.get_or_insert(edge_key(dims, axis, lower), || {
+                                keys.resize(mesh.positions.len(), NO_EDGE);
+                                keys.push(edge_key(dims, axis, lower));
+                                edge_vertex(grid, mesh, roots, axis, lower, f0, f1)
+                            })
+                        } else {
+                            let entry = &mut own[3 * i0 + axis];
+                            if entry.0 != stamp {
+                                *entry =
+                                    (stamp, edge_vertex(grid, mesh, roots, axis, lower, f0, f1));
+                            }
+                            entry.1
+                        }
+                    };
+                    marcher.cube(mask, corners, cube, grid, &mut mesh, roots, vertex);
+                }
+            }
+        }
+    }
+    keys.resize(mesh.positions.len(), NO_EDGE);
+    (mesh, keys)
+}
+
+/// Meshes of disjoint sets of cells, each with the grid edge of every vertex (from
+/// [`polygonize_blocks`]), joined into one: a vertex on an edge two pieces share is kept once, the
+/// first piece's. Pieces in the order of their blocks give the mesh of all the blocks in one walk.
+#[cfg_attr(not(any(test, feature = "parallel")), allow(dead_code))]
+pub(crate) fn weld(pieces: Vec<(Mesh, Vec<u64>)>) -> Mesh {
+    let mut pieces = pieces.into_iter();
+    let Some((mut mesh, first_keys)) = pieces.next() else {
+        return Mesh::default();
+    };
+    let mut map = EdgeMap::new();
+    let (vertices, triangles) = pieces.as_slice().iter().fold((0, 0), |(v, t), (m, _)| {
+        (v + m.positions.len(), t + m.triangles.len())
+    });
+    mesh.positions.reserve(vertices);
+    mesh.normals.reserve(vertices);
+    mesh.triangles.reserve(triangles);
+    for (i, &k) in first_keys.iter().enumerate() {
+        if k != NO_EDGE {
+            map.get_or_insert(k, || i as u32);
+        }
+    }
+    for (piece, keys) in pieces {
+        let mut remap = Vec::with_capacity(piece.positions.len());
+        for (i, &k) in keys.iter().enumerate() {
+            let mut fresh = || {
+                let id = mesh.positions.len() as u32;
+                mesh.positions.push(piece.positions[i]);
+                mesh.normals.push(piece.normals[i]);
+                id
+            };
+            remap.push(if k == NO_EDGE {
+                fresh()
+            } else {
+                map.get_or_insert(k, fresh)
+            });
+        }
+        mesh.triangles
+            .extend(piece.triangles.iter().map(|t| t.map(|v| remap[v as usize])));
     }
     mesh
 }

@@ -1,0 +1,231 @@
+//! Meshing whose cost follows the surface: the grid's cells are split into boxes, top down, and a
+//! box is dropped where bounds prove the field has one sign on it; only the boxes that may hold the
+//! surface are sampled, as blocks, and marched ([`super::polygonize::polygonize_blocks`]).
+//!
+//! For a Bézier solid the bounds are exact in the sense of Bernstein form: `S_ξ` restricted to a box
+//! of parameters is again a polynomial of the same degrees, whose Bernstein coefficients (the net
+//! subdivided by de Casteljau along each axis) enclose its values there (the convex hull property).
+//! A box is dropped only when its coefficients clear zero by a margin far above their rounding, so
+//! every sample the uniform grid would take there has the sign the box was given.
+
+use alloc::vec::Vec;
+
+use super::polygonize::Block;
+use crate::bernstein::MAX_DEGREE;
+
+/// Boxes of at most this many cells per side are sampled whole rather than bounded again.
+pub(crate) const LEAF_CELLS: usize = 8;
+
+/// What an adaptive meshing did: how much of the grid the bounds let it skip.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AdaptiveStats {
+    /// Cells of the grid.
+    pub cells: usize,
+    /// Cells in boxes the bounds proved all inside or all outside (no surface, no samples).
+    pub skipped: usize,
+    /// Boxes bounded.
+    pub bounded: usize,
+    /// Blocks sampled and marched.
+    pub blocks: usize,
+    /// Samples evaluated (a sample on the face between two blocks counts in each).
+    pub evaluated: usize,
+}
+
+/// The net `net` (degrees `degree`, last index fastest) of a polynomial on a box, split along
+/// `axis` at the fraction `t` of the box's side: `left` and `right` become the nets of the same
+/// polynomial on the two parts (de Casteljau along every line of the axis).
+pub(crate) fn split_net(
+    net: &[f64],
+    degree: [usize; 3],
+    axis: usize,
+    t: f64,
+    left: &mut Vec<f64>,
+    right: &mut Vec<f64>,
+) {
+    let dims = degree.map(|d| d + 1);
+    let strides = [dims[1] * dims[2], dims[2], 1];
+    left.clear();
+    left.extend_from_slice(net);
+    right.clear();
+    right.extend_from_slice(net);
+    let (len, stride, d) = (dims[axis], strides[axis], degree[axis]);
+    let outer: usize = dims[..axis].iter().product();
+    let mut p = [0.0; MAX_DEGREE + 1];
+    for o in 0..outer {
+        for inner in 0..stride {
+            let start = o * len * stride + inner;
+            for (i, slot) in p[..len].iter_mut().enumerate() {
+                *slot = net[start + i * stride];
+            }
+            // After level k, p[i] is the i-th point of that level: the left part takes the
+            // first point of each level, the right part the last.
+            for k in 1..=d {
+                for i in 0..=d - k {
+                    p[i] += (p[i + 1] - p[i]) * t;
+                }
+                left[start + k * stride] = p[0];
+                right[start + (d - k) * stride] = p[d - k];
+            }
+        }
+    }
+}
+
+/// The least and greatest of `net`'s coefficients, which bound its polynomial; anything NaN
+/// bounds nothing.
+fn range(net: &[f64]) -> (f64, f64) {
+    let mut out = (f64::INFINITY, f64::NEG_INFINITY);
+    for &v in net {
+        if v.is_nan() {
+            return (f64::NEG_INFINITY, f64::INFINITY);
+        }
+        out = (out.0.min(v), out.1.max(v));
+    }
+    out
+}
+
+/// The blocks of cells of a grid whose samples are at parameters `params` (per axis, increasing;
+/// those outside `[0, 1]` are outside the solid whatever `S_ξ` is) that the Bernstein bounds of
+/// `net` cannot prove free of the surface, in a fixed order, and what the bounding did.
+///
+/// A box's net is its parent's split at the box's cut (on the parameters clamped to `[0, 1]`,
+/// where the root's net is the solid's own), so a box costs one de Casteljau pass per line, shared
+/// with its siblings.
+pub(crate) fn blocks(
+    net: &[f64],
+    degree: [usize; 3],
+    params: &[Vec<f64>; 3],
+) -> (Vec<Block>, AdaptiveStats) {
+    let dims = [0, 1, 2].map(|k| params[k].len());
+    let mut stats = AdaptiveStats::default();
+    let mut out = Vec::new();
+    if dims.iter().any(|&d| d < 2) {
+        return (out, stats);
+    }
+    stats.cells = dims.iter().map(|d| d - 1).product();
+    let clamped = |k: usize, i: usize| params[k][i].clamp(0.0, 1.0);
+    // Far above the rounding of the splits (a few ulps of the largest coefficient per level).
+    let scale = net.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let margin = 1e-12 * scale;
+    let size_of_net = net.len();
+    // The nets of the boxes waiting in `todo`, in the same order (a stack beside a stack).
+    let mut nets: Vec<f64> = net.to_vec();
+    let mut todo = alloc::vec![([0usize; 3], dims.map(|d| d - 1))];
+    let mut current = alloc::vec![0.0; size_of_net];
+    let mut parts: [Vec<f64>; 8] = Default::default();
+    let mut spare = Vec::with_capacity(size_of_net);
+    while let Some((lo, hi)) = todo.pop() {
+        let at = nets.len() - size_of_net;
+        current.copy_from_slice(&nets[at..]);
+        nets.truncate(at);
+        let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
+        stats.bounded += 1;
+        let (min, max) = range(&current);
+        // Outside: `S_ξ < 0` in the box, and samples past the box's faces are outside anyway.
+        // Inside: `S_ξ > 0` and every sample strictly within the box's faces.
+        let interior = (0..3).all(|k| params[k][lo[k]] > 0.0 && params[k][hi[k]] < 1.0);
+        if max < -margin || (min > margin && interior) {
+            stats.skipped += size.iter().product::<usize>();
+            continue;
+        }
+        if size.iter().all(|&s| s <= LEAF_CELLS) {
+            out.push(Block { lo, size });
+            stats.blocks += 1;
+            stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
+            continue;
+        }
+        // Halve the sides longer than a leaf: `parts[corner]` is the net of the child on the
+        // low (bit clear) or high side of each cut.
+        let mid = [0, 1, 2].map(|k| {
+            if size[k] > LEAF_CELLS {
+                lo[k] + size[k] / 2
+            } else {
+                hi[k]
+            }
+        });
+        parts[0].clone_from(&current);
+        let (mut made, mut count) = ([0usize; 8], 1);
+        for k in 0..3 {
+            if mid[k] == hi[k] {
+                continue;
+            }
+            let t =
+                (clamped(k, mid[k]) - clamped(k, lo[k])) / (clamped(k, hi[k]) - clamped(k, lo[k]));
+            // A cut that is not inside the side (a box of no width) leaves nets that bound nothing.
+            let t = if (0.0..=1.0).contains(&t) {
+                t
+            } else {
+                f64::NAN
+            };
+            for i in 0..count {
+                let corner = made[i];
+                let [low, high] = parts
+                    .get_disjoint_mut([corner, corner | 1 << k])
+                    .unwrap_or_else(|_| unreachable!("two corners"));
+                spare.clone_from(low);
+                split_net(&spare, degree, k, t, low, high);
+                made[count + i] = corner | 1 << k;
+            }
+            count *= 2;
+        }
+        for corner in (0..8).rev() {
+            let pick = |k: usize| {
+                if corner >> k & 1 == 0 {
+                    (lo[k], mid[k])
+                } else {
+                    (mid[k], hi[k])
+                }
+            };
+            let (a, b, c) = (pick(0), pick(1), pick(2));
+            if a.0 < a.1 && b.0 < b.1 && c.0 < c.1 {
+                todo.push(([a.0, b.0, c.0], [a.1, b.1, c.1]));
+                nets.extend_from_slice(&parts[corner]);
+            }
+        }
+    }
+    (out, stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Volume;
+    use crate::testutil::Rng;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    #[test]
+    fn split_nets_are_the_same_polynomial_and_bound_it() {
+        let mut rng = Rng::new(7);
+        for _ in 0..200 {
+            let degree = [rng.int(1, 5), rng.int(1, 5), rng.int(1, 5)];
+            let net = Volume::from_fn(degree, |_| rng.range(-1.0, 1.0))
+                .unwrap_or_else(|_| unreachable!("valid degrees"));
+            let axis = rng.int(0, 2);
+            let t = rng.range(0.01, 0.99);
+            let (mut left, mut right) = (Vec::new(), Vec::new());
+            split_net(net.points(), degree, axis, t, &mut left, &mut right);
+            for (part, lo, hi) in [(left, 0.0, t), (right, t, 1.0)] {
+                let (min, max) = range(&part);
+                let part =
+                    Volume::try_new(degree, part).unwrap_or_else(|_| unreachable!("the same size"));
+                for _ in 0..20 {
+                    let s: [f64; 3] = core::array::from_fn(|_| rng.range(0.0, 1.0));
+                    let mut at = s;
+                    at[axis] = lo + (hi - lo) * s[axis];
+                    let (whole, piece) = (net.eval(at), part.eval(s));
+                    assert!((whole - piece).abs() < 1e-12, "{whole} {piece}");
+                    assert!(min - 1e-12 <= whole && whole <= max + 1e-12);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_nan_bounds_nothing() {
+        assert_eq!(
+            range(&[1.0, f64::NAN, 2.0]),
+            (f64::NEG_INFINITY, f64::INFINITY)
+        );
+        assert_eq!(range(&[1.0, -3.0, 2.0]), (-3.0, 2.0));
+    }
+}
