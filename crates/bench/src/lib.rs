@@ -112,6 +112,17 @@ pub fn sampled(n: usize) -> (SampleGrid, Vec<f64>) {
 /// Our cases: grid evaluation of the scalar volume and of the clipped `f`, polygonization end to end,
 /// and the meshing step alone on a sampled array.
 pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
+    let mut rows = eval_suite(clock, quick);
+    rows.extend(inverse::suite(clock, quick));
+    rows.extend(esc::suite(clock, quick));
+    rows.extend(plasm::suite(clock, quick));
+    rows.extend(tree::suite(clock, quick));
+    rows.extend(mesh_suite(clock, quick));
+    rows
+}
+
+/// Grid evaluation of the scalar volume and of the clipped `f`.
+pub fn eval_suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     let budget = if quick { 50.0 } else { 1000.0 };
     let solid = bench_solid();
     let xi = solid.xi_net();
@@ -142,11 +153,6 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
             note: String::new(),
         });
     }
-    rows.extend(inverse::suite(clock, quick));
-    rows.extend(esc::suite(clock, quick));
-    rows.extend(plasm::suite(clock, quick));
-    rows.extend(tree::suite(clock, quick));
-    rows.extend(mesh_suite(clock, quick));
     rows
 }
 
@@ -246,6 +252,20 @@ pub mod wasm {
     /// Runs the suite with `performance.now()` and returns its rows as JSON.
     #[wasm_bindgen]
     pub fn run(quick: bool) -> String {
+        with_clock(|clock| suite(clock, quick))
+    }
+
+    /// Only grid evaluation and meshing (for working on them).
+    #[wasm_bindgen]
+    pub fn run_mesh(quick: bool) -> String {
+        with_clock(|clock| {
+            let mut rows = super::eval_suite(clock, quick);
+            rows.extend(super::mesh_suite(clock, quick));
+            rows
+        })
+    }
+
+    fn with_clock(f: impl FnOnce(&mut dyn Clock) -> Vec<super::Row>) -> String {
         let perf =
             js_sys::Reflect::get(&js_sys::global(), &"performance".into()).unwrap_or(JsValue::NULL);
         let now = js_sys::Reflect::get(&perf, &"now".into())
@@ -255,6 +275,6 @@ pub mod wasm {
             return "[]".into();
         };
         let mut clock: Box<dyn Clock> = Box::new(Performance(now, perf));
-        serde_json::to_string(&suite(clock.as_mut(), quick)).unwrap_or_default()
+        serde_json::to_string(&f(clock.as_mut())).unwrap_or_default()
     }
 }

@@ -441,16 +441,13 @@ impl<'a> SolidRoots<'a> {
     /// Along `axis` through sample `lower`: the coefficients of `S_ξ` as a curve in that parameter, and
     /// of its derivatives along the two other axes (in increasing axis order), from the contracted
     /// planes: `(degree + 1)²` multiply-adds each.
-    fn line(&self, axis: usize, lower: [usize; 3]) -> [[f64; MAX_DEGREE + 1]; 3] {
+    fn line<'s>(&'s self, axis: usize, lower: [usize; 3]) -> [[f64; MAX_DEGREE + 1]; 3] {
         let [n, m, l] = self.xi.degree();
         let (dn, dm, dl) = (n + 1, m + 1, l + 1);
         let [a, b, c] = lower;
-        let row =
-            |table: &[Vec<f64>; 3], ax: usize, at: usize, len: usize| -> [f64; MAX_DEGREE + 1] {
-                let mut r = [0.0; MAX_DEGREE + 1];
-                r[..len].copy_from_slice(&table[ax][at * len..(at + 1) * len]);
-                r
-            };
+        let row = |table: &'s [Vec<f64>; 3], ax: usize, at: usize, len: usize| -> &'s [f64] {
+            &table[ax][at * len..(at + 1) * len]
+        };
         let mut out = [[0.0; MAX_DEGREE + 1]; 3];
         match axis {
             0 | 1 => {
@@ -545,7 +542,8 @@ fn newton_on_edge(
 /// A Bézier curve with coefficients `c[..=degree]` at `t` and its derivative there, by de
 /// Casteljau (the derivative is `degree` times the difference of the last level's two points).
 fn bezier1_with_slope(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> (f64, f64) {
-    let mut p = *c;
+    let mut p = [0.0; MAX_DEGREE + 1];
+    p[..=degree].copy_from_slice(&c[..=degree]);
     for k in 1..degree {
         for i in 0..=degree - k {
             p[i] += (p[i + 1] - p[i]) * t;
@@ -557,7 +555,8 @@ fn bezier1_with_slope(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> (f64,
 
 /// A Bézier curve with coefficients `c[..=degree]` at `t`, by de Casteljau.
 fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
-    let mut p = *c;
+    let mut p = [0.0; MAX_DEGREE + 1];
+    p[..=degree].copy_from_slice(&c[..=degree]);
     for k in 1..=degree {
         for i in 0..=degree - k {
             p[i] += (p[i + 1] - p[i]) * t;
@@ -576,13 +575,6 @@ impl EdgeRoots for &SolidRoots<'_> {
             self.params[axis][lower[axis] + 1],
         );
         let uvw: [f64; 3] = core::array::from_fn(|ax| self.params[ax][lower[ax]]);
-        let dot = |c: &[f64; MAX_DEGREE + 1], b: &[f64; MAX_DEGREE + 1]| -> f64 {
-            c[..=degree]
-                .iter()
-                .zip(&b[..=degree])
-                .map(|(c, b)| c * b)
-                .sum()
-        };
         let g = |t: f64| {
             let s = t0 + (t1 - t0) * t;
             let mut at = uvw;
@@ -618,15 +610,15 @@ impl EdgeRoots for &SolidRoots<'_> {
             }
         };
         let s = t0 + (t1 - t0) * t;
-        let (b, db) = basis_and_derivative(degree, s);
         let mut at = uvw;
         at[axis] = s;
+        let (value, slope) = bezier1_with_slope(&coef, degree, s);
         let mut grad = [0.0; 3];
-        grad[axis] = dot(&coef, &db);
+        grad[axis] = slope;
         let (p, q) = other_axes(axis);
-        grad[p] = dot(&dp, &b);
-        grad[q] = dot(&dq, &b);
-        let (_, g) = clip_with_gradient(dot(&coef, &b), grad, at);
+        grad[p] = bezier1(&dp, degree, s);
+        grad[q] = bezier1(&dq, degree, s);
+        let (_, g) = clip_with_gradient(value, grad, at);
         (t, -(DVec3::from_array(g) * self.scale).normalize_or_zero())
     }
 
