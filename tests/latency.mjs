@@ -13,6 +13,26 @@ const page = await browser.newPage({ viewport: { width: 1400, height: 800 } });
 page.on('pageerror', (e) => console.log('pageerror', String(e)));
 await page.goto(`${process.env.BEZSOLID_URL ?? 'http://127.0.0.1:8080/'}?backend=${backend}`);
 await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+// The first load: from navigation to the first frame drawn, and what was fetched before it (bodies
+// as they travelled, compressed, and as decoded); then a reload, where the cache holds the module.
+const firstLoad = async (label) => {
+  const f = await page.evaluate(() => {
+    const first = Number(document.body.dataset.firstFrameMs);
+    const all = [...performance.getEntriesByType('navigation'), ...performance.getEntriesByType('resource')];
+    const before = all.filter((e) => e.responseEnd <= first);
+    const sum = (list, k) => list.reduce((a, e) => a + (e[k] || 0), 0);
+    const wasm = before.filter((e) => e.name.endsWith('.wasm'));
+    return { first, files: before.length, transfer: sum(before, 'transferSize'), encoded: sum(before, 'encodedBodySize'),
+      decoded: sum(before, 'decodedBodySize'), wasm: sum(wasm, 'encodedBodySize'), wasmDecoded: sum(wasm, 'decodedBodySize') };
+  });
+  const kb = (b) => `${(b / 1000).toFixed(0)} KB`;
+  console.log(`${label}: first frame drawn ${f.first.toFixed(0)} ms after navigation; ${f.files} files before it, ${kb(f.transfer)} over the network `
+    + `(bodies ${kb(f.encoded)} as sent, ${kb(f.decoded)} decoded; the module ${kb(f.wasm)} as sent, ${kb(f.wasmDecoded)} decoded)`);
+};
+await firstLoad('first load, empty cache');
+await page.reload();
+await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+await firstLoad('second load, the module from the cache');
 await page.focus('#view'); await page.keyboard.press('d');
 const frame = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
 let released = 0; // when the last measured drag let go

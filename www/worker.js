@@ -5,8 +5,10 @@
 // Replies: { id, progress: [done, total] } on the way, then { id, data, ms, ... } (with
 // `approximate` or `report` where the job gives them) or { id, error }.
 import init, { run_job } from './pkg/bezsolid_web.js';
+import { WASM_URL } from './pkg/assets.js';
 
-const ready = init();
+// The module under its content-hashed name: the browser's cache keeps it across loads.
+const ready = init({ module_or_path: WASM_URL });
 const arrays = { bytes: Uint8Array, f32: Float32Array, f64: Float64Array };
 
 // A result buffer: a u32 header length, the JSON header, padding to 8 bytes, the payload.

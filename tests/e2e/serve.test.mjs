@@ -1,8 +1,10 @@
 // The dev server that `cargo xtask serve` and the suite use: the module's MIME type, a
-// Content-Security-Policy that allows WebAssembly compilation and nothing loose, and no way out of www/.
+// Content-Security-Policy that allows WebAssembly compilation and nothing loose, no way out of www/,
+// compressed transfer (brotli or gzip) and caching by content hash and ETag.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { request } from 'node:http';
+import zlib from 'node:zlib';
 import { URL as BASE } from './harness.mjs';
 
 test('the module is served as application/wasm', async () => {
@@ -41,4 +43,54 @@ test('requests cannot leave the served folder', async () => {
   assert.equal(await status('/%2e%2e/Cargo.toml'), 404);
   assert.equal(await status('/pkg/../../xtask/src/main.rs'), 404);
   assert.equal(await status('/no-such-file.js'), 404);
+});
+
+/** A raw GET with `headers`: the status, the headers and the body as sent (not decoded). */
+const get = (path, headers = {}) => new Promise((resolve, reject) => {
+  const u = new URL(BASE);
+  const req = request({ host: u.hostname, port: u.port, path, method: 'GET', headers }, (res) => {
+    const chunks = [];
+    res.on('data', (c) => chunks.push(c));
+    res.on('end', () => resolve({ status: res.statusCode, headers: res.headers, body: Buffer.concat(chunks) }));
+  });
+  req.on('error', reject);
+  req.end();
+});
+
+test('the module travels compressed under a content-hashed name that is cached for good', async () => {
+  const assets = await get('/pkg/assets.js');
+  assert.equal(assets.status, 200);
+  const name = /'\.\/(bezsolid_web_bg\.[0-9a-f]{16}\.wasm)'/.exec(assets.body.toString())?.[1];
+  assert.ok(name, `assets.js names the hashed module: ${assets.body}`);
+  assert.equal(assets.headers['cache-control'], 'no-cache', 'the name itself is revalidated');
+  const plain = await get('/pkg/bezsolid_web_bg.wasm');
+  const br = await get(`/pkg/${name}`, { 'accept-encoding': 'gzip, deflate, br' });
+  assert.equal(br.status, 200);
+  assert.equal(br.headers['content-encoding'], 'br');
+  assert.equal(br.headers['content-type'], 'application/wasm');
+  assert.match(br.headers['cache-control'], /immutable/);
+  assert.match(br.headers.vary, /Accept-Encoding/i);
+  const fromBr = zlib.brotliDecompressSync(br.body);
+  assert.ok(fromBr.equals(plain.body), 'brotli decodes to the module');
+  assert.ok(br.body.length < plain.body.length / 2, `${br.body.length} of ${plain.body.length} bytes`);
+  const gz = await get(`/pkg/${name}`, { 'accept-encoding': 'gzip' });
+  assert.equal(gz.headers['content-encoding'], 'gzip');
+  assert.ok(zlib.gunzipSync(gz.body).equals(plain.body), 'gzip decodes to the module');
+  const none = await get(`/pkg/${name}`, { 'accept-encoding': 'identity' });
+  assert.equal(none.headers['content-encoding'], undefined);
+  assert.ok(none.body.equals(plain.body));
+});
+
+test('small files are compressed as they are sent and revalidated by their ETag', async () => {
+  const first = await get('/main.js', { 'accept-encoding': 'br' });
+  assert.equal(first.status, 200);
+  assert.equal(first.headers['content-encoding'], 'br');
+  assert.match(zlib.brotliDecompressSync(first.body).toString(), /WASM_URL/);
+  const etag = first.headers.etag;
+  assert.match(etag, /^"[0-9a-f]{16}"$/);
+  const again = await get('/main.js', { 'accept-encoding': 'br', 'if-none-match': etag });
+  assert.equal(again.status, 304);
+  assert.equal(again.body.length, 0);
+  const stale = await get('/main.js', { 'if-none-match': '"0000000000000000"' });
+  assert.equal(stale.status, 200);
 });

@@ -87,7 +87,11 @@ fn page_latency(workspace: &Path) -> Result<String> {
     let _ = writeln!(
         s,
         "{PAGE_HEADING}\n\n`tests/latency.mjs` in headless Chromium (WebGL2 on SwiftShader: the \
-         GPU is the CPU), 1400 × 800: a control point dragged by real pointer events, first one \
+         GPU is the CPU), 1400 × 800, served by the xtask's server on loopback (so the network \
+         costs nothing here: the bytes are what a real network would carry). First the page's \
+         load: navigation to the first frame drawn, and what was fetched before it, with an \
+         empty cache and again with the module cached under its content-hashed name. Then \
+         a control point dragged by real pointer events, first one \
          move a frame, then a stream of moves sent as fast as the browser takes them. \
          \"input→drawn\" is the page's own figure: from the oldest move a frame applies to the \
          end of that frame. The page applies the newest move once a frame and drops the others; \

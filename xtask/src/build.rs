@@ -15,6 +15,7 @@ pub(crate) struct Sizes {
     pub(crate) bindgen: u64,
     pub(crate) optimised: Option<u64>,
     pub(crate) gzipped: u64,
+    pub(crate) brotli: u64,
 }
 
 impl std::fmt::Display for Sizes {
@@ -24,7 +25,12 @@ impl std::fmt::Display for Sizes {
         if let Some(o) = self.optimised {
             write!(f, ", after wasm-opt {}", kb(o))?;
         }
-        write!(f, ", gzipped {}", kb(self.gzipped))
+        write!(
+            f,
+            ", gzipped {}, brotli {} (as served)",
+            kb(self.gzipped),
+            kb(self.brotli)
+        )
     }
 }
 
@@ -75,12 +81,12 @@ pub(crate) fn web(workspace: &Path, recipe: &Recipe) -> Result<Sizes> {
             }
         }
     }
-    let bytes = std::fs::read(&wasm)?;
-    let gzipped = miniz_oxide::deflate::compress_to_vec(&bytes, 9).len() as u64 + 18;
+    let travel = crate::assets::publish(&recipe.out_dir, &recipe.out_name)?;
     let sizes = Sizes {
         bindgen,
         optimised,
-        gzipped,
+        gzipped: travel.gzip,
+        brotli: travel.brotli,
     };
     eprintln!("- {sizes}");
     Ok(sizes)

@@ -9,6 +9,7 @@
 //! - `cargo xtask fuzz [--seconds N] [TARGET…]`: the fuzz campaigns of `fuzz/` (installs the nightly
 //!   toolchain and cargo-fuzz when missing), N seconds per target, with a report per target.
 
+mod assets;
 mod bench;
 mod build;
 mod fuzz;

@@ -956,6 +956,24 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "parallel")]
+    #[test]
+    fn threads_make_the_mesh_one_thread_makes() {
+        let solid = rippled(4, 0.05, 5, DVec3::ZERO, DVec3::ONE);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| solid.polygonize(60, 1e-9).unwrap())
+        };
+        let one = on(1);
+        assert!(one.triangle_count() > 1000);
+        for threads in [2, 3, 8] {
+            assert_eq!(on(threads), one, "{threads} threads");
+        }
+    }
+
     #[test]
     fn pieces_welded_in_order_are_the_mesh_of_one_walk() {
         let solid = rippled(4, 0.05, 4, DVec3::ZERO, DVec3::ONE);
