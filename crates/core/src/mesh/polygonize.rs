@@ -536,6 +536,7 @@ pub(crate) fn polygonize_blocks<R: EdgeRoots>(
     let mut map = EdgeMap::new();
     let mut own: Vec<(u32, u32)> = Vec::new();
     let mut values = Vec::new();
+    let (mut inside, mut rows): (Vec<u8>, Vec<u8>) = (Vec::new(), Vec::new());
     // A block that the surface crosses holds some dozens of vertices and twice as many triangles.
     mesh.positions.reserve(48 * blocks.len());
     mesh.normals.reserve(48 * blocks.len());
@@ -554,19 +555,42 @@ pub(crate) fn polygonize_blocks<R: EdgeRoots>(
         }
         let (row, layer) = (sx, sx * sy);
         let at = |x: usize, y: usize, z: usize| (z * sy + y) * sx + x;
+        // As the whole-grid walk does: signs, and each sample row all outside (0), all inside (1)
+        // or mixed (2), so that a row of cubes between four agreeing rows is skipped whole.
+        inside.clear();
+        inside.extend(values.iter().map(|&v| u8::from(v > 0.0)));
+        rows.clear();
+        rows.extend(inside.chunks_exact(sx).map(|r| {
+            if r.iter().all(|&s| s == r[0]) {
+                r[0]
+            } else {
+                2
+            }
+        }));
         for z in 0..sz - 1 {
             for y in 0..sy - 1 {
+                let r = [
+                    z * sy + y,
+                    z * sy + y + 1,
+                    (z + 1) * sy + y,
+                    (z + 1) * sy + y + 1,
+                ];
+                let states = r.map(|i| rows[i]);
+                if states.iter().all(|&s| s == states[0] && s != 2) {
+                    continue;
+                }
+                let quad = r.map(|i| &inside[i * sx..(i + 1) * sx]);
+                let column =
+                    |a: usize| quad[0][a] | quad[1][a] << 2 | quad[2][a] << 4 | quad[3][a] << 6;
+                let mut left = column(0);
                 for x in 0..sx - 1 {
-                    let base = at(x, y, z);
-                    let mut mask = 0u8;
-                    for k in 0..8 {
-                        let [dx, dy, dz] = corner_offset(k);
-                        let v = values[base + dz * layer + dy * row + dx];
-                        mask |= u8::from(v > 0.0) << k;
-                    }
+                    let right = column(x + 1);
+                    let mask = left | right << 1;
+                    left = right;
                     if mask == 0 || mask == 255 {
                         continue;
                     }
+                    let base = at(x, y, z);
                     let corners = || {
                         core::array::from_fn(|k| {
                             let [dx, dy, dz] = corner_offset(k);
