@@ -28,10 +28,11 @@ fn main() {
 fn one_thread() {
     let quick = std::env::args().any(|a| a == "--quick");
     let mut clock = Wall(Instant::now());
-    // `--mesh`: only the polygonizer's cases (for working on them).
+    // `--mesh`: only grid evaluation and the polygonizer's cases (for working on them).
     if std::env::args().any(|a| a == "--mesh") {
         #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
-        let mut rows = bezsolid_bench::mesh_suite(&mut clock, quick);
+        let mut rows = bezsolid_bench::eval_suite(&mut clock, quick);
+        rows.extend(bezsolid_bench::mesh_suite(&mut clock, quick));
         rows.extend(threaded(quick));
         #[cfg(feature = "peers")]
         rows.extend(peers::polygonize_peer(&mut clock, quick));

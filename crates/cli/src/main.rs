@@ -43,8 +43,8 @@ commands (DESIGN §5):
        [--threads T]               closed boundary mesh of a volume solid or a 3D tree (N cells
                                    along the longest side, default 64; vertices refined to
                                    |f| <= A, default 1e-9; a tree that may be unbounded, such as
-                                   a half-space, needs --box, and is cut by it; a volume solid
-                                   is meshed on T threads, default every core, the same mesh)
+                                   a half-space, needs --box, and is cut by it; meshed on T
+                                   threads, default every core: the same mesh as on one)
   hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum; a tree with
                                    HyperFun's set operations, blends and primitives)
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,

@@ -1,7 +1,7 @@
 //! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
 //! [--threads T]`: the closed boundary mesh of a volume solid, of a 3D tree of many solids (within
 //! its bounds, or within the box, cut by it), or of the result of a free-form model. A volume
-//! solid is meshed on `T` threads (default: every core), the same mesh as on one.
+//! solid or a tree is meshed on `T` threads (default: every core), the same mesh as on one.
 
 use anyhow::{Context, Result, bail};
 
@@ -10,6 +10,14 @@ use bezsolid_core::esc::draw::MAX_RESOLUTION as ESC_MAX_RESOLUTION;
 use bezsolid_core::mesh::{Format, MAX_RESOLUTION};
 use bezsolid_core::model::{ModelSolid, SolidSpec};
 use bezsolid_core::tree::{ModelTree, TreeMeshError};
+
+/// The threads a volume or a tree is meshed on.
+fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start the threads")
+}
 
 /// The most threads `--threads` may ask for.
 const MAX_THREADS: usize = 256;
@@ -53,7 +61,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
             bail!("mesh polygonizes 3D models; for a 2D tree use `bezsolid contour`");
         };
-        match tree.polygonize(res, accuracy, region) {
+        match pool(threads)?.install(|| tree.polygonize(res, accuracy, region)) {
             Err(TreeMeshError::Unbounded) => bail!(
                 "{}: the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
                  blend of a space-mapped solid): mesh it within --box X0,Y0,Z0,X1,Y1,Z1",
@@ -66,11 +74,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         let ModelSolid::Volume(solid) = solid else {
             bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
         };
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .context("cannot start the threads")?;
-        let mesh = pool.install(|| solid.polygonize(res, accuracy))?;
+        let mesh = pool(threads)?.install(|| solid.polygonize(res, accuracy))?;
         crate::warn_exhausted(solid.exhausted());
         mesh
     };

@@ -53,28 +53,41 @@ fn every_preset_meshes_to_a_closed_surface_of_its_genus() {
 
 #[test]
 fn threads_write_the_same_file_as_one_thread() {
-    let mut files = Vec::new();
-    for threads in ["1", "2", "3"] {
-        let path = out_path(&format!("blob-threads-{threads}.ply"));
-        let out = bezsolid(&[
-            "mesh",
-            "preset:blob",
-            "--res",
-            "48",
-            "--threads",
-            threads,
-            "-o",
-            path.to_str().unwrap(),
-        ]);
+    let tree = out_path("threads-tree.bsolid.json");
+    std::fs::write(
+        &tree,
+        r#"{"format":"bezsolid","version":1,"solid":{"kind":"union","of":[
+            {"kind":"sphere","center":[0,0,0],"radius":1},
+            {"kind":"box","min":[0.5,0.5,0.5],"max":[1.5,1.5,1.5]}]}}"#,
+    )
+    .unwrap();
+    for (name, model) in [("blob", "preset:blob"), ("tree", tree.to_str().unwrap())] {
+        let mut files = Vec::new();
+        for threads in ["1", "2", "3"] {
+            let path = out_path(&format!("{name}-threads-{threads}.ply"));
+            let out = bezsolid(&[
+                "mesh",
+                model,
+                "--res",
+                "48",
+                "--threads",
+                threads,
+                "-o",
+                path.to_str().unwrap(),
+            ]);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            files.push(std::fs::read(&path).unwrap());
+        }
+        assert!(files[0].len() > 1000, "{name}");
         assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+            files.iter().all(|f| *f == files[0]),
+            "{name}: the files differ"
         );
-        files.push(std::fs::read(&path).unwrap());
     }
-    assert!(files[0].len() > 1000);
-    assert!(files.iter().all(|f| *f == files[0]), "the files differ");
 }
 
 #[test]

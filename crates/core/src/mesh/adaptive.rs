@@ -128,7 +128,7 @@ pub(crate) fn blocks(
             continue;
         }
         if size.iter().all(|&s| s <= LEAF_CELLS) {
-            out.push(Block { lo, size });
+            out.push(Block { lo, size, tag: 0 });
             stats.blocks += 1;
             stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
             continue;

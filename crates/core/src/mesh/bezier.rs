@@ -15,7 +15,8 @@ use super::adaptive::{self, AdaptiveStats};
 #[cfg(feature = "parallel")]
 use super::polygonize::weld;
 use super::polygonize::{
-    Block, EdgeRoots, LinearRoots, Marcher, SampleGrid, linear_root, polygonize, polygonize_blocks,
+    Block, BlockRoots, EdgeRoots, LinearRoots, Marcher, SampleGrid, linear_root, polygonize,
+    polygonize_blocks,
 };
 use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative};
 use crate::inverse::{Forward, solve_jac};
@@ -564,6 +565,9 @@ fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
     }
     p[0]
 }
+
+/// The blocks of a Bézier solid all sample the one polynomial: nothing to agree on.
+impl BlockRoots for &SolidRoots<'_> {}
 
 impl EdgeRoots for &SolidRoots<'_> {
     fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {

@@ -18,7 +18,7 @@ mod bezier;
 mod manifold;
 pub mod obj;
 pub mod ply;
-mod polygonize;
+pub(crate) mod polygonize;
 mod read;
 mod shells;
 pub mod stl;

@@ -444,12 +444,37 @@ impl Marcher {
 pub(crate) struct Block {
     pub(crate) lo: [usize; 3],
     pub(crate) size: [usize; 3],
+    /// The caller's word about the block (a tree: which pruned program holds in it).
+    pub(crate) tag: u32,
 }
 
 impl Block {
     /// Its samples along each axis.
     pub(crate) fn samples(&self) -> [usize; 3] {
         self.size.map(|s| s + 1)
+    }
+
+    /// Whether sample `s` (of the grid) is on one of the block's faces, shared with whatever is
+    /// beside it.
+    pub(crate) fn on_face(&self, s: [usize; 3]) -> bool {
+        (0..3).any(|k| s[k] == self.lo[k] || s[k] == self.lo[k] + self.size[k])
+    }
+}
+
+/// Roots for the walk over blocks: told which block the walk is in, and asked for the value of a
+/// sample on a block's face that both blocks beside the face must agree on (the four corners of
+/// an ambiguous cube face, whose saddle decides how the face's crossings join).
+pub(crate) trait BlockRoots: EdgeRoots {
+    /// The walk enters `block`.
+    fn enter(&mut self, block: &Block) {
+        let _ = block;
+    }
+
+    /// The value of sample `s`, on a block's face, that every block sees: `value` (the block's
+    /// own) where blocks sample the same function.
+    fn canonical(&mut self, s: [usize; 3], value: f64) -> f64 {
+        let _ = s;
+        value
     }
 }
 
@@ -521,7 +546,7 @@ impl EdgeMap {
 ///
 /// The samples a block shares with its neighbours must be the same values in both, as a function
 /// of the sample would give them; then each cube gives what [`polygonize`] gives it.
-pub(crate) fn polygonize_blocks<R: EdgeRoots>(
+pub(crate) fn polygonize_blocks<R: BlockRoots>(
     grid: &SampleGrid,
     blocks: &[Block],
     mut sample: impl FnMut(&Block, &mut Vec<f64>),
@@ -546,6 +571,7 @@ pub(crate) fn polygonize_blocks<R: EdgeRoots>(
         let stamp = stamp as u32;
         values.clear();
         sample(block, &mut values);
+        roots.enter(block);
         let [sx, sy, sz] = block.samples();
         if values.len() != sx * sy * sz {
             continue;
@@ -591,13 +617,24 @@ pub(crate) fn polygonize_blocks<R: EdgeRoots>(
                         continue;
                     }
                     let base = at(x, y, z);
-                    let corners = || {
+                    let cube = [block.lo[0] + x, block.lo[1] + y, block.lo[2] + z];
+                    // An ambiguous face is decided by its values: on a block's face, the values
+                    // the block beside sees too.
+                    let corners: [f64; 8] = if marcher.ambiguous[mask as usize] {
                         core::array::from_fn(|k| {
                             let [dx, dy, dz] = corner_offset(k);
-                            values[base + dz * layer + dy * row + dx]
+                            let v = values[base + dz * layer + dy * row + dx];
+                            let s = [cube[0] + dx, cube[1] + dy, cube[2] + dz];
+                            if block.on_face(s) {
+                                roots.canonical(s, v)
+                            } else {
+                                v
+                            }
                         })
+                    } else {
+                        [0.0; 8]
                     };
-                    let cube = [block.lo[0] + x, block.lo[1] + y, block.lo[2] + z];
+                    let corners = || corners;
                     let vertex = |mesh: &mut Mesh,
                                   roots: &mut R,
                                   axis: usize,

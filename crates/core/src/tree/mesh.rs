@@ -17,7 +17,8 @@ use crate::contour::{Grid2, Polyline, contour};
 use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
-use crate::mesh::{EdgeRoots, SampleGrid, polygonize};
+use crate::mesh::polygonize::{Block, BlockRoots, Marcher, polygonize_blocks, weld};
+use crate::mesh::{EdgeRoots, SampleGrid};
 use crate::rfunc::{intersect, intersect_with_partials};
 
 /// The most cells along the longest side of the region.
@@ -123,6 +124,7 @@ where
 }
 
 /// `f` (and its gradient) of the tree, cut by `clip` where a box was given.
+#[derive(Clone)]
 struct Field<'a, const D: usize>
 where
     Dim<D>: Dimension<D>,
@@ -176,30 +178,26 @@ where
     }
 }
 
+/// Roots on the edges of a block of the grid, by the block's pruned program (the tree's own where
+/// it has none), checked on the whole tree.
 struct Roots<'a> {
     field: Field<'a, 3>,
     grid: SampleGrid,
     accuracy: f64,
-    /// The pruned programs of the boxes sampled whole, and each cell's (`u32::MAX`: the tree's).
-    programs: Vec<Vec<Step>>,
-    cell_program: Vec<u32>,
+    /// The pruned programs of the blocks, and the one of the block the walk is in.
+    programs: &'a [Vec<Step>],
+    program: Option<usize>,
 }
 
-/// The program of the cell whose lowest corner is `lower` (clamped to the grid's cells).
-fn cell_program<'p>(
-    programs: &'p [Vec<Step>],
-    cell_program: &[u32],
-    grid: &SampleGrid,
-    lower: [usize; 3],
-) -> Option<&'p [Step]> {
-    let [nx, ny, nz] = grid.dims;
-    let c = [
-        lower[0].min(nx - 2),
-        lower[1].min(ny - 2),
-        lower[2].min(nz - 2),
-    ];
-    let k = cell_program.get((c[2] * (ny - 1) + c[1]) * (nx - 1) + c[0])?;
-    programs.get(*k as usize).map(Vec::as_slice)
+impl BlockRoots for Roots<'_> {
+    fn enter(&mut self, block: &Block) {
+        self.program = (block.tag != u32::MAX).then_some(block.tag as usize);
+    }
+
+    /// The whole tree's value: what the blocks on both sides of a face agree on.
+    fn canonical(&mut self, s: [usize; 3], _value: f64) -> f64 {
+        self.field.f(self.grid.point(s[0], s[1], s[2]).to_array())
+    }
 }
 
 impl EdgeRoots for Roots<'_> {
@@ -208,9 +206,11 @@ impl EdgeRoots for Roots<'_> {
         let mut step = DVec3::ZERO;
         step[axis] = self.grid.step[axis];
         let b = a + step;
-        // The root of the cell's pruned program (the tree's zero set there), checked on the whole
-        // tree: where rounding leaves it past the accuracy, the whole tree's root on the edge.
-        let program = cell_program(&self.programs, &self.cell_program, &self.grid, lower);
+        // The root of the block's pruned program (the tree's zero set there), checked on the
+        // whole tree: where rounding leaves it past the accuracy, the whole tree's root on the
+        // edge.
+        let (programs, program) = (self.programs, self.program);
+        let program = program.and_then(|k| programs.get(k)).map(Vec::as_slice);
         let field = &mut self.field;
         let mut t = illinois(
             |t| field.f_by(program, a.lerp(b, t).to_array()),
@@ -306,26 +306,35 @@ impl Tree<3> {
             step,
             dims: cells.to_array().map(|c| c as usize + 2),
         };
-        let mut field = Field {
+        let field = Field {
             tree: self,
             clip,
             stack: Vec::with_capacity(self.stack),
         };
         let [nx, ny, nz] = grid.dims;
-        let mut values = alloc::vec![f64::NAN; nx * ny * nz];
         let mut stats = MeshStats {
             cells: (nx - 1) * (ny - 1) * (nz - 1),
             ..MeshStats::default()
         };
-        // Boxes of cells, bounded by intervals: one sign, a placeholder of that sign on samples
-        // not yet evaluated (the marching only needs signs there, and a vertex's root search
-        // only needs the bracket's signs); else split in eight, down to boxes sampled whole.
-        let mut programs: Vec<Vec<Step>> = Vec::new();
-        let mut cell_program = alloc::vec![u32::MAX; (nx - 1) * (ny - 1) * (nz - 1)];
-        let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
-        // Cells decided, and the count at the last report.
-        let (mut decided, mut reported) = (0, 0);
         let total = stats.cells;
+        // Boxes of cells, bounded by intervals: one sign, no surface (skipped); else split in
+        // eight, down to boxes sampled whole as blocks, each with its pruned program.
+        let mut programs: Vec<Vec<Step>> = Vec::new();
+        let mut blocks: Vec<Block> = Vec::new();
+        let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
+        // The magnitude of f in the region: a sample on a block's face within `tau` of zero by a
+        // pruned program takes the whole tree's value, so that both blocks beside the face see
+        // one sign (a pruned program has the tree's signs; rounding, far below `tau`, does not).
+        let whole = self.interval(
+            grid.point(0, 0, 0).to_array(),
+            grid.point(nx - 1, ny - 1, nz - 1).to_array(),
+        );
+        let scale = whole.lo.abs().max(whole.hi.abs());
+        let tau = if scale.is_finite() {
+            accuracy.max(1e-10 * scale)
+        } else {
+            accuracy
+        };
         while let Some((lo, hi)) = todo.pop() {
             let (plo, phi) = (
                 grid.point(lo[0], lo[1], lo[2]),
@@ -336,61 +345,21 @@ impl Tree<3> {
                 let (blo, bhi) = (plo.to_array(), phi.to_array());
                 range = range.intersect_box(b, blo, bhi);
             }
-            let sign = if range.hi < 0.0 {
-                Some(-1.0)
-            } else if range.lo > 0.0 {
-                Some(1.0)
-            } else {
-                None
-            };
             let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
-            if sign.is_some() || size.iter().all(|&s| s <= LEAF_CELLS) {
-                decided += size.iter().product::<usize>();
-                if decided - reported > total / 50 && decided < total {
-                    reported = decided;
-                    progress(decided, total);
-                }
-            }
-            if let Some(sign) = sign {
+            if range.hi < 0.0 || range.lo > 0.0 {
                 stats.skipped += size.iter().product::<usize>();
-                for c in lo[2]..=hi[2] {
-                    for b in lo[1]..=hi[1] {
-                        let row = (c * ny + b) * nx;
-                        for v in &mut values[row + lo[0]..=row + hi[0]] {
-                            if v.is_nan() {
-                                *v = sign;
-                            }
-                        }
-                    }
-                }
             } else if size.iter().all(|&s| s <= LEAF_CELLS) {
                 // The box's own program, without the operands that cannot decide a sign in it:
                 // the tree's signs, zero set and normals there, for the cost of what is near.
-                let program = self.pruned(plo.to_array(), phi.to_array());
-                for c in lo[2]..=hi[2] {
-                    for b in lo[1]..=hi[1] {
-                        for a in lo[0]..=hi[0] {
-                            let k = (c * ny + b) * nx + a;
-                            if values[k].is_nan() || values[k].abs() == 1.0 {
-                                values[k] =
-                                    field.f_by(program.as_deref(), grid.point(a, b, c).to_array());
-                                stats.evaluated += 1;
-                            }
-                        }
+                let tag = match self.pruned(plo.to_array(), phi.to_array()) {
+                    Some(program) => {
+                        programs.push(program);
+                        (programs.len() - 1) as u32
                     }
-                }
-                if let Some(program) = program {
-                    let index = programs.len() as u32;
-                    programs.push(program);
-                    for c in lo[2]..hi[2] {
-                        for b in lo[1]..hi[1] {
-                            let row = (c * (ny - 1) + b) * (nx - 1);
-                            cell_program[row + lo[0]..row + hi[0]]
-                                .iter_mut()
-                                .for_each(|p| *p = index);
-                        }
-                    }
-                }
+                    None => u32::MAX,
+                };
+                stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
+                blocks.push(Block { lo, size, tag });
             } else {
                 let mid = [0, 1, 2].map(|k| lo[k] + size[k] / 2);
                 for corner in 0..8 {
@@ -408,14 +377,67 @@ impl Tree<3> {
                 }
             }
         }
-        let mut roots = Roots {
-            field,
-            grid,
-            accuracy,
-            programs,
-            cell_program,
+        if stats.skipped < total {
+            progress(stats.skipped, total);
+        }
+        // Each piece of consecutive blocks on its own field and roots, welded in order: the mesh
+        // one walk over all the blocks gives (on one thread or many).
+        let marcher = Marcher::new();
+        let piece = |part: &[Block]| {
+            let mut sampler = field.clone();
+            let sample = |block: &Block, out: &mut Vec<f64>| {
+                let program = (block.tag != u32::MAX)
+                    .then(|| programs.get(block.tag as usize).map(Vec::as_slice))
+                    .flatten();
+                for c in block.lo[2]..=block.lo[2] + block.size[2] {
+                    for b in block.lo[1]..=block.lo[1] + block.size[1] {
+                        for a in block.lo[0]..=block.lo[0] + block.size[0] {
+                            let p = grid.point(a, b, c).to_array();
+                            let mut v = sampler.f_by(program, p);
+                            if program.is_some() && v.abs() < tau && block.on_face([a, b, c]) {
+                                v = sampler.f(p);
+                            }
+                            out.push(v);
+                        }
+                    }
+                }
+            };
+            let mut roots = Roots {
+                field: field.clone(),
+                grid,
+                accuracy,
+                programs: &programs,
+                program: None,
+            };
+            polygonize_blocks(&grid, part, sample, &mut roots, &marcher)
         };
-        let mesh = polygonize(&grid, &values, &mut roots);
+        #[cfg(feature = "parallel")]
+        let mesh = {
+            use rayon::prelude::*;
+            let chunk = blocks
+                .len()
+                .div_ceil(4 * rayon::current_num_threads())
+                .max(1);
+            weld(blocks.par_chunks(chunk).map(piece).collect())
+        };
+        #[cfg(not(feature = "parallel"))]
+        let mesh = {
+            // In fiftieths, with the cells done so far.
+            let chunk = blocks.len().div_ceil(50).max(1);
+            let mut done = stats.skipped;
+            let mut pieces = Vec::new();
+            for part in blocks.chunks(chunk) {
+                pieces.push(piece(part));
+                done += part
+                    .iter()
+                    .map(|b| b.size.iter().product::<usize>())
+                    .sum::<usize>();
+                if done < total {
+                    progress(done, total);
+                }
+            }
+            weld(pieces)
+        };
         progress(total, total);
         Ok((mesh, stats))
     }
@@ -626,6 +648,28 @@ mod tests {
             }
         }
         assert!(skipped > 0, "the bounds skip some cells");
+    }
+
+    #[cfg(feature = "parallel")]
+    #[test]
+    fn threads_mesh_random_trees_as_one_thread_does() {
+        let mut rng = Rng::new(16);
+        let pool = |n: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        let (one, three) = (pool(1), pool(3));
+        let mut triangles = 0;
+        for _ in 0..8 {
+            let tree = space(random_tree(&mut rng, 3));
+            let a = one.install(|| tree.polygonize(36, 1e-10, None).unwrap());
+            let b = three.install(|| tree.polygonize(36, 1e-10, None).unwrap());
+            assert_eq!(a, b);
+            triangles += a.triangle_count();
+        }
+        assert!(triangles > 1000);
     }
 
     #[test]
