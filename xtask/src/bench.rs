@@ -724,6 +724,21 @@ fn tree_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
                 "| cells skipped by the interval bounds ({n}³) | {} |",
                 ours.note
             );
+            if let Some(all) = native
+                .iter()
+                .find(|r| r.case == case && r.n == n && r.who.ends_with(" threads)"))
+            {
+                let _ = writeln!(
+                    s,
+                    "| every core ({n}³, {}) | {:.2}× ({:.0} ms on one thread, {:.0} ms) |",
+                    all.who
+                        .trim_start_matches("bezsolid (")
+                        .trim_end_matches(')'),
+                    ours.ms / all.ms,
+                    ours.ms,
+                    all.ms
+                );
+            }
         }
     }
     let _ = writeln!(s);

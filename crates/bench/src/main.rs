@@ -74,7 +74,7 @@ fn one_thread() {
     }
 }
 
-/// The adaptive mesher on every core of the machine (a pool of that many threads), each time taken
+/// The adaptive mesher and the tree's on every core of the machine (a pool of that many threads), each time taken
 /// on its own clock inside the pool.
 fn threaded(quick: bool) -> Vec<Row> {
     let budget = if quick { 50.0 } else { 1000.0 };
@@ -98,6 +98,26 @@ fn threaded(quick: bool) -> Vec<Row> {
         rows.push(Row {
             case: "polygonize".into(),
             who: format!("bezsolid (adaptive, {threads} threads)"),
+            n,
+            ms,
+            runs,
+            extra: triangles as f64,
+            note: String::new(),
+        });
+    }
+    let tree = bezsolid_bench::tree::tree();
+    for &n in if quick { &[128][..] } else { &[128, 256][..] } {
+        let (ms, runs, triangles) = pool.install(|| {
+            let mut clock = Wall(Instant::now());
+            let (ms, runs, mesh) = bezsolid_bench::time(&mut clock, budget, || {
+                tree.polygonize(n, 1e-9, None)
+                    .unwrap_or_else(|_| unreachable!("a bounded tree"))
+            });
+            (ms, runs, mesh.triangle_count())
+        });
+        rows.push(Row {
+            case: "tree of 20 solids: polygonize".into(),
+            who: format!("bezsolid ({threads} threads)"),
             n,
             ms,
             runs,
