@@ -70,6 +70,28 @@ pub(crate) fn split_net(
     }
 }
 
+/// The boxes of cells `[lo, hi]` is cut into at `mid` (a cut at `hi` on an axis is no cut), with
+/// their corner numbers (bit `k` set: the high side along axis `k`), lowest first; boxes of no
+/// width left out.
+pub(crate) fn octants(
+    lo: [usize; 3],
+    mid: [usize; 3],
+    hi: [usize; 3],
+) -> impl DoubleEndedIterator<Item = (usize, ([usize; 3], [usize; 3]))> {
+    (0..8).filter_map(move |corner| {
+        let side = |k: usize| {
+            if corner >> k & 1 == 0 {
+                (lo[k], mid[k])
+            } else {
+                (mid[k], hi[k])
+            }
+        };
+        let [a, b, c] = [side(0), side(1), side(2)];
+        (a.0 < a.1 && b.0 < b.1 && c.0 < c.1)
+            .then_some((corner, ([a.0, b.0, c.0], [a.1, b.1, c.1])))
+    })
+}
+
 /// The least and greatest of `net`'s coefficients, which bound its polynomial; anything NaN
 /// bounds nothing.
 fn range(net: &[f64]) -> (f64, f64) {
@@ -167,19 +189,9 @@ pub(crate) fn blocks(
             }
             count *= 2;
         }
-        for corner in (0..8).rev() {
-            let pick = |k: usize| {
-                if corner >> k & 1 == 0 {
-                    (lo[k], mid[k])
-                } else {
-                    (mid[k], hi[k])
-                }
-            };
-            let (a, b, c) = (pick(0), pick(1), pick(2));
-            if a.0 < a.1 && b.0 < b.1 && c.0 < c.1 {
-                todo.push(([a.0, b.0, c.0], [a.1, b.1, c.1]));
-                nets.extend_from_slice(&parts[corner]);
-            }
+        for (corner, child) in octants(lo, mid, hi).rev() {
+            todo.push(child);
+            nets.extend_from_slice(&parts[corner]);
         }
     }
     (out, stats)

@@ -13,7 +13,7 @@ use core::str::FromStr;
 
 use glam::DVec3;
 
-mod adaptive;
+pub(crate) mod adaptive;
 mod bezier;
 mod manifold;
 pub mod obj;

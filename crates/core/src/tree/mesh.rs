@@ -17,6 +17,7 @@ use crate::contour::{Grid2, Polyline, contour};
 use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
+use crate::mesh::adaptive::octants;
 use crate::mesh::polygonize::{Block, BlockRoots, Marcher, polygonize_blocks, weld};
 use crate::mesh::{EdgeRoots, SampleGrid};
 use crate::rfunc::{intersect, intersect_with_partials};
@@ -362,19 +363,7 @@ impl Tree<3> {
                 blocks.push(Block { lo, size, tag });
             } else {
                 let mid = [0, 1, 2].map(|k| lo[k] + size[k] / 2);
-                for corner in 0..8 {
-                    let pick = |k: usize| {
-                        if corner >> k & 1 == 0 {
-                            (lo[k], mid[k])
-                        } else {
-                            (mid[k], hi[k])
-                        }
-                    };
-                    let (a, b, c) = (pick(0), pick(1), pick(2));
-                    if a.0 < a.1 && b.0 < b.1 && c.0 < c.1 {
-                        todo.push(([a.0, b.0, c.0], [a.1, b.1, c.1]));
-                    }
-                }
+                todo.extend(octants(lo, mid, hi).map(|(_, child)| child));
             }
         }
         if stats.skipped < total {
