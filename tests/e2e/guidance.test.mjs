@@ -93,6 +93,8 @@ test('a new patch is a solid in the middle; ξ far past the model is refused and
   await page.locator('#view').focus();
   await page.keyboard.press('Escape');
   await page.keyboard.press('ArrowRight');
+  // The panel says the selection in the frame after the key.
+  await settle(page);
   assert.match(await text(page, 'point-label'), /^P22 /);
   await page.keyboard.press('PageDown');
   await settle(page);
