@@ -74,6 +74,19 @@ fn one_thread() {
     }
 }
 
+/// `mesh` timed inside `pool` on its own clock: the median, the runs, the triangles.
+fn on_pool(
+    pool: &rayon::ThreadPool,
+    budget: f64,
+    mesh: impl Fn() -> bezsolid_core::mesh::Mesh + Send,
+) -> (f64, usize, usize) {
+    pool.install(|| {
+        let mut clock = Wall(Instant::now());
+        let (ms, runs, mesh) = bezsolid_bench::time(&mut clock, budget, mesh);
+        (ms, runs, mesh.triangle_count())
+    })
+}
+
 /// The adaptive mesher and the tree's on every core of the machine (a pool of that many threads), each time taken
 /// on its own clock inside the pool.
 fn threaded(quick: bool) -> Vec<Row> {
@@ -86,14 +99,10 @@ fn threaded(quick: bool) -> Vec<Row> {
     let sizes: &[usize] = if quick { &[128] } else { &[128, 256, 512] };
     let mut rows = Vec::new();
     for &n in sizes {
-        let (ms, runs, triangles) = pool.install(|| {
-            let mut clock = Wall(Instant::now());
-            let (ms, runs, mesh) = bezsolid_bench::time(&mut clock, budget, || {
-                solid
-                    .polygonize(n, 1e-9)
-                    .unwrap_or_else(|_| unreachable!("valid arguments"))
-            });
-            (ms, runs, mesh.triangle_count())
+        let (ms, runs, triangles) = on_pool(&pool, budget, || {
+            solid
+                .polygonize(n, 1e-9)
+                .unwrap_or_else(|_| unreachable!("valid arguments"))
         });
         rows.push(Row {
             case: "polygonize".into(),
@@ -107,13 +116,9 @@ fn threaded(quick: bool) -> Vec<Row> {
     }
     let tree = bezsolid_bench::tree::tree();
     for &n in if quick { &[128][..] } else { &[128, 256][..] } {
-        let (ms, runs, triangles) = pool.install(|| {
-            let mut clock = Wall(Instant::now());
-            let (ms, runs, mesh) = bezsolid_bench::time(&mut clock, budget, || {
-                tree.polygonize(n, 1e-9, None)
-                    .unwrap_or_else(|_| unreachable!("a bounded tree"))
-            });
-            (ms, runs, mesh.triangle_count())
+        let (ms, runs, triangles) = on_pool(&pool, budget, || {
+            tree.polygonize(n, 1e-9, None)
+                .unwrap_or_else(|_| unreachable!("a bounded tree"))
         });
         rows.push(Row {
             case: "tree of 20 solids: polygonize".into(),

@@ -227,21 +227,79 @@ pub fn polygonize<R: EdgeRoots>(grid: &SampleGrid, values: &[f64], roots: &mut R
     let mut xy_lo = vec![u32::MAX; 2 * layer];
     let mut xy_hi = vec![u32::MAX; 2 * layer];
     let mut z_mid = vec![u32::MAX; layer];
-    let inside: Vec<u8> = values.iter().map(|&v| u8::from(v > 0.0)).collect();
-    // Each sample row (along x) is all outside (0), all inside (1) or mixed (2): a row of cubes
-    // between four rows that agree and are not mixed has no surface and is skipped whole.
-    let rows: Vec<u8> = inside
-        .chunks_exact(nx)
-        .map(|row| {
-            let first = row[0];
-            if row.iter().all(|&s| s == first) {
-                first
-            } else {
-                2
-            }
-        })
-        .collect();
     let marcher = Marcher::new();
+    let (mut inside, mut rows) = (Vec::new(), Vec::new());
+    // The layer of cubes the edge caches are for.
+    let mut c = 0;
+    crossed_cubes(
+        values,
+        grid.dims,
+        &mut inside,
+        &mut rows,
+        |[a, b, z], mask| {
+            // The caches move up a layer for each layer of cubes passed.
+            while c < z {
+                core::mem::swap(&mut xy_lo, &mut xy_hi);
+                xy_hi.fill(u32::MAX);
+                z_mid.fill(u32::MAX);
+                c += 1;
+            }
+            let base = (c * ny + b) * nx + a;
+            let corners = || {
+                core::array::from_fn(|k| {
+                    let [dx, dy, dz] = corner_offset(k);
+                    values[base + dz * layer + dy * nx + dx]
+                })
+            };
+            // Vertex of every crossed cube edge, shared through the caches.
+            let vertex = |mesh: &mut Mesh, roots: &mut R, axis: usize, lower: [usize; 3]| {
+                let slot = lower[1] * nx + lower[0];
+                let cache = match axis {
+                    0 | 1 => {
+                        let cache = if lower[2] == c {
+                            &mut xy_lo
+                        } else {
+                            &mut xy_hi
+                        };
+                        &mut cache[2 * slot + axis]
+                    }
+                    _ => &mut z_mid[slot],
+                };
+                if *cache == u32::MAX {
+                    let i0 = (lower[2] * ny + lower[1]) * nx + lower[0];
+                    let i1 = i0 + [1, nx, layer][axis];
+                    *cache = edge_vertex(grid, mesh, roots, axis, lower, values[i0], values[i1]);
+                }
+                *cache
+            };
+            marcher.cube(mask, corners, [a, b, c], grid, &mut mesh, roots, vertex);
+        },
+    );
+    mesh
+}
+
+/// Every cube of a box of samples (`dims` per axis, `x` fastest) whose corners are not all of one
+/// sign, with its corner mask (bit `k`: corner `k` inside), layer by layer, row by row: a row of
+/// cubes between four sample rows all of one sign is skipped whole. `inside` and `rows` are
+/// scratch, reused between calls.
+fn crossed_cubes(
+    values: &[f64],
+    [nx, ny, nz]: [usize; 3],
+    inside: &mut Vec<u8>,
+    rows: &mut Vec<u8>,
+    mut cube: impl FnMut([usize; 3], u8),
+) {
+    inside.clear();
+    inside.extend(values.iter().map(|&v| u8::from(v > 0.0)));
+    // Each sample row (along x) all outside (0), all inside (1) or mixed (2).
+    rows.clear();
+    rows.extend(inside.chunks_exact(nx).map(|r| {
+        if r.iter().all(|&s| s == r[0]) {
+            r[0]
+        } else {
+            2
+        }
+    }));
     for c in 0..nz - 1 {
         for b in 0..ny - 1 {
             let r = [
@@ -263,46 +321,12 @@ pub fn polygonize<R: EdgeRoots>(grid: &SampleGrid, values: &[f64], roots: &mut R
                 let right = column(a + 1);
                 let mask = left | right << 1;
                 left = right;
-                if mask == 0 || mask == 255 {
-                    continue;
+                if mask != 0 && mask != 255 {
+                    cube([a, b, c], mask);
                 }
-                let base = (c * ny + b) * nx + a;
-                let corners = || {
-                    core::array::from_fn(|k| {
-                        let [dx, dy, dz] = corner_offset(k);
-                        values[base + dz * layer + dy * nx + dx]
-                    })
-                };
-                // Vertex of every crossed cube edge, shared through the caches.
-                let vertex = |mesh: &mut Mesh, roots: &mut R, axis: usize, lower: [usize; 3]| {
-                    let slot = lower[1] * nx + lower[0];
-                    let cache = match axis {
-                        0 | 1 => {
-                            let cache = if lower[2] == c {
-                                &mut xy_lo
-                            } else {
-                                &mut xy_hi
-                            };
-                            &mut cache[2 * slot + axis]
-                        }
-                        _ => &mut z_mid[slot],
-                    };
-                    if *cache == u32::MAX {
-                        let i0 = (lower[2] * ny + lower[1]) * nx + lower[0];
-                        let i1 = i0 + [1, nx, layer][axis];
-                        *cache =
-                            edge_vertex(grid, mesh, roots, axis, lower, values[i0], values[i1]);
-                    }
-                    *cache
-                };
-                marcher.cube(mask, corners, [a, b, c], grid, &mut mesh, roots, vertex);
             }
         }
-        core::mem::swap(&mut xy_lo, &mut xy_hi);
-        xy_hi.fill(u32::MAX);
-        z_mid.fill(u32::MAX);
     }
-    mesh
 }
 
 /// A new vertex on the grid edge from sample `lower` along `axis`, whose end values are `f0` and
@@ -581,89 +605,54 @@ pub(crate) fn polygonize_blocks<R: BlockRoots>(
         }
         let (row, layer) = (sx, sx * sy);
         let at = |x: usize, y: usize, z: usize| (z * sy + y) * sx + x;
-        // As the whole-grid walk does: signs, and each sample row all outside (0), all inside (1)
-        // or mixed (2), so that a row of cubes between four agreeing rows is skipped whole.
-        inside.clear();
-        inside.extend(values.iter().map(|&v| u8::from(v > 0.0)));
-        rows.clear();
-        rows.extend(inside.chunks_exact(sx).map(|r| {
-            if r.iter().all(|&s| s == r[0]) {
-                r[0]
-            } else {
-                2
-            }
-        }));
-        for z in 0..sz - 1 {
-            for y in 0..sy - 1 {
-                let r = [
-                    z * sy + y,
-                    z * sy + y + 1,
-                    (z + 1) * sy + y,
-                    (z + 1) * sy + y + 1,
-                ];
-                let states = r.map(|i| rows[i]);
-                if states.iter().all(|&s| s == states[0] && s != 2) {
-                    continue;
-                }
-                let quad = r.map(|i| &inside[i * sx..(i + 1) * sx]);
-                let column =
-                    |a: usize| quad[0][a] | quad[1][a] << 2 | quad[2][a] << 4 | quad[3][a] << 6;
-                let mut left = column(0);
-                for x in 0..sx - 1 {
-                    let right = column(x + 1);
-                    let mask = left | right << 1;
-                    left = right;
-                    if mask == 0 || mask == 255 {
-                        continue;
-                    }
-                    let base = at(x, y, z);
-                    let cube = [block.lo[0] + x, block.lo[1] + y, block.lo[2] + z];
-                    // An ambiguous face is decided by its values: on a block's face, the values
-                    // the block beside sees too.
-                    let corners: [f64; 8] = if marcher.ambiguous[mask as usize] {
-                        core::array::from_fn(|k| {
-                            let [dx, dy, dz] = corner_offset(k);
-                            let v = values[base + dz * layer + dy * row + dx];
-                            let s = [cube[0] + dx, cube[1] + dy, cube[2] + dz];
-                            if block.on_face(s) {
-                                roots.canonical(s, v)
-                            } else {
-                                v
-                            }
+        crossed_cubes(
+            &values,
+            [sx, sy, sz],
+            &mut inside,
+            &mut rows,
+            |[x, y, z], mask| {
+                let base = at(x, y, z);
+                let cube = [block.lo[0] + x, block.lo[1] + y, block.lo[2] + z];
+                // An ambiguous face is decided by its values: on a block's face, the values
+                // the block beside sees too.
+                let corners: [f64; 8] = if marcher.ambiguous[mask as usize] {
+                    core::array::from_fn(|k| {
+                        let [dx, dy, dz] = corner_offset(k);
+                        let v = values[base + dz * layer + dy * row + dx];
+                        let s = [cube[0] + dx, cube[1] + dy, cube[2] + dz];
+                        if block.on_face(s) {
+                            roots.canonical(s, v)
+                        } else {
+                            v
+                        }
+                    })
+                } else {
+                    [0.0; 8]
+                };
+                let corners = || corners;
+                let vertex = |mesh: &mut Mesh, roots: &mut R, axis: usize, lower: [usize; 3]| {
+                    let l = [0, 1, 2].map(|k| lower[k] - block.lo[k]);
+                    let i0 = at(l[0], l[1], l[2]);
+                    let i1 = i0 + [1, row, layer][axis];
+                    let (f0, f1) = (values[i0], values[i1]);
+                    let on_face = (0..3).any(|k| k != axis && (l[k] == 0 || l[k] == block.size[k]));
+                    if on_face {
+                        map.get_or_insert(edge_key(dims, axis, lower), || {
+                            keys.resize(mesh.positions.len(), NO_EDGE);
+                            keys.push(edge_key(dims, axis, lower));
+                            edge_vertex(grid, mesh, roots, axis, lower, f0, f1)
                         })
                     } else {
-                        [0.0; 8]
-                    };
-                    let corners = || corners;
-                    let vertex = |mesh: &mut Mesh,
-                                  roots: &mut R,
-                                  axis: usize,
-                                  lower: [usize; 3]| {
-                        let l = [0, 1, 2].map(|k| lower[k] - block.lo[k]);
-                        let i0 = at(l[0], l[1], l[2]);
-                        let i1 = i0 + [1, row, layer][axis];
-                        let (f0, f1) = (values[i0], values[i1]);
-                        let on_face =
-                            (0..3).any(|k| k != axis && (l[k] == 0 || l[k] == block.size[k]));
-                        if on_face {
-                            map.get_or_insert(edge_key(dims, axis, lower), || {
-                                keys.resize(mesh.positions.len(), NO_EDGE);
-                                keys.push(edge_key(dims, axis, lower));
-                                edge_vertex(grid, mesh, roots, axis, lower, f0, f1)
-                            })
-                        } else {
-                            let entry = &mut own[3 * i0 + axis];
-                            if entry.0 != stamp {
-                                *entry =
-                                    (stamp, edge_vertex(grid, mesh, roots, axis, lower, f0, f1));
-                            }
-                            entry.1
+                        let entry = &mut own[3 * i0 + axis];
+                        if entry.0 != stamp {
+                            *entry = (stamp, edge_vertex(grid, mesh, roots, axis, lower, f0, f1));
                         }
-                    };
-                    marcher.cube(mask, corners, cube, grid, &mut mesh, roots, vertex);
-                }
-            }
-        }
+                        entry.1
+                    }
+                };
+                marcher.cube(mask, corners, cube, grid, &mut mesh, roots, vertex);
+            },
+        );
     }
     keys.resize(mesh.positions.len(), NO_EDGE);
     (mesh, keys)
