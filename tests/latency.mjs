@@ -1,4 +1,4 @@
-// Measures drag-to-redraw latency in the page (cargo xtask serve, then: cd tests && node latency.mjs [webgl2|webgpu];
+// Measures drag-to-redraw latency in the page (cargo xtask serve, then: cd tests && node latency.mjs [webgl2|webgpu] [--load];
 // `cargo xtask bench` runs it and writes its lines in BENCHMARKS.md).
 // Per case, a drag two ways: one move a frame (the move, then the frame after it), and a continuous
 // stream of moves sent as fast as the browser takes them (the page applies the newest once a frame).
@@ -6,12 +6,18 @@
 // (the page's own figure), and for the stream how many moves were applied in how many frames.
 import { chromium } from 'playwright-core';
 const backend = process.argv[2] ?? 'webgl2';
+// `--load`: the first load alone (the page's module differs by backend: WebGPU alone, or with WebGL2).
+const loadOnly = process.argv.includes('--load');
 const args = ['--no-sandbox'];
 if (backend === 'webgpu') args.push('--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-angle=swiftshader');
 const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args });
 const page = await browser.newPage({ viewport: { width: 1400, height: 800 } });
 page.on('pageerror', (e) => console.log('pageerror', String(e)));
-await page.goto(`${process.env.BEZSOLID_URL ?? 'http://127.0.0.1:8080/'}?backend=${backend}`);
+const base = process.env.BEZSOLID_URL ?? 'http://127.0.0.1:8080/';
+// The browser is started first (its GPU process, the connection) on a small file of the same
+// origin, so that the first load measures the page, with nothing of it cached.
+await page.goto(new URL('favicon.svg', base).href);
+await page.goto(`${base}?backend=${backend}`);
 await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
 // The first load: from navigation to the first frame drawn, and what was fetched before it (bodies
 // as they travelled, compressed, and as decoded); then a reload, where the cache holds the module.
@@ -22,17 +28,25 @@ const firstLoad = async (label) => {
     const before = all.filter((e) => e.responseEnd <= first);
     const sum = (list, k) => list.reduce((a, e) => a + (e[k] || 0), 0);
     const wasm = before.filter((e) => e.name.endsWith('.wasm'));
-    return { first, files: before.length, transfer: sum(before, 'transferSize'), encoded: sum(before, 'encodedBodySize'),
+    const mark = (name) => performance.getEntriesByName(name, 'mark')[0]?.startTime ?? NaN;
+    const module = performance.getEntriesByType('mark').find((m) => m.name.startsWith('bezsolid:init '));
+    const steps = { start: mark('bezsolid:start'), module: module?.startTime ?? NaN, modeler: mark('bezsolid:modeler'), viewer: mark('bezsolid:viewer') };
+    return { steps, first, files: before.length, transfer: sum(before, 'transferSize'), encoded: sum(before, 'encodedBodySize'),
       decoded: sum(before, 'decodedBodySize'), wasm: sum(wasm, 'encodedBodySize'), wasmDecoded: sum(wasm, 'decodedBodySize') };
   });
   const kb = (b) => `${(b / 1000).toFixed(0)} KB`;
-  console.log(`${label}: first frame drawn ${f.first.toFixed(0)} ms after navigation; ${f.files} files before it, ${kb(f.transfer)} over the network `
-    + `(bodies ${kb(f.encoded)} as sent, ${kb(f.decoded)} decoded; the module ${kb(f.wasm)} as sent, ${kb(f.wasmDecoded)} decoded)`);
+  console.log(`${backend}, ${label}: first frame drawn ${f.first.toFixed(0)} ms after navigation; ${f.files} files before it, ${kb(f.transfer)} over the network `
+    + `(bodies ${kb(f.encoded)} as sent, ${kb(f.decoded)} decoded; the module ${kb(f.wasm)} as sent, ${kb(f.wasmDecoded)} decoded); `
+    + `the page's script ran at ${f.steps.start.toFixed(0)} ms, its module was compiled at ${f.steps.module.toFixed(0)}, the 2D view's GPU up at ${f.steps.modeler.toFixed(0)}, the 3D view's at ${f.steps.viewer.toFixed(0)}`);
 };
 await firstLoad('first load, empty cache');
 await page.reload();
 await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
 await firstLoad('second load, the module from the cache');
+if (loadOnly) {
+  await browser.close();
+  process.exit(0);
+}
 await page.focus('#view'); await page.keyboard.press('d');
 const frame = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
 let released = 0; // when the last measured drag let go

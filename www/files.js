@@ -1,7 +1,7 @@
 // Models in and out of the page: links (the address's fragment, the Share button), files (the
 // picker, a drop) and exports (model files, meshes, contours, HyperFun, pictures). An export that
 // takes time runs in the export worker, in the work list with a Cancel.
-import { headless_esc_mesh, headless_plasm_mesh, is_free_form, script_link, script_model_json, script_of } from './pkg/bezsolid_web.js';
+import { tools } from './modules.js';
 import { $, say, messageOf, download, capture, setupMenu } from './ui.js';
 
 const MESH_FILE = /\.(obj|stl|ply)$/i;
@@ -11,6 +11,7 @@ const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet
 /** Sets up links, files and exports on `app` (see main.js); returns what the page asks of them. */
 export function setupFiles(app) {
   const { modeler, ff, sv } = app;
+  const { is_free_form, script_link, script_model_json, script_of } = app.glue;
   const freeform = () => app.workspace() === 'freeform';
   const scripting = () => app.workspace() === 'script';
 
@@ -127,11 +128,15 @@ export function setupFiles(app) {
   });
 
   // A file made in the export worker (in the work list while it runs, with a Cancel), or on the
-  // page without one (`here`).
+  // page without one (`here`, which may have to fetch the tools' module first).
   const exportJob = async (name, type, label, message, here) => {
     const worker = app.runners.export;
     if (!worker) {
-      download(name, new Blob([here()], { type }));
+      try {
+        download(name, new Blob([await here()], { type }));
+      } catch (err) {
+        say(`Export failed, nothing was changed: ${messageOf(err)}`, 'error');
+      }
       return;
     }
     const running = worker.run(message, {
@@ -176,7 +181,7 @@ export function setupFiles(app) {
     ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
       const model = ff.model_json();
       const resolution = ff.resolution();
-      exportMesh(`bezsolid-result.${format}`, 'esc-mesh', format, model, resolution, () => headless_esc_mesh(model, format, resolution));
+      exportMesh(`bezsolid-result.${format}`, 'esc-mesh', format, model, resolution, async () => (await tools()).headless_esc_mesh(model, format, resolution));
     }])),
     png: () => {
       if (!app.viewer) return;
@@ -189,7 +194,7 @@ export function setupFiles(app) {
     psm: () => download('bezsolid.psm', new Blob([app.script.text()], { type: 'text/plain' })),
     ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
       const script = app.script.text();
-      exportMesh(`bezsolid-script.${format}`, 'plasm-mesh', format, script, 0, () => headless_plasm_mesh(script, format));
+      exportMesh(`bezsolid-script.${format}`, 'plasm-mesh', format, script, 0, async () => (await tools()).headless_plasm_mesh(script, format));
     }])),
     png: () => {
       if (!app.viewer) return;

@@ -2,7 +2,7 @@
 // placed by an offset, a rotation and a scale, and a Boolean expression over them, drawn in the
 // 3D view; its panel, its controls, mesh import, dragging a solid in the 3D view, and the result's
 // fine surface made in a worker while the view draws a coarse one.
-import { headless_esc_surface } from './pkg/bezsolid_web.js';
+import { tools } from './modules.js';
 import { $, say, enableItems } from './ui.js';
 import { follower, lazyRunner } from './work.js';
 
@@ -17,6 +17,8 @@ export function setupFreeForm(app) {
   // The solid the placement fields and a drag move: B when there is one, as before many solids.
   let slot = 1;
 
+  // Without workers: the tools' module on this thread (a promise while it is fetched).
+  let here = null;
   const mesher = app.runners.surface && follower({
     list: app.work,
     worker: lazyRunner(true),
@@ -244,8 +246,14 @@ export function setupFreeForm(app) {
         mesher.check();
         return;
       }
+      // Without a worker: the tools' module is fetched once, then the surface is made here.
+      if (!here) {
+        here = tools();
+        here.then((t) => { here = t; app.redraw(VIEW3); }, (err) => say(`No fine surface: ${err.message ?? err}`, 'error'));
+      }
+      if (here instanceof Promise) return;
       const request = ff.surface_request();
-      if (request && ff.set_surface(request[0], request[1], headless_esc_surface(ff.model_json(), request[1]))) app.redraw(VIEW3);
+      if (request && ff.set_surface(request[0], request[1], here.headless_esc_surface(ff.model_json(), request[1]))) app.redraw(VIEW3);
     },
     /** Cancels the work the scene has moved past. */
     prune: () => mesher?.prune(),

@@ -6,14 +6,14 @@
 //   bezier.js    the Bézier mode (2D view, panel)         freeform.js the Free-form mode
 //   outline.js   the parts of a model of many solids
 //   script.js    the Script mode (editor, runs)           files.js    links, files, exports
+//   modules.js   which wasm module is fetched, and when
 //
-// Each part gets `app`, what they share: the wasm objects (`modeler`, `ff`, `sv`, `viewer`), the
+// Each part gets `app`, what they share: the page module's glue (`glue`), the wasm objects (`modeler`, `ff`, `sv`, `viewer`), the
 // canvases, the work list and workers, the mode (`workspace()`, `setWorkspace`), and the page's
 // verbs (`redraw`, `changed`, `attempt`, `resize`, `resize3`, `panel`). A part's own face is set on
 // `app` as it is made (`app.bezier`, `app.freeform`, `app.script`, `app.files`); parts call each
 // other through `app` when events come, never while they are set up.
-import init, { start, start_3d, FreeFormView, ScriptViewer, gpu_objects } from './pkg/bezsolid_web.js';
-import { WASM_URL } from './pkg/assets.js';
+import { pageModule, webglModule } from './modules.js';
 import { $, say, messageOf, setupPickers, setupStatus } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { runner, workList } from './work.js';
@@ -34,14 +34,18 @@ function freshCanvas(old) {
   return canvas;
 }
 
+// The page's module is chosen for the backend before it is fetched; if WebGPU then fails to start,
+// the WebGL2 build is fetched and the whole page uses it (objects of two modules never mix).
 async function bringUp(canvas, requested) {
+  const module = await pageModule(requested);
   try {
-    return { canvas, modeler: await start(canvas, requested) };
+    return { module, canvas, modeler: await module.glue.start(canvas, requested) };
   } catch (err) {
     if (requested === 'webgl2') throw err;
     console.warn(`bezsolid: ${requested} failed (${messageOf(err)}); falling back to WebGL2`);
+    const gl = await webglModule();
     const fresh = freshCanvas(canvas);
-    return { canvas: fresh, modeler: await start(fresh, 'webgl2'), fellBack: true };
+    return { module: gl, canvas: fresh, modeler: await gl.glue.start(fresh, 'webgl2'), fellBack: true };
   }
 }
 
@@ -58,14 +62,17 @@ function restore(what, text, open) {
 async function main() {
   setupStatus();
   setupPickers();
-  // The module under its content-hashed name (cached for good; a new build is a new name).
-  const wasm = await init({ module_or_path: WASM_URL });
   let requested = new URLSearchParams(location.search).get('backend') ?? 'auto';
   if (!BACKENDS.includes(requested)) {
     say(`Unknown backend "${requested}" in the address; choosing automatically.`, 'warn');
     requested = 'auto';
   }
-  const { canvas, modeler, fellBack } = await bringUp($('view'), requested);
+  // Marks for tests/latency.mjs: the script runs, the 2D view's GPU is up, the 3D view's.
+  performance.mark('bezsolid:start');
+  const { module, canvas, modeler, fellBack } = await bringUp($('view'), requested);
+  performance.mark('bezsolid:modeler');
+  const { glue, wasm } = module;
+  const { start_3d, FreeFormView, ScriptViewer, gpu_objects } = glue;
   const badge = $('backend');
   badge.textContent = modeler.backend();
   badge.dataset.backend = modeler.backend();
@@ -87,6 +94,7 @@ async function main() {
   let viewer = null;
   try {
     viewer = await start_3d(canvas3, modeler.backend() === 'WebGPU' ? 'webgpu' : 'webgl2');
+    performance.mark('bezsolid:viewer');
     $('loading-3d').hidden = true;
   } catch (err) {
     $('loading-3d').textContent = `The 3D view could not start: ${messageOf(err)}`;
@@ -108,7 +116,7 @@ async function main() {
   const VIEW2 = 1;
   const VIEW3 = 2;
   const app = {
-    wasm, modeler, ff, sv, viewer, canvas, canvas3, runners, VIEW2, VIEW3,
+    glue, wasm, modeler, ff, sv, viewer, canvas, canvas3, runners, VIEW2, VIEW3,
     work: workList($('work')),
     // `latency`: from an edit (`lastEdit`) to the end of the first frame drawn after it.
     // `moves`, `applied`, `frames`: pointer moves coalesced, applied, and frames drawn;
@@ -344,6 +352,11 @@ async function main() {
     // The first frame is drawn: how long after navigation (the benchmarks read it).
     document.body.dataset.firstFrameMs = performance.now().toFixed(1);
     document.body.dataset.ready = 'true';
+    // Then the workers fetch the tools' module, in the background, ready for the first long job.
+    setTimeout(() => {
+      runners.surface?.warm();
+      runners.export?.warm();
+    }, 0);
   });
 }
 

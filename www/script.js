@@ -2,7 +2,7 @@
 // errors or warnings; Ctrl+Enter runs it in a worker of its own (a newer run or Stop cancels the one
 // under way) and the 3D view draws its results. A surface of two parameters opens in the Bézier
 // mode as a patch, a solid of three parameters as a volume.
-import { headless_plasm, plasm_examples, plasm_prelude, script_patch_model, script_volume_model } from './pkg/bezsolid_web.js';
+import { tools } from './modules.js';
 import { $, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { lazyRunner } from './work.js';
@@ -10,6 +10,7 @@ import { lazyRunner } from './work.js';
 /** Sets up the mode on `app` (see main.js); returns what the page asks of it. */
 export function setupScript(app) {
   const { sv, VIEW3 } = app;
+  const { plasm_examples, plasm_prelude } = app.glue;
   const editor = $('script');
   const examples = JSON.parse(plasm_examples());
   const prelude = JSON.parse(plasm_prelude());
@@ -78,7 +79,7 @@ export function setupScript(app) {
     const task = w && app.work.start('script', 'Finding the Bézier net', () => running.cancel());
     const running = w?.run({ kind: volume ? 'plasm-volume' : 'plasm-patch', script, index }, { onStart: () => task.started() });
     try {
-      json = w ? new TextDecoder().decode((await running).data) : (volume ? script_volume_model : script_patch_model)(script, index);
+      json = w ? new TextDecoder().decode((await running).data) : (await tools())[volume ? 'script_volume_model' : 'script_patch_model'](script, index);
       app.modeler.load_model(json);
     } catch (err) {
       if (err.cancelled) say('Finding the Bézier net was cancelled; the model was kept.');
@@ -196,7 +197,7 @@ export function setupScript(app) {
         result = await w.run({ kind: 'plasm', script }, { onStart: () => task.started() });
       } else {
         task.started();
-        const r = headless_plasm(script);
+        const r = (await tools()).headless_plasm(script);
         result = { report: r.report(), data: r.take_floats() };
         r.free();
       }

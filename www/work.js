@@ -34,8 +34,12 @@ const release = () => {
   else cores.free += 1;
 };
 
-/** A worker and its queue; throws where the browser has no module workers. */
+/**
+ * A worker and its queue; throws where the browser has no Web Workers. The worker (and the tools'
+ * module it fetches) starts with the first job, or with `warm()`.
+ */
 export function runner() {
+  if (typeof Worker !== 'function') throw new Error('this browser has no Web Workers');
   let worker = null;
   const queue = []; // { id, message, resolve, reject, onProgress, onStart }
   let current = null; // waiting for a core, or under way (`running`)
@@ -51,6 +55,14 @@ export function runner() {
     }
     job.running = true;
     job.onStart?.();
+    try {
+      if (!worker) start();
+    } catch (err) {
+      finish(job);
+      job.reject(err);
+      pump();
+      return;
+    }
     worker.postMessage({ ...job.message, id: job.id });
   };
   const finish = (job) => {
@@ -81,12 +93,12 @@ export function runner() {
       job?.reject(new Error(e.message || 'the worker failed'));
     };
   };
+  // The next job starts a fresh worker (its module comes from the browser's cache).
   const restart = () => {
-    worker.terminate();
-    start();
+    worker?.terminate();
+    worker = null;
     pump();
   };
-  start();
   const cancel = (id) => {
     const k = queue.findIndex((j) => j.id === id);
     if (k >= 0) {
@@ -114,6 +126,10 @@ export function runner() {
       pump();
       promise.cancel = () => cancel(id);
       return promise;
+    },
+    /** Starts the worker now, so that its module is fetched and ready before the first job. */
+    warm() {
+      if (!worker) start();
     },
     /** Cancels every job, waiting or under way. */
     cancelAll() {

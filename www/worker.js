@@ -1,14 +1,15 @@
-// The page's worker: long work off the main thread with the same wasm module, so that a fine
+// The page's worker: long work off the main thread in the tools' wasm module, so that a fine
 // resolution, a folded net or a large export never freezes the page. The jobs and their results
 // are the Rust crate's (`jobs.rs`, `run_job`): this file carries them. One job at a time (work.js
 // sends the next when this one answers); the page cancels a job by terminating the worker.
 // Replies: { id, progress: [done, total] } on the way, then { id, data, ms, ... } (with
 // `approximate` or `report` where the job gives them) or { id, error }.
 import init, { run_job } from './pkg/bezsolid_web.js';
-import { WASM_URL } from './pkg/assets.js';
+import { WASM } from './pkg/assets.js';
 
-// The module under its content-hashed name: the browser's cache keeps it across loads.
-const ready = init({ module_or_path: WASM_URL });
+// The tools' module (not the page's), under its content-hashed name: the browser's cache keeps it
+// across loads.
+const ready = init({ module_or_path: WASM.bezsolid_web });
 const arrays = { bytes: Uint8Array, f32: Float32Array, f64: Float64Array };
 
 // A result buffer: a u32 header length, the JSON header, padding to 8 bytes, the payload.

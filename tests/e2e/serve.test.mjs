@@ -7,12 +7,14 @@ import { request } from 'node:http';
 import zlib from 'node:zlib';
 import { URL as BASE } from './harness.mjs';
 
-test('the module is served as application/wasm', async () => {
-  const res = await fetch(new URL('pkg/bezsolid_web_bg.wasm', BASE));
-  assert.equal(res.status, 200);
-  assert.equal(res.headers.get('content-type'), 'application/wasm');
-  const bytes = new Uint8Array(await res.arrayBuffer());
-  assert.deepEqual([...bytes.slice(0, 4)], [0x00, 0x61, 0x73, 0x6d], 'the wasm magic number');
+test('the modules are served as application/wasm', async () => {
+  for (const module of ['bezsolid_page', 'bezsolid_page_gl', 'bezsolid_web']) {
+    const res = await fetch(new URL(`pkg/${module}_bg.wasm`, BASE));
+    assert.equal(res.status, 200);
+    assert.equal(res.headers.get('content-type'), 'application/wasm');
+    const bytes = new Uint8Array(await res.arrayBuffer());
+    assert.deepEqual([...bytes.slice(0, 4)], [0x00, 0x61, 0x73, 0x6d], 'the wasm magic number');
+  }
 });
 
 test('the page has a strict Content-Security-Policy', async () => {
@@ -57,35 +59,44 @@ const get = (path, headers = {}) => new Promise((resolve, reject) => {
   req.end();
 });
 
-test('the module travels compressed under a content-hashed name that is cached for good', async () => {
+test('the modules travel compressed under content-hashed names that are cached for good', async () => {
   const assets = await get('/pkg/assets.js');
   assert.equal(assets.status, 200);
-  const name = /'\.\/(bezsolid_web_bg\.[0-9a-f]{16}\.wasm)'/.exec(assets.body.toString())?.[1];
-  assert.ok(name, `assets.js names the hashed module: ${assets.body}`);
-  assert.equal(assets.headers['cache-control'], 'no-cache', 'the name itself is revalidated');
-  const plain = await get('/pkg/bezsolid_web_bg.wasm');
-  const br = await get(`/pkg/${name}`, { 'accept-encoding': 'gzip, deflate, br' });
-  assert.equal(br.status, 200);
-  assert.equal(br.headers['content-encoding'], 'br');
-  assert.equal(br.headers['content-type'], 'application/wasm');
-  assert.match(br.headers['cache-control'], /immutable/);
-  assert.match(br.headers.vary, /Accept-Encoding/i);
-  const fromBr = zlib.brotliDecompressSync(br.body);
-  assert.ok(fromBr.equals(plain.body), 'brotli decodes to the module');
-  assert.ok(br.body.length < plain.body.length / 2, `${br.body.length} of ${plain.body.length} bytes`);
-  const gz = await get(`/pkg/${name}`, { 'accept-encoding': 'gzip' });
-  assert.equal(gz.headers['content-encoding'], 'gzip');
-  assert.ok(zlib.gunzipSync(gz.body).equals(plain.body), 'gzip decodes to the module');
-  const none = await get(`/pkg/${name}`, { 'accept-encoding': 'identity' });
-  assert.equal(none.headers['content-encoding'], undefined);
-  assert.ok(none.body.equals(plain.body));
+  assert.equal(assets.headers['cache-control'], 'no-cache', 'the names themselves are revalidated');
+  const named = Object.fromEntries([...assets.body.toString().matchAll(/(\w+): new URL\('\.\/(\w+_bg\.[0-9a-f]{16}\.wasm)'/g)]
+    .map(([, module, file]) => [module, file]));
+  assert.deepEqual(Object.keys(named).sort(), ['bezsolid_page', 'bezsolid_page_gl', 'bezsolid_web'], `assets.js: ${assets.body}`);
+  const sizes = {};
+  for (const [module, name] of Object.entries(named)) {
+    assert.ok(name.startsWith(`${module}_bg.`), name);
+    const plain = await get(`/pkg/${module}_bg.wasm`);
+    const br = await get(`/pkg/${name}`, { 'accept-encoding': 'gzip, deflate, br' });
+    assert.equal(br.status, 200);
+    assert.equal(br.headers['content-encoding'], 'br');
+    assert.equal(br.headers['content-type'], 'application/wasm');
+    assert.match(br.headers['cache-control'], /immutable/);
+    assert.match(br.headers.vary, /Accept-Encoding/i);
+    const fromBr = zlib.brotliDecompressSync(br.body);
+    assert.ok(fromBr.equals(plain.body), `brotli decodes to ${module}`);
+    assert.ok(br.body.length < plain.body.length / 2, `${br.body.length} of ${plain.body.length} bytes`);
+    const gz = await get(`/pkg/${name}`, { 'accept-encoding': 'gzip' });
+    assert.equal(gz.headers['content-encoding'], 'gzip');
+    assert.ok(zlib.gunzipSync(gz.body).equals(plain.body), `gzip decodes to ${module}`);
+    const none = await get(`/pkg/${name}`, { 'accept-encoding': 'identity' });
+    assert.equal(none.headers['content-encoding'], undefined);
+    assert.ok(none.body.equals(plain.body));
+    sizes[module] = br.body.length;
+  }
+  // The split pays: the WebGPU page leaves out the WebGL2 path, and neither page module holds the
+  // tools (meshing to files, free-form results, scripts).
+  assert.ok(sizes.bezsolid_page < sizes.bezsolid_page_gl, JSON.stringify(sizes));
 });
 
 test('small files are compressed as they are sent and revalidated by their ETag', async () => {
   const first = await get('/main.js', { 'accept-encoding': 'br' });
   assert.equal(first.status, 200);
   assert.equal(first.headers['content-encoding'], 'br');
-  assert.match(zlib.brotliDecompressSync(first.body).toString(), /WASM_URL/);
+  assert.match(zlib.brotliDecompressSync(first.body).toString(), /pageModule/);
   const etag = first.headers.etag;
   assert.match(etag, /^"[0-9a-f]{16}"$/);
   const again = await get('/main.js', { 'accept-encoding': 'br', 'if-none-match': etag });

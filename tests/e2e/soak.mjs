@@ -75,7 +75,7 @@ async function makeLinks(page, count, seed) {
     }
   }
   return page.evaluate(async (list) => {
-    const m = await import(new URL('pkg/bezsolid_web.js', location.href).href);
+    const m = await (await import(new URL('modules.js', location.href).href)).tools();
     const examples = JSON.parse(m.plasm_examples());
     return list.map((s) => {
       if (s.kind === 'script') return m.script_link(examples[s.index % examples.length].source);

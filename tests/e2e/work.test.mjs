@@ -189,7 +189,7 @@ test('the stack from the worker is the stack the page made; the previous one sta
   const [segments] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).stack);
   // The same segments, made here by the function the page used to call on its own thread.
   const here = await page.evaluate(async () => {
-    const m = await import(new URL('pkg/bezsolid_web.js', location.href).href);
+    const m = await (await import(new URL('modules.js', location.href).href)).tools();
     return m.headless_stack(window.bezsolid.modeler.model_json(), 2, () => {}).length / 6;
   });
   assert.equal(segments, here);

@@ -1,7 +1,7 @@
-//! What the server sends, made ready after the web build: the module under a content-hashed name
-//! (cached for a year: a new build is a new name), `pkg/assets.js` naming it (the page's one
-//! small indirection, revalidated on every load), and brotli and gzip copies of the module and its
-//! glue, so the server never compresses the big files while a page waits.
+//! What the server sends, made ready after the web build: each module under a content-hashed name
+//! (cached for a year: a new build is a new name), `pkg/assets.js` naming them (the page's one
+//! small indirection, revalidated on every load), and brotli and gzip copies of the modules and
+//! their glue, so the server never compresses the big files while a page waits.
 
 use std::io::Write;
 use std::path::Path;
@@ -71,9 +71,9 @@ pub(crate) struct Travel {
 }
 
 /// After wasm-bindgen (and wasm-opt) wrote `{name}_bg.wasm` and `{name}.js` into `dir`: the
-/// hashed copy of the module (older hashed copies removed), `assets.js`, and `.br` and `.gz`
-/// beside the module and the glue.
-pub(crate) fn publish(dir: &Path, name: &str) -> Result<Travel> {
+/// hashed copy of the module (older hashed copies removed) and `.br` and `.gz` beside the module
+/// and the glue. Returns the hashed file's name and the module's sizes as it travels.
+pub(crate) fn publish(dir: &Path, name: &str) -> Result<(String, Travel)> {
     let wasm_path = dir.join(format!("{name}_bg.wasm"));
     let wasm = std::fs::read(&wasm_path).with_context(|| wasm_path.display().to_string())?;
     let hashed = format!("{name}_bg.{}.wasm", content_hash(&wasm));
@@ -85,13 +85,6 @@ pub(crate) fn publish(dir: &Path, name: &str) -> Result<Travel> {
         }
     }
     std::fs::write(dir.join(&hashed), &wasm)?;
-    std::fs::write(
-        dir.join("assets.js"),
-        format!(
-            "// Written by the xtask's web build: the module under its content-hashed name.\n\
-             export const WASM_URL = new URL('./{hashed}', import.meta.url);\n"
-        ),
-    )?;
     let mut travel = Travel { brotli: 0, gzip: 0 };
     for file in [hashed.clone(), format!("{name}.js")] {
         let path = dir.join(&file);
@@ -107,7 +100,23 @@ pub(crate) fn publish(dir: &Path, name: &str) -> Result<Travel> {
         std::fs::write(dir.join(format!("{file}.br")), br)?;
         std::fs::write(dir.join(format!("{file}.gz")), gz)?;
     }
-    Ok(travel)
+    Ok((hashed, travel))
+}
+
+/// `assets.js` in `dir`: each module's URL under its hashed name, `(module, hashed file)`.
+pub(crate) fn write_manifest(dir: &Path, modules: &[(String, String)]) -> Result<()> {
+    let mut text = String::from(
+        "// Written by the xtask's web build: each module under its content-hashed name.\n\
+         export const WASM = {\n",
+    );
+    for (module, hashed) in modules {
+        text.push_str(&format!(
+            "  {module}: new URL('./{hashed}', import.meta.url),\n"
+        ));
+    }
+    text.push_str("};\n");
+    std::fs::write(dir.join("assets.js"), &text)?;
+    Ok(())
 }
 
 #[cfg(test)]

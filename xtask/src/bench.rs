@@ -76,6 +76,14 @@ fn page_latency(workspace: &Path) -> Result<String> {
         TcpListener::bind((recipe.address.as_str(), 0)).context("binding a loopback port")?;
     let url = format!("http://{}/", listener.local_addr()?);
     let server = serve::Server::start(listener, recipe.root.clone())?;
+    // The first load on each path (the page's module is built for WebGPU alone and with WebGL2),
+    // then the drags on WebGL2.
+    let load = stdout_of(
+        Command::new("node")
+            .args(["latency.mjs", "webgpu", "--load"])
+            .current_dir(&tests)
+            .env("BEZSOLID_URL", &url),
+    );
     let lines = stdout_of(
         Command::new("node")
             .args(["latency.mjs", "webgl2"])
@@ -83,14 +91,17 @@ fn page_latency(workspace: &Path) -> Result<String> {
             .env("BEZSOLID_URL", &url),
     );
     server.stop();
+    let lines = format!("{}\n{}", load?, lines?);
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{PAGE_HEADING}\n\n`tests/latency.mjs` in headless Chromium (WebGL2 on SwiftShader: the \
-         GPU is the CPU), 1400 × 800, served by the xtask's server on loopback (so the network \
+        "{PAGE_HEADING}\n\n`tests/latency.mjs` in headless Chromium (WebGPU on Vulkan SwiftShader for the first \
+         load of the WebGPU build, WebGL2 on SwiftShader for the rest: the GPU is the CPU), 1400 × 800, served by the xtask's server on loopback (so the network \
          costs nothing here: the bytes are what a real network would carry). First the page's \
          load: navigation to the first frame drawn, and what was fetched before it, with an \
-         empty cache and again with the module cached under its content-hashed name. Then \
+         empty cache and again with the modules cached under their content-hashed names (the page \
+         fetches one page module, for WebGPU alone or with WebGL2, chosen before the download; the \
+         workers fetch the tools' module after the first frame). Then \
          a control point dragged by real pointer events, first one \
          move a frame, then a stream of moves sent as fast as the browser takes them. \
          \"input→drawn\" is the page's own figure: from the oldest move a frame applies to the \
@@ -98,7 +109,7 @@ fn page_latency(workspace: &Path) -> Result<String> {
          under a stream the moves applied and the frames drawn are counted. Machine: {}.\n",
         machine().split(';').next().unwrap_or_default()
     );
-    for line in lines?.lines().filter(|l| !l.trim().is_empty()) {
+    for line in lines.lines().filter(|l| !l.trim().is_empty()) {
         let _ = writeln!(s, "- {line}");
     }
     Ok(s)

@@ -134,7 +134,10 @@ fn serve_command(ws: &std::path::Path, args: &[String]) -> Result<()> {
     }
     let (sizes, took) = util::timed(|| build::web(ws, &recipe));
     let sizes = sizes?;
-    eprintln!("- built in {} ({sizes})", util::human(took));
+    eprintln!("- built in {}", util::human(took));
+    for (module, sizes) in &sizes {
+        eprintln!("  {module}: {sizes}");
+    }
     let listener = TcpListener::bind((recipe.address.as_str(), port)).with_context(|| {
         format!(
             "cannot listen on {}:{port}; is it in use? choose another with --port",

@@ -5,6 +5,13 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use toml::{Table, Value};
 
+/// One module the build writes: the crate with `features` (and no others), named `name`.
+#[derive(Debug, Clone)]
+pub(crate) struct Module {
+    pub(crate) name: String,
+    pub(crate) features: Vec<String>,
+}
+
 /// The recipe, with paths resolved against the workspace root.
 #[derive(Debug, Clone)]
 pub(crate) struct Recipe {
@@ -12,7 +19,7 @@ pub(crate) struct Recipe {
     pub(crate) profile: String,
     pub(crate) bindgen_target: String,
     pub(crate) out_dir: PathBuf,
-    pub(crate) out_name: String,
+    pub(crate) modules: Vec<Module>,
     pub(crate) wasm_opt: Option<Vec<String>>,
     pub(crate) root: PathBuf,
     pub(crate) address: String,
@@ -59,6 +66,38 @@ impl Recipe {
         } else {
             None
         };
+        let strings = |v: &Value, what: &str| -> Result<Vec<String>> {
+            v.as_array()
+                .with_context(|| format!("{}: `{what}` must be a list", path.display()))?
+                .iter()
+                .map(|x| {
+                    x.as_str()
+                        .map(str::to_owned)
+                        .with_context(|| format!("{}: `{what}` must be strings", path.display()))
+                })
+                .collect()
+        };
+        let modules = table
+            .get("module")
+            .and_then(Value::as_array)
+            .with_context(|| format!("{}: no [[module]]", path.display()))?
+            .iter()
+            .map(|m| {
+                let m = m
+                    .as_table()
+                    .with_context(|| format!("{}: [[module]] is a table", path.display()))?;
+                let features = m
+                    .get("features")
+                    .map_or(Ok(Vec::new()), |f| strings(f, "features"))?;
+                Ok(Module {
+                    name: string(m, "name")?,
+                    features,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        if modules.is_empty() {
+            bail!("{}: no [[module]]", path.display());
+        }
         let port = serve
             .get("port")
             .and_then(Value::as_integer)
@@ -71,25 +110,12 @@ impl Recipe {
             profile: string(package, "profile")?,
             bindgen_target: string(bindgen, "target")?,
             out_dir: workspace.join(string(bindgen, "out-dir")?),
-            out_name: string(bindgen, "out-name")?,
+            modules,
             wasm_opt,
             root: workspace.join(string(serve, "root")?),
             address: string(serve, "address")?,
             port,
         })
-    }
-
-    /// The cdylib's file name as cargo writes it.
-    pub(crate) fn artifact(&self, workspace: &Path) -> PathBuf {
-        let dir = if self.profile == "dev" {
-            "debug"
-        } else {
-            &self.profile
-        };
-        workspace
-            .join("target/wasm32-unknown-unknown")
-            .join(dir)
-            .join(format!("{}.wasm", self.krate.replace('-', "_")))
     }
 }
 
@@ -112,9 +138,8 @@ mod tests {
                 .is_some_and(|a| a.iter().any(|x| x.starts_with("-O")))
         );
         assert_eq!(r.address, "127.0.0.1");
-        assert!(
-            r.artifact(ws)
-                .ends_with("wasm32-unknown-unknown/web/bezsolid_web.wasm")
-        );
+        let names: Vec<&str> = r.modules.iter().map(|m| m.name.as_str()).collect();
+        assert_eq!(names, ["bezsolid_page", "bezsolid_page_gl", "bezsolid_web"]);
+        assert!(r.modules.iter().all(|m| !m.features.is_empty()));
     }
 }

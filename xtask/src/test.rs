@@ -60,7 +60,24 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
                     "--",
                     "-D",
                     "warnings",
-                ]))
+                ]))?;
+                // The page's module without WebGL2, and the tools' module, as the web build makes them.
+                for features in ["page", "tools"] {
+                    run(cargo_in().args([
+                        "clippy",
+                        "-p",
+                        "bezsolid-web",
+                        "--no-default-features",
+                        "--features",
+                        features,
+                        "--target",
+                        setup::WASM_TARGET,
+                        "--",
+                        "-D",
+                        "warnings",
+                    ]))?;
+                }
+                Ok(())
             }),
         ),
         (

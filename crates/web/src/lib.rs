@@ -37,9 +37,9 @@ pub mod script;
 pub mod view2d;
 pub mod view3d;
 
-#[cfg(target_arch = "wasm32")]
+#[cfg(all(target_arch = "wasm32", feature = "page"))]
 mod render;
-#[cfg(target_arch = "wasm32")]
+#[cfg(all(target_arch = "wasm32", feature = "page"))]
 mod render3d;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

@@ -133,6 +133,10 @@ page_names! {
         Transform = "transform" => Wrap::Transform,
     }
 
+}
+
+#[cfg(feature = "page")]
+page_names! {
     /// Which graphics API a view asks for: `"auto"` (WebGPU where the browser has it, else
     /// WebGL2), `"webgpu"` or `"webgl2"`.
     Backend => wgpu::Backends, "graphics backend" {
