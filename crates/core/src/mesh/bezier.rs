@@ -12,11 +12,9 @@ use glam::DVec4;
 
 use super::Mesh;
 use super::adaptive::{self, AdaptiveStats};
-#[cfg(feature = "parallel")]
-use super::polygonize::weld;
 use super::polygonize::{
-    Block, BlockRoots, EdgeRoots, LinearRoots, Marcher, SampleGrid, linear_root, polygonize,
-    polygonize_blocks,
+    Block, BlockRoots, EdgeRoots, Keyed, LinearRoots, Marcher, Piece, SampleGrid, Share,
+    linear_root, polygonize, polygonize_blocks, weld, weld_keyed,
 };
 use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative};
 use crate::inverse::{Forward, solve_jac};
@@ -150,6 +148,72 @@ impl Solid3 {
         let mut mesh = self
             .in_parameter_space()
             .polygonize_regular(resolution, accuracy)?;
+        self.map_forward(&mut mesh);
+        Ok(mesh)
+    }
+
+    /// [`Self::polygonize_sheets`] made in parts: the piece of `share` ([`Piece::weld`] of all the
+    /// shares' pieces, in order, is that mesh).
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::polygonize_sheets`].
+    pub fn polygonize_sheets_share(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        share: Share,
+    ) -> Result<Piece, MeshError> {
+        if !(accuracy.is_finite() && accuracy > 0.0) {
+            return Err(MeshError::Accuracy);
+        }
+        if self.inverse().is_none() {
+            return self.piece_regular(resolution, accuracy, share);
+        }
+        let mut piece = self
+            .in_parameter_space()
+            .piece_regular(resolution, accuracy, share)?;
+        self.map_forward(&mut piece.mesh);
+        Ok(piece)
+    }
+
+    /// [`Self::polygonize`] made in parts: the piece of `share` ([`Piece::weld`] of all the
+    /// shares' pieces, in order, is that mesh, and their triangles one after another are its
+    /// triangles). A net that may fold is sampled whole by the first share (the others are empty).
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::polygonize`].
+    pub fn polygonize_share(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        share: Share,
+    ) -> Result<Piece, MeshError> {
+        if !(accuracy.is_finite() && accuracy > 0.0) {
+            return Err(MeshError::Accuracy);
+        }
+        match self.inverse() {
+            None => self.piece_regular(resolution, accuracy, share),
+            Some(map) if map.injective() => {
+                self.polygonize_sheets_share(resolution, accuracy, share)
+            }
+            Some(_) => {
+                let mesh = if share.index() == 0 {
+                    self.polygonize_sampled(resolution, &mut |_, _| {})?
+                } else {
+                    self.mesh_grid(resolution)?;
+                    Mesh::default()
+                };
+                let keys = vec![Piece::UNSHARED; mesh.positions.len()];
+                Ok(Piece { mesh, keys })
+            }
+        }
+    }
+
+    /// A parameter-space mesh's vertices mapped forward through `(S_x, S_y, S_z)`, normals through
+    /// `J^{-T}`, triangles turned over where the map reverses orientation.
+    fn map_forward(&self, mesh: &mut Mesh) {
         let net = self.net();
         for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
             let e = net.forward(p.to_array());
@@ -166,7 +230,6 @@ impl Solid3 {
                 t.swap(1, 2);
             }
         }
-        Ok(mesh)
     }
 
     fn polygonize_sampled(
@@ -207,27 +270,56 @@ impl Solid3 {
         resolution: usize,
         accuracy: f64,
     ) -> Result<(Mesh, AdaptiveStats), MeshError> {
+        let (pieces, stats) = self.adaptive_pieces(resolution, accuracy, Share::WHOLE)?;
+        Ok((weld(pieces), stats))
+    }
+
+    /// The piece of `share` of the regular solid's mesh.
+    fn piece_regular(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        share: Share,
+    ) -> Result<Piece, MeshError> {
+        let (pieces, _) = self.adaptive_pieces(resolution, accuracy, share)?;
+        let (mesh, keys) = weld_keyed(pieces);
+        Ok(Piece { mesh, keys })
+    }
+
+    /// The blocks of `share` of the regular solid's grid, meshed in pieces of consecutive blocks
+    /// (one per task with the `parallel` feature) to be welded in order.
+    fn adaptive_pieces(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        share: Share,
+    ) -> Result<(Vec<Keyed>, AdaptiveStats), MeshError> {
         let grid = self.mesh_grid(resolution)?;
         let roots = SolidRoots::new(self, &grid, accuracy);
         let samples = BlockSamples::new(&roots.xi, &roots.params);
         let (blocks, stats) = adaptive::blocks(roots.xi.points(), roots.xi.degree(), &roots.params);
+        let blocks = share.of(&blocks);
         let marcher = Marcher::new();
         let sample = |block: &Block, out: &mut Vec<f64>| samples.fill(block, out);
         #[cfg(feature = "parallel")]
-        let mesh = {
+        let pieces = {
             use rayon::prelude::*;
-            // Pieces of consecutive blocks, welded in order: the mesh one walk over all would give.
             let pieces = 4 * rayon::current_num_threads();
             let chunk = blocks.len().div_ceil(pieces).max(1);
-            let parts: Vec<(Mesh, Vec<u64>)> = blocks
+            blocks
                 .par_chunks(chunk)
                 .map(|part| polygonize_blocks(&grid, part, sample, &mut &roots, &marcher))
-                .collect();
-            weld(parts)
+                .collect()
         };
         #[cfg(not(feature = "parallel"))]
-        let mesh = polygonize_blocks(&grid, &blocks, sample, &mut &roots, &marcher).0;
-        Ok((mesh, stats))
+        let pieces = vec![polygonize_blocks(
+            &grid,
+            blocks,
+            sample,
+            &mut &roots,
+            &marcher,
+        )];
+        Ok((pieces, stats))
     }
 
     /// [`Solid3::polygonize`] of a solid without a space mapping, with what the adaptive meshing
@@ -1006,5 +1098,71 @@ mod tests {
             let welded = super::super::polygonize::weld(pieces);
             assert_eq!(welded, whole, "chunks of {chunk}");
         }
+    }
+
+    /// A mesh as a triangle list (each triangle's three positions and normals): what a page draws.
+    fn soup(mesh: &Mesh) -> Vec<[DVec3; 6]> {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| v as usize);
+                let (p, n) = (&mesh.positions, &mesh.normals);
+                [p[a], p[b], p[c], n[a], n[b], n[c]]
+            })
+            .collect()
+    }
+
+    /// A mesh made in shares: the pieces welded in order are the mesh made whole, and the pieces'
+    /// triangles one after another are its triangles on the same vertices, bit for bit (a vertex
+    /// two shares have is computed from the same samples by both). For a regular solid, an
+    /// injective map (made in parameter space and mapped forward), and a folded net (sheets, and the
+    /// sampled path that the first share makes whole).
+    #[test]
+    fn shares_weld_into_the_whole_mesh_and_list_its_triangles() {
+        let base = ball(0.4, DVec3::ZERO, DVec3::ONE);
+        let moved = Volume::from_fn([2, 2, 2], |[i, j, k]| {
+            let p = base.net()[[i, j, k]];
+            DVec4::new(p.x + 0.1 * p.y * p.y, p.y, p.z, p.w)
+        })
+        .unwrap();
+        let moved = Solid3::try_from_net(moved).unwrap();
+        let mut rng = crate::testutil::Rng::new(82);
+        let folded = crate::inverse::tests::warped_volume(&mut rng, [2, 2, 2], 0.45);
+        let folded = Solid3::try_from_net(folded).unwrap();
+        let solids = [
+            ("rippled", rippled(4, 0.05, 4, DVec3::ZERO, DVec3::ONE), 40),
+            ("injective", moved, 20),
+            ("folded", folded, 10),
+        ];
+        for (name, solid, res) in &solids {
+            let whole = solid.polygonize(*res, 1e-9).unwrap();
+            let sheets = solid.polygonize_sheets(*res, 1e-9).unwrap();
+            assert!(whole.triangle_count() > 100, "{name}");
+            for count in [1, 2, 3, 7] {
+                let shares = (0..count).map(|k| Share::new(k, count).unwrap());
+                let pieces: Vec<Piece> = shares
+                    .clone()
+                    .map(|s| solid.polygonize_share(*res, 1e-9, s).unwrap())
+                    .collect();
+                let listed: Vec<_> = pieces.iter().flat_map(|p| soup(&p.mesh)).collect();
+                assert_eq!(listed, soup(&whole), "{name}, {count} shares: triangles");
+                assert_eq!(Piece::weld(pieces), whole, "{name}, {count} shares: welded");
+                let pieces: Vec<Piece> = shares
+                    .map(|s| solid.polygonize_sheets_share(*res, 1e-9, s).unwrap())
+                    .collect();
+                let listed: Vec<_> = pieces.iter().flat_map(|p| soup(&p.mesh)).collect();
+                assert_eq!(listed, soup(&sheets), "{name}, {count} sheet shares");
+                assert_eq!(Piece::weld(pieces), sheets, "{name}, {count} sheet shares");
+            }
+        }
+        let one = Share::new(0, 2).unwrap();
+        assert!(matches!(
+            base.polygonize_share(0, 1e-9, one),
+            Err(MeshError::Resolution { got: 0 })
+        ));
+        assert!(matches!(
+            base.polygonize_share(8, f64::NAN, one),
+            Err(MeshError::Accuracy)
+        ));
     }
 }

@@ -27,7 +27,7 @@ pub mod svg;
 pub use adaptive::AdaptiveStats;
 pub use bezier::{MAX_RESOLUTION, MeshError};
 pub use manifold::{MeshDefects, validate};
-pub use polygonize::{EdgeRoots, LinearRoots, SampleGrid, polygonize};
+pub use polygonize::{EdgeRoots, LinearRoots, Piece, SampleGrid, Share, polygonize};
 pub use read::{
     MAX_FILE_BYTES, MAX_TRIANGLES, MAX_VERTICES, RawMesh, ReadError, angle_weighted_normals,
     from_raw, read,

@@ -658,15 +658,93 @@ pub(crate) fn polygonize_blocks<R: BlockRoots>(
     (mesh, keys)
 }
 
+/// One share of a mesh made in parts, on separate threads, workers or machines: share `index` of
+/// `count`, a run of consecutive blocks of the cells the mesher samples (in its fixed order, runs of
+/// equal length). The [`Piece`]s of all the shares, welded in order ([`Piece::weld`]), are the
+/// mesh made whole; their triangles, one after another, are its triangles (on the same vertices,
+/// bit for bit, for a Bézier solid; for a tree a vertex two shares have is the same root to within
+/// the accuracy asked, each share's from its own block's pruned program).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Share {
+    index: usize,
+    count: usize,
+}
+
+impl Share {
+    /// The whole mesh as one share.
+    pub const WHOLE: Self = Self { index: 0, count: 1 };
+
+    /// Share `index` of `count`; `None` unless `index < count`.
+    #[must_use]
+    pub const fn new(index: usize, count: usize) -> Option<Self> {
+        if index < count {
+            Some(Self { index, count })
+        } else {
+            None
+        }
+    }
+
+    /// Which share, from 0.
+    #[must_use]
+    pub const fn index(self) -> usize {
+        self.index
+    }
+
+    /// How many shares the mesh is made in.
+    #[must_use]
+    pub const fn count(self) -> usize {
+        self.count
+    }
+
+    /// This share's run of `items`: runs of `⌈len / count⌉`, the last ones shorter or empty.
+    pub(crate) fn of<T>(self, items: &[T]) -> &[T] {
+        let run = items.len().div_ceil(self.count);
+        let start = (self.index * run).min(items.len());
+        &items[start..(start + run).min(items.len())]
+    }
+}
+
+/// A share's mesh ([`Share`]), with the grid edge of each vertex another share may also have
+/// ([`Piece::UNSHARED`] for the others), so that pieces weld into the whole mesh exactly.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Piece {
+    /// The share's triangles, on its own vertices.
+    pub mesh: Mesh,
+    /// One key per vertex of `mesh`: its grid edge, or [`Piece::UNSHARED`].
+    pub keys: Vec<u64>,
+}
+
+impl Piece {
+    /// The key of a vertex no other piece has.
+    pub const UNSHARED: u64 = NO_EDGE;
+
+    /// The pieces of a mesh's shares, in the order of the shares, joined into the mesh made whole:
+    /// a vertex two pieces share (the same key) is kept once, the first piece's.
+    #[must_use]
+    pub fn weld(pieces: Vec<Self>) -> Mesh {
+        weld_keyed(pieces.into_iter().map(|p| (p.mesh, p.keys)).collect()).0
+    }
+}
+
+/// A mesh of some blocks with the grid edge of each vertex (or [`NO_EDGE`]), as
+/// [`polygonize_blocks`] makes it.
+pub(crate) type Keyed = (Mesh, Vec<u64>);
+
 /// Meshes of disjoint sets of cells, each with the grid edge of every vertex (from
 /// [`polygonize_blocks`]), joined into one: a vertex on an edge two pieces share is kept once, the
 /// first piece's. Pieces in the order of their blocks give the mesh of all the blocks in one walk.
-#[cfg_attr(not(any(test, feature = "parallel")), allow(dead_code))]
-pub(crate) fn weld(pieces: Vec<(Mesh, Vec<u64>)>) -> Mesh {
+pub(crate) fn weld(pieces: Vec<Keyed>) -> Mesh {
+    weld_keyed(pieces).0
+}
+
+/// [`weld`], with the key of each vertex of the mesh it makes.
+pub(crate) fn weld_keyed(pieces: Vec<Keyed>) -> Keyed {
     let mut pieces = pieces.into_iter();
-    let Some((mut mesh, first_keys)) = pieces.next() else {
-        return Mesh::default();
+    let Some((mut mesh, mut kept)) = pieces.next() else {
+        return (Mesh::default(), Vec::new());
     };
+    kept.resize(mesh.positions.len(), NO_EDGE);
+    mesh.normals.resize(mesh.positions.len(), DVec3::ZERO);
     let mut map = EdgeMap::new();
     let (vertices, triangles) = pieces.as_slice().iter().fold((0, 0), |(v, t), (m, _)| {
         (v + m.positions.len(), t + m.triangles.len())
@@ -674,18 +752,22 @@ pub(crate) fn weld(pieces: Vec<(Mesh, Vec<u64>)>) -> Mesh {
     mesh.positions.reserve(vertices);
     mesh.normals.reserve(vertices);
     mesh.triangles.reserve(triangles);
-    for (i, &k) in first_keys.iter().enumerate() {
+    kept.reserve(vertices);
+    for (i, &k) in kept.iter().enumerate() {
         if k != NO_EDGE {
             map.get_or_insert(k, || i as u32);
         }
     }
     for (piece, keys) in pieces {
         let mut remap = Vec::with_capacity(piece.positions.len());
-        for (i, &k) in keys.iter().enumerate() {
+        for i in 0..piece.positions.len() {
+            let k = keys.get(i).copied().unwrap_or(NO_EDGE);
             let mut fresh = || {
                 let id = mesh.positions.len() as u32;
                 mesh.positions.push(piece.positions[i]);
-                mesh.normals.push(piece.normals[i]);
+                mesh.normals
+                    .push(piece.normals.get(i).copied().unwrap_or(DVec3::ZERO));
+                kept.push(k);
                 id
             };
             remap.push(if k == NO_EDGE {
@@ -694,10 +776,15 @@ pub(crate) fn weld(pieces: Vec<(Mesh, Vec<u64>)>) -> Mesh {
                 map.get_or_insert(k, fresh)
             });
         }
-        mesh.triangles
-            .extend(piece.triangles.iter().map(|t| t.map(|v| remap[v as usize])));
+        mesh.triangles.extend(
+            piece
+                .triangles
+                .iter()
+                .filter(|t| t.iter().all(|&v| (v as usize) < remap.len()))
+                .map(|t| t.map(|v| remap[v as usize])),
+        );
     }
-    mesh
+    (mesh, kept)
 }
 
 #[cfg(test)]
@@ -844,5 +931,49 @@ mod tests {
             polygonize(&flat, &[1.0; 9], &mut LinearRoots),
             Mesh::default()
         );
+    }
+
+    #[test]
+    fn shares_cover_the_items_once_in_order() {
+        assert_eq!(Share::new(2, 2), None);
+        assert_eq!(Share::new(0, 0), None);
+        for len in [0, 1, 5, 16, 17] {
+            let items: Vec<usize> = (0..len).collect();
+            for count in 1..=9 {
+                let joined: Vec<usize> = (0..count)
+                    .flat_map(|k| Share::new(k, count).unwrap().of(&items).to_vec())
+                    .collect();
+                assert_eq!(joined, items, "{len} items in {count} shares");
+            }
+        }
+        assert_eq!(Share::WHOLE.of(&[1, 2, 3]), &[1, 2, 3]);
+    }
+
+    /// Pieces handed in from outside (a worker's, a file's) weld without a panic however they are
+    /// made: missing keys or normals, triangles past their vertices.
+    #[test]
+    fn malformed_pieces_weld_without_panicking() {
+        let mesh = |n: usize, t: [u32; 3]| Mesh {
+            positions: (0..n).map(|i| DVec3::splat(i as f64)).collect(),
+            normals: Vec::new(),
+            triangles: vec![t],
+        };
+        let welded = Piece::weld(vec![
+            Piece {
+                mesh: mesh(3, [0, 1, 2]),
+                keys: vec![7],
+            },
+            Piece {
+                mesh: mesh(3, [0, 1, 9]),
+                keys: vec![7, 8],
+            },
+            Piece {
+                mesh: mesh(3, [0, 1, 2]),
+                keys: Vec::new(),
+            },
+        ]);
+        assert_eq!(welded.positions.len(), 3 + 2 + 3);
+        assert_eq!(welded.normals.len(), welded.positions.len());
+        assert_eq!(welded.triangles, vec![[0, 1, 2], [5, 6, 7]]);
     }
 }

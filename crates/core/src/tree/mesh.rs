@@ -18,8 +18,11 @@ use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
 use crate::mesh::adaptive::octants;
-use crate::mesh::polygonize::{Block, BlockRoots, Marcher, polygonize_blocks, weld};
+use crate::mesh::polygonize::{
+    Block, BlockRoots, Keyed, Marcher, polygonize_blocks, weld, weld_keyed,
+};
 use crate::mesh::{EdgeRoots, SampleGrid};
+use crate::mesh::{Piece, Share};
 use crate::rfunc::{intersect, intersect_with_partials};
 
 /// The most cells along the longest side of the region.
@@ -286,13 +289,47 @@ impl Tree<3> {
         resolution: usize,
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
-        mut progress: impl FnMut(usize, usize),
+        progress: impl FnMut(usize, usize),
     ) -> Result<(Mesh, MeshStats), TreeMeshError> {
+        let (pieces, stats) =
+            self.pieces_in_steps(resolution, accuracy, region, Share::WHOLE, progress)?;
+        Ok((weld(pieces), stats))
+    }
+
+    /// [`Tree::polygonize`] made in parts: the piece of `share` ([`Piece::weld`] of all the
+    /// shares' pieces, in order, is that mesh, and their triangles one after another are its
+    /// triangles, a vertex two shares have found by each to within `accuracy`).
+    ///
+    /// # Errors
+    ///
+    /// As [`Tree::polygonize`].
+    pub fn polygonize_share(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+        share: Share,
+    ) -> Result<Piece, TreeMeshError> {
+        let (pieces, _) = self.pieces_in_steps(resolution, accuracy, region, share, |_, _| {})?;
+        let (mesh, keys) = weld_keyed(pieces);
+        Ok(Piece { mesh, keys })
+    }
+
+    /// The blocks of `share` of the grid, meshed in pieces of consecutive blocks to be welded in
+    /// order; `progress` as [`Tree::polygonize_in_steps`] says (over this share's cells).
+    fn pieces_in_steps(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+        share: Share,
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<(Vec<Keyed>, MeshStats), TreeMeshError> {
         let Some(Region { lo, hi, clip }) =
             self::region(self.bounds(), region, resolution, accuracy)?
         else {
             progress(1, 1);
-            return Ok((Mesh::default(), MeshStats::default()));
+            return Ok((Vec::new(), MeshStats::default()));
         };
         let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
         let size = hi - lo;
@@ -369,6 +406,7 @@ impl Tree<3> {
         if stats.skipped < total {
             progress(stats.skipped, total);
         }
+        let blocks = share.of(&blocks);
         // Each piece of consecutive blocks on its own field and roots, welded in order: the mesh
         // one walk over all the blocks gives (on one thread or many).
         let marcher = Marcher::new();
@@ -401,16 +439,16 @@ impl Tree<3> {
             polygonize_blocks(&grid, part, sample, &mut roots, &marcher)
         };
         #[cfg(feature = "parallel")]
-        let mesh = {
+        let pieces = {
             use rayon::prelude::*;
             let chunk = blocks
                 .len()
                 .div_ceil(4 * rayon::current_num_threads())
                 .max(1);
-            weld(blocks.par_chunks(chunk).map(piece).collect())
+            blocks.par_chunks(chunk).map(piece).collect()
         };
         #[cfg(not(feature = "parallel"))]
-        let mesh = {
+        let pieces = {
             // In fiftieths, with the cells done so far.
             let chunk = blocks.len().div_ceil(50).max(1);
             let mut done = stats.skipped;
@@ -425,10 +463,10 @@ impl Tree<3> {
                     progress(done, total);
                 }
             }
-            weld(pieces)
+            pieces
         };
         progress(total, total);
-        Ok((mesh, stats))
+        Ok((pieces, stats))
     }
 }
 
@@ -657,6 +695,52 @@ mod tests {
             let b = three.install(|| tree.polygonize(36, 1e-10, None).unwrap());
             assert_eq!(a, b);
             triangles += a.triangle_count();
+        }
+        assert!(triangles > 1000);
+    }
+
+    /// A tree's mesh made in shares: welded in order, the pieces are the whole mesh; one after
+    /// another, their triangles are its triangles, on vertices within 1e-9.
+    #[test]
+    fn shares_of_random_trees_weld_into_the_whole_mesh() {
+        let mut rng = Rng::new(17);
+        let mut triangles = 0;
+        for _ in 0..6 {
+            let tree = space(random_tree(&mut rng, 3));
+            let whole = tree.polygonize(30, 1e-10, None).unwrap();
+            for count in [2, 5] {
+                let pieces: Vec<Piece> = (0..count)
+                    .map(|k| {
+                        let share = Share::new(k, count).unwrap();
+                        tree.polygonize_share(30, 1e-10, None, share).unwrap()
+                    })
+                    .collect();
+                let listed: Vec<_> = pieces
+                    .iter()
+                    .flat_map(|p| {
+                        p.mesh
+                            .triangles
+                            .iter()
+                            .map(|t| t.map(|v| p.mesh.positions[v as usize]))
+                    })
+                    .collect();
+                let want: Vec<_> = whole
+                    .triangles
+                    .iter()
+                    .map(|t| t.map(|v| whole.positions[v as usize]))
+                    .collect();
+                assert_eq!(listed.len(), want.len(), "{count} shares: triangles");
+                let apart = listed
+                    .iter()
+                    .zip(&want)
+                    .flat_map(|(a, b)| (0..3).map(move |k| a[k].distance(b[k])))
+                    .fold(0.0f64, f64::max);
+                // A vertex two shares have is found by each with its block's pruned program: the
+                // same root to within the accuracy (the welded mesh keeps the first, exactly).
+                assert!(apart <= 1e-9, "{count} shares: vertices {apart:e} apart");
+                assert_eq!(Piece::weld(pieces), whole, "{count} shares: welded");
+            }
+            triangles += whole.triangle_count();
         }
         assert!(triangles > 1000);
     }
