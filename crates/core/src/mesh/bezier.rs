@@ -298,7 +298,7 @@ impl Solid3 {
         let roots = SolidRoots::new(self, &grid, accuracy);
         let samples = BlockSamples::new(&roots.xi, &roots.params);
         let (blocks, stats) = adaptive::blocks(roots.xi.points(), roots.xi.degree(), &roots.params);
-        let blocks = share.of(&blocks);
+        let blocks = share.of_blocks(&blocks);
         let marcher = Marcher::new();
         let sample = |block: &Block, out: &mut Vec<f64>| samples.fill(block, out);
         #[cfg(feature = "parallel")]

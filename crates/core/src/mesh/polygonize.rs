@@ -697,10 +697,38 @@ impl Share {
     }
 
     /// This share's run of `items`: runs of `⌈len / count⌉`, the last ones shorter or empty.
+    #[cfg(test)]
     pub(crate) fn of<T>(self, items: &[T]) -> &[T] {
         let run = items.len().div_ceil(self.count);
         let start = (self.index * run).min(items.len());
         &items[start..(start + run).min(items.len())]
+    }
+
+    /// This share's run of `blocks`, runs of about equal samples (blocks differ in size), so that
+    /// shares made side by side end together: share `k` starts at the first block whose samples
+    /// before it reach `k / count` of all.
+    pub(crate) fn of_blocks(self, blocks: &[Block]) -> &[Block] {
+        let samples = |b: &Block| b.size.iter().map(|s| s + 1).product::<usize>();
+        let total: usize = blocks.iter().map(samples).sum();
+        let start_of = |k: usize| {
+            if k == 0 {
+                return 0;
+            }
+            if k >= self.count {
+                return blocks.len();
+            }
+            // The first block at which the samples before it reach k / count of the total.
+            let goal = (total as u128 * k as u128).div_ceil(self.count as u128);
+            let mut before = 0u128;
+            for (i, b) in blocks.iter().enumerate() {
+                if before >= goal {
+                    return i;
+                }
+                before += samples(b) as u128;
+            }
+            blocks.len()
+        };
+        &blocks[start_of(self.index)..start_of(self.index + 1)]
     }
 }
 
@@ -947,6 +975,40 @@ mod tests {
             }
         }
         assert_eq!(Share::WHOLE.of(&[1, 2, 3]), &[1, 2, 3]);
+    }
+
+    #[test]
+    fn shares_of_blocks_cover_them_once_in_order_with_even_samples() {
+        let mut rng = Rng::new(5);
+        for len in [0, 1, 2, 9, 100] {
+            let blocks: Vec<Block> = (0..len)
+                .map(|i| Block {
+                    lo: [i, 0, 0],
+                    size: [rng.int(1, 8), rng.int(1, 8), rng.int(1, 8)],
+                    tag: 0,
+                })
+                .collect();
+            let samples = |b: &[Block]| -> usize {
+                b.iter()
+                    .map(|b| b.size.iter().map(|s| s + 1).product::<usize>())
+                    .sum()
+            };
+            let (total, largest) = (samples(&blocks), 9 * 9 * 9);
+            for count in 1..=7 {
+                let runs: Vec<&[Block]> = (0..count)
+                    .map(|k| Share::new(k, count).unwrap().of_blocks(&blocks))
+                    .collect();
+                let joined: Vec<Block> = runs.iter().flat_map(|r| r.to_vec()).collect();
+                assert_eq!(joined, blocks, "{len} blocks in {count} shares");
+                for run in &runs {
+                    assert!(
+                        samples(run) <= total / count + largest,
+                        "{len} blocks in {count} shares: {} of {total}",
+                        samples(run)
+                    );
+                }
+            }
+        }
     }
 
     /// Pieces handed in from outside (a worker's, a file's) weld without a panic however they are

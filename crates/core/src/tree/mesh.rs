@@ -406,7 +406,7 @@ impl Tree<3> {
         if stats.skipped < total {
             progress(stats.skipped, total);
         }
-        let blocks = share.of(&blocks);
+        let blocks = share.of_blocks(&blocks);
         // Each piece of consecutive blocks on its own field and roots, welded in order: the mesh
         // one walk over all the blocks gives (on one thread or many).
         let marcher = Marcher::new();
