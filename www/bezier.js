@@ -19,7 +19,12 @@ export function setupBezier(app) {
     revision: () => modeler.revision(),
     // What the view shows: a model of many solids less its hidden parts.
     job: ([, resolution]) => ({ kind: 'surface', model: modeler.view_json() ?? modeler.model_json(), resolution }),
-    accept: ([revision, resolution], { data }) => modeler.set_surface(revision, resolution, data),
+    accept: ([revision, resolution], { data, shares }) => {
+      const taken = modeler.set_surface(revision, resolution, data);
+      // In how many workers' shares the surface drawn was made (tests read it).
+      if (taken) document.body.dataset.surfaceShares = String(shares ?? 1);
+      return taken;
+    },
     onAccepted: () => app.redraw(VIEW3),
     label: ([, resolution]) => `Meshing the surface at ${resolution}`,
     failed: 'The surface could not be meshed',

@@ -16,7 +16,7 @@
 import { pageModule, webglModule } from './modules.js';
 import { $, say, messageOf, setupPickers, setupStatus } from './ui.js';
 import { KEYS, storage } from './storage.js';
-import { runner, workList } from './work.js';
+import { runner, team, workList } from './work.js';
 import { setupBezier } from './bezier.js';
 import { setupOutline } from './outline.js';
 import { setupFreeForm } from './freeform.js';
@@ -103,9 +103,17 @@ async function main() {
 
   // Long work runs in Web Workers (work.js): the fine surfaces and contour stacks that follow the
   // models, exports, scripts. Without workers it runs on the page.
+  // The surfaces are made by a team of workers in shares: one worker a core the page may use (one
+  // core is left to the page), at most 8; `?workers=N` (1 to 8) in the address asks for N.
   const runners = { surface: null, export: null };
+  const asked = new URLSearchParams(location.search).get('workers');
+  let workers = Math.min(8, Math.max(1, (navigator.hardwareConcurrency || 2) - 1));
+  if (asked !== null) {
+    if (/^[1-8]$/.test(asked)) workers = Number(asked);
+    else say(`"workers=${asked}" in the address is not 1 to 8; using ${workers}.`, 'warn');
+  }
   try {
-    runners.surface = runner();
+    runners.surface = team(workers);
     runners.export = runner();
     modeler.set_external_surface(true);
   } catch (err) {

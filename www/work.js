@@ -139,6 +139,57 @@ export function runner() {
   };
 }
 
+// The jobs a team makes in shares (`share: [k, n]`), whose results, one after another, are the
+// whole result (jobs.rs).
+const SHARED = new Set(['surface']);
+
+/**
+ * Up to `size` runners that make one result together, so that long work uses every core the page
+ * may: a job that comes in shares goes to each runner with its share, and their results (typed
+ * arrays) are joined in order; other jobs go to the first runner. The same face as a runner.
+ */
+export function team(size) {
+  const runners = [runner()];
+  const member = (k) => (runners[k] ??= runner());
+  return {
+    size,
+    run(message, { onProgress, onStart } = {}) {
+      if (size === 1 || !SHARED.has(message.kind)) return runners[0].run(message, { onProgress, onStart });
+      let started = false;
+      const parts = Array.from({ length: size }, (_, k) => member(k).run({ ...message, share: [k, size] }, {
+        onStart: () => {
+          if (!started) onStart?.();
+          started = true;
+        },
+      }));
+      const cancel = () => {
+        for (const p of parts) p.cancel();
+      };
+      const promise = Promise.all(parts).then((replies) => {
+        const data = new replies[0].data.constructor(replies.reduce((n, r) => n + r.data.length, 0));
+        let at = 0;
+        for (const r of replies) {
+          data.set(r.data, at);
+          at += r.data.length;
+        }
+        const approximate = replies.reduce((n, r) => n + (r.approximate ?? 0), 0);
+        return { ...replies[0], data, approximate, ms: Math.max(...replies.map((r) => r.ms)), shares: size };
+      }, (err) => {
+        cancel();
+        throw err;
+      });
+      promise.cancel = cancel;
+      return promise;
+    },
+    warm() {
+      runners[0].warm();
+    },
+    cancelAll() {
+      for (const r of runners) r?.cancelAll();
+    },
+  };
+}
+
 const seconds = (ms) => `${(ms / 1000).toFixed(1)} s`;
 
 /**

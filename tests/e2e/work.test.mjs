@@ -291,3 +291,38 @@ test('an export of a volume that folds over itself everywhere says it is approxi
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('with several workers a surface is made in shares, and is the surface one worker makes', async () => {
+  const { page, errors } = await open(browser, '?workers=3');
+  const fine = () => page.waitForFunction(() => {
+    const p = JSON.parse(window.bezsolid.modeler.panel());
+    return p.surface_current && p.surface?.[1] === 64;
+  }, null, { timeout: 60_000 });
+  // What one worker makes of what the view shows, here on the page's thread.
+  const whole = () => page.evaluate(async () => {
+    const m = await (await import(new URL('modules.js', location.href).href)).tools();
+    const { modeler } = window.bezsolid;
+    return m.headless_surface(modeler.view_json() ?? modeler.model_json(), 64).length / 18;
+  });
+  await pick(page, 'preset', 'fish');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await fine();
+  assert.equal(await page.getAttribute('body', 'data-surface-shares'), '3');
+  const [triangles] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface);
+  assert.ok(triangles > 500, `${triangles} triangles`);
+  assert.equal(triangles, await whole());
+  // A model of many solids: the volume with a sphere beside it.
+  await page.click('[data-add="sphere"]');
+  await fine();
+  const [tree] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface);
+  assert.ok(tree > 500 && tree !== triangles, `${tree} triangles with the sphere`);
+  assert.equal(tree, await whole());
+  assert.equal(await page.getAttribute('body', 'data-surface-shares'), '3');
+  // An address asking for no workers, or too many, is told so and gets the default.
+  const bad = await open(browser, '?workers=0');
+  assert.match(await bad.page.textContent('#status'), /"workers=0" in the address is not 1 to 8/);
+  await bad.page.close();
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+

@@ -162,9 +162,9 @@ pub fn read_any(text: &str) -> Result<ModelSolid, Error> {
 pub mod headless {
     use super::{Editor, MESH_ACCURACY, model_json, open, read_any, read_file, share_fragment};
     use crate::error::Error;
-    use bezsolid_core::mesh::{Format, Mesh};
+    use bezsolid_core::mesh::{Format, Mesh, Share};
     use bezsolid_core::model::ModelSolid;
-    use bezsolid_core::tree::{ModelTree, TreeMeshError};
+    use bezsolid_core::tree::{ModelTree, Tree, TreeMeshError};
     use bezsolid_core::{Axis, Solid2};
 
     /// The tree of a model of many solids, or `None` for a model of one solid.
@@ -185,6 +185,22 @@ pub mod headless {
         view: bool,
         progress: impl FnMut(usize, usize),
     ) -> Result<Mesh, Error> {
+        let (space, region) = tree_space(tree, resolution, view)?;
+        space
+            .polygonize_in_steps(resolution, MESH_ACCURACY, region, progress)
+            .map(|(mesh, _)| mesh)
+            .map_err(unbounded)
+    }
+
+    /// A box, `[min, max]`.
+    type Box3 = ([f64; 3], [f64; 3]);
+
+    /// The 3D tree of `tree` and the box [`tree_mesh`] meshes it in (`None`: its bounds).
+    fn tree_space(
+        tree: &ModelTree,
+        resolution: usize,
+        view: bool,
+    ) -> Result<(&Tree<3>, Option<Box3>), Error> {
         if !(2..=MAX_RESOLUTION).contains(&resolution) {
             return Err(Error::new(format!(
                 "resolution {resolution} is outside 2..={MAX_RESOLUTION}"
@@ -194,26 +210,23 @@ pub mod headless {
             ModelTree::Space(t) if view && t.bounds().is_none() => {
                 let (lo, hi) = t.parts_box().unwrap_or(([-1.0; 3], [1.0; 3]));
                 let grow = (0..3).map(|i| hi[i] - lo[i]).fold(1e-3, f64::max) * 0.25;
-                let region = (lo.map(|x| x - grow), hi.map(|x| x + grow));
-                Ok(
-                    t.polygonize_in_steps(resolution, MESH_ACCURACY, Some(region), progress)?
-                        .0,
-                )
+                Ok((t, Some((lo.map(|x| x - grow), hi.map(|x| x + grow)))))
             }
-            ModelTree::Space(t) => match t
-                .polygonize_in_steps(resolution, MESH_ACCURACY, None, progress)
-                .map(|(mesh, _)| mesh)
-            {
-                Err(TreeMeshError::Unbounded) => Err(Error::new(
-                    "the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
-                     blend of a space-mapped solid): intersect it with a box, or mesh it with \
-                     `bezsolid mesh --box`",
-                )),
-                other => Ok(other?),
-            },
+            ModelTree::Space(t) => Ok((t, None)),
             ModelTree::Plane(_) => {
                 Err("meshes are of 3D models; this is a 2D model: export its contour".into())
             }
+        }
+    }
+
+    fn unbounded(e: TreeMeshError) -> Error {
+        match e {
+            TreeMeshError::Unbounded => Error::new(
+                "the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
+                 blend of a space-mapped solid): intersect it with a box, or mesh it with \
+                 `bezsolid mesh --box`",
+            ),
+            other => other.into(),
         }
     }
 
@@ -327,6 +340,34 @@ pub mod headless {
         let v = volume(text, resolution)?;
         Ok(Made {
             data: crate::view3d::surface_floats(&v, resolution),
+            approximate: v.exhausted(),
+        })
+    }
+
+    /// The share `share` of the surface [`surface`] makes, for a page that makes it in several
+    /// workers: the shares' floats, one after another, are that surface's floats.
+    ///
+    /// # Errors
+    ///
+    /// As [`surface`].
+    pub fn surface_share(
+        text: &str,
+        resolution: usize,
+        share: Share,
+    ) -> Result<Made<Vec<f32>>, Error> {
+        if let Some(t) = tree(text)? {
+            let (space, region) = tree_space(&t, resolution, true)?;
+            let piece = space
+                .polygonize_share(resolution, MESH_ACCURACY, region, share)
+                .map_err(unbounded)?;
+            return Ok(Made {
+                data: crate::view3d::mesh_floats(&piece.mesh),
+                approximate: 0,
+            });
+        }
+        let v = volume(text, resolution)?;
+        Ok(Made {
+            data: crate::view3d::surface_share_floats(&v, resolution, share),
             approximate: v.exhausted(),
         })
     }

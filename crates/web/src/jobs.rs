@@ -9,7 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use bezsolid_core::Axis;
-use bezsolid_core::mesh::Format;
+use bezsolid_core::mesh::{Format, Share};
 
 use crate::error::Error;
 
@@ -17,12 +17,17 @@ use crate::error::Error;
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Job {
-    /// The surface a volume model is drawn with: six `f32` per vertex.
+    /// The surface a volume model is drawn with: six `f32` per vertex. With `share: [k, n]`,
+    /// share `k` of `n` of it, for a page that makes it in `n` workers: the shares' floats, one
+    /// after another, are the surface's.
     Surface {
         /// A model file or link.
         model: String,
         /// Cells along the longest side.
         resolution: usize,
+        /// `[k, n]`: share `k` (from 0) of `n`; none for the whole.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        share: Option<[usize; 2]>,
     },
     /// A mesh file of a volume model.
     Mesh {
@@ -161,8 +166,25 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
         report: None,
     };
     Ok(match job {
-        Job::Surface { model, resolution } => {
+        Job::Surface {
+            model,
+            resolution,
+            share: None,
+        } => {
             let m = bezier::surface(model, *resolution)?;
+            counted(Payload::F32(m.data), m.approximate)
+        }
+        Job::Surface {
+            model,
+            resolution,
+            share: Some([k, n]),
+        } => {
+            let share = Share::new(*k, *n).ok_or_else(|| {
+                Error::new(format!(
+                    "share {k} of {n}: a share is numbered from 0 below {n}"
+                ))
+            })?;
+            let m = bezier::surface_share(model, *resolution, share)?;
             counted(Payload::F32(m.data), m.approximate)
         }
         Job::Mesh {
@@ -381,6 +403,57 @@ mod tests {
                 .to_string();
             assert_eq!(got, want);
         }
+    }
+
+    /// A page with several workers asks each for a share of the surface and joins their floats:
+    /// the surface one worker makes (bit for bit for a volume; for a tree, a vertex two shares
+    /// have is the same root to within the mesher's accuracy).
+    #[test]
+    fn surface_shares_joined_are_the_surface() {
+        let tree = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+            {"kind": "box", "min": [0.5, -0.3, -0.3], "max": [1.4, 0.3, 0.3]}]}}"#;
+        let floats = |bytes: &[u8]| -> Vec<f32> {
+            decode(bytes)
+                .1
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+                .collect()
+        };
+        for (model, exact) in [(volume(), true), (tree.to_owned(), false)] {
+            let job = |share: Option<[usize; 2]>| {
+                let mut json =
+                    serde_json::json!({"kind": "surface", "model": model, "resolution": 24});
+                if let Some(s) = share {
+                    json["share"] = serde_json::json!(s);
+                }
+                floats(&run_bytes(json.to_string().as_bytes(), |_, _| {}).unwrap())
+            };
+            let whole = job(None);
+            assert!(whole.len() > 18 * 100);
+            for n in [2, 3] {
+                let joined: Vec<f32> = (0..n).flat_map(|k| job(Some([k, n]))).collect();
+                assert_eq!(joined.len(), whole.len(), "{n} shares");
+                if exact {
+                    assert_eq!(joined, whole, "{n} shares");
+                } else {
+                    let apart = joined
+                        .iter()
+                        .zip(&whole)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0f32, f32::max);
+                    assert!(apart < 1e-5, "{n} shares: {apart}");
+                }
+            }
+        }
+        let err = run_bytes(
+            serde_json::json!({"kind": "surface", "model": volume(), "resolution": 8, "share": [2, 2]})
+                .to_string()
+                .as_bytes(),
+            |_, _| {},
+        )
+        .unwrap_err();
+        assert!(err.message().contains("share 2 of 2"), "{err}");
     }
 
     #[test]

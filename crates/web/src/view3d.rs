@@ -9,6 +9,7 @@
 //! model (half the domain's larger side per unit of ξ) and held still while editing.
 
 use bezsolid_core::contour::solid_contour;
+use bezsolid_core::mesh::Share;
 use bezsolid_core::{Axis, Solid3};
 use glam::{DAffine3, DVec2, DVec3, DVec4};
 
@@ -1037,15 +1038,18 @@ fn quad(c: [DVec3; 4], color: Rgba) -> [MeshVertex; 6] {
     })
 }
 
+/// How near `f = 0` the vertices of a drawn surface are put (in `f`).
+const SURFACE_ACCURACY: f64 = 1e-7;
+
 /// The surface drawn for a volume at `resolution`: the exact surface where the map is regular or
 /// certified injective, every sheet where it may fold (`Solid3::polygonize_sheets`, no inverse map).
 #[must_use]
 pub fn surface_mesh(volume: &Solid3, resolution: usize) -> Option<bezsolid_core::mesh::Mesh> {
     let folded = volume.inverse().is_some_and(|m| !m.injective());
     if folded {
-        volume.polygonize_sheets(resolution, 1e-7)
+        volume.polygonize_sheets(resolution, SURFACE_ACCURACY)
     } else {
-        volume.polygonize(resolution, 1e-7)
+        volume.polygonize(resolution, SURFACE_ACCURACY)
     }
     .ok()
 }
@@ -1055,6 +1059,18 @@ pub fn surface_mesh(volume: &Solid3, resolution: usize) -> Option<bezsolid_core:
 #[must_use]
 pub fn surface_floats(volume: &Solid3, resolution: usize) -> Vec<f32> {
     surface_mesh(volume, resolution).map_or_else(Vec::new, |m| mesh_floats(&m))
+}
+
+/// The share `share` of [`surface_floats`]: the shares' floats, one after another, are its floats.
+#[must_use]
+pub fn surface_share_floats(volume: &Solid3, resolution: usize, share: Share) -> Vec<f32> {
+    let folded = volume.inverse().is_some_and(|m| !m.injective());
+    if folded {
+        volume.polygonize_sheets_share(resolution, SURFACE_ACCURACY, share)
+    } else {
+        volume.polygonize_share(resolution, SURFACE_ACCURACY, share)
+    }
+    .map_or_else(|_| Vec::new(), |piece| mesh_floats(&piece.mesh))
 }
 
 /// A mesh as six `f32` per vertex (position, normal), three vertices per triangle: the form in
