@@ -255,6 +255,29 @@ pub mod wasm {
         with_clock(|clock| suite(clock, quick))
     }
 
+    /// Share `index` of `count` of the benchmark solid's drawn surface at `n` cells, as a page's
+    /// worker makes it (the mesh of its blocks, then six `f32` a vertex, three vertices a
+    /// triangle); its triangles. `crates/bench/workers.js` times it on worker threads.
+    #[wasm_bindgen]
+    #[must_use]
+    pub fn surface_share(n: usize, index: usize, count: usize) -> usize {
+        let Some(share) = bezsolid_core::mesh::Share::new(index, count) else {
+            return 0;
+        };
+        let Ok(piece) = super::bench_solid().polygonize_share(n, 1e-9, share) else {
+            return 0;
+        };
+        let mesh = &piece.mesh;
+        let mut floats: Vec<f32> = Vec::with_capacity(mesh.triangles.len() * 18);
+        for t in &mesh.triangles {
+            for &i in t {
+                floats.extend(mesh.positions[i as usize].as_vec3().to_array());
+                floats.extend(mesh.normals[i as usize].as_vec3().to_array());
+            }
+        }
+        floats.len() / 18
+    }
+
     /// Only grid evaluation and meshing (for working on them).
     #[wasm_bindgen]
     pub fn run_mesh(quick: bool) -> String {
