@@ -696,12 +696,19 @@ impl Share {
         self.count
     }
 
-    /// This share's run of `items`: runs of `⌈len / count⌉`, the last ones shorter or empty.
+    /// This share's run of `len` items (slices, rows, jobs): runs of `⌈len / count⌉` in order,
+    /// the last ones shorter or empty.
+    #[must_use]
+    pub fn range(self, len: usize) -> core::ops::Range<usize> {
+        let run = len.div_ceil(self.count);
+        let start = (self.index * run).min(len);
+        start..(start + run).min(len)
+    }
+
+    /// This share's run of `items` ([`Share::range`]).
     #[cfg(test)]
     pub(crate) fn of<T>(self, items: &[T]) -> &[T] {
-        let run = items.len().div_ceil(self.count);
-        let start = (self.index * run).min(items.len());
-        &items[start..(start + run).min(items.len())]
+        &items[self.range(items.len())]
     }
 
     /// This share's run of `blocks`, runs of about equal samples (blocks differ in size), so that
@@ -773,6 +780,10 @@ pub(crate) fn weld_keyed(pieces: Vec<Keyed>) -> Keyed {
     };
     kept.resize(mesh.positions.len(), NO_EDGE);
     mesh.normals.resize(mesh.positions.len(), DVec3::ZERO);
+    if pieces.as_slice().is_empty() {
+        // One piece is welded already (the one-thread path costs no table of its keys).
+        return (mesh, kept);
+    }
     let mut map = EdgeMap::new();
     let (vertices, triangles) = pieces.as_slice().iter().fold((0, 0), |(v, t), (m, _)| {
         (v + m.positions.len(), t + m.triangles.len())
