@@ -31,11 +31,15 @@ export function setupBezier(app) {
   });
   const stacker = app.runners.surface && follower({
     list: app.work,
-    worker: lazyRunner(true),
+    worker: lazyRunner(true, app.workers),
     request: () => modeler.stack_request(),
     revision: () => modeler.revision(),
     job: ([, axis]) => ({ kind: 'stack', model: modeler.model_json(), axis }),
-    accept: ([revision, axis], { data }) => modeler.set_stack(revision, axis, data),
+    accept: ([revision, axis], { data, shares }) => {
+      const taken = modeler.set_stack(revision, axis, data);
+      if (taken) document.body.dataset.stackShares = String(shares ?? 1);
+      return taken;
+    },
     onAccepted: () => app.redraw(VIEW3),
     label: ([, axis]) => `Contour stack across ${'uvw'[axis]}`,
     unit: 'slices',

@@ -124,7 +124,7 @@ async function main() {
   const VIEW2 = 1;
   const VIEW3 = 2;
   const app = {
-    glue, wasm, modeler, ff, sv, viewer, canvas, canvas3, runners, VIEW2, VIEW3,
+    glue, wasm, modeler, ff, sv, viewer, workers, canvas, canvas3, runners, VIEW2, VIEW3,
     work: workList($('work')),
     // `latency`: from an edit (`lastEdit`) to the end of the first frame drawn after it.
     // `moves`, `applied`, `frames`: pointer moves coalesced, applied, and frames drawn;

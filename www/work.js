@@ -139,9 +139,9 @@ export function runner() {
   };
 }
 
-// The jobs a team makes in shares (`share: [k, n]`), whose results, one after another, are the
-// whole result (jobs.rs).
-const SHARED = new Set(['surface']);
+// The jobs a team makes in shares (`share: [k, n]`: blocks of a surface, slices of a stack), whose
+// results, one after another, are the whole result (jobs.rs).
+const SHARED = new Set(['surface', 'stack']);
 
 /**
  * Up to `size` runners that make one result together, so that long work uses every core the page
@@ -156,10 +156,16 @@ export function team(size) {
     run(message, { onProgress, onStart } = {}) {
       if (size === 1 || !SHARED.has(message.kind)) return runners[0].run(message, { onProgress, onStart });
       let started = false;
+      // Progress is the shares' together: their steps done of their steps in all.
+      const steps = Array.from({ length: size }, () => [0, 0]);
       const parts = Array.from({ length: size }, (_, k) => member(k).run({ ...message, share: [k, size] }, {
         onStart: () => {
           if (!started) onStart?.();
           started = true;
+        },
+        onProgress: (done, total) => {
+          steps[k] = [done, total];
+          onProgress?.(steps.reduce((n, s) => n + s[0], 0), steps.reduce((n, s) => n + s[1], 0));
         },
       }));
       const cancel = () => {
@@ -265,13 +271,16 @@ export function workList(container) {
   };
 }
 
-/** A runner made on first use (most visits never open a volume or a script); null when `enabled` is false or the browser refuses. */
-export function lazyRunner(enabled) {
+/**
+ * A runner (a team of `size` for more than one) made on first use (most visits never open a volume
+ * or a script); null when `enabled` is false or the browser refuses.
+ */
+export function lazyRunner(enabled, size = 1) {
   let made;
   return () => {
     if (made === undefined) {
       try {
-        made = enabled ? runner() : null;
+        made = enabled ? (size > 1 ? team(size) : runner()) : null;
       } catch {
         made = null;
       }

@@ -292,7 +292,7 @@ test('an export of a volume that folds over itself everywhere says it is approxi
   await page.close();
 });
 
-test('with several workers a surface is made in shares, and is the surface one worker makes', async () => {
+test('with several workers a surface and a contour stack are made in shares, and are what one worker makes', async () => {
   const { page, errors } = await open(browser, '?workers=3');
   const fine = () => page.waitForFunction(() => {
     const p = JSON.parse(window.bezsolid.modeler.panel());
@@ -311,6 +311,16 @@ test('with several workers a surface is made in shares, and is the surface one w
   const [triangles] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).surface);
   assert.ok(triangles > 500, `${triangles} triangles`);
   assert.equal(triangles, await whole());
+  // Its contour stack, slices in shares: the stack one worker makes.
+  await page.waitForFunction(() => document.body.dataset.stack?.endsWith(',1'), null, { timeout: 30_000 });
+  assert.equal(await page.getAttribute('body', 'data-stack-shares'), '3');
+  const [segments] = await page.evaluate(() => JSON.parse(window.bezsolid.modeler.panel()).stack);
+  const here = await page.evaluate(async () => {
+    const m = await (await import(new URL('modules.js', location.href).href)).tools();
+    return m.headless_stack(window.bezsolid.modeler.model_json(), 2, () => {}).length / 6;
+  });
+  assert.ok(segments > 50, `${segments} segments`);
+  assert.equal(segments, here);
   // A model of many solids: the volume with a sphere beside it.
   await page.click('[data-add="sphere"]');
   await fine();

@@ -383,9 +383,25 @@ pub mod headless {
         axis: Axis,
         progress: impl FnMut(usize, usize),
     ) -> Result<Made<Vec<f64>>, Error> {
+        stack_share(text, axis, Share::WHOLE, progress)
+    }
+
+    /// The slices of share `share` of the contour stack [`stack`] makes, for a page that makes it
+    /// in several workers: the shares' segments, one after another, are its segments.
+    ///
+    /// # Errors
+    ///
+    /// As [`stack`].
+    pub fn stack_share(
+        text: &str,
+        axis: Axis,
+        share: Share,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<Made<Vec<f64>>, Error> {
         match read_any(text)? {
             ModelSolid::Volume(v) => {
-                let (data, approximate) = crate::view3d::stack_segments(&v, axis, progress);
+                let (data, approximate) =
+                    crate::view3d::stack_share_segments(&v, axis, share, progress);
                 Ok(Made { data, approximate })
             }
             ModelSolid::Patch(_) => {

@@ -39,13 +39,17 @@ pub enum Job {
         resolution: usize,
     },
     /// The zero contour of each slice of a volume across an axis: six `f64` per segment, with a
-    /// progress report after each slice.
+    /// progress report after each slice. With `share: [k, n]`, the slices of share `k` of `n`:
+    /// the shares' segments, one after another, are the stack's.
     Stack {
         /// A model file or link.
         model: String,
         /// 0 (u), 1 (v) or 2 (w).
         #[serde(with = "axis_index")]
         axis: Axis,
+        /// `[k, n]`: share `k` (from 0) of `n`; none for the whole.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        share: Option<[usize; 2]>,
     },
     /// The SVG of a patch model's contours.
     Svg {
@@ -115,6 +119,18 @@ mod axis_index {
     }
 }
 
+/// A job's `share: [k, n]` (none: the whole).
+fn share_of(share: Option<[usize; 2]>) -> Result<Share, Error> {
+    let Some([k, n]) = share else {
+        return Ok(Share::WHOLE);
+    };
+    Share::new(k, n).ok_or_else(|| {
+        Error::new(format!(
+            "share {k} of {n}: a share is numbered from 0 below {n}"
+        ))
+    })
+}
+
 /// What a job made.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Done {
@@ -177,14 +193,9 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
         Job::Surface {
             model,
             resolution,
-            share: Some([k, n]),
+            share: Some(share),
         } => {
-            let share = Share::new(*k, *n).ok_or_else(|| {
-                Error::new(format!(
-                    "share {k} of {n}: a share is numbered from 0 below {n}"
-                ))
-            })?;
-            let m = bezier::surface_share(model, *resolution, share)?;
+            let m = bezier::surface_share(model, *resolution, share_of(Some(*share))?)?;
             counted(Payload::F32(m.data), m.approximate)
         }
         Job::Mesh {
@@ -195,8 +206,8 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             let m = bezier::mesh_in_steps(model, *format, *resolution, progress)?;
             counted(Payload::Bytes(m.data), m.approximate)
         }
-        Job::Stack { model, axis } => {
-            let m = bezier::stack(model, *axis, progress)?;
+        Job::Stack { model, axis, share } => {
+            let m = bezier::stack_share(model, *axis, share_of(*share)?, progress)?;
             counted(Payload::F64(m.data), m.approximate)
         }
         Job::Svg { model } => {
@@ -456,6 +467,37 @@ mod tests {
         assert!(err.message().contains("share 2 of 2"), "{err}");
     }
 
+    /// A stack made in shares of slices: joined in order, the stack one worker makes, each share
+    /// reporting its own slices.
+    #[test]
+    fn stack_shares_joined_are_the_stack() {
+        let model = volume();
+        let job = |share: Option<[usize; 2]>, steps: &mut Vec<(usize, usize)>| -> Vec<u8> {
+            let mut json = serde_json::json!({"kind": "stack", "model": model, "axis": 2});
+            if let Some(s) = share {
+                json["share"] = serde_json::json!(s);
+            }
+            let bytes = run_bytes(json.to_string().as_bytes(), |d, t| steps.push((d, t))).unwrap();
+            decode(&bytes).1.to_vec()
+        };
+        let whole = job(None, &mut Vec::new());
+        assert!(whole.len() > 8 * 6 * 10);
+        // Three slices (a degree-2 net across w): in two shares of two and one, in three of one.
+        for (n, slices) in [(2, [2, 1, 0]), (3, [1, 1, 1])] {
+            let mut joined = Vec::new();
+            for (k, &s) in slices.iter().enumerate().take(n) {
+                let mut steps = Vec::new();
+                joined.extend(job(Some([k, n]), &mut steps));
+                assert_eq!(
+                    steps,
+                    (1..=s).map(|d| (d, s)).collect::<Vec<_>>(),
+                    "share {k} of {n}"
+                );
+            }
+            assert_eq!(joined, whole, "{n} shares");
+        }
+    }
+
     #[test]
     fn unknown_jobs_and_bad_inputs_are_errors() {
         for bad in [
@@ -494,6 +536,12 @@ mod tests {
             Job::Stack {
                 model: "m".into(),
                 axis: Axis::V,
+                share: None,
+            },
+            Job::Stack {
+                model: "m".into(),
+                axis: Axis::U,
+                share: Some([1, 3]),
             },
             Job::EscMesh {
                 model: "m".into(),
@@ -508,7 +556,8 @@ mod tests {
         assert_eq!(
             serde_json::to_value(Job::Stack {
                 model: "m".into(),
-                axis: Axis::W
+                axis: Axis::W,
+                share: None,
             })
             .unwrap()["axis"],
             2

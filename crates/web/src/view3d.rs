@@ -1099,16 +1099,29 @@ fn surface_vertices(volume: &Solid3, resolution: usize) -> Vec<MeshVertex> {
 pub fn stack_segments(
     volume: &Solid3,
     axis: Axis,
+    progress: impl FnMut(usize, usize),
+) -> (Vec<f64>, usize) {
+    stack_share_segments(volume, axis, Share::WHOLE, progress)
+}
+
+/// The slices of share `share` of [`stack_segments`] (runs of slices in order): the shares'
+/// segments, one after another, are its segments. `progress(done, total)` after each of the
+/// share's slices.
+pub fn stack_share_segments(
+    volume: &Solid3,
+    axis: Axis,
+    share: Share,
     mut progress: impl FnMut(usize, usize),
 ) -> (Vec<f64>, usize) {
     let net = volume.net();
     let a = axis.index();
     let (lo, hi) = axis.others();
     let (lo, hi) = (lo.index(), hi.index());
-    let slices = net.dims()[a];
+    let slices = share.range(net.dims()[a]);
+    let (first, total) = (slices.start, slices.len());
     let mut out = Vec::new();
     let mut approximate = 0;
-    for index in 0..slices {
+    for index in slices {
         if let Some(solid) = volume.slice(axis, index) {
             let along = patch_mean_along(net, axis, index);
             let to3 = |p: DVec2| {
@@ -1132,7 +1145,7 @@ pub fn stack_segments(
             }
             approximate += solid.exhausted();
         }
-        progress(index + 1, slices);
+        progress(index + 1 - first, total);
     }
     (out, approximate)
 }
