@@ -1,5 +1,6 @@
-// The page's own wasm module (www/pkg, as `cargo xtask test` builds it) loaded in node, with no page
+// The tools' wasm module (www/pkg, as `cargo xtask test` builds it) loaded in node, with no page
 // and no GPU: a model file or a share link in, the model, the link and mesh files out, parsed back.
+// The page's module (its WebGPU build) loads in node too: its Free-form view edits with no GPU.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -9,6 +10,8 @@ const pkg = new URL('../../www/pkg/', import.meta.url);
 const glue = await import(new URL('bezsolid_web.js', pkg));
 await glue.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_web_bg.wasm', pkg))) });
 const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface, headless_approximate } = glue;
+const page = await import(new URL('bezsolid_page.js', pkg));
+await page.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_page_bg.wasm', pkg))) });
 
 // A degree-(2, 2, 2) volume: a blob whose centre is raised (as the blob preset).
 const points = [];
@@ -130,7 +133,8 @@ test('bad input throws a clear error and never kills the module', () => {
 });
 
 test('a free-form model: its result surface and mesh files, from the file and its link', () => {
-  const { headless_esc_surface, headless_esc_mesh, is_free_form, FreeFormView } = glue;
+  const { headless_esc_surface, headless_esc_mesh, is_free_form } = glue;
+  const { FreeFormView } = page;
   const file = JSON.stringify({
     format: 'bezsolid',
     version: 1,
