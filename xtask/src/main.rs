@@ -4,7 +4,7 @@
 //!   Cargo.lock, npm binaryen for wasm-opt), builds the page as `wasm-pack.toml` says and serves `www/`
 //!   on loopback.
 //! - `cargo xtask test [--update-screenshot]`: fmt, clippy, native tests, docs, the `no_std` build, the
-//!   wasm tests in node, the web build, the page's module headless in node, and the browser suite in
+//!   wasm tests in node, the web build, the modules headless in node, and the browser suite in
 //!   headless chromium on both backends.
 //! - `cargo xtask fuzz [--seconds N] [TARGET…]`: the fuzz campaigns of `fuzz/` (installs the nightly
 //!   toolchain and cargo-fuzz when missing), N seconds per target, with a report per target.

@@ -132,7 +132,7 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
             Box::new(|| build::web(workspace, &recipe).map(|_| ())),
         ),
         (
-            "the page's module headless in node (tests/node)",
+            "the tools' and the page's modules headless in node (tests/node)",
             Box::new(move || {
                 setup::node()?;
                 run(Command::new("node")
