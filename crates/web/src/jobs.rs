@@ -185,17 +185,9 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
         Job::Surface {
             model,
             resolution,
-            share: None,
+            share,
         } => {
-            let m = bezier::surface(model, *resolution)?;
-            counted(Payload::F32(m.data), m.approximate)
-        }
-        Job::Surface {
-            model,
-            resolution,
-            share: Some(share),
-        } => {
-            let m = bezier::surface_share(model, *resolution, share_of(Some(*share))?)?;
+            let m = bezier::surface_share(model, *resolution, share_of(*share)?)?;
             counted(Payload::F32(m.data), m.approximate)
         }
         Job::Mesh {
