@@ -78,6 +78,7 @@ pub mod link;
 mod math;
 pub mod mesh;
 pub mod model;
+pub mod piecewise;
 pub mod presets;
 pub mod rfunc;
 mod solid;

@@ -110,7 +110,7 @@ pub type Solid2 = Solid<2>;
 pub type Solid3 = Solid<3>;
 
 /// The box of a regular axis-aligned grid with positive size, `None` for anything else.
-fn regular_box<const D: usize>(
+pub(crate) fn regular_box<const D: usize>(
     dims: [usize; D],
     points: &[[f64; D]],
 ) -> Option<([f64; D], [f64; D])> {
