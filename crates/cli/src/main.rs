@@ -36,17 +36,18 @@ commands (DESIGN §5):
                                    points; rows are written as points are read, and a bad line
                                    stops the output there)
   contour MODEL [--res N] -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]
-                                   zero contours of a patch solid or a 2D tree (N cells per
-                                   side, default 256; vertices refined to |f| <= A, default
+                                   zero contours of a patch solid, a piecewise patch or a 2D
+                                   tree (N cells per side, default 256; vertices refined to |f| <= A, default
                                    1e-9; a tree that may be unbounded needs --box)
   mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
-       [--threads T]               closed boundary mesh of a volume solid or a 3D tree (N cells
-                                   along the longest side, default 64; vertices refined to
+       [--threads T]               closed boundary mesh of a volume solid, a piecewise volume or
+                                   a 3D tree (N cells along the longest side, default 64; vertices refined to
                                    |f| <= A, default 1e-9; a tree that may be unbounded, such as
                                    a half-space, needs --box, and is cut by it; meshed on T
                                    threads, default every core: the same mesh as on one)
-  hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum; a tree with
-                                   HyperFun's set operations, blends and primitives)
+  hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum; a piecewise
+                                   solid's cells chosen by `if`s; a tree with HyperFun's set
+                                   operations, blends and primitives)
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
                                    the page of `cargo xtask serve`) + #v1.<model>
   esc classify MESH --points FILE.csv [-o OUT]

@@ -558,3 +558,84 @@ fn eval_takes_trees_of_many_solids() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("solid.of[1].solid.radius"), "{err}");
 }
+
+#[test]
+fn eval_piecewise_volume_matches_design_cells_clipped_on_the_outer_box_only() {
+    // 2 × 1 × 3 cells of degree (1, 2, 1) over [−1, 1] × [0, 2] × [0, 3].
+    let (cells, degree) = ([2usize, 1, 3], [1usize, 2, 1]);
+    let dims: Vec<usize> = (0..3).map(|a| cells[a] * degree[a] + 1).collect();
+    let (lo, hi) = ([-1.0, 0.0, 0.0], [1.0, 2.0, 3.0]);
+    let xi = |i: usize, j: usize, k: usize| ((i * 5 + j * 3 + k * 7) % 6) as f64 * 0.4 - 0.9;
+    let mut points = Vec::new();
+    for i in 0..dims[0] {
+        for j in 0..dims[1] {
+            for k in 0..dims[2] {
+                let at = [i, j, k];
+                let x: Vec<f64> = (0..3)
+                    .map(|a| lo[a] + (hi[a] - lo[a]) * at[a] as f64 / (dims[a] - 1) as f64)
+                    .collect();
+                points.push(format!("[{}, {}, {}, {}]", x[0], x[1], x[2], xi(i, j, k)));
+            }
+        }
+    }
+    let model = format!(
+        r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "piecewise", "cells": [2, 1, 3], "degree": [1, 2, 1], "points": [{}]}}}}"#,
+        points.join(", ")
+    );
+    let model = scratch("piecewise.bsolid.json", &model);
+    let queries = [
+        [0.0, 1.0, 1.5],
+        [-0.5, 0.3, 0.2],
+        [0.7, 1.9, 2.5],
+        [0.0, 1.0, 1.0],
+        [1.5, 1.0, 1.0],
+        [-0.2, -0.5, 3.2],
+    ];
+    let csv: String = queries
+        .iter()
+        .map(|p| format!("{},{},{}\n", p[0], p[1], p[2]))
+        .collect();
+    let pts = scratch("piecewise.csv", &csv);
+    let got = rows(&bezsolid(&[
+        "eval",
+        model.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
+    ]));
+    assert_eq!(got.len(), queries.len());
+    for (row, p) in got.iter().zip(&queries) {
+        let t: Vec<f64> = (0..3).map(|a| (p[a] - lo[a]) / (hi[a] - lo[a])).collect();
+        // The cell t falls in (the nearest outside), and the local parameter in it.
+        let cell: Vec<usize> = (0..3)
+            .map(|a| ((t[a] * cells[a] as f64).floor().max(0.0) as usize).min(cells[a] - 1))
+            .collect();
+        let u: Vec<f64> = (0..3)
+            .map(|a| t[a] * cells[a] as f64 - cell[a] as f64)
+            .collect();
+        let mut s = 0.0;
+        for i in 0..=degree[0] {
+            for j in 0..=degree[1] {
+                for k in 0..=degree[2] {
+                    let g = [
+                        cell[0] * degree[0] + i,
+                        cell[1] * degree[1] + j,
+                        cell[2] * degree[2] + k,
+                    ];
+                    s += b(degree[0], i, u[0])
+                        * b(degree[1], j, u[1])
+                        * b(degree[2], k, u[2])
+                        * xi(g[0], g[1], g[2]);
+                }
+            }
+        }
+        // f = S_ξ & F_s, F_s = F_b(t_u) & F_b(t_v) & F_b(t_w) left to right.
+        let want = and(s, and(and(fb(t[0]), fb(t[1])), fb(t[2])));
+        assert!(
+            (row[3] - want).abs() <= 1e-12 * want.abs().max(1.0),
+            "{p:?}: {} against {want}",
+            row[3]
+        );
+        let inside = t.iter().all(|x| (0.0..=1.0).contains(x));
+        assert_eq!(row[4], f64::from(u8::from(inside)), "{p:?}: preimages");
+    }
+}

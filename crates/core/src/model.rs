@@ -272,6 +272,18 @@ pub enum SolidSpec {
         #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "is_false"))]
         hidden: bool,
     },
+    /// A piecewise solid ([`crate::piecewise`]): `cells` `[cu, cv]` (2D) or `[cu, cv, cw]` (3D)
+    /// cells of `degree` `[n, m]` or `[n, m, l]` each, from one global net of
+    /// `(cu·n + 1)(cv·m + 1)[(cw·l + 1)]` points `[x, y, ξ]` or `[x, y, z, ξ]`, indexed like a
+    /// single net with those counts.
+    Piecewise {
+        /// The cells along each axis.
+        cells: Vec<usize>,
+        /// Each cell's degree.
+        degree: Vec<usize>,
+        /// The global net's points, the last axis fastest.
+        points: Vec<Vec<f64>>,
+    },
 }
 
 /// The longest name of a [`SolidSpec::Part`], in bytes.
@@ -592,6 +604,11 @@ impl ModelFile {
             SolidSpec::Plasm { .. } => {
                 return Err(ModelError::Kind(
                     "this is a PLaSM script (run it with `bezsolid plasm`), not a Bézier solid",
+                ));
+            }
+            SolidSpec::Piecewise { .. } => {
+                return Err(ModelError::Kind(
+                    "this is a piecewise solid (cells of one net), not a single Bézier solid",
                 ));
             }
             _ => {

@@ -83,6 +83,15 @@ pub enum PiecewiseError {
         /// The points the cells and degree ask for.
         want: usize,
     },
+    /// A control point has another number of coordinates than `[x, y, ξ]` or `[x, y, z, ξ]`.
+    Point {
+        /// Its index in the net.
+        index: usize,
+        /// The numbers it has.
+        got: usize,
+        /// The numbers a point of this dimension has.
+        want: usize,
+    },
     /// A control point is not valid (not finite, or too large).
     Solid(SolidError),
 }
@@ -114,6 +123,11 @@ impl fmt::Display for PiecewiseError {
                 f,
                 "{got} control points: these cells and degree take {want} (cells · degree + 1 \
                  along each axis, multiplied)"
+            ),
+            Self::Point { index, got, want } => write!(
+                f,
+                "control point {index} has {got} numbers; each has {want} (x, y{}, ξ)",
+                if *want == 4 { ", z" } else { "" }
             ),
             Self::Solid(e) => e.fmt(f),
         }
@@ -472,6 +486,8 @@ mod tests {
     use alloc::string::ToString;
     use alloc::vec;
     use glam::{DVec2, DVec3, DVec4};
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
 
     /// The Bernstein polynomial `B_i^n(t)`, written out (the test's own).
     fn bernstein(n: usize, i: usize, t: f64) -> f64 {

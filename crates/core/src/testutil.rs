@@ -122,6 +122,36 @@ pub(crate) fn random_point(rng: &mut Rng, r: f64) -> [f64; 3] {
     [rng.range(-r, r), rng.range(-r, r), rng.range(-r, r)]
 }
 
+/// A random piecewise volume around the origin (cells and degree 1 to 2 on each axis), a ball-like
+/// ξ (positive near the middle), its points moved a little where `moved`.
+pub(crate) fn random_piecewise3(rng: &mut Rng, moved: bool) -> crate::model::SolidSpec {
+    let cells = [rng.int(1, 2), rng.int(1, 2), rng.int(1, 2)];
+    let degree = [rng.int(1, 2), rng.int(1, 2), rng.int(1, 2)];
+    let dims: [usize; 3] = core::array::from_fn(|a| cells[a] * degree[a] + 1);
+    let c = random_point(rng, 0.3);
+    let half = rng.range(0.6, 0.9);
+    let points = (0..dims.iter().product())
+        .map(|k| {
+            let i = crate::tensor::multi_index(dims, k);
+            let t: [f64; 3] = core::array::from_fn(|a| i[a] as f64 / (dims[a] - 1) as f64);
+            let mut p: alloc::vec::Vec<f64> = (0..3)
+                .map(|a| {
+                    let wobble = if moved { rng.range(-0.04, 0.04) } else { 0.0 };
+                    c[a] - half + 2.0 * half * t[a] + wobble
+                })
+                .collect();
+            let r2: f64 = t.iter().map(|x| (x - 0.5) * (x - 0.5)).sum();
+            p.push(0.5 - 2.0 * r2 + rng.range(-0.1, 0.1));
+            p
+        })
+        .collect();
+    crate::model::SolidSpec::Piecewise {
+        cells: cells.to_vec(),
+        degree: degree.to_vec(),
+        points,
+    }
+}
+
 /// A random bounded 3D tree: primitives, regular volumes, operations, blends, morphs and
 /// transforms, `depth` levels at most.
 pub(crate) fn random_tree(rng: &mut Rng, depth: usize) -> crate::model::SolidSpec {

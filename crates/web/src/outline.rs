@@ -148,6 +148,20 @@ fn label(spec: &SolidSpec) -> String {
         }
         SolidSpec::Esc { .. } => "Free-form model".into(),
         SolidSpec::Plasm { .. } => "Script".into(),
+        SolidSpec::Piecewise { cells, degree, .. } => {
+            let what = if cells.len() == 3 { "volume" } else { "patch" };
+            let join = |x: &[usize]| {
+                x.iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join(" × ")
+            };
+            format!(
+                "Piecewise {what}: {} cells of degree {}",
+                join(cells),
+                join(degree)
+            )
+        }
     }
 }
 

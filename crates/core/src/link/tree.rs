@@ -101,6 +101,13 @@ pub(super) enum Node {
         name: alloc::string::String,
         hidden: bool,
     },
+    /// A piecewise solid (appended): its cells and degree (2 or 3 numbers each) and its global
+    /// net by columns, `x, y[, z], ξ`.
+    Piecewise {
+        cells: Vec<u8>,
+        degree: Vec<u8>,
+        columns: Vec<Vec<f64>>,
+    },
 }
 
 const AXES: [CoordAxis; 3] = [CoordAxis::X, CoordAxis::Y, CoordAxis::Z];
@@ -203,6 +210,28 @@ pub(super) fn flatten(root: &SolidSpec) -> Result<Vec<Node>, LinkError> {
                 name: name.clone(),
                 hidden: *hidden,
             },
+            SolidSpec::Piecewise {
+                cells,
+                degree,
+                points,
+            } => {
+                // Points of another length than the first are carried as the first's: the
+                // reader's validation refuses the net the same (the file's reader names them).
+                let width = points.first().map_or(0, Vec::len);
+                if points.iter().any(|p| p.len() != width) {
+                    return Err(refused(
+                        "solid",
+                        "a piecewise solid's points have different numbers of coordinates",
+                    ));
+                }
+                Node::Piecewise {
+                    cells: cells.iter().map(|&c| byte(c)).collect(),
+                    degree: degree.iter().map(|&d| byte(d)).collect(),
+                    columns: (0..width)
+                        .map(|c| points.iter().map(|p| p[c]).collect())
+                        .collect(),
+                }
+            }
         });
         // A blend or morph of another number of nodes is carried as it is; the reader takes two.
         if matches!(
@@ -330,6 +359,23 @@ fn leaf(node: Node) -> Result<SolidSpec, LinkError> {
         },
         Node::Halfplane { normal, offset } => SolidSpec::Halfplane { normal, offset },
         Node::Halfspace { normal, offset } => SolidSpec::Halfspace { normal, offset },
+        Node::Piecewise {
+            cells,
+            degree,
+            columns,
+        } => {
+            let len = columns.first().map_or(0, Vec::len);
+            if columns.iter().any(|c| c.len() != len) || !(3..=4).contains(&columns.len()) {
+                return Err(LinkError::Decode);
+            }
+            SolidSpec::Piecewise {
+                cells: cells.into_iter().map(usize::from).collect(),
+                degree: degree.into_iter().map(usize::from).collect(),
+                points: (0..len)
+                    .map(|k| columns.iter().map(|c| c[k]).collect())
+                    .collect(),
+            }
+        }
         // An operation of no children (a union of none): validation names it.
         Node::Union { .. } => SolidSpec::Union { of: Vec::new() },
         Node::Intersection { .. } => SolidSpec::Intersection { of: Vec::new() },
@@ -519,6 +565,73 @@ mod tests {
             assert_eq!(back, file);
             assert_eq!(format!("{:?}", back.solid), format!("{:?}", file.solid));
         }
+    }
+
+    #[test]
+    fn piecewise_solids_round_trip_through_links_alone_and_in_trees() {
+        use alloc::string::ToString;
+        let mut rng = crate::testutil::Rng::new(4);
+        let patch = S::Piecewise {
+            cells: vec![2, 3],
+            degree: vec![1, 2],
+            points: (0..21)
+                .map(|k| {
+                    vec![
+                        f64::from(k / 7),
+                        f64::from(k % 7) / 3.0,
+                        rng.range(-1.0, 1.0),
+                    ]
+                })
+                .collect(),
+        };
+        let volume = crate::testutil::random_piecewise3(&mut rng, true);
+        for spec in [
+            patch.clone(),
+            volume.clone(),
+            S::Union {
+                of: vec![
+                    volume,
+                    S::Sphere {
+                        center: [0.0; 3],
+                        radius: 0.5,
+                    },
+                ],
+            },
+        ] {
+            let file = ModelFile::from_spec(spec);
+            file.to_tree().unwrap();
+            let link = encode(&file).unwrap();
+            assert_eq!(decode_file(&link).unwrap(), file);
+        }
+        // Columns of different lengths are not a net.
+        let broken = link_of(&[super::Node::Piecewise {
+            cells: vec![1, 1],
+            degree: vec![1, 1],
+            columns: vec![vec![0.0; 4], vec![0.0; 4], vec![0.0; 3]],
+        }]);
+        assert!(decode_file(&broken).is_err());
+        // A net of the wrong count travels and is refused when read, with what is wrong.
+        let S::Piecewise {
+            cells,
+            degree,
+            mut points,
+        } = patch
+        else {
+            unreachable!()
+        };
+        points.pop();
+        let file = ModelFile::from_spec(S::Piecewise {
+            cells,
+            degree,
+            points,
+        });
+        let e = decode_file(&encode(&file).unwrap()).map(|f| f.to_tree().map(drop));
+        let message = match e {
+            Ok(Err(e)) => e.to_string(),
+            Err(e) => e.to_string(),
+            Ok(Ok(())) => panic!("a net of 20 points for 21 was read"),
+        };
+        assert!(message.contains("20 control points"), "{message}");
     }
 
     #[test]

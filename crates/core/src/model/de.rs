@@ -49,6 +49,7 @@ const KINDS: &[&str] = &[
     "morph",
     "transform",
     "part",
+    "piecewise",
 ];
 
 /// The most values kept from the fields before `kind` (every number, string and list counts one):
@@ -61,6 +62,15 @@ pub(super) fn positions<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>
     d.deserialize_seq(Capped::new(MAX_VERTICES, "vertices"))
 }
 
+/// A piecewise solid's `points`, refused past [`crate::piecewise::MAX_POINTS`].
+fn piecewise_points<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<f64>>, D::Error> {
+    d.deserialize_seq(Capped {
+        holder: "a piecewise solid",
+        taker: "a piecewise solid",
+        ..Capped::new(crate::piecewise::MAX_POINTS, "control points")
+    })
+}
+
 /// A mesh's `triangles`, refused past [`MAX_TRIANGLES`].
 pub(super) fn triangles<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[u32; 3]>, D::Error> {
     d.deserialize_seq(Capped::new(MAX_TRIANGLES, "triangles"))
@@ -70,6 +80,9 @@ pub(super) fn triangles<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[u32; 3]>
 struct Capped<T> {
     max: usize,
     what: &'static str,
+    /// What holds the list, and what takes at most `max` of them, for the message.
+    holder: &'static str,
+    taker: &'static str,
     element: PhantomData<T>,
 }
 
@@ -78,14 +91,16 @@ impl<T> Capped<T> {
         Self {
             max,
             what,
+            holder: "a mesh",
+            taker: "a free-form model",
             element: PhantomData,
         }
     }
 
     fn too_many<E: de::Error>(&self) -> E {
         E::custom(format_args!(
-            "a mesh has more than {} {} (the most a free-form model takes)",
-            self.max, self.what
+            "{} has more than {} {} (the most {} takes)",
+            self.holder, self.max, self.what, self.taker
         ))
     }
 }
@@ -120,6 +135,7 @@ enum Kind {
     Volume,
     Esc,
     Plasm,
+    Piecewise,
     /// A node of a tree other than a Bézier leaf: its index in [`KINDS`].
     Node(usize),
 }
@@ -138,6 +154,7 @@ impl<'de> Deserialize<'de> for Kind {
                     "volume" => Ok(Kind::Volume),
                     "esc" => Ok(Kind::Esc),
                     "plasm" => Ok(Kind::Plasm),
+                    "piecewise" => Ok(Kind::Piecewise),
                     _ => KINDS
                         .iter()
                         .position(|&k| k == v)
@@ -166,6 +183,7 @@ enum Key {
     Operands,
     Expression,
     Script,
+    Cells,
     /// A field of a tree's node: its index in [`NODE_KEYS`].
     Node(usize),
     /// A field no kind has (ignored, as serde ignores unknown fields).
@@ -206,6 +224,7 @@ impl Key {
             Self::Operands => "operands",
             Self::Expression => "expression",
             Self::Script => "script",
+            Self::Cells => "cells",
             Self::Node(i) => NODE_KEYS[i],
             Self::Other => "",
         }
@@ -229,6 +248,7 @@ impl<'de> Deserialize<'de> for Key {
                     "operands" => Key::Operands,
                     "expression" => Key::Expression,
                     "script" => Key::Script,
+                    "cells" => Key::Cells,
                     _ => NODE_KEYS
                         .iter()
                         .position(|&k| k == v)
@@ -264,6 +284,11 @@ enum Fields {
     },
     Plasm {
         script: Option<String>,
+    },
+    Piecewise {
+        cells: Option<Vec<usize>>,
+        degree: Option<Vec<usize>>,
+        points: Option<Vec<Vec<f64>>>,
     },
     /// A tree's node: its kind's index in [`KINDS`] and its fields.
     Node(usize, alloc::boxed::Box<NodeFields>),
@@ -434,6 +459,11 @@ impl Fields {
                 operands: None,
             },
             Kind::Plasm => Self::Plasm { script: None },
+            Kind::Piecewise => Self::Piecewise {
+                cells: None,
+                degree: None,
+                points: None,
+            },
             Kind::Node(kind) => Self::Node(kind, alloc::boxed::Box::default()),
         }
     }
@@ -461,6 +491,15 @@ impl Fields {
             },
             Self::Plasm { script } => SolidSpec::Plasm {
                 script: script.ok_or_else(|| missing(Key::Script))?,
+            },
+            Self::Piecewise {
+                cells,
+                degree,
+                points,
+            } => SolidSpec::Piecewise {
+                cells: cells.ok_or_else(|| missing(Key::Cells))?,
+                degree: degree.ok_or_else(|| missing(Key::Degree))?,
+                points: points.ok_or_else(|| missing(Key::Points))?,
             },
             Self::Node(kind, fields) => fields.finish(kind)?,
         })
@@ -501,6 +540,15 @@ impl<'de> DeserializeSeed<'de> for Field<'_> {
             (Fields::Esc { operands, .. }, Key::Operands) => fill(operands, key, d),
             (Fields::Esc { expression, .. }, Key::Expression) => fill(expression, key, d),
             (Fields::Plasm { script }, Key::Script) => fill(script, key, d),
+            (Fields::Piecewise { cells, .. }, Key::Cells) => fill(cells, key, d),
+            (Fields::Piecewise { degree, .. }, Key::Degree) => fill(degree, key, d),
+            (Fields::Piecewise { points, .. }, Key::Points) => {
+                if points.is_some() {
+                    return Err(de::Error::duplicate_field("points"));
+                }
+                *points = Some(piecewise_points(d)?);
+                Ok(())
+            }
             // `name` and `hidden` are a part's: on other kinds they are ignored, as any field no
             // kind has (what files written before parts may hold).
             (Fields::Node(kind, _), Key::Node(index))
@@ -590,6 +638,13 @@ impl<'de> Visitor<'de> for SolidVisitor {
             Kind::Plasm => SolidSpec::Plasm {
                 script: element(&mut seq, 1)?,
             },
+            Kind::Piecewise => SolidSpec::Piecewise {
+                cells: element(&mut seq, 1)?,
+                degree: element(&mut seq, 2)?,
+                points: seq.next_element_seed(PiecewisePoints)?.ok_or_else(|| {
+                    de::Error::invalid_length(3, &"a kind and the fields of that kind")
+                })?,
+            },
             Kind::Node(kind) => {
                 return Err(de::Error::custom(format_args!(
                     "a \"{}\" node is written as an object with a \"kind\"",
@@ -603,6 +658,17 @@ impl<'de> Visitor<'de> for SolidVisitor {
             ));
         }
         Ok(solid)
+    }
+}
+
+/// A piecewise solid's `points` as an element of a sequence.
+struct PiecewisePoints;
+
+impl<'de> DeserializeSeed<'de> for PiecewisePoints {
+    type Value = Vec<Vec<f64>>;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        piecewise_points(d)
     }
 }
 

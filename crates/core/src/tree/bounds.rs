@@ -260,6 +260,23 @@ where
                 }
             }
         }
+        Shape::Piecewise(solid, _) => {
+            let (lo, hi) = solid.domain();
+            let (lo, hi) = (Dim::<D>::coords(lo), Dim::<D>::coords(hi));
+            if solid.is_regular() {
+                // Clipped on the global box as a single solid on its own.
+                let s = sqrt(0.25 - level);
+                Aabb {
+                    lo: core::array::from_fn(|i| lo[i] + (0.5 - s) * (hi[i] - lo[i])),
+                    hi: core::array::from_fn(|i| lo[i] + (0.5 + s) * (hi[i] - lo[i])),
+                }
+            } else {
+                if level < 0.0 {
+                    return None;
+                }
+                Aabb { lo, hi }
+            }
+        }
         Shape::Cylinder { .. } | Shape::Half { .. } => return None,
     })
 }

@@ -255,6 +255,74 @@ where
             }
             Interval::ANY
         }
+        Shape::Piecewise(solid, None) => {
+            // Moved points: negative outside its net's hull, and no more is known.
+            let (min, max) = solid.domain();
+            let (min, max) = (Dim::<D>::coords(min), Dim::<D>::coords(max));
+            if (0..D).any(|i| hi[i] < min[i] || lo[i] > max[i]) {
+                return Interval::new(-UNKNOWN, -f64::MIN_POSITIVE);
+            }
+            Interval::ANY
+        }
+        Shape::Piecewise(_, Some(r)) => {
+            let tlo = r.scaled(lo);
+            let thi = r.scaled(hi);
+            let strip =
+                |i: usize| Interval::new(0.25, 0.25).add(offset_square(tlo[i], thi[i], 0.5).neg());
+            let clip = (1..D).fold(strip(0), |f, i| f.intersect(strip(i)));
+            if clip.hi < 0.0 {
+                return Interval::new(-UNKNOWN, clip.hi);
+            }
+            // The hull of the cells' polynomials over the parts of the box in them (the first and
+            // last cells' extended past the global box), clipped by the global box's bound.
+            let mut first = [0; D];
+            let mut last = [0; D];
+            for a in 0..D {
+                let n = r.cells[a];
+                // As the solid picks its cell (truncation is the floor of a non-negative number).
+                let cell = |t: f64| {
+                    let s = t * n as f64;
+                    if s >= n as f64 {
+                        n - 1
+                    } else if s >= 0.0 {
+                        s as usize
+                    } else {
+                        0
+                    }
+                };
+                first[a] = cell(tlo[a]);
+                last[a] = cell(thi[a]);
+            }
+            let spans: [usize; D] = core::array::from_fn(|a| last[a] - first[a] + 1);
+            let mut s = Interval::new(f64::INFINITY, f64::NEG_INFINITY);
+            for k in 0..spans.iter().product() {
+                let at = crate::tensor::multi_index(spans, k);
+                let cell: [usize; D] = core::array::from_fn(|a| first[a] + at[a]);
+                let flat = (0..D).fold(0, |k, a| k * r.cells[a] + cell[a]);
+                let xi = &r.xi[flat];
+                scratch.clear();
+                scratch.extend_from_slice(xi.points());
+                let dims = xi.dims();
+                for axis in 0..D {
+                    let n = r.cells[axis] as f64;
+                    let c = cell[axis] as f64;
+                    let mut a = tlo[axis] * n - c;
+                    let mut b = thi[axis] * n - c;
+                    if cell[axis] > 0 {
+                        a = a.max(0.0);
+                    }
+                    if cell[axis] + 1 < r.cells[axis] {
+                        b = b.min(1.0);
+                    }
+                    restrict(scratch, &dims, axis, a, b.max(a));
+                }
+                s = scratch.iter().fold(s, |r, &c| Interval {
+                    lo: r.lo.min(c),
+                    hi: r.hi.max(c),
+                });
+            }
+            s.intersect(clip)
+        }
         Shape::Bezier(_, Some(r)) => {
             let tlo = r.scaled(lo);
             let thi = r.scaled(hi);

@@ -804,6 +804,70 @@ mod tests {
         }
     }
 
+    /// Piecewise leaves, regular or moved, alone and in a tree: their intervals and bounds hold
+    /// their values, and their meshes are closed, hold their volume and lie on `f = 0`.
+    #[test]
+    fn piecewise_leaves_bound_and_mesh_like_any_leaf() {
+        let mut rng = Rng::new(19);
+        for round in 0..6 {
+            let moved = round % 2 == 1;
+            let leaf = crate::testutil::random_piecewise3(&mut rng, moved);
+            let spec = if round < 4 {
+                leaf
+            } else {
+                S::Difference {
+                    of: vec![
+                        leaf,
+                        S::Sphere {
+                            center: point(&mut rng, 0.3),
+                            radius: 0.3,
+                        },
+                    ],
+                }
+            };
+            let tree = space(spec);
+            for _ in 0..20 {
+                let c = point(&mut rng, 1.0);
+                let h: [f64; 3] = core::array::from_fn(|_| rng.range(0.01, 0.6));
+                let lo: [f64; 3] = core::array::from_fn(|i| c[i] - h[i]);
+                let hi: [f64; 3] = core::array::from_fn(|i| c[i] + h[i]);
+                let range = tree.interval(lo, hi);
+                for _ in 0..30 {
+                    let p: [f64; 3] = core::array::from_fn(|i| rng.range(lo[i], hi[i]));
+                    let f = tree.f(glam::DVec3::from_array(p));
+                    let slack = 1e-9 * f.abs().max(1.0);
+                    assert!(
+                        range.lo - slack <= f && f <= range.hi + slack,
+                        "{p:?}: f = {f} outside {range:?}"
+                    );
+                }
+            }
+            let (lo, hi) = tree.bounds().expect("bounded");
+            let n = 20_000;
+            let mut inside = 0;
+            for _ in 0..n {
+                let p = point(&mut rng, 1.5);
+                if tree.f(glam::DVec3::from_array(p)) > 0.0 {
+                    assert!((0..3).all(|i| lo[i] <= p[i] && p[i] <= hi[i]), "{p:?}");
+                }
+                let q: [f64; 3] = core::array::from_fn(|i| rng.range(lo[i], hi[i]));
+                inside += usize::from(tree.f(glam::DVec3::from_array(q)) > 0.0);
+            }
+            let box_volume: f64 = (0..3).map(|i| hi[i] - lo[i]).product();
+            let mc = box_volume * inside as f64 / n as f64;
+            let mesh = tree
+                .polygonize(if moved { 24 } else { 48 }, 1e-10, None)
+                .unwrap();
+            mesh.check_closed_manifold().unwrap();
+            let v = mesh.volume();
+            assert!((v - mc).abs() <= 0.06 * mc, "mesh {v} vs Monte Carlo {mc}");
+            for (k, p) in mesh.positions.iter().enumerate().step_by(41) {
+                let (f, g) = tree.f_with_gradient(*p);
+                assert!(f.abs() <= 1e-9 * g.length().max(1.0), "vertex {k}: f = {f}");
+            }
+        }
+    }
+
     #[test]
     fn a_box_meshes_unbounded_trees_and_cuts_them_closed() {
         let half = space(S::Halfspace {

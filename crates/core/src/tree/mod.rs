@@ -157,6 +157,11 @@ where
     },
     /// `offset − normal · p`.
     Half { normal: [f64; D], offset: f64 },
+    /// A piecewise solid; a regular one keeps its cells' `ξ` nets apart, for bounds.
+    Piecewise(
+        Box<crate::piecewise::Piecewise<D>>,
+        Option<Box<RegularCells<D>>>,
+    ),
 }
 
 impl<const D: usize> Shape<D>
@@ -177,6 +182,10 @@ where
                 );
             }
             Self::Bezier(solid, None) => {
+                let v = solid.evaluate(Dim::<D>::point(p), Method::Fast);
+                return (v.f, v.preimages, v.exhausted);
+            }
+            Self::Piecewise(solid, _) => {
                 let v = solid.evaluate(Dim::<D>::point(p), Method::Fast);
                 return (v.f, v.preimages, v.exhausted);
             }
@@ -233,6 +242,10 @@ where
     fn gradient(&self, p: [f64; D]) -> (f64, [f64; D]) {
         match self {
             Self::Bezier(solid, _) => {
+                let (f, g) = solid.f_with_gradient(Dim::<D>::point(p));
+                (f, Dim::<D>::coords(g))
+            }
+            Self::Piecewise(solid, _) => {
                 let (f, g) = solid.f_with_gradient(Dim::<D>::point(p));
                 (f, Dim::<D>::coords(g))
             }
@@ -326,6 +339,47 @@ impl<const D: usize> Regular<D> {
     }
 
     /// The parameters of `p` (any point, inside the box or not).
+    fn scaled(&self, p: [f64; D]) -> [f64; D] {
+        core::array::from_fn(|c| (p[c] - self.min[c]) / (self.max[c] - self.min[c]))
+    }
+}
+
+/// A regular piecewise leaf's cells' `ξ` nets (in the net's order, the last axis fastest) and its
+/// box: what its interval bounds read.
+#[derive(Clone, Debug)]
+struct RegularCells<const D: usize> {
+    xi: Vec<Tensor<f64, D>>,
+    cells: [usize; D],
+    min: [f64; D],
+    max: [f64; D],
+}
+
+impl<const D: usize> RegularCells<D> {
+    fn of(solid: &crate::piecewise::Piecewise<D>) -> Option<Self>
+    where
+        Dim<D>: Dimension<D>,
+    {
+        if !solid.is_regular() {
+            return None;
+        }
+        let cells = solid.cells();
+        let count: usize = cells.iter().product();
+        let xi = (0..count)
+            .map(|k| {
+                let cell = crate::tensor::multi_index(cells, k);
+                solid.part(cell).map(Solid::xi_net)
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let (min, max) = solid.domain();
+        Some(Self {
+            xi,
+            cells,
+            min: Dim::<D>::coords(min),
+            max: Dim::<D>::coords(max),
+        })
+    }
+
+    /// The global parameters of `p` (any point, inside the box or not).
     fn scaled(&self, p: [f64; D]) -> [f64; D] {
         core::array::from_fn(|c| (p[c] - self.min[c]) / (self.max[c] - self.min[c]))
     }
@@ -667,6 +721,23 @@ where
             .count()
     }
 
+    /// The tree's one leaf when it is a single piecewise solid with no transform.
+    #[must_use]
+    pub fn as_piecewise(&self) -> Option<&crate::piecewise::Piecewise<D>> {
+        match (&self.leaves[..], &self.steps[..]) {
+            (
+                [
+                    Leaf {
+                        shape: Shape::Piecewise(s, _),
+                        map: None,
+                    },
+                ],
+                [Step::Leaf(0)],
+            ) => Some(s),
+            _ => None,
+        }
+    }
+
     /// The tree's one leaf when it is a single Bézier solid with no transform.
     #[must_use]
     pub fn as_solid(&self) -> Option<&Solid<D>> {
@@ -747,6 +818,15 @@ fn kind_dimension(spec: &SolidSpec) -> Result<Option<usize>, &'static str> {
         | SolidSpec::Cylinder { .. }
         | SolidSpec::Torus { .. }
         | SolidSpec::Halfspace { .. } => Some(3),
+        SolidSpec::Piecewise { cells, .. } => match cells.len() {
+            2 => Some(2),
+            3 => Some(3),
+            _ => {
+                return Err(
+                    "a piecewise solid's \"cells\" are [cu, cv] (a patch) or [cu, cv, cw] (a volume)",
+                );
+            }
+        },
         SolidSpec::Esc { .. } => {
             return Err("a free-form model is a model of its own, not a node of a tree");
         }
@@ -881,6 +961,16 @@ where
                 })?;
                 let regular = Regular::of(&solid).map(Box::new);
                 self.leaf(Shape::Bezier(Box::new(solid), regular), map);
+            }
+            SolidSpec::Piecewise {
+                cells,
+                degree,
+                points,
+            } => {
+                let solid = piecewise::<D>(cells, degree, points)
+                    .map_err(|e| tree_error(path, format!("invalid piecewise solid: {e}")))?;
+                let regular = RegularCells::of(&solid).map(Box::new);
+                self.leaf(Shape::Piecewise(Box::new(solid), regular), map);
             }
             SolidSpec::Circle { center, radius } => self.ball(center, *radius, path, map)?,
             SolidSpec::Sphere { center, radius } => self.ball(center, *radius, path, map)?,
@@ -1092,6 +1182,39 @@ where
         .collect();
     let net = Tensor::try_new(degree, controls).map_err(SolidError::from)?;
     Solid::try_from_net(net)
+}
+
+fn piecewise<const D: usize>(
+    cells: &[usize],
+    degree: &[usize],
+    points: &[Vec<f64>],
+) -> Result<crate::piecewise::Piecewise<D>, crate::piecewise::PiecewiseError>
+where
+    Dim<D>: Dimension<D>,
+{
+    use crate::piecewise::{Piecewise, PiecewiseError};
+    let dimension = PiecewiseError::Dimension {
+        cells: cells.len(),
+        degree: degree.len(),
+    };
+    let cells: [usize; D] = cells.try_into().map_err(|_| dimension.clone())?;
+    let degree: [usize; D] = degree.try_into().map_err(|_| dimension)?;
+    let controls = points
+        .iter()
+        .enumerate()
+        .map(|(index, p)| {
+            if p.len() == D + 1 {
+                Ok(Dim::<D>::control(core::array::from_fn(|c| p[c]), p[D]))
+            } else {
+                Err(PiecewiseError::Point {
+                    index,
+                    got: p.len(),
+                    want: D + 1,
+                })
+            }
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Piecewise::new(cells, degree, controls)
 }
 
 fn finite(v: f64, path: &str) -> Result<(), ModelError> {
@@ -1751,6 +1874,94 @@ mod tests {
     }
 
     #[cfg(feature = "serde")]
+    #[test]
+    fn piecewise_solids_read_and_write_as_model_files_and_say_what_is_wrong() {
+        use alloc::string::ToString;
+        // Two quadratic-by-linear cells along u over [0, 2] × [0, 1], as DESIGN writes them.
+        let points: Vec<String> = (0..5)
+            .flat_map(|i| (0..2).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                format!(
+                    "[{}, {j}, {}]",
+                    f64::from(i) / 2.0,
+                    if i == 2 { 1 } else { -1 }
+                )
+            })
+            .collect();
+        let text = format!(
+            r#"{{"format": "bezsolid", "version": 1, "solid": {{"kind": "piecewise",
+                "cells": [2, 1], "degree": [2, 1], "points": [{}]}}}}"#,
+            points.join(", ")
+        );
+        let file: ModelFile = serde_json::from_str(&text).unwrap();
+        let ModelTree::Plane(tree) = file.to_tree().unwrap() else {
+            panic!("a 2D tree")
+        };
+        let solid = tree.as_piecewise().expect("one piecewise leaf");
+        assert_eq!((solid.cells(), solid.degree()), ([2, 1], [2, 1]));
+        assert!(solid.is_regular());
+        // ξ = 1 only at the shared column x = 1: inside there, not clipped.
+        assert!(tree.f(glam::DVec2::new(1.0, 0.5)) > 0.0);
+        assert!(tree.f(glam::DVec2::new(0.2, 0.5)) < 0.0);
+        assert!(
+            file.to_solid()
+                .unwrap_err()
+                .to_string()
+                .contains("piecewise")
+        );
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(
+            json.contains(r#""kind":"piecewise","cells":[2,1]"#),
+            "{json}"
+        );
+        assert_eq!(serde_json::from_str::<ModelFile>(&json).unwrap(), file);
+        // The sequence form, as for patches.
+        let seq = format!(
+            r#"{{"format": "bezsolid", "version": 1, "solid": ["piecewise", [2, 1], [2, 1], [{}]]}}"#,
+            points.join(", ")
+        );
+        assert_eq!(serde_json::from_str::<ModelFile>(&seq).unwrap(), file);
+        for (solid, says) in [
+            (
+                r#"{"kind": "piecewise", "cells": [2, 1], "degree": [2, 1], "points": [[0, 0, 1]]}"#,
+                "1 control points: these cells and degree take 10",
+            ),
+            (
+                r#"{"kind": "piecewise", "cells": [1, 1, 1, 1], "degree": [1, 1], "points": []}"#,
+                "[cu, cv, cw]",
+            ),
+            (
+                r#"{"kind": "piecewise", "cells": [1, 1, 1], "degree": [1, 1], "points": []}"#,
+                "have 3 and 2",
+            ),
+            (
+                r#"{"kind": "piecewise", "cells": [1, 1], "degree": [1, 1],
+                    "points": [[0, 0, 1], [0, 1, 1], [1, 0], [1, 1, 1]]}"#,
+                "control point 2 has 2 numbers",
+            ),
+            (
+                r#"{"kind": "piecewise", "cells": [1, 40], "degree": [1, 1], "points": []}"#,
+                "40 cells along axis v",
+            ),
+            (
+                r#"{"kind": "union", "of": [{"kind": "circle", "center": [0, 0], "radius": 1},
+                    {"kind": "piecewise", "cells": [1, 1], "degree": [1, 1], "points": []}]}"#,
+                "solid.of[1]: invalid piecewise solid: 0 control points",
+            ),
+            (
+                r#"{"kind": "piecewise", "cells": [1, 1], "degree": [1, 1]}"#,
+                "points",
+            ),
+        ] {
+            let text = format!(r#"{{"format": "bezsolid", "version": 1, "solid": {solid}}}"#);
+            let e = match serde_json::from_str::<ModelFile>(&text) {
+                Ok(file) => file.to_tree().map(drop).unwrap_err().to_string(),
+                Err(e) => e.to_string(),
+            };
+            assert!(e.contains(says), "{solid}: {e}");
+        }
+    }
+
     #[test]
     fn trees_read_and_write_as_model_files() {
         use alloc::string::ToString;
