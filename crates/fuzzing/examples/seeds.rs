@@ -101,6 +101,39 @@ fn main() -> std::io::Result<()> {
             operands: vec![EscOperand::example(Example::Icosphere, [0.0; 3])],
         }),
     ));
+    // Piecewise solids: a patch of 2 × 2 quadratic cells, regular, and a volume of 2 × 1 × 1
+    // linear-by-quadratic cells with a point moved.
+    let patch_points = (0..25)
+        .map(|k| {
+            let (i, j) = (k / 5, k % 5);
+            let xi = if (1..4).contains(&i) && (1..4).contains(&j) { 1.0 } else { -0.5 };
+            vec![f64::from(i) / 4.0, f64::from(j) / 4.0, xi]
+        })
+        .collect();
+    models.push((
+        "piecewise-patch".into(),
+        ModelFile::from_spec(bezsolid_core::model::SolidSpec::Piecewise {
+            cells: vec![2, 2],
+            degree: vec![2, 2],
+            points: patch_points,
+        }),
+    ));
+    let mut volume_points: Vec<Vec<f64>> = (0..27)
+        .map(|k| {
+            let (i, j, l) = (k / 9, (k / 3) % 3, k % 3);
+            let xi = if (i, j, l) == (1, 1, 1) { 1.0 } else { -0.3 };
+            vec![f64::from(i) / 2.0, f64::from(j) / 2.0, f64::from(l) / 2.0, xi]
+        })
+        .collect();
+    volume_points[13][0] += 0.1;
+    models.push((
+        "piecewise-volume-moved".into(),
+        ModelFile::from_spec(bezsolid_core::model::SolidSpec::Piecewise {
+            cells: vec![2, 1, 1],
+            degree: vec![1, 2, 2],
+            points: volume_points,
+        }),
+    ));
     let example = scripts::example("4.1").expect("the paper's example 4.1");
     models.push(("plasm-4.1".into(), ModelFile::from_plasm(&example.source())));
 
