@@ -8,6 +8,7 @@ use crate::args::Args;
 use crate::input::{Lines, MAX_POINTS_BYTES};
 use crate::output::Sink;
 use anyhow::Context as _;
+use bezsolid_core::inverse::Method;
 use bezsolid_core::tree::{ModelTree, Tree, TreeValue};
 use glam::{DVec2, DVec3};
 
@@ -15,9 +16,19 @@ use glam::{DVec2, DVec3};
 const MAX_POINTS: usize = 10_000_000;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("eval", args, &["--points", "--output"])?;
+    let args = Args::parse("eval", args, &["--points", "--output", "--inverse"])?;
     let model = args.model("bezsolid eval MODEL --points FILE.csv")?;
     let points = args.required("--points", "--points FILE.csv")?;
+    let method = match args.value("--inverse") {
+        None | Some("fast") => Method::Fast,
+        Some("paper") => Method::Hybrid,
+        Some("clip") => Method::Clipping,
+        Some(other) => bail!(
+            "eval: --inverse {other}: the inverse map is one of paper (the paper's spline guess \
+             and Bézier clipping), clip (Bézier clipping over the whole domain) or fast (the \
+             default)"
+        ),
+    };
     // One patch or volume, or a tree of many solids (a single solid is a tree of one leaf).
     let tree = crate::load_file(model)?
         .to_tree()
@@ -40,6 +51,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             out.write(format_args!("x,y,f,preimages\n"))?;
             evaluate(
                 t,
+                method,
                 points,
                 &mut out,
                 |p| DVec2::new(p[0], p[1]),
@@ -49,7 +61,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         ModelTree::Space(t) => {
             t.plan(expected);
             out.write(format_args!("x,y,z,f,preimages\n"))?;
-            evaluate(t, points, &mut out, DVec3::from_array, |p, v| {
+            evaluate(t, method, points, &mut out, DVec3::from_array, |p, v| {
                 format!("{},{},{},{},{}\n", p[0], p[1], p[2], v.f, v.preimages)
             })?;
         }
@@ -154,6 +166,7 @@ impl Iterator for Points {
 /// sums them over its Bézier leaves.
 fn evaluate<const D: usize>(
     tree: &Tree<D>,
+    method: Method,
     points: Points,
     out: &mut Sink,
     point: impl Fn([f64; 3]) -> bezsolid_core::Point<D>,
@@ -165,7 +178,7 @@ where
     let (mut count, mut exhausted) = (0usize, 0usize);
     for p in points {
         let p = p?;
-        let v = tree.evaluate(point(p));
+        let v = tree.evaluate_by(point(p), method);
         (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
         out.write(format_args!("{}", row(p, v)))?;
     }

@@ -30,11 +30,13 @@ use bezsolid_core::presets::Preset;
 const USAGE: &str = "usage: bezsolid <command> [options]
 
 commands (DESIGN §5):
-  eval MODEL --points FILE.csv [-o OUT.csv]
+  eval MODEL --points FILE.csv [-o OUT.csv] [--inverse paper|clip|fast]
                                    f and the number of preimages per point: CSV x,y[,z],f,preimages
                                    (FILE.csv: one point a line, at most 256 MiB and 10 million
                                    points; rows are written as points are read, and a bad line
-                                   stops the output there)
+                                   stops the output there; moved points are inverted by
+                                   the paper's spline guess and Bézier clipping, by clipping
+                                   over the whole domain, or by seeded Newton, the default)
   contour MODEL [--res N] -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]
                                    zero contours of a patch solid, a piecewise patch or a 2D
                                    tree (N cells per side, default 256; vertices refined to |f| <= A, default

@@ -309,3 +309,97 @@ fn no_finite_point_gives_nan() {
         }
     }
 }
+
+/// The three inverse maps of `eval --inverse` find the same preimages: on a net with one point
+/// moved (injective) and on one moved so far that it folds, f and the preimages agree point by
+/// point; an unknown name is refused with the names it takes.
+#[test]
+fn the_three_inverse_maps_agree_on_moved_and_folded_nets() {
+    let mut rng = Rng(0x5851_f42d_4c95_7f2d);
+    let mut points = regular(&mut rng, &[2, 2]);
+    // The middle point pulled a little (injective), then the middle column past the last (a
+    // fold: x ∈ (1, 1.16) has two preimages).
+    for name in ["moved", "folded"] {
+        if name == "moved" {
+            points[4][0] = 0.65;
+        } else {
+            for p in &mut points[3..6] {
+                p[0] = 1.6;
+            }
+        }
+        let model = scratch(
+            &format!("inverse-{name}.bsolid.json"),
+            &model(&[2, 2], &points),
+        );
+        let mut csv = String::new();
+        for _ in 0..40 {
+            let _ = writeln!(csv, "{},{}", rng.unit() * 1.4 - 0.2, rng.unit() * 1.4 - 0.2);
+        }
+        let csv = scratch(&format!("inverse-{name}.csv"), &csv);
+        let rows: Vec<Vec<Vec<f64>>> = ["paper", "clip", "fast"]
+            .iter()
+            .map(|method| {
+                let out = bezsolid_bounded(
+                    &[
+                        "eval",
+                        model.to_str().unwrap(),
+                        "--points",
+                        csv.to_str().unwrap(),
+                        "--inverse",
+                        method,
+                    ],
+                    Feed::Nothing,
+                    1024,
+                    Duration::from_secs(60),
+                );
+                assert!(
+                    out.status.success(),
+                    "{method}: {}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                String::from_utf8(out.stdout)
+                    .unwrap()
+                    .lines()
+                    .skip(1)
+                    .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+                    .collect()
+            })
+            .collect();
+        if name == "folded" {
+            assert!(
+                rows[0].iter().any(|r| r[3] >= 2.0),
+                "no point has two preimages"
+            );
+        }
+        for ((paper, clip), fast) in rows[0].iter().zip(&rows[1]).zip(&rows[2]) {
+            for other in [clip, fast] {
+                assert!(
+                    (paper[2] - other[2]).abs() <= 1e-9 * paper[2].abs().max(1.0),
+                    "{name} at {:?}: f {} against {}",
+                    &paper[..2],
+                    paper[2],
+                    other[2]
+                );
+                assert_eq!(paper[3], other[3], "{name} at {:?}: preimages", &paper[..2]);
+            }
+        }
+    }
+    let out = bezsolid_bounded(
+        &[
+            "eval",
+            "x.bsolid.json",
+            "--points",
+            "p.csv",
+            "--inverse",
+            "newton",
+        ],
+        Feed::Nothing,
+        1024,
+        Duration::from_secs(10),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("paper") && err.contains("clip"),
+        "{err}"
+    );
+}

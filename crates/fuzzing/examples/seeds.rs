@@ -106,7 +106,11 @@ fn main() -> std::io::Result<()> {
     let patch_points = (0..25)
         .map(|k| {
             let (i, j) = (k / 5, k % 5);
-            let xi = if (1..4).contains(&i) && (1..4).contains(&j) { 1.0 } else { -0.5 };
+            let xi = if (1..4).contains(&i) && (1..4).contains(&j) {
+                1.0
+            } else {
+                -0.5
+            };
             vec![f64::from(i) / 4.0, f64::from(j) / 4.0, xi]
         })
         .collect();
@@ -122,7 +126,12 @@ fn main() -> std::io::Result<()> {
         .map(|k| {
             let (i, j, l) = (k / 9, (k / 3) % 3, k % 3);
             let xi = if (i, j, l) == (1, 1, 1) { 1.0 } else { -0.3 };
-            vec![f64::from(i) / 2.0, f64::from(j) / 2.0, f64::from(l) / 2.0, xi]
+            vec![
+                f64::from(i) / 2.0,
+                f64::from(j) / 2.0,
+                f64::from(l) / 2.0,
+                xi,
+            ]
         })
         .collect();
     volume_points[13][0] += 0.1;

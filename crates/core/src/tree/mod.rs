@@ -171,6 +171,11 @@ where
     /// `f` at `p` (in the leaf's coordinates) and, for a Bézier leaf, its preimages and whether
     /// the query ran out of its work budget.
     fn eval(&self, p: [f64; D]) -> (f64, usize, bool) {
+        self.eval_by(p, Method::Fast)
+    }
+
+    /// [`Self::eval`] with the preimages of a space-mapped leaf found by `method`.
+    fn eval_by(&self, p: [f64; D], method: Method) -> (f64, usize, bool) {
         let (f, n) = match self {
             Self::Bezier(_, Some(r)) => {
                 let t = r.scaled(p);
@@ -182,11 +187,11 @@ where
                 );
             }
             Self::Bezier(solid, None) => {
-                let v = solid.evaluate(Dim::<D>::point(p), Method::Fast);
+                let v = solid.evaluate(Dim::<D>::point(p), method);
                 return (v.f, v.preimages, v.exhausted);
             }
             Self::Piecewise(solid, _) => {
-                let v = solid.evaluate(Dim::<D>::point(p), Method::Fast);
+                let v = solid.evaluate(Dim::<D>::point(p), method);
                 return (v.f, v.preimages, v.exhausted);
             }
             Self::Ball { center, radius } => {
@@ -466,6 +471,16 @@ where
         self.evaluate_with(Dim::<D>::coords(p), &mut Vec::with_capacity(self.stack))
     }
 
+    /// [`Tree::evaluate`] with the preimages of space-mapped leaves found by `method`: the paper's
+    /// spline guess and Bézier clipping ([`Method::Hybrid`]), clipping over the whole domain
+    /// ([`Method::Clipping`]) or this crate's seeded Newton ([`Method::Fast`], what
+    /// [`Tree::evaluate`] uses). Regular leaves are scaled whatever the method.
+    #[must_use]
+    pub fn evaluate_by(&self, p: Point<D>, method: Method) -> TreeValue {
+        let mut stack = Vec::with_capacity(self.stack);
+        self.evaluate_steps(&self.steps, Dim::<D>::coords(p), &mut stack, method)
+    }
+
     /// [`Tree::evaluate`] with the caller's stack (emptied first), for many points in a row.
     pub(crate) fn evaluate_with(&self, p: [f64; D], stack: &mut Vec<f64>) -> TreeValue {
         self.evaluate_program(&self.steps, p, stack)
@@ -479,12 +494,22 @@ where
         p: [f64; D],
         stack: &mut Vec<f64>,
     ) -> TreeValue {
+        self.evaluate_steps(steps, p, stack, Method::Fast)
+    }
+
+    fn evaluate_steps(
+        &self,
+        steps: &[Step],
+        p: [f64; D],
+        stack: &mut Vec<f64>,
+        method: Method,
+    ) -> TreeValue {
         let mut preimages = 0;
         let mut exhausted = false;
         let f = run(steps, stack, |i| {
             let leaf = &self.leaves[i];
             let q = leaf.map.map_or(p, |m| m.apply(p));
-            let (f, n, out) = leaf.shape.eval(q);
+            let (f, n, out) = leaf.shape.eval_by(q, method);
             preimages += n;
             exhausted |= out;
             f
