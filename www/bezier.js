@@ -222,6 +222,12 @@ export function setupBezier(app) {
     }
   });
 
+  // The unclipped contour of S_ξ beside the solid's, as the paper's Figs. 3 and 5 show it.
+  $('unclipped').addEventListener('change', (e) => {
+    modeler.set_unclipped(e.target.checked);
+    app.redraw();
+  });
+
   for (const radio of document.querySelectorAll('input[name="mode"]')) {
     radio.addEventListener('change', () => {
       if (radio.checked) {
@@ -380,7 +386,8 @@ export function setupBezier(app) {
     $('range-max').textContent = fmt(p.frame.range[1]);
     const n = p.frame.contours;
     $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
-      + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '');
+      + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '')
+      + (p.frame.unclipped ? `; S_ξ = 0 unclipped: ${p.frame.unclipped} ${p.frame.unclipped === 1 ? 'piece' : 'pieces'}, dashed` : '');
     app.outline.update();
     const parts = app.outline.state();
     const [du, dv] = p.degree;

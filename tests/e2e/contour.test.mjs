@@ -155,3 +155,39 @@ test('a screenshot of the modeler for the README', async () => {
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('the unclipped switch draws S_ξ = 0 dashed beside the solid, from the keyboard, and takes it away', async () => {
+  const { page, errors } = await open(browser);
+  await page.evaluate(() => { window.bezsolid.modeler.load_preset('fig9'); window.bezsolid.redraw(); });
+  await settle(page);
+  const frame = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).frame;
+  const before = await frame();
+  assert.equal(before.unclipped, 0);
+  const plain = await canvasPixels(page, 'unclipped-off');
+  // Focused and switched by the keyboard alone.
+  await page.focus('#unclipped');
+  await page.keyboard.press('Space');
+  await settle(page);
+  const on = await frame();
+  assert.ok(on.unclipped >= 1, `pieces of S_ξ = 0: ${on.unclipped}`);
+  assert.equal(on.contours, before.contours, 'the solid\'s contour is unchanged');
+  assert.match(await page.textContent('#contour-info'), /unclipped: \d+ piece/);
+  const dashed = await canvasPixels(page, 'unclipped-on');
+  // The dashes' violet shows where the plain picture has none.
+  const violet = (img) => {
+    let n = 0;
+    for (let y = 0; y < img.height; y += 2) {
+      for (let x = 0; x < img.width; x += 2) {
+        const [r, g, b] = img.at(x, y);
+        if (b > g + 40 && r > g + 15 && b > 70 && g < 90) n++;
+      }
+    }
+    return n;
+  };
+  assert.ok(violet(dashed) > violet(plain) + 20, `violet pixels ${violet(plain)} → ${violet(dashed)}`);
+  await page.keyboard.press('Space');
+  await settle(page);
+  assert.equal((await frame()).unclipped, 0);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

@@ -274,3 +274,70 @@ test('a 2D model of many solids: the 2D view draws the whole field and contour; 
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+/** A piecewise net of `cells` cells of `degree` over the unit box scaled by `size`, ξ from `xi`. */
+function piecewise(cells, degree, size, xi) {
+  const dims = cells.map((c, a) => c * degree[a] + 1);
+  const count = dims.reduce((a, b) => a * b, 1);
+  const points = [];
+  for (let k = 0; k < count; k++) {
+    const at = [];
+    let rest = k;
+    for (let a = dims.length - 1; a >= 0; a--) {
+      at[a] = rest % dims[a];
+      rest = Math.floor(rest / dims[a]);
+    }
+    const t = at.map((i, a) => i / (dims[a] - 1));
+    points.push([...t.map((x, a) => x * size[a]), xi(t)]);
+  }
+  return { kind: 'piecewise', cells, degree, points };
+}
+
+test('a piecewise solid opens from a file and a link: one solid in both views, no seam', async () => {
+  let { page, errors } = await open(browser);
+  // 2 × 2 quadratic cells: ξ positive in a band across every shared edge.
+  const solid = piecewise([2, 2], [2, 2], [2, 2], (t) => 0.6 - 4 * ((t[0] - 0.5) ** 2 + (t[1] - 0.5) ** 2));
+  const model = JSON.stringify({ format: 'bezsolid', version: 1, solid });
+  await page.evaluate((m) => { window.bezsolid.modeler.load_model(m); window.bezsolid.redraw(); }, model);
+  await settle(page);
+  await settle(page);
+  const o = await outline(page);
+  assert.equal(o.dimension, 2);
+  assert.match(o.rows[0].label, /^Piecewise patch: 2 × 2 cells of degree 2 × 2/);
+  const panel = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel()));
+  assert.equal(panel.frame.contours, 1, 'one solid across the four cells');
+  // f at the middle, where the four cells meet: inside, not clipped by any cell.
+  const view = await page.locator('#view').boundingBox();
+  const middle = await page.evaluate(({ w, h }) => {
+    let best = null;
+    for (let y = 0; y < h; y += 3) {
+      for (let x = 0; x < w; x += 3) {
+        const [px, py, f] = window.bezsolid.modeler.probe(x, y);
+        const d = Math.hypot(px - 1, py - 1);
+        if (best === null || d < best.d) best = { d, f };
+      }
+    }
+    return best;
+  }, { w: view.width, h: view.height });
+  assert.ok(middle.d < 0.05 && middle.f > 0.1, `f at the shared corner: ${JSON.stringify(middle)}`);
+  writeFileSync(join(ARTIFACTS, 'piecewise-2d.png'), await page.screenshot());
+
+  // A piecewise volume by link: its whole surface drawn in the 3D view.
+  const volume = piecewise([2, 1, 1], [2, 2, 2], [2, 1, 1], (t) => 0.5 - 3 * ((t[0] - 0.5) ** 2) - 2 * ((t[1] - 0.5) ** 2 + (t[2] - 0.5) ** 2));
+  await page.evaluate((m) => window.bezsolid.modeler.load_model(m), JSON.stringify({ format: 'bezsolid', version: 1, solid: volume }));
+  const link = await page.evaluate(() => window.bezsolid.modeler.link());
+  assert.match(link, /^#v1\./);
+  assert.deepEqual(errors, []);
+  await page.close();
+  ({ page, errors } = await open(browser, link));
+  await settle(page);
+  const o3 = await outline(page);
+  assert.equal(o3.dimension, 3);
+  assert.match(o3.rows[0].label, /^Piecewise volume: 2 × 1 × 1 cells/);
+  await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface_current, null, { timeout: 60_000 });
+  const shot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'piecewise-3d.png'), shot);
+  assert.ok(surfaceTones(shot) > 20, 'the surface is drawn, shaded');
+  assert.deepEqual(errors, []);
+  await page.close();
+});

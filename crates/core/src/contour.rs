@@ -112,6 +112,27 @@ pub fn solid_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Po
         .unwrap_or_else(|| sampled_contour(solid, resolution, accuracy))
 }
 
+/// The zero contour of `S_ξ` alone, unclipped, over the patch's parameter square (`resolution`
+/// cells per side), mapped forward through `(S_x, S_y)`: the curve that functional clipping cuts
+/// (the first paper's Figs. 3 and 5, left). Pieces that leave the square end on its border (open
+/// polylines); vertices are refined to `|S_ξ| ≤ accuracy`. Where the net folds, the curve of every
+/// sheet.
+#[must_use]
+pub fn unclipped_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
+    let n = resolution.max(1);
+    let grid = Grid2::new(DVec2::ZERO, DVec2::ONE, n + 1, n + 1);
+    let xi = solid.xi_net();
+    let values = xi.eval_grid([&grid.xs(), &grid.ys()]);
+    let mut lines = contour(&grid, &values, |p| xi.eval([p.x, p.y]), accuracy);
+    let net = solid.net();
+    for line in &mut lines {
+        for p in &mut line.points {
+            *p = net.eval([p.x, p.y]).truncate();
+        }
+    }
+    lines
+}
+
 /// The zero contour from samples of `f` itself over the solid's domain (for a space mapping, the
 /// inverse map at every sample: the reference the forward path is tested against).
 #[must_use]
@@ -372,6 +393,45 @@ mod tests {
 
     fn disc(c: DVec2, r: f64) -> impl Fn(DVec2) -> f64 {
         move |p| r * r - (p - c).length_squared()
+    }
+
+    /// `S_ξ = 0` unclipped: on the net's zero set, and running on to the domain's border where
+    /// clipping closes the solid's contour inside it (a patch of ξ > 0 across one side).
+    #[test]
+    fn unclipped_contours_lie_on_s_xi_and_reach_the_border_the_clipping_cuts() {
+        // ξ = 1 − 2v over [0, 2] × [0, 1] with a bump: S_ξ = 0 crosses the whole square.
+        let solid = Solid2::regular([2, 2], DVec2::ZERO, DVec2::new(2.0, 1.0), |[i, j]| {
+            1.0 - j as f64 + if (i, j) == (1, 1) { 0.3 } else { 0.0 }
+        })
+        .unwrap();
+        let unclipped = unclipped_contour(&solid, 64, 1e-12);
+        assert_eq!(unclipped.len(), 1);
+        let line = &unclipped[0];
+        assert!(!line.closed, "the curve leaves the square");
+        for p in &line.points {
+            let t = [p.x / 2.0, p.y];
+            let xi = solid.xi_net().eval(t);
+            assert!(xi.abs() <= 1e-9, "S_ξ = {xi} at {p}");
+        }
+        let ends = [line.points[0], line.points[line.points.len() - 1]];
+        assert!(
+            ends.iter()
+                .all(|e| e.x.abs() < 1e-9 || (e.x - 2.0).abs() < 1e-9),
+            "{ends:?}"
+        );
+        // The clipped solid's contour is one closed loop inside the box instead.
+        let clipped = solid_contour(&solid, 64, 1e-12);
+        assert!(clipped.iter().all(|l| l.closed));
+        // A moved net: the curve is mapped forward through (S_x, S_y).
+        let mut moved = solid.clone();
+        moved.set_point([1, 1], DVec2::new(1.2, 0.6)).unwrap();
+        for line in unclipped_contour(&moved, 64, 1e-12) {
+            for p in &line.points {
+                let v = moved.evaluate(*p, crate::inverse::Method::Clipping);
+                let xi = moved.xi_net().eval(v.u);
+                assert!(xi.abs() <= 1e-7, "S_ξ = {xi} at {p}");
+            }
+        }
     }
 
     #[test]

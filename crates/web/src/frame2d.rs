@@ -4,7 +4,9 @@
 //! upload, tested natively.
 
 use bezsolid_core::Patch;
-use bezsolid_core::contour::{Grid2, Polyline, contour, sheet_contour, solid_contour};
+use bezsolid_core::contour::{
+    Grid2, Polyline, contour, sheet_contour, solid_contour, unclipped_contour,
+};
 use bezsolid_core::rfunc::clip2;
 use bezsolid_core::tree::Tree;
 use glam::{DVec2, DVec3};
@@ -25,6 +27,11 @@ const MAPPED_CONTOUR_CELLS: usize = 192;
 const OUTLINE_SAMPLES: usize = 64;
 
 const CONTOUR_COLOR: Rgba = [0.06, 0.06, 0.08, 1.0];
+/// The unclipped contour of `S_ξ`: dashed, a dark violet apart from the solid's black.
+const UNCLIPPED_COLOR: Rgba = [0.32, 0.12, 0.45, 0.95];
+/// Its dashes and gaps, in CSS pixels.
+const DASH: f64 = 7.0;
+const GAP: f64 = 5.0;
 const GRID_COLOR: Rgba = [0.18, 0.2, 0.24, 0.75];
 const BOX_COLOR: Rgba = [0.3, 0.32, 0.36, 0.6];
 const OUTLINE_COLOR: Rgba = [0.08, 0.08, 0.1, 1.0];
@@ -76,6 +83,18 @@ pub struct Frame {
     /// The net may fold: the contour shows the zero lines of every sheet (see
     /// [`frame`]).
     pub folded: bool,
+    /// The zero contour of `S_ξ` alone in world coordinates, when the view shows it
+    /// ([`View2::set_unclipped`]; none for a model of many solids).
+    pub unclipped: Vec<Polyline>,
+}
+
+/// The unclipped contour of the editor's patch when `view` shows it, `accuracy` in `S_ξ`.
+fn unclipped(editor: &Editor, view: &View2, accuracy: f64) -> Vec<Polyline> {
+    if view.unclipped() {
+        unclipped_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
+    } else {
+        Vec::new()
+    }
 }
 
 /// Builds the frame of `editor`'s model in `view`: samples the field over the view, colours it,
@@ -112,13 +131,16 @@ pub fn frame(editor: &Editor, view: &View2) -> Frame {
         |p| editor.solid().f(p),
         CONTOUR_ACCURACY * magnitude,
     );
-    let shapes = shapes(editor, view, &contours);
+    let unclipped = unclipped(editor, view, CONTOUR_ACCURACY * magnitude);
+    let mut shapes = shapes(editor, view, &contours);
+    shapes.extend(dashed(editor, view, &unclipped));
     Frame {
         field,
         shapes,
         contours,
         range,
         folded: false,
+        unclipped,
     }
 }
 
@@ -168,6 +190,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
         contours,
         range,
         folded: false,
+        unclipped: Vec::new(),
     }
 }
 
@@ -253,15 +276,66 @@ fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
     } else {
         sheet_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
     };
+    let unclipped = unclipped(editor, view, accuracy);
     let mut drawn = pen.out;
     drawn.extend(shapes(editor, view, &contours));
+    drawn.extend(dashed(editor, view, &unclipped));
     Frame {
         field,
         shapes: drawn,
         contours,
         range,
         folded: !injective,
+        unclipped,
     }
+}
+
+/// The unclipped contour's lines, dashed (the pattern runs on along each line).
+fn dashed(editor: &Editor, view: &View2, lines: &[Polyline]) -> Vec<ShapeVertex> {
+    let mut pen = Pen {
+        out: Vec::new(),
+        size: view.size(),
+        dpr: view.dpr(),
+    };
+    for line in lines {
+        let mut pts: Vec<DVec2> = line
+            .points
+            .iter()
+            .map(|&p| view.part_to_screen(editor, p))
+            .collect();
+        if line.closed && !pts.is_empty() {
+            pts.push(pts[0]);
+        }
+        // Where along the pattern (dash then gap) the line is.
+        let mut phase = 0.0;
+        for w in pts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let len = (b - a).length();
+            if !len.is_finite() || len <= 0.0 {
+                continue;
+            }
+            let mut at = 0.0;
+            while at < len {
+                let (on, left) = if phase < DASH {
+                    (true, DASH - phase)
+                } else {
+                    (false, DASH + GAP - phase)
+                };
+                let step = left.min(len - at);
+                if on {
+                    pen.segment(
+                        a.lerp(b, at / len),
+                        a.lerp(b, (at + step) / len),
+                        2.0,
+                        UNCLIPPED_COLOR,
+                    );
+                }
+                at += step;
+                phase = (phase + step) % (DASH + GAP);
+            }
+        }
+    }
+    pen.out
 }
 
 fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVertex> {
@@ -431,6 +505,38 @@ mod tests {
     use bezsolid_core::tree::ModelTree;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// The switch draws `S_ξ = 0` unclipped, dashed, beside the solid's contour, regular or
+    /// space-mapped: its pieces are the core's, its dashes add triangles, and off it draws none.
+    #[test]
+    fn the_unclipped_contour_is_drawn_dashed_when_the_view_asks() {
+        let editor = Editor::new(Solid2::fig9());
+        let mut view = View2::new();
+        view.sync(&editor);
+        let plain = frame(&editor, &view);
+        assert!(plain.unclipped.is_empty());
+        view.set_unclipped(true);
+        let with = frame(&editor, &view);
+        assert!(
+            !with.unclipped.is_empty(),
+            "fig9's S_ξ = 0 runs past its box"
+        );
+        assert_eq!(with.contours.len(), plain.contours.len());
+        assert!(with.shapes.len() > plain.shapes.len() + 6 * with.unclipped.len());
+        // Each vertex on S_ξ = 0 (fig9 is regular: its parameters are the scaled point).
+        for line in &with.unclipped {
+            for &p in &line.points {
+                let t = editor.solid().to_param(p);
+                let xi = editor.solid().xi_net().eval([t.x, t.y]);
+                assert!(xi.abs() < 1e-6, "S_ξ = {xi} at {p}");
+            }
+        }
+        let mut moved = editor.solid().clone();
+        moved.set_point([1, 1], DVec2::new(0.4, 0.45)).unwrap();
+        let editor = Editor::new(moved);
+        let mapped = frame(&editor, &view);
+        assert!(!mapped.unclipped.is_empty() && mapped.shapes.len() > 100);
+    }
 
     /// Two discs apart and the paper's patch between them: the view shows the whole field, three
     /// pieces of contour on f = 0 of the whole tree, red inside and blue outside.

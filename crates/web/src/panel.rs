@@ -16,6 +16,8 @@ pub struct FrameFigures {
     pub contours: usize,
     /// The net may fold: the contour shows every sheet's zero lines.
     pub folded: bool,
+    /// Pieces of the unclipped contour of `S_ξ` drawn (0 when it is not shown).
+    pub unclipped: usize,
 }
 
 impl From<&Frame> for FrameFigures {
@@ -24,6 +26,7 @@ impl From<&Frame> for FrameFigures {
             range: [frame.range.0, frame.range.1],
             contours: frame.contours.len(),
             folded: frame.folded,
+            unclipped: frame.unclipped.len(),
         }
     }
 }

@@ -35,6 +35,9 @@ fn spec_bytes(spec: &SolidSpec) -> usize {
             + match s {
                 SolidSpec::Patch { points, .. } => 24 * points.len(),
                 SolidSpec::Volume { points, .. } => 32 * points.len(),
+                SolidSpec::Piecewise { points, .. } => {
+                    points.iter().map(|p| 24 + 8 * p.len()).sum()
+                }
                 SolidSpec::Part { name, .. } => name.len(),
                 _ => 0,
             };

@@ -52,6 +52,8 @@ pub struct View2 {
     placement: DAffine2,
     /// Esc has cleared the selection: the next Tab leaves the view instead of walking the points.
     releasing: bool,
+    /// Whether the zero contour of `S_ξ` alone, unclipped, is drawn (dashed) beside the solid's.
+    unclipped: bool,
 }
 
 impl Default for View2 {
@@ -73,7 +75,20 @@ impl View2 {
             releasing: false,
             scene: None,
             placement: DAffine2::IDENTITY,
+            unclipped: false,
         }
+    }
+
+    /// Draws the zero contour of `S_ξ` alone, unclipped and dashed, beside the solid's (or not):
+    /// what the clipping cuts away, as the first paper's Figs. 3 and 5 show it.
+    pub fn set_unclipped(&mut self, on: bool) {
+        self.unclipped = on;
+    }
+
+    /// Whether the unclipped contour is drawn.
+    #[must_use]
+    pub fn unclipped(&self) -> bool {
+        self.unclipped
     }
 
     /// Places the editor's solid in the view by `placement` (its coordinates to the view's): its

@@ -451,6 +451,11 @@ impl Modeler {
         vec![p.x, p.y, f]
     }
 
+    /// Shows the zero contour of `S_ξ` alone, unclipped and dashed, in the 2D view (or not).
+    pub fn set_unclipped(&mut self, on: bool) {
+        self.view2.set_unclipped(on);
+    }
+
     /// Sets the drag mode: `"function"` or `"space"`.
     ///
     /// # Errors
