@@ -158,7 +158,13 @@ test('a screenshot of the modeler for the README', async () => {
 
 test('the unclipped switch draws S_ξ = 0 dashed beside the solid, from the keyboard, and takes it away', async () => {
   const { page, errors } = await open(browser);
-  await page.evaluate(() => { window.bezsolid.modeler.load_preset('fig9'); window.bezsolid.redraw(); });
+  // ξ positive along the right side: S_ξ > 0 runs on past the box, where the clipping cuts it.
+  const points = [];
+  for (let i = 0; i <= 2; i++) {
+    for (let j = 0; j <= 2; j++) points.push([i / 2, j / 2, [-1, 0.2, 1][i]]);
+  }
+  const model = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'patch', degree: [2, 2], points } });
+  await page.evaluate((m) => { window.bezsolid.modeler.load_model(m); window.bezsolid.redraw(); }, model);
   await settle(page);
   const frame = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).frame;
   const before = await frame();

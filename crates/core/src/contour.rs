@@ -112,15 +112,25 @@ pub fn solid_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Po
         .unwrap_or_else(|| sampled_contour(solid, resolution, accuracy))
 }
 
-/// The zero contour of `S_ξ` alone, unclipped, over the patch's parameter square (`resolution`
-/// cells per side), mapped forward through `(S_x, S_y)`: the curve that functional clipping cuts
-/// (the first paper's Figs. 3 and 5, left). Pieces that leave the square end on its border (open
-/// polylines); vertices are refined to `|S_ξ| ≤ accuracy`. Where the net folds, the curve of every
-/// sheet.
+/// The zero contour of `S_ξ` alone, unclipped, over the patch's parameter square grown by
+/// `margin` on every side (the polynomials extend past it; `resolution` cells per side), mapped
+/// forward through `(S_x, S_y)`: the curve that functional clipping cuts (the first paper's Figs.
+/// 3 and 5, left). Pieces that leave the grown square end on its border (open polylines);
+/// vertices are refined to `|S_ξ| ≤ accuracy`. Where the net folds, the curve of every sheet.
 #[must_use]
-pub fn unclipped_contour(solid: &Solid2, resolution: usize, accuracy: f64) -> Vec<Polyline> {
+pub fn unclipped_contour(
+    solid: &Solid2,
+    resolution: usize,
+    margin: f64,
+    accuracy: f64,
+) -> Vec<Polyline> {
     let n = resolution.max(1);
-    let grid = Grid2::new(DVec2::ZERO, DVec2::ONE, n + 1, n + 1);
+    let m = if margin.is_finite() {
+        margin.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let grid = Grid2::new(DVec2::splat(-m), DVec2::splat(1.0 + m), n + 1, n + 1);
     let xi = solid.xi_net();
     let values = xi.eval_grid([&grid.xs(), &grid.ys()]);
     let mut lines = contour(&grid, &values, |p| xi.eval([p.x, p.y]), accuracy);
@@ -404,19 +414,20 @@ mod tests {
             1.0 - j as f64 + if (i, j) == (1, 1) { 0.3 } else { 0.0 }
         })
         .unwrap();
-        let unclipped = unclipped_contour(&solid, 64, 1e-12);
+        let unclipped = unclipped_contour(&solid, 64, 0.25, 1e-12);
         assert_eq!(unclipped.len(), 1);
         let line = &unclipped[0];
-        assert!(!line.closed, "the curve leaves the square");
+        assert!(!line.closed, "the curve leaves the grown square");
         for p in &line.points {
             let t = [p.x / 2.0, p.y];
             let xi = solid.xi_net().eval(t);
             assert!(xi.abs() <= 1e-9, "S_ξ = {xi} at {p}");
         }
+        // It runs on past the box, x ∈ [0, 2], to the grown square's sides x = −0.5 and 2.5.
         let ends = [line.points[0], line.points[line.points.len() - 1]];
         assert!(
             ends.iter()
-                .all(|e| e.x.abs() < 1e-9 || (e.x - 2.0).abs() < 1e-9),
+                .all(|e| (e.x + 0.5).abs() < 1e-9 || (e.x - 2.5).abs() < 1e-9),
             "{ends:?}"
         );
         // The clipped solid's contour is one closed loop inside the box instead.
@@ -425,7 +436,7 @@ mod tests {
         // A moved net: the curve is mapped forward through (S_x, S_y).
         let mut moved = solid.clone();
         moved.set_point([1, 1], DVec2::new(1.2, 0.6)).unwrap();
-        for line in unclipped_contour(&moved, 64, 1e-12) {
+        for line in unclipped_contour(&moved, 64, 0.0, 1e-12) {
             for p in &line.points {
                 let v = moved.evaluate(*p, crate::inverse::Method::Clipping);
                 let xi = moved.xi_net().eval(v.u);

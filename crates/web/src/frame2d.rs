@@ -29,6 +29,9 @@ const OUTLINE_SAMPLES: usize = 64;
 const CONTOUR_COLOR: Rgba = [0.06, 0.06, 0.08, 1.0];
 /// The unclipped contour of `S_ξ`: dashed, a dark violet apart from the solid's black.
 const UNCLIPPED_COLOR: Rgba = [0.32, 0.12, 0.45, 0.95];
+/// How far past the domain (in parameters) it is traced: the polynomial's own zero set goes on
+/// where the clipping stops the solid.
+const UNCLIPPED_MARGIN: f64 = 0.5;
 /// Its dashes and gaps, in CSS pixels.
 const DASH: f64 = 7.0;
 const GAP: f64 = 5.0;
@@ -91,7 +94,12 @@ pub struct Frame {
 /// The unclipped contour of the editor's patch when `view` shows it, `accuracy` in `S_ξ`.
 fn unclipped(editor: &Editor, view: &View2, accuracy: f64) -> Vec<Polyline> {
     if view.unclipped() {
-        unclipped_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
+        unclipped_contour(
+            editor.solid(),
+            MAPPED_CONTOUR_CELLS,
+            UNCLIPPED_MARGIN,
+            accuracy,
+        )
     } else {
         Vec::new()
     }
