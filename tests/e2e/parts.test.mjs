@@ -323,7 +323,7 @@ test('a piecewise solid opens from a file and a link: one solid in both views, n
   writeFileSync(join(ARTIFACTS, 'piecewise-2d.png'), await page.screenshot());
 
   // A piecewise volume by link: its whole surface drawn in the 3D view.
-  const volume = piecewise([2, 1, 1], [2, 2, 2], [2, 1, 1], (t) => 0.5 - 3 * ((t[0] - 0.5) ** 2) - 2 * ((t[1] - 0.5) ** 2 + (t[2] - 0.5) ** 2));
+  const volume = piecewise([2, 1, 1], [2, 2, 2], [2, 1, 1], (t) => 1 - 3 * ((t[0] - 0.5) ** 2) - 2 * ((t[1] - 0.5) ** 2 + (t[2] - 0.5) ** 2));
   await page.evaluate((m) => window.bezsolid.modeler.load_model(m), JSON.stringify({ format: 'bezsolid', version: 1, solid: volume }));
   const link = await page.evaluate(() => window.bezsolid.modeler.link());
   assert.match(link, /^#v1\./);
@@ -334,7 +334,12 @@ test('a piecewise solid opens from a file and a link: one solid in both views, n
   const o3 = await outline(page);
   assert.equal(o3.dimension, 3);
   assert.match(o3.rows[0].label, /^Piecewise volume: 2 × 1 × 1 cells/);
-  await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface_current, null, { timeout: 60_000 });
+  await page.waitForFunction(() => {
+    const p = JSON.parse(window.bezsolid.modeler.panel());
+    return p.surface_current && p.surface?.[1] === 64;
+  }, null, { timeout: 60_000 });
+  const [triangles] = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).surface;
+  assert.ok(triangles > 1000, `the whole surface across both cells: ${triangles} triangles`);
   const shot = await page.locator('#view3d').screenshot();
   writeFileSync(join(ARTIFACTS, 'piecewise-3d.png'), shot);
   assert.ok(surfaceTones(shot) > 20, 'the surface is drawn, shaded');

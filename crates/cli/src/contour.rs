@@ -1,5 +1,6 @@
 //! `bezsolid contour MODEL --res N -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]`: the zero contour
-//! of a patch solid, or of a 2D tree of many solids (within its bounds, or within the box).
+//! of a patch solid, or of a 2D tree of many solids (within its bounds, or within the box); with
+//! `--section x=C` (or `y=`, `z=`), the true section of a 3D model by that plane.
 
 use anyhow::{Context, Result, bail};
 
@@ -17,7 +18,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     let args = Args::parse(
         "contour",
         args,
-        &["--res", "--accuracy", "--output", "--box"],
+        &["--res", "--accuracy", "--output", "--box", "--section"],
     )?;
     let model = args.model("bezsolid contour MODEL --res N -o OUT.svg")?;
     let out = args.required("--output", "-o OUT.svg")?;
@@ -30,6 +31,9 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         bail!("--accuracy must be a positive number");
     }
     let file = crate::load_file(model)?;
+    if let Some(plane) = args.value("--section") {
+        return section(&args, model, &file, plane, res, accuracy, out);
+    }
     if file.solid.is_tree() {
         let region = args.bounds::<2>("--box")?;
         let ModelTree::Plane(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
@@ -64,5 +68,61 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         .with_context(|| format!("cannot write {out}"))?;
     eprintln!("bezsolid: {} contour pieces written to {out}", lines.len());
     crate::warn_exhausted(solid.exhausted());
+    Ok(())
+}
+
+/// `--section x=C`: the true section of a 3D model (a volume, a piecewise volume or a 3D tree) by
+/// the plane, drawn in the plane's coordinates (`y, z` across x, `x, z` across y, `x, y` across z).
+fn section(
+    args: &Args<'_>,
+    model: &str,
+    file: &bezsolid_core::model::ModelFile,
+    plane: &str,
+    res: usize,
+    accuracy: f64,
+    out: &str,
+) -> Result<()> {
+    let parsed = plane.split_once('=').and_then(|(name, at)| {
+        let axis = ["x", "y", "z"].iter().position(|a| *a == name.trim())?;
+        let at: f64 = at.trim().parse().ok().filter(|v: &f64| v.is_finite())?;
+        Some((axis, at))
+    });
+    let Some((axis, at)) = parsed else {
+        bail!("--section {plane}: a plane is x=C, y=C or z=C with C a finite number");
+    };
+    let region = args.bounds::<3>("--box")?;
+    let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
+        bail!("--section cuts 3D models; this is a 2D model: draw its contour without it");
+    };
+    let lines = match tree.section(axis, at, res, accuracy, region) {
+        Err(TreeMeshError::Unbounded) => bail!(
+            "{}: the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
+             blend of a space-mapped solid): cut it within --box X0,Y0,Z0,X1,Y1,Z1",
+            crate::describe(model)
+        ),
+        other => other.with_context(|| crate::describe(model))?,
+    };
+    let [a, b] = match axis {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    };
+    let (lo, hi) = region
+        .or(tree.bounds())
+        .map_or((DVec2::ZERO, DVec2::ONE), |(lo, hi)| {
+            (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]))
+        });
+    let cell = (hi - lo) / res as f64;
+    std::fs::write(out, contours_svg(&lines, lo - cell, hi + cell))
+        .with_context(|| format!("cannot write {out}"))?;
+    let area: f64 = lines
+        .iter()
+        .filter(|l| l.closed)
+        .map(bezsolid_core::contour::Polyline::signed_area)
+        .sum();
+    eprintln!(
+        "bezsolid: the section {plane}: {} contour pieces, area {area:.6}, written to {out}",
+        lines.len()
+    );
     Ok(())
 }

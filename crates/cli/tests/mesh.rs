@@ -401,3 +401,125 @@ fn trees_mesh_and_contour() {
         + text.matches("<polyline").count();
     assert!(loops >= 2, "two loops: {text}");
 }
+
+/// The closed loops of a contours SVG, parsed back: `<path d="Mx,y Lx,y …Z">`.
+fn svg_loops(text: &str) -> Vec<Vec<[f64; 2]>> {
+    text.split("d=\"")
+        .skip(1)
+        .filter_map(|rest| {
+            let d = &rest[..rest.find('"')?];
+            let closed = d.ends_with('Z');
+            let points: Vec<[f64; 2]> = d
+                .trim_end_matches('Z')
+                .split_whitespace()
+                .map(|p| {
+                    let (x, y) = p[1..].split_once(',').unwrap();
+                    [x.parse().unwrap(), y.parse().unwrap()]
+                })
+                .collect();
+            closed.then_some(points)
+        })
+        .collect()
+}
+
+/// `contour --section`: the true section of the blob preset by z = 0.2, written as SVG and read
+/// back, has the area of the cut that the paper's formula, written out here, gives on the plane;
+/// a plane past the model and a bad plane are refused with what is wrong.
+#[test]
+fn sections_of_volumes_have_the_area_of_the_cut() {
+    let svg = out_path("blob-section.svg");
+    let out = bezsolid(&[
+        "contour",
+        "preset:blob",
+        "--section",
+        "z=0.2",
+        "--res",
+        "128",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let loops = svg_loops(&std::fs::read_to_string(&svg).unwrap());
+    assert_eq!(loops.len(), 1);
+    let area: f64 = loops
+        .iter()
+        .map(|l| {
+            (0..l.len())
+                .map(|k| {
+                    let (a, b) = (l[k], l[(k + 1) % l.len()]);
+                    a[0] * b[1] - b[0] * a[1]
+                })
+                .sum::<f64>()
+                * 0.5
+        })
+        .sum();
+    // The blob: degree (2, 2, 2) over [−1, 1]³, ξ = 1 at the centre, −1 at the corners, 0.25
+    // elsewhere; f = S_ξ & F_b(t_u) & F_b(t_v) & F_b(t_w).
+    let b = |i: usize, t: f64| [(1.0 - t) * (1.0 - t), 2.0 * t * (1.0 - t), t * t][i];
+    let and = |a: f64, b: f64| a + b - (a * a + b * b).sqrt();
+    let f = |p: [f64; 3]| {
+        let t = p.map(|x| (x + 1.0) / 2.0);
+        let mut s = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                for k in 0..3 {
+                    let xi = match (i, j, k) {
+                        (1, 1, 1) => 1.0,
+                        (0 | 2, 0 | 2, 0 | 2) => -1.0,
+                        _ => 0.25,
+                    };
+                    s += b(i, t[0]) * b(j, t[1]) * b(k, t[2]) * xi;
+                }
+            }
+        }
+        let strip = |t: f64| t * (1.0 - t);
+        and(s, and(and(strip(t[0]), strip(t[1])), strip(t[2])))
+    };
+    let n = 400;
+    let inside = (0..n * n)
+        .filter(|k| {
+            let (x, y) = ((k % n) as f64 + 0.5, (k / n) as f64 + 0.5);
+            f([x / n as f64 * 2.0 - 1.0, y / n as f64 * 2.0 - 1.0, 0.2]) > 0.0
+        })
+        .count();
+    let want = 4.0 * inside as f64 / (n * n) as f64;
+    assert!(
+        (area - want).abs() < 0.01 * want,
+        "section area {area}, on the plane {want}"
+    );
+    for (plane, says) in [
+        (
+            "z=3",
+            "the plane z = 3 misses the model: it fills z from -1 to 1",
+        ),
+        ("w=0", "a plane is x=C, y=C or z=C"),
+        ("z=inf", "a plane is x=C, y=C or z=C"),
+    ] {
+        let out = bezsolid(&[
+            "contour",
+            "preset:blob",
+            "--section",
+            plane,
+            "-o",
+            "/dev/null",
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(says),
+            "{plane}: {err}"
+        );
+    }
+    let out = bezsolid(&[
+        "contour",
+        "preset:fig9",
+        "--section",
+        "x=0.5",
+        "-o",
+        "/dev/null",
+    ]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cuts 3D models"));
+}

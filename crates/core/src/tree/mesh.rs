@@ -43,6 +43,17 @@ pub enum TreeMeshError {
     },
     /// The accuracy is not a positive finite number.
     Accuracy,
+    /// A section's plane misses the box the model fills (or the box given).
+    Plane {
+        /// The axis across which the plane lies (0 for x).
+        axis: usize,
+        /// Where it crosses that axis.
+        at: f64,
+        /// The box's extent along the axis.
+        lo: f64,
+        /// See `lo`.
+        hi: f64,
+    },
 }
 
 impl fmt::Display for TreeMeshError {
@@ -57,6 +68,13 @@ impl fmt::Display for TreeMeshError {
                 write!(f, "resolution {got} is outside 1..={MAX_RESOLUTION}")
             }
             Self::Accuracy => f.write_str("the accuracy must be a positive finite number"),
+            Self::Plane { axis, at, lo, hi } => {
+                let name = ["x", "y", "z"].get(*axis).copied().unwrap_or("?");
+                write!(
+                    f,
+                    "the plane {name} = {at} misses the model: it fills {name} from {lo} to {hi}"
+                )
+            }
         }
     }
 }
@@ -515,6 +533,92 @@ impl Tree<2> {
     }
 }
 
+impl Tree<3> {
+    /// The true section of the solid by the plane `p[axis] = at`: the zero contour of `f` on the
+    /// plane, solid on the left, in the plane's coordinates (the other two axes in order: `(y, z)`
+    /// across x, `(x, z)` across y, `(x, y)` across z), from a grid of `resolution` cells per side
+    /// of the bounds (or of `region`, cut by it) with a cell of margin, vertices refined to
+    /// `|f| ≤ accuracy`. The loops' signed areas add up to the section's area.
+    ///
+    /// # Errors
+    ///
+    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy, an axis
+    /// past z, or a plane that misses the box ([`TreeMeshError::Plane`]).
+    pub fn section(
+        &self,
+        axis: usize,
+        at: f64,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<Vec<Polyline>, TreeMeshError> {
+        if axis > 2 || !at.is_finite() {
+            return Err(TreeMeshError::Region);
+        }
+        // The box the model fills (or the one given) must hold the plane.
+        if let Some((lo, hi)) = region.or(self.bounds())
+            && lo[axis] <= hi[axis]
+            && !(lo[axis]..=hi[axis]).contains(&at)
+        {
+            return Err(TreeMeshError::Plane {
+                axis,
+                at,
+                lo: lo[axis],
+                hi: hi[axis],
+            });
+        }
+        let Some(Region { lo, hi, clip }) =
+            self::region(self.bounds(), region, resolution, accuracy)?
+        else {
+            return Ok(Vec::new());
+        };
+        let [a, b] = match axis {
+            0 => [1, 2],
+            1 => [0, 2],
+            _ => [0, 1],
+        };
+        let (plo, phi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
+        let cell = (phi - plo) / resolution as f64;
+        let shift = cell * GRID_SHIFT;
+        let grid = Grid2::new(
+            plo - cell + shift,
+            phi + cell + shift,
+            resolution + 3,
+            resolution + 3,
+        );
+        let (us, vs) = (grid.xs(), grid.ys());
+        let place = |q: [f64; 2]| {
+            let mut p = [at; 3];
+            p[a] = q[0];
+            p[b] = q[1];
+            p
+        };
+        let mut field = Field {
+            tree: self,
+            clip,
+            stack: Vec::with_capacity(self.stack),
+        };
+        // The plane's grid as a grid of space with one sample across the axis: its first axis
+        // (a) is the fastest, as the plane's grid has it.
+        let across = [at];
+        let mut axes: [&[f64]; 3] = [&across; 3];
+        axes[a] = &us;
+        axes[b] = &vs;
+        let values: Vec<f64> = self
+            .f_grid(axes)
+            .into_iter()
+            .enumerate()
+            .map(|(k, f)| field.clipped(f, place([us[k % us.len()], vs[k / us.len()]])))
+            .collect();
+        Ok(contour(
+            &grid,
+            &values,
+            |q| field.f(place(q.to_array())),
+            accuracy,
+        ))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -866,6 +970,88 @@ mod tests {
                 assert!(f.abs() <= 1e-9 * g.length().max(1.0), "vertex {k}: f = {f}");
             }
         }
+    }
+
+    /// Sections of random trees: every vertex on `f = 0` of the plane, the loops' area that of
+    /// the solid's section sampled on the plane; a ball's section is the circle it must be; a
+    /// plane past the model is refused with its extent.
+    #[test]
+    fn sections_lie_on_the_zero_set_and_hold_the_area_of_the_cut() {
+        use alloc::format;
+        use alloc::string::ToString;
+        let mut rng = Rng::new(29);
+        let mut checked = 0;
+        while checked < 8 {
+            let tree = space(random_tree(&mut rng, 2));
+            let Some((lo, hi)) = tree.bounds() else {
+                continue;
+            };
+            if (0..3).any(|i| lo[i] > hi[i]) {
+                continue;
+            }
+            let axis = rng.int(0, 2);
+            let at = rng.range(lo[axis], hi[axis]);
+            let lines = tree.section(axis, at, 96, 1e-10, None).unwrap();
+            let [a, b] = match axis {
+                0 => [1, 2],
+                1 => [0, 2],
+                _ => [0, 1],
+            };
+            let place = |q: DVec2| {
+                let mut p = [at; 3];
+                p[a] = q.x;
+                p[b] = q.y;
+                glam::DVec3::from_array(p)
+            };
+            for line in &lines {
+                for &q in &line.points {
+                    let (f, g) = tree.f_with_gradient(place(q));
+                    assert!(f.abs() <= 1e-9 * g.length().max(1.0), "f = {f} at {q}");
+                }
+            }
+            let area: f64 = lines
+                .iter()
+                .filter(|l| l.closed)
+                .map(Polyline::signed_area)
+                .sum();
+            let n = 40_000;
+            let inside = (0..n)
+                .filter(|_| {
+                    let q = DVec2::new(rng.range(lo[a], hi[a]), rng.range(lo[b], hi[b]));
+                    tree.f(place(q)) > 0.0
+                })
+                .count();
+            let rect = (hi[a] - lo[a]) * (hi[b] - lo[b]);
+            let mc = rect * inside as f64 / n as f64;
+            if inside < n / 20 {
+                continue; // too thin a cut for a fair comparison
+            }
+            assert!(
+                (area - mc).abs() <= 0.04 * mc,
+                "section area {area} vs {mc}"
+            );
+            checked += 1;
+        }
+        // A ball of radius 1 cut at z = 0.6: a circle of radius 0.8.
+        let ball = space(S::Sphere {
+            center: [0.0; 3],
+            radius: 1.0,
+        });
+        let lines = ball.section(2, 0.6, 128, 1e-12, None).unwrap();
+        assert_eq!(lines.len(), 1);
+        for q in &lines[0].points {
+            assert!((q.length() - 0.8).abs() < 1e-9, "{q}");
+        }
+        let (lo, hi) = ball.bounds().unwrap();
+        assert_eq!(
+            ball.section(2, 3.0, 64, 1e-9, None)
+                .unwrap_err()
+                .to_string(),
+            format!(
+                "the plane z = 3 misses the model: it fills z from {} to {}",
+                lo[2], hi[2]
+            )
+        );
     }
 
     #[test]
