@@ -324,21 +324,28 @@ where
     /// preimages of moved cells are found by `method`.
     #[must_use]
     pub fn evaluate(&self, p: Point<D>, method: Method) -> Value<D> {
-        let p = Dim::<D>::coords(p);
+        self.evaluate_cell(Dim::<D>::coords(p), method).0
+    }
+
+    /// [`Self::evaluate`] with the cell that gave `f`, its local parameter there, and the sign
+    /// `f` has against the cell's clipped value (−1 where the continuation forced it negative).
+    fn evaluate_cell(&self, p: [f64; D], method: Method) -> (Value<D>, usize, [f64; D], f64) {
         if self.regular {
             let t: [f64; D] =
                 core::array::from_fn(|c| (p[c] - self.min[c]) / (self.max[c] - self.min[c]));
             let (k, u) = self.locate(t);
             let xi = Dim::<D>::split(self.parts[k].net().eval(u)).1;
-            return Value {
+            let value = Value {
                 f: clip(xi, t),
                 preimages: usize::from(t.iter().all(|x| (0.0..=1.0).contains(x))),
                 u: t,
                 exhausted: false,
             };
+            return (value, k, u, 1.0);
         }
         let mut stats = QueryStats::default();
-        let mut best: Option<(f64, [f64; D])> = None;
+        // The best value, its global parameter, its cell and local parameter.
+        let mut best: Option<(f64, [f64; D], usize, [f64; D])> = None;
         let mut seen: Vec<[f64; D]> = Vec::new();
         for (k, part) in self.parts.iter().enumerate() {
             if !near_box(part, p) {
@@ -358,8 +365,8 @@ where
             for u in roots {
                 let t = self.global(k, u);
                 let f = clip(Dim::<D>::split(part.net().eval(u)).1, t);
-                if best.is_none_or(|(b, _)| f > b) {
-                    best = Some((f, t));
+                if best.is_none_or(|(b, ..)| f > b) {
+                    best = Some((f, t, k, u));
                 }
                 if seen
                     .iter()
@@ -369,16 +376,17 @@ where
                 }
             }
         }
-        if let Some((f, u)) = best {
-            return Value {
+        if let Some((f, t, k, u)) = best {
+            let value = Value {
                 f,
                 preimages: seen.len(),
-                u,
+                u: t,
                 exhausted: stats.exhausted,
             };
+            return (value, k, u, 1.0);
         }
         // No preimage in any cell: the largest of the cells' negative continuations.
-        let (f, u) = self
+        let (f, t, k, u, sign) = self
             .parts
             .iter()
             .enumerate()
@@ -390,20 +398,22 @@ where
                 let t = self.global(k, u);
                 let f = clip(Dim::<D>::split(part.net().eval(u)).1, t);
                 // Negative outside the image, as a single solid's continuation is.
-                (if f < 0.0 { f } else { -f - f64::MIN_POSITIVE }, t)
+                if f < 0.0 {
+                    (f, t, k, u, 1.0)
+                } else {
+                    (-f - f64::MIN_POSITIVE, t, k, u, -1.0)
+                }
             })
-            .fold(
-                (f64::NEG_INFINITY, [0.5; D]),
-                |a, b| {
-                    if b.0 > a.0 { b } else { a }
-                },
-            );
-        Value {
+            .fold((f64::NEG_INFINITY, [0.5; D], 0, [0.5; D], 1.0), |a, b| {
+                if b.0 > a.0 { b } else { a }
+            });
+        let value = Value {
             f,
             preimages: 0,
-            u,
+            u: t,
             exhausted: stats.exhausted,
-        }
+        };
+        (value, k, u, sign)
     }
 
     /// The defining function: positive inside, negative outside (preimages of moved cells by
@@ -416,8 +426,7 @@ where
     /// `f(p)` and its gradient, through the cell and preimage that give `f`.
     #[must_use]
     pub fn f_with_gradient(&self, p: Point<D>) -> (f64, Point<D>) {
-        let v = self.evaluate(p, Method::Fast);
-        let (k, u) = self.locate(v.u);
+        let (v, k, u, sign) = self.evaluate_cell(Dim::<D>::coords(p), Method::Fast);
         let part = &self.parts[k];
         let (s, ds) = part.net().eval_with_gradient(u);
         let xi = Dim::<D>::split(s).1;
@@ -438,7 +447,7 @@ where
             if x.is_nan() {
                 0.0
             } else {
-                x.clamp(-f64::MAX, f64::MAX)
+                (sign * x).clamp(-f64::MAX, f64::MAX)
             }
         });
         (if self.regular { f } else { v.f }, Dim::<D>::point(g))
@@ -779,5 +788,56 @@ mod tests {
                 .to_string()
                 .contains("take 4")
         );
+    }
+}
+#[cfg(test)]
+mod gradient_tests {
+    use super::*;
+    use crate::testutil::Rng;
+    use glam::DVec3;
+
+    #[test]
+    fn gradients_match_finite_differences() {
+        let mut rng = Rng::new(2);
+        for moved in [false, true] {
+            let spec = crate::testutil::random_piecewise3(&mut rng, moved);
+            let crate::model::SolidSpec::Piecewise {
+                cells,
+                degree,
+                points,
+            } = spec
+            else {
+                unreachable!()
+            };
+            let pts = points
+                .iter()
+                .map(|p| glam::DVec4::new(p[0], p[1], p[2], p[3]))
+                .collect();
+            let s = Piecewise::<3>::new(
+                [cells[0], cells[1], cells[2]],
+                [degree[0], degree[1], degree[2]],
+                pts,
+            )
+            .unwrap();
+            let (lo, hi) = s.domain();
+            for _ in 0..200 {
+                let p = DVec3::new(
+                    rng.range(lo.x, hi.x),
+                    rng.range(lo.y, hi.y),
+                    rng.range(lo.z, hi.z),
+                );
+                let (_, g) = s.f_with_gradient(p);
+                let h = 1e-6;
+                let fd = DVec3::new(
+                    s.f(p + DVec3::X * h) - s.f(p - DVec3::X * h),
+                    s.f(p + DVec3::Y * h) - s.f(p - DVec3::Y * h),
+                    s.f(p + DVec3::Z * h) - s.f(p - DVec3::Z * h),
+                ) / (2.0 * h);
+                assert!(
+                    (g - fd).length() < 1e-4 * fd.length().max(1.0),
+                    "{moved} {p}: {g} against {fd}"
+                );
+            }
+        }
     }
 }
