@@ -311,6 +311,15 @@ export function setupBezier(app) {
     const s = app.panel().slice;
     if (s) app.attempt('Slice', () => modeler.set_slice(s[0], e.target.valueAsNumber));
   });
+  // The true section of the volume by a plane across the slice's axis, live, instead of the slice.
+  const applySection = () => {
+    const on = $('section-on').checked;
+    $('section-at').disabled = !on;
+    modeler.set_section(on, $('section-at').valueAsNumber / 100);
+    app.redraw();
+  };
+  $('section-on').addEventListener('change', applySection);
+  $('section-at').addEventListener('input', applySection);
   $('resolution').addEventListener('change', (e) => {
     const v = e.target.valueAsNumber;
     if (!Number.isFinite(v)) return;
@@ -320,9 +329,11 @@ export function setupBezier(app) {
 
   // What the views are called, for screen readers: what they show now.
   const ORBIT = 'drag elsewhere to orbit, right-drag or Shift-drag to pan, turn the wheel to zoom, F frames the model again';
-  const nameViews = (volume, parts, slice) => {
+  const nameViews = (volume, parts, slice, section) => {
     const bezier = !parts || parts.open;
-    const view2 = !bezier
+    const view2 = section
+      ? `2D view of the volume's true section by the plane ${'xyz'[section[0]]} = ${fmt(section[1])}: f on the plane and its zero contour (area ${fmt(section[2])}); move the plane with the Section plane slider, turn the section off to edit the slice's points here; the wheel zooms, F fits`
+      : !bezier
       ? '2D view of the model of many solids: its field and its contour. Select a Bézier part under Parts to edit its points here'
       : `2D contour view of ${slice ? `the ${'uvw'[slice[0]]} slice ${slice[1]} of the volume` : 'the patch solid'}: click a control point, or press Tab to walk the points (Esc then Tab leaves the view), then drag, press Page Up and Page Down, or turn the wheel over it to change its function value; the wheel elsewhere zooms about the pointer, F fits`;
     const view3 = parts
@@ -385,7 +396,10 @@ export function setupBezier(app) {
     $('range-min').textContent = fmt(p.frame.range[0]);
     $('range-max').textContent = fmt(p.frame.range[1]);
     const n = p.frame.contours;
-    $('contour-info').textContent = `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
+    const section = p.frame.section;
+    $('section-info').textContent = section ? `${'xyz'[section[0]]} = ${fmt(section[1])}` : '–';
+    $('contour-info').textContent = (section ? `True section ${'xyz'[section[0]]} = ${fmt(section[1])}: area ${fmt(section[2])}; ` : '')
+      + `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
       + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '')
       + (p.frame.unclipped ? `; S_ξ = 0 unclipped: ${p.frame.unclipped} ${p.frame.unclipped === 1 ? 'piece' : 'pieces'}, dashed` : '');
     app.outline.update();
@@ -429,7 +443,7 @@ export function setupBezier(app) {
     // The contours of a 3D model are its open part's slice's: none without one.
     enableItems('#export-menu [data-value="svg"]', !(parts && parts.dimension === 3 && !parts.open));
     document.body.dataset.kind = volume ? 'volume' : 'patch';
-    nameViews(volume, parts, slice);
+    nameViews(volume, parts, slice, p.frame.section);
     if (!modeler.dragging() && !modeler.busy_3d() && probeSeen !== modeler.revision()) showProbe();
     $('hint').hidden = !hinting;
     $('undo').disabled = !p.can_undo;

@@ -158,3 +158,54 @@ test('STL, OBJ and PLY exports of a volume parse back with the mesh triangle cou
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('the true section of a volume: f on a plane, live as the plane moves and as a point is edited, by the keyboard', async () => {
+  const { page, errors } = await open(browser);
+  await openFish(page);
+  const frame = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).frame;
+  assert.equal((await frame()).section, null);
+  // Switched on from the keyboard: the plane z = 0 across w (the fish is −0.5 … 0.5 in z).
+  await page.focus('#section-on');
+  await page.keyboard.press('Space');
+  await settle(page);
+  let f = await frame();
+  assert.ok(f.section, 'a section is drawn');
+  const [axis, at, area] = f.section;
+  assert.equal(axis, 2);
+  assert.ok(Math.abs(at) < 1e-9, `z = ${at}`);
+  assert.ok(area > 0.5 && f.contours >= 1, `the fish's middle section: area ${area}, ${f.contours} pieces`);
+  assert.match(await page.textContent('#contour-info'), /True section z = 0: area/);
+  writeFileSync(join(ARTIFACTS, 'section-z0.png'), await page.locator('#view').screenshot());
+  // f under the pointer is the volume's on the plane: inside at the middle of the body.
+  const inside = await page.evaluate(() => {
+    const c = document.getElementById('view').getBoundingClientRect();
+    for (let y = c.height * 0.3; y < c.height * 0.7; y += 4) {
+      for (let x = c.width * 0.2; x < c.width * 0.8; x += 4) {
+        const [, , value] = window.bezsolid.modeler.probe(x, y);
+        if (value > 0) return true;
+      }
+    }
+    return false;
+  });
+  assert.ok(inside, 'a point inside the section');
+  // The plane moved up by the keyboard: the section shrinks towards the top of the body.
+  await page.focus('#section-at');
+  for (let k = 0; k < 30; k++) await page.keyboard.press('ArrowRight');
+  await settle(page);
+  f = await frame();
+  assert.ok(f.section[1] > 0.25, `z = ${f.section[1]}`);
+  assert.ok(f.section[2] < area, `area ${f.section[2]} above ${area}`);
+  writeFileSync(join(ARTIFACTS, 'section-z03.png'), await page.locator('#view').screenshot());
+  // Clicks in the view do not pick the slice's hidden points.
+  const box = await page.locator('#view').boundingBox();
+  const before = await page.evaluate(() => window.bezsolid.modeler.revision());
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  assert.equal(await page.evaluate(() => window.bezsolid.modeler.revision()), before);
+  // Off again: the slice and its points come back.
+  await page.focus('#section-on');
+  await page.keyboard.press('Space');
+  await settle(page);
+  assert.equal((await frame()).section, null);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

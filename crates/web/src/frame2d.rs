@@ -89,6 +89,94 @@ pub struct Frame {
     /// The zero contour of `S_ξ` alone in world coordinates, when the view shows it
     /// ([`View2::set_unclipped`]; none for a model of many solids).
     pub unclipped: Vec<Polyline>,
+    /// A volume's true section drawn instead of its control slice ([`frame_section`]): the axis
+    /// across which its plane lies (0 for x), where, and the area inside.
+    pub section: Option<(usize, f64, f64)>,
+}
+
+/// The two axes of the plane across `axis`, in order: `(y, z)` across x, `(x, z)` across y,
+/// `(x, y)` across z.
+#[must_use]
+pub fn plane_axes(axis: usize) -> [usize; 2] {
+    match axis {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    }
+}
+
+/// The frame of a volume's true section by the plane `p[axis] = at` (in space): `f` itself sampled
+/// over the view in the plane's coordinates ([`plane_axes`]), its zero contour refined on `f`,
+/// and the area inside; no control points (the section is not edited: the control slice is). A
+/// space-mapped volume is sampled more coarsely (an inverse map per sample).
+#[must_use]
+pub fn frame_section(
+    editor: &Editor,
+    view: &View2,
+    volume: &bezsolid_core::Solid3,
+    axis: usize,
+    at: f64,
+) -> Frame {
+    let long = if volume.inverse().is_some() {
+        TREE_MAPPED_SAMPLES
+    } else {
+        FIELD_SAMPLES
+    };
+    let (w, h) = field_size(view, long);
+    let (vmin, vmax) = view.view_box(editor);
+    let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
+    let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+    let (us, vs) = (grid.xs(), grid.ys());
+    let [a, b] = plane_axes(axis);
+    let place = |q: DVec2| {
+        let mut p = [at; 3];
+        p[a] = q.x;
+        p[b] = q.y;
+        DVec3::from_array(p)
+    };
+    // The plane's grid as a grid of space with one sample across the axis (its first axis the
+    // fastest, as the plane's grid has it).
+    let across = [at];
+    let mut axes: [&[f64]; 3] = [&across; 3];
+    axes[a] = &us;
+    axes[b] = &vs;
+    volume.plan(w * h);
+    let values = volume.f_grid(axes);
+    let range = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
+    let field = field_image(w, h, &values, range);
+    let magnitude = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let contours = contour(
+        &grid,
+        &values,
+        |q| volume.f(place(q)),
+        CONTOUR_ACCURACY * magnitude,
+    );
+    let area = contours
+        .iter()
+        .filter(|l| l.closed)
+        .map(Polyline::signed_area)
+        .sum();
+    let mut pen = Pen {
+        out: Vec::new(),
+        size: view.size(),
+        dpr: view.dpr(),
+    };
+    contour_shapes(&mut pen, editor, view, &contours);
+    Frame {
+        field,
+        shapes: pen.out,
+        contours,
+        range,
+        folded: false,
+        unclipped: Vec::new(),
+        section: Some((axis, at, area)),
+    }
 }
 
 /// The unclipped contour of the editor's patch when `view` shows it, `accuracy` in `S_ξ`.
@@ -149,6 +237,7 @@ pub fn frame(editor: &Editor, view: &View2) -> Frame {
         range,
         folded: false,
         unclipped,
+        section: None,
     }
 }
 
@@ -199,6 +288,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
         range,
         folded: false,
         unclipped: Vec::new(),
+        section: None,
     }
 }
 
@@ -295,6 +385,7 @@ fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
         range,
         folded: !injective,
         unclipped,
+        section: None,
     }
 }
 
@@ -544,6 +635,47 @@ mod tests {
         let editor = Editor::new(moved);
         let mapped = frame(&editor, &view);
         assert!(!mapped.unclipped.is_empty() && mapped.shapes.len() > 100);
+    }
+
+    /// A volume's true section: its contour on `f = 0` of the plane, its area the core's section's,
+    /// no control points drawn; the view frames the plane's box.
+    #[test]
+    fn a_true_section_is_the_contour_of_f_on_the_plane() {
+        let bezsolid_core::model::ModelSolid::Volume(fish) =
+            bezsolid_core::presets::Preset::Fish.solid()
+        else {
+            unreachable!()
+        };
+        let mut editor = Editor::new(Solid2::fig9());
+        editor.set_volume(fish.clone());
+        let mut view = View2::new();
+        let (lo, hi) = fish.domain();
+        view.set_scene(Some((lo.truncate(), hi.truncate())));
+        view.sync(&editor);
+        let section = frame_section(&editor, &view, &fish, 2, 0.1);
+        let (axis, at, area) = section.section.unwrap();
+        assert_eq!((axis, at), (2, 0.1));
+        assert!(!section.contours.is_empty());
+        for line in &section.contours {
+            for q in &line.points {
+                let f = fish.f(DVec3::new(q.x, q.y, 0.1));
+                assert!(f.abs() < 1e-6, "f = {f} at {q}");
+            }
+        }
+        let ModelTree::Space(tree) = ModelFile::from_solid3(&fish).to_tree().unwrap() else {
+            unreachable!()
+        };
+        let core: f64 = tree
+            .section(2, 0.1, 256, 1e-10, None)
+            .unwrap()
+            .iter()
+            .filter(|l| l.closed)
+            .map(Polyline::signed_area)
+            .sum();
+        assert!((area - core).abs() < 0.01 * core, "{area} against {core}");
+        // Only the contour: no control points (discs) over the field.
+        let slice = frame(&editor, &view);
+        assert!(section.shapes.len() < slice.shapes.len());
     }
 
     /// Two discs apart and the paper's patch between them: the view shows the whole field, three

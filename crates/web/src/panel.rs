@@ -18,6 +18,8 @@ pub struct FrameFigures {
     pub folded: bool,
     /// Pieces of the unclipped contour of `S_ξ` drawn (0 when it is not shown).
     pub unclipped: usize,
+    /// The true section drawn: `[axis, at, area]` (axis 0 for x).
+    pub section: Option<[f64; 3]>,
 }
 
 impl From<&Frame> for FrameFigures {
@@ -27,6 +29,9 @@ impl From<&Frame> for FrameFigures {
             contours: frame.contours.len(),
             folded: frame.folded,
             unclipped: frame.unclipped.len(),
+            section: frame
+                .section
+                .map(|(axis, at, area)| [axis as f64, at, area]),
         }
     }
 }

@@ -54,6 +54,9 @@ pub struct View2 {
     releasing: bool,
     /// Whether the zero contour of `S_ξ` alone, unclipped, is drawn (dashed) beside the solid's.
     unclipped: bool,
+    /// A volume's true section drawn instead of its control slice: where its plane lies across
+    /// the slice's axis, from 0 (the box's low face) to 1.
+    section: Option<f64>,
 }
 
 impl Default for View2 {
@@ -76,7 +79,31 @@ impl View2 {
             scene: None,
             placement: DAffine2::IDENTITY,
             unclipped: false,
+            section: None,
         }
+    }
+
+    /// Draws a volume's true section by the plane at `at` (0 to 1 across the box, along the
+    /// control slice's axis) instead of the slice, or the slice again (`None`). The picture is
+    /// fitted again when the section comes or goes.
+    pub fn set_section(&mut self, at: Option<f64>) {
+        let at = at.map(|t| {
+            if t.is_finite() {
+                t.clamp(0.0, 1.0)
+            } else {
+                0.5
+            }
+        });
+        if at.is_some() != self.section.is_some() {
+            self.fixed = None;
+        }
+        self.section = at;
+    }
+
+    /// See [`Self::set_section`].
+    #[must_use]
+    pub fn section(&self) -> Option<f64> {
+        self.section
     }
 
     /// Draws the zero contour of `S_ξ` alone, unclipped and dashed, beside the solid's (or not):

@@ -14,7 +14,9 @@ use web_sys::HtmlCanvasElement;
 use crate::document;
 use crate::editor::Editor;
 use crate::error::Error;
-use crate::frame2d::{TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_tree};
+use crate::frame2d::{
+    TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_section, frame_tree, plane_axes,
+};
 use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
 use crate::parts::Parts;
@@ -317,9 +319,16 @@ impl Modeler {
     /// Draws the current state.
     pub fn render(&mut self) {
         self.follow_parts();
+        let section = self.section_plane();
+        if let Some((_, _, scene)) = section {
+            self.view2.set_scene(Some(scene));
+        }
         self.view2.sync(&self.editor);
-        let frame = match &self.plane {
-            Some((_, tree, mapped)) => {
+        let frame = match (&self.plane, section, self.editor.volume()) {
+            (None, Some((axis, at, _)), Some(volume)) => {
+                frame_section(&self.editor, &self.view2, volume, axis, at)
+            }
+            (Some((_, tree, mapped)), ..) => {
                 let part = self.parts.as_ref().is_some_and(|p| p.open().is_some());
                 let samples = if *mapped {
                     TREE_MAPPED_SAMPLES
@@ -328,7 +337,7 @@ impl Modeler {
                 };
                 frame_tree(&self.editor, &self.view2, tree, part, samples)
             }
-            None => frame(&self.editor, &self.view2),
+            _ => frame(&self.editor, &self.view2),
         };
         self.figures = FrameFigures::from(&frame);
         let Some((texture, view)) =
@@ -341,10 +350,38 @@ impl Modeler {
         self.renderer.queue().present(texture);
     }
 
+    /// Draws the volume's true section by a plane across the control slice's axis (`x` across u,
+    /// `y` across v, `z` across w), at `at` from 0 (the box's low face) to 1, instead of the slice
+    /// (`on`), or the slice again. The section's control points are not edited: the slice's are,
+    /// with the section off.
+    pub fn set_section(&mut self, on: bool, at: f64) {
+        let was = self.view2.section().is_some();
+        self.view2.set_section(on.then_some(at));
+        if was && !on && self.parts.is_none() {
+            self.view2.set_scene(None);
+        }
+    }
+
+    /// The true section drawn, when one is: its axis, where it lies and the plane's box.
+    fn section_plane(&self) -> Option<(usize, f64, (DVec2, DVec2))> {
+        let fraction = self.view2.section()?;
+        let volume = self.editor.volume()?;
+        let (axis, _) = self.editor.slice()?;
+        let axis = axis.index();
+        let (lo, hi) = volume.domain();
+        let at = lo[axis] + fraction * (hi[axis] - lo[axis]);
+        let [a, b] = plane_axes(axis);
+        Some((
+            axis,
+            at,
+            (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b])),
+        ))
+    }
+
     /// Pointer pressed at CSS pixel `(x, y)` of the canvas, with the modifier that gives the other
     /// drag mode held or not; returns whether a point was grabbed.
     pub fn pointer_down(&mut self, x: f64, y: f64, other_mode: bool) -> bool {
-        if !self.part_open() {
+        if !self.points_shown() {
             return false;
         }
         self.view2
@@ -370,7 +407,7 @@ impl Modeler {
     /// Whether a control point is under CSS pixel `(x, y)` (for the cursor).
     #[must_use]
     pub fn hit(&self, x: f64, y: f64) -> bool {
-        if !self.part_open() {
+        if !self.points_shown() {
             return false;
         }
         self.view2.pick(&self.editor, DVec2::new(x, y)).is_some()
@@ -387,7 +424,7 @@ impl Modeler {
     /// Returns whether the solid changed (the view may have zoomed: redraw it either way).
     pub fn wheel(&mut self, x: f64, y: f64, delta_y: f64, xi: bool) -> bool {
         let q = DVec2::new(x, y);
-        if !self.part_open() {
+        if !self.points_shown() {
             self.view2.zoom_at(&self.editor, q, delta_y);
             return false;
         }
@@ -417,7 +454,7 @@ impl Modeler {
     /// A key (`KeyboardEvent.key`); returns whether the view used it.
     pub fn key(&mut self, key: &str, shift: bool) -> bool {
         // Without a part open only the view's own keys (F fits it).
-        if !self.part_open() && !matches!(key, "f" | "F") {
+        if !self.points_shown() && !matches!(key, "f" | "F") {
             return false;
         }
         self.view2.key(&mut self.editor, key, shift)
@@ -444,9 +481,16 @@ impl Modeler {
     pub fn probe(&self, x: f64, y: f64) -> Vec<f64> {
         let q = DVec2::new(x, y);
         let p = self.view2.to_world(&self.editor, q);
-        let f = match &self.plane {
-            Some((_, tree, _)) => tree.f(p),
-            None => self.view2.probe(&self.editor, q),
+        let f = match (&self.plane, self.section_plane(), self.editor.volume()) {
+            (None, Some((axis, at, _)), Some(volume)) => {
+                let [a, b] = plane_axes(axis);
+                let mut s = [at; 3];
+                s[a] = p.x;
+                s[b] = p.y;
+                volume.f(glam::DVec3::from_array(s))
+            }
+            (Some((_, tree, _)), ..) => tree.f(p),
+            _ => self.view2.probe(&self.editor, q),
         };
         vec![p.x, p.y, f]
     }
@@ -1008,6 +1052,12 @@ impl Modeler {
     /// (with none open, what it holds is not in the model: it is not edited).
     fn part_open(&self) -> bool {
         self.parts.as_ref().is_none_or(|p| p.open().is_some())
+    }
+
+    /// Whether the 2D view shows points to pick: a part is open and no true section is drawn
+    /// instead of its slice.
+    fn points_shown(&self) -> bool {
+        self.part_open() && self.section_plane().is_none()
     }
 
     /// [`Self::part_open`], or the error that says what to do.
