@@ -164,6 +164,11 @@ test('the true section of a volume: f on a plane, live as the plane moves and as
   await openFish(page);
   const frame = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).frame;
   assert.equal((await frame()).section, null);
+  // A point of the middle slice selected first (Tab in the 2D view), to edit with the section on.
+  await page.focus('#view');
+  await page.keyboard.press('Tab');
+  await settle(page);
+  assert.ok(await page.getAttribute('body', 'data-selected'), 'a point is selected');
   // Switched on from the keyboard: the plane z = 0 across w (the fish is −0.5 … 0.5 in z).
   await page.focus('#section-on');
   await page.keyboard.press('Space');
@@ -188,6 +193,15 @@ test('the true section of a volume: f on a plane, live as the plane moves and as
     return false;
   });
   assert.ok(inside, 'a point inside the section');
+  // The selected point's ξ raised in the panel: the section follows at once.
+  await page.fill('#xi', '6');
+  await page.keyboard.press('Enter');
+  await settle(page);
+  const grown = (await frame()).section[2];
+  assert.ok(grown > area, `area ${grown} after raising ξ, ${area} before`);
+  await page.click('#undo');
+  await settle(page);
+  assert.ok(Math.abs((await frame()).section[2] - area) < 1e-9, 'undo gives the section back');
   // The plane moved up by the keyboard: the section shrinks towards the top of the body.
   await page.focus('#section-at');
   for (let k = 0; k < 30; k++) await page.keyboard.press('ArrowRight');
