@@ -1,14 +1,15 @@
-//! `bezsolid hf MODEL -o OUT.hf`: HyperFun export of a regular patch or volume, or of a tree of many
-//! solids (its regular Bézier leaves as the explicit Bernstein sum).
+//! `bezsolid hf MODEL -o OUT.hf [--height H]`: HyperFun export of a regular patch or volume, or of
+//! a tree of many solids (its regular Bézier leaves as the explicit Bernstein sum); a 2D model is a
+//! prism along z, or with `--height` the extrusion from z = 0 to z = H.
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
-use bezsolid_core::hyperfun::{solid2_hf, solid3_hf, tree_hf};
+use bezsolid_core::hyperfun::{extruded, solid2_hf, solid3_hf, tree_hf};
 use bezsolid_core::model::ModelSolid;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("hf", args, &["--output"])?;
+    let args = Args::parse("hf", args, &["--output", "--height"])?;
     let model = args.model("bezsolid hf MODEL -o OUT.hf")?;
     let out = args.required("--output", "-o OUT.hf")?;
     let file = crate::load_file(model)?;
@@ -19,6 +20,19 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             ModelSolid::Patch(s) => solid2_hf(&s),
             ModelSolid::Volume(s) => solid3_hf(&s),
         }?
+    };
+    let text = match args.value("--height") {
+        None => text,
+        Some(h) => {
+            let height: f64 = args.number("--height", 1.0)?;
+            if !(height.is_finite() && height > 0.0) {
+                bail!("--height {h}: the extrusion's height is a positive number");
+            }
+            match extruded(&text, height) {
+                Some(slab) => slab,
+                None => bail!("--height extrudes 2D models; {model} is a 3D model"),
+            }
+        }
     };
     std::fs::write(out, text).with_context(|| format!("cannot write {out}"))?;
     eprintln!("bezsolid: HyperFun model written to {out}");

@@ -52,9 +52,10 @@ commands (DESIGN §5):
                                    be unbounded, such as a half-space, needs --box, and is cut
                                    by it; meshed on T threads, default every core: the same
                                    mesh as on one)
-  hf MODEL -o OUT.hf               HyperFun export (the explicit Bernstein sum; a piecewise
+  hf MODEL -o OUT.hf [--height H]  HyperFun export (the explicit Bernstein sum; a piecewise
                                    solid's cells chosen by `if`s; a tree with HyperFun's set
-                                   operations, blends and primitives)
+                                   operations, blends and primitives); a 2D model is a prism
+                                   along z, or with --height the extrusion 0 <= z <= H
   link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
                                    the page of `cargo xtask serve`) + #v1.<model>
   esc classify MESH --points FILE.csv [-o OUT]

@@ -523,3 +523,43 @@ fn sections_of_volumes_have_the_area_of_the_cut() {
     ]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("cuts 3D models"));
 }
+
+/// `hf --height H`: a 2D model as the extrusion 0 ≤ z ≤ H (its last line intersects the slab's
+/// strip); a 3D model and a bad height are refused.
+#[test]
+fn hf_extrudes_2d_models_to_a_slab() {
+    let out_file = out_path("fig9-slab.hf");
+    let out = bezsolid(&[
+        "hf",
+        "preset:fig9",
+        "--height",
+        "0.25",
+        "-o",
+        out_file.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&out_file).unwrap();
+    assert!(text.contains("& (x[3] * (0.25 - x[3]));"), "{text}");
+    assert!(text.contains("from z = 0 to z = 0.25"), "{text}");
+    for (args, says) in [
+        (
+            &["hf", "preset:fish", "--height", "1", "-o", "/dev/null"][..],
+            "extrudes 2D models",
+        ),
+        (
+            &["hf", "preset:fig9", "--height", "0", "-o", "/dev/null"][..],
+            "positive number",
+        ),
+    ] {
+        let out = bezsolid(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(says),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -89,6 +89,27 @@ impl core::fmt::Display for SpaceMapped {
 
 impl core::error::Error for SpaceMapped {}
 
+/// A 2D model's HyperFun export ([`solid2_hf`], or [`tree_hf`] of a 2D model: a prism along z)
+/// bounded to the slab `0 ≤ z ≤ height`: `my_model = f & (x[3]·(height − x[3]))`, the slab's
+/// strip intersected by HyperFun's `&` (the R-function, as the domain's box clips). `None` for a
+/// height that is not positive and finite, or a text that is not a 2D export of this module.
+#[must_use]
+pub fn extruded(text: &str, height: f64) -> Option<String> {
+    const PRISM: &str = "x[3] is unused (a prism along z)";
+    if !(height.is_finite() && height > 0.0 && text.contains(PRISM)) {
+        return None;
+    }
+    let start = text.rfind("\n  my_model = ")? + "\n  my_model = ".len();
+    let end = start + text[start..].find(";\n}")?;
+    let expr = &text[start..end];
+    let h = num(height);
+    let body = text[..start].replace(
+        PRISM,
+        &format!("x[3] bounds the extrusion from z = 0 to z = {height}"),
+    );
+    Some(format!("{body}({expr}) & (x[3] * ({h} - x[3]));\n}}\n"))
+}
+
 /// The HyperFun model of a 2D solid: a function of `x[1], x[2]` (HyperFun models are 3D, so `x[3]` is
 /// unused and the solid is a prism along z).
 ///

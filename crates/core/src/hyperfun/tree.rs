@@ -997,6 +997,65 @@ mod tests {
         );
     }
 
+    /// A 2D model exported as a slab `0 ≤ z ≤ H`: the 2D function intersected with the slab's
+    /// strip, negative below and above it; a 3D export or a bad height has no extrusion.
+    #[test]
+    fn two_d_models_extrude_to_a_bounded_slab() {
+        let patch = crate::Solid2::fig9();
+        let single = ModelFile::from_solid2(&patch);
+        let tree = ModelFile::from_spec(S::Union {
+            of: vec![
+                single.solid.clone(),
+                S::Circle {
+                    center: [1.2, 0.5],
+                    radius: 0.3,
+                },
+            ],
+        });
+        let mut rng = Rng::new(31);
+        let and = |a: f64, b: f64| a + b - (a * a + b * b).sqrt();
+        for (file, text) in [
+            (&single, super::super::solid2_hf(&patch).unwrap()),
+            (&tree, tree_hf(&tree).unwrap()),
+        ] {
+            let height = 0.5;
+            let slab = super::super::extruded(&text, height).unwrap();
+            assert!(slab.contains("from z = 0 to z = 0.5"), "{slab}");
+            let ModelTree::Plane(t) = file.to_tree().unwrap() else {
+                panic!("2D")
+            };
+            let mut inside = 0;
+            for _ in 0..600 {
+                let p = [
+                    rng.range(-0.2, 1.6),
+                    rng.range(-0.2, 1.2),
+                    rng.range(-0.3, 0.8),
+                ];
+                let want = and(t.f(glam::DVec2::new(p[0], p[1])), p[2] * (height - p[2]));
+                let got = hf::eval(&slab, p);
+                assert!(
+                    (got - want).abs() <= 1e-9 * want.abs().max(1.0),
+                    "{p:?}: {got} against {want}"
+                );
+                if !(0.0..=height).contains(&p[2]) {
+                    assert!(got < 0.0, "{p:?} is outside the slab: {got}");
+                }
+                inside += usize::from(got > 0.0);
+            }
+            assert!(inside > 10, "{inside} points inside");
+        }
+        let volume = super::super::solid3_hf(
+            &crate::Solid3::regular([1, 1, 1], glam::DVec3::ZERO, glam::DVec3::ONE, |_| 1.0)
+                .unwrap(),
+        )
+        .unwrap();
+        assert_eq!(super::super::extruded(&volume, 1.0), None);
+        let text = super::super::solid2_hf(&patch).unwrap();
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(super::super::extruded(&text, bad), None);
+        }
+    }
+
     #[test]
     fn the_export_of_random_trees_evaluates_as_eval() {
         let mut rng = Rng::new(21);
