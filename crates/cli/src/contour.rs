@@ -102,11 +102,7 @@ fn section(
         ),
         other => other.with_context(|| crate::describe(model))?,
     };
-    let [a, b] = match axis {
-        0 => [1, 2],
-        1 => [0, 2],
-        _ => [0, 1],
-    };
+    let [a, b] = bezsolid_core::tree::plane_axes(axis);
     let (lo, hi) = region
         .or(tree.bounds())
         .map_or((DVec2::ZERO, DVec2::ONE), |(lo, hi)| {

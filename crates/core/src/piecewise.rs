@@ -36,7 +36,7 @@ use core::fmt;
 use crate::dim::{Control, Dim, Dimension, Point};
 use crate::inverse::{Method, QueryStats, Value, solve_jac};
 use crate::rfunc::{clip, clip_with_gradient};
-use crate::solid::{Solid, SolidError, odometer, regular_box};
+use crate::solid::{Solid, SolidError, odometer, point_bounds, regular_box};
 use crate::tensor::{Tensor, multi_index};
 use crate::{INVERSE_ACCURACY, MAX_DEGREE};
 
@@ -221,16 +221,7 @@ where
         let (min, max, regular) = match regular_box(dims, &spatial) {
             Some((min, max)) => (min, max, true),
             None => {
-                let (min, max) = spatial.iter().fold(
-                    ([f64::INFINITY; D], [f64::NEG_INFINITY; D]),
-                    |(mut lo, mut hi), p| {
-                        for c in 0..D {
-                            lo[c] = lo[c].min(p[c]);
-                            hi[c] = hi[c].max(p[c]);
-                        }
-                        (lo, hi)
-                    },
-                );
+                let (min, max) = point_bounds(&spatial);
                 (min, max, false)
             }
         };

@@ -135,7 +135,7 @@ pub(crate) fn regular_box<const D: usize>(
 }
 
 /// The componentwise bounds of a point set.
-fn point_bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
+pub(crate) fn point_bounds<const D: usize>(points: &[[f64; D]]) -> ([f64; D], [f64; D]) {
     points
         .iter()
         .fold((points[0], points[0]), |(mut lo, mut hi), p| {

@@ -94,16 +94,7 @@ pub struct Frame {
     pub section: Option<(usize, f64, f64)>,
 }
 
-/// The two axes of the plane across `axis`, in order: `(y, z)` across x, `(x, z)` across y,
-/// `(x, y)` across z.
-#[must_use]
-pub fn plane_axes(axis: usize) -> [usize; 2] {
-    match axis {
-        0 => [1, 2],
-        1 => [0, 2],
-        _ => [0, 1],
-    }
-}
+pub use bezsolid_core::tree::plane_axes;
 
 /// The frame of a volume's true section by the plane `p[axis] = at` (in space): `f` itself sampled
 /// over the view in the plane's coordinates ([`plane_axes`]), its zero contour refined on `f`,
@@ -123,9 +114,7 @@ pub fn frame_section(
         FIELD_SAMPLES
     };
     let (w, h) = field_size(view, long);
-    let (vmin, vmax) = view.view_box(editor);
-    let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
-    let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+    let grid = view_grid(editor, view, w, h);
     let (us, vs) = (grid.xs(), grid.ys());
     let [a, b] = plane_axes(axis);
     let place = |q: DVec2| {
@@ -254,9 +243,7 @@ pub const TREE_MAPPED_SAMPLES: usize = 120;
 #[must_use]
 pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, long: usize) -> Frame {
     let (w, h) = field_size(view, long);
-    let (vmin, vmax) = view.view_box(editor);
-    let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
-    let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+    let grid = view_grid(editor, view, w, h);
     let (xs, ys) = (grid.xs(), grid.ys());
     tree.plan(w * h);
     let values = tree.f_grid([&xs, &ys]);
@@ -302,12 +289,17 @@ fn field_size(view: &View2, long: usize) -> (usize, usize) {
     }
 }
 
-/// `f` sampled at the texel centres of a `w × h` image of the view (so the filtered texture and
-/// the contour agree), with the grid.
-fn sample_view(editor: &Editor, view: &View2, w: usize, h: usize) -> (Grid2, Vec<f64>) {
+/// The texel centres of a `w × h` image of the view: where the field is sampled, so that the
+/// filtered texture and the contour agree.
+fn view_grid(editor: &Editor, view: &View2, w: usize, h: usize) -> Grid2 {
     let (vmin, vmax) = view.view_box(editor);
     let texel = (vmax - vmin) / DVec2::new(w as f64, h as f64);
-    let grid = Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h);
+    Grid2::new(vmin + texel * 0.5, vmax - texel * 0.5, w, h)
+}
+
+/// `f` sampled at the texel centres of a `w × h` image of the view, with the grid.
+fn sample_view(editor: &Editor, view: &View2, w: usize, h: usize) -> (Grid2, Vec<f64>) {
+    let grid = view_grid(editor, view, w, h);
     let values = editor.solid().f_grid([&grid.xs(), &grid.ys()]);
     (grid, values)
 }

@@ -12,7 +12,7 @@
 use alloc::vec::Vec;
 
 use super::{Leaf, Shape, Step, Tree};
-use crate::dim::{Dim, Dimension};
+use crate::dim::{Dim, Dimension, Point};
 use crate::math::sqrt;
 use crate::rfunc::{intersect, union};
 
@@ -246,24 +246,8 @@ where
             });
             Interval::new(*offset, *offset).add(dot.neg())
         }
-        Shape::Bezier(solid, None) => {
-            // A space mapping: negative outside its net's hull, and no more is known.
-            let (min, max) = solid.domain();
-            let (min, max) = (Dim::<D>::coords(min), Dim::<D>::coords(max));
-            if (0..D).any(|i| hi[i] < min[i] || lo[i] > max[i]) {
-                return Interval::new(-UNKNOWN, -f64::MIN_POSITIVE);
-            }
-            Interval::ANY
-        }
-        Shape::Piecewise(solid, None) => {
-            // Moved points: negative outside its net's hull, and no more is known.
-            let (min, max) = solid.domain();
-            let (min, max) = (Dim::<D>::coords(min), Dim::<D>::coords(max));
-            if (0..D).any(|i| hi[i] < min[i] || lo[i] > max[i]) {
-                return Interval::new(-UNKNOWN, -f64::MIN_POSITIVE);
-            }
-            Interval::ANY
-        }
+        Shape::Bezier(solid, None) => moved(solid.domain(), lo, hi),
+        Shape::Piecewise(solid, None) => moved(solid.domain(), lo, hi),
         Shape::Piecewise(_, Some(r)) => {
             let tlo = r.scaled(lo);
             let thi = r.scaled(hi);
@@ -352,6 +336,19 @@ where
             s.intersect(clip)
         }
     }
+}
+
+/// A solid with moved points over `[lo, hi]`: negative outside its net's hull `domain`, and no
+/// more is known.
+fn moved<const D: usize>(domain: (Point<D>, Point<D>), lo: [f64; D], hi: [f64; D]) -> Interval
+where
+    Dim<D>: Dimension<D>,
+{
+    let (min, max) = (Dim::<D>::coords(domain.0), Dim::<D>::coords(domain.1));
+    if (0..D).any(|i| hi[i] < min[i] || lo[i] > max[i]) {
+        return Interval::new(-UNKNOWN, -f64::MIN_POSITIVE);
+    }
+    Interval::ANY
 }
 
 /// Restricts the Bernstein coefficients `c` (a net of `dims`, last axis fastest) along `axis` from

@@ -533,6 +533,17 @@ impl Tree<2> {
     }
 }
 
+/// The two axes of the plane across `axis` (0 for x), in order: `(y, z)` across x, `(x, z)`
+/// across y, `(x, y)` across z: the coordinates of [`Tree::section`]'s lines.
+#[must_use]
+pub fn plane_axes(axis: usize) -> [usize; 2] {
+    match axis {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    }
+}
+
 impl Tree<3> {
     /// The true section of the solid by the plane `p[axis] = at`: the zero contour of `f` on the
     /// plane, solid on the left, in the plane's coordinates (the other two axes in order: `(y, z)`
@@ -572,11 +583,7 @@ impl Tree<3> {
         else {
             return Ok(Vec::new());
         };
-        let [a, b] = match axis {
-            0 => [1, 2],
-            1 => [0, 2],
-            _ => [0, 1],
-        };
+        let [a, b] = plane_axes(axis);
         let (plo, phi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
         let cell = (phi - plo) / resolution as f64;
         let shift = cell * GRID_SHIFT;
@@ -992,11 +999,7 @@ mod tests {
             let axis = rng.int(0, 2);
             let at = rng.range(lo[axis], hi[axis]);
             let lines = tree.section(axis, at, 96, 1e-10, None).unwrap();
-            let [a, b] = match axis {
-                0 => [1, 2],
-                1 => [0, 2],
-                _ => [0, 1],
-            };
+            let [a, b] = plane_axes(axis);
             let place = |q: DVec2| {
                 let mut p = [at; 3];
                 p[a] = q.x;

@@ -47,7 +47,7 @@ mod interval;
 mod mesh;
 
 pub use interval::Interval;
-pub use mesh::{MAX_RESOLUTION, MeshStats, TreeMeshError};
+pub use mesh::{MAX_RESOLUTION, MeshStats, TreeMeshError, plane_axes};
 
 /// The deepest a tree may be: a node and its children count 2.
 pub const MAX_DEPTH: usize = 32;
