@@ -131,15 +131,7 @@ pub fn frame_section(
     axes[b] = &vs;
     volume.plan(w * h);
     let values = volume.f_grid(axes);
-    let range = values
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
-    let field = field_image(w, h, &values, range);
-    let magnitude = values
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let (field, range, magnitude) = whole_field(w, h, &values);
     let contours = contour(
         &grid,
         &values,
@@ -247,15 +239,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
     let (xs, ys) = (grid.xs(), grid.ys());
     tree.plan(w * h);
     let values = tree.f_grid([&xs, &ys]);
-    let range = values
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
-    let field = field_image(w, h, &values, range);
-    let magnitude = values
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let (field, range, magnitude) = whole_field(w, h, &values);
     let contours = contour(&grid, &values, |p| tree.f(p), CONTOUR_ACCURACY * magnitude);
     let shapes = if part {
         shapes(editor, view, &contours)
@@ -287,6 +271,15 @@ fn field_size(view: &View2, long: usize) -> (usize, usize) {
     } else {
         (((long as f64 * aspect).round() as usize).max(2), long)
     }
+}
+
+/// The field image of `w × h` samples coloured over their whole finite range, with that range and
+/// the largest finite `|f|` (what a contour's accuracy is relative to).
+fn whole_field(w: usize, h: usize, values: &[f64]) -> (FieldImage, (f64, f64), f64) {
+    let finite = || values.iter().filter(|v| v.is_finite());
+    let range = finite().fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
+    let magnitude = finite().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    (field_image(w, h, values, range), range, magnitude)
 }
 
 /// The texel centres of a `w × h` image of the view: where the field is sampled, so that the

@@ -249,11 +249,8 @@ where
         Shape::Bezier(solid, None) => moved(solid.domain(), lo, hi),
         Shape::Piecewise(solid, None) => moved(solid.domain(), lo, hi),
         Shape::Piecewise(_, Some(r)) => {
-            let tlo = r.scaled(lo);
-            let thi = r.scaled(hi);
-            let strip =
-                |i: usize| Interval::new(0.25, 0.25).add(offset_square(tlo[i], thi[i], 0.5).neg());
-            let clip = (1..D).fold(strip(0), |f, i| f.intersect(strip(i)));
+            let (tlo, thi) = (r.scaled(lo), r.scaled(hi));
+            let clip = unit_clip(tlo, thi);
             if clip.hi < 0.0 {
                 return Interval::new(-UNKNOWN, clip.hi);
             }
@@ -308,11 +305,8 @@ where
             s.intersect(clip)
         }
         Shape::Bezier(_, Some(r)) => {
-            let tlo = r.scaled(lo);
-            let thi = r.scaled(hi);
-            let strip =
-                |i: usize| Interval::new(0.25, 0.25).add(offset_square(tlo[i], thi[i], 0.5).neg());
-            let clip = (1..D).fold(strip(0), |f, i| f.intersect(strip(i)));
+            let (tlo, thi) = (r.scaled(lo), r.scaled(hi));
+            let clip = unit_clip(tlo, thi);
             if clip.hi < 0.0 {
                 // Outside the unit box of the parameters: f = S & F_s ≤ F_s < 0, whatever S is.
                 return Interval::new(-UNKNOWN, clip.hi);
@@ -336,6 +330,12 @@ where
             s.intersect(clip)
         }
     }
+}
+
+/// The unit box's clipping `F_b(t_0) & F_b(t_1) …` over the parameters `[tlo, thi]`.
+fn unit_clip<const D: usize>(tlo: [f64; D], thi: [f64; D]) -> Interval {
+    let strip = |i: usize| Interval::new(0.25, 0.25).add(offset_square(tlo[i], thi[i], 0.5).neg());
+    (1..D).fold(strip(0), |f, i| f.intersect(strip(i)))
 }
 
 /// A solid with moved points over `[lo, hi]`: negative outside its net's hull `domain`, and no
