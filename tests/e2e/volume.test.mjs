@@ -223,3 +223,38 @@ test('the true section of a volume: f on a plane, live as the plane moves and as
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('the Bézier zoo: each space-mapped preset opens from the menu and draws its shaded surface', async () => {
+  const { page, errors } = await open(browser);
+  const zoo = [
+    ['chair', '7 × 7 × 7'], ['vase', '7 × 7 × 5'], ['knot', '7 × 7 × 3'],
+    ['shell', '7 × 7 × 5'], ['koi', '7 × 5 × 5'], ['tooth', '5 × 3 × 7'],
+  ];
+  const shots = [];
+  for (const [name, points] of zoo) {
+    await pick(page, 'preset', name);
+    await page.waitForSelector('body[data-kind="volume"]');
+    assert.match(await page.textContent('#model-name'), new RegExp(`Volume solid, ${points} points`), name);
+    // The fine surface from the worker, forward from the parameter box (the map is injective).
+    await page.waitForFunction(() => JSON.parse(window.bezsolid.modeler.panel()).surface?.[1] === 64, null, { timeout: 30_000 });
+    await settle(page);
+    const panel = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel()));
+    assert.ok(panel.space_mapped, `${name} is a space mapping`);
+    assert.match(await page.textContent('#surface-info'), /Surface: [\d,]+ triangles at 64/, name);
+    const shot = await page.locator('#view3d').screenshot();
+    writeFileSync(join(ARTIFACTS, `zoo-${name}.png`), shot);
+    const img = decodePng(shot);
+    const tones = new Set();
+    for (let y = 0; y < img.height; y += 3) {
+      for (let x = 0; x < img.width; x += 3) {
+        const [r, g, b] = img.at(x, y);
+        if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
+      }
+    }
+    assert.ok(tones.size > 40, `${name}: the shaded surface is drawn (${tones.size} tones)`);
+    assert.ok(!shots.some((s) => s.equals(shot)), `${name} looks like none before it`);
+    shots.push(shot);
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
+});

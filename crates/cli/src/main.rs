@@ -81,7 +81,8 @@ commands (DESIGN §5):
 
 MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many solids: primitives,
 Bézier solids, set operations, blends, morphs and transforms, DESIGN §5), a share link (the whole URL or its #v1. fragment; quote it
-in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish. MESH, A and B are mesh files or
+in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish, and the zoo's preset:chair,
+preset:vase, preset:knot, preset:shell, preset:koi, preset:tooth. MESH, A and B are mesh files or
 built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
 links (`mesh` writes the surface of a free-form model's result); SOLID likewise. SCRIPT is a script file (.psm),
 a model file or link holding one, or one of the paper's examples: example:3.1, example:3.3,

@@ -1,10 +1,15 @@
 //! Preset solids that give recognisable shapes: the first paper's Fig. 9 in 2D, and in 3D a blob, a
-//! ring and a fish in the spirit of the paper's Fig. 10 and its "Bézier zoo" (Fig. 12), made by us.
+//! ring and a fish in the spirit of the paper's Fig. 10, and a "Bézier zoo" in the spirit of its
+//! Fig. 12 (a chair, a vase, a twisted ring, a shell, a fish with fins, a tooth), made by us.
+//!
+//! Each is made with the modeler's own two operations, the paper's: function mapping (the ξ of each
+//! control point of a regular grid) and then space mapping (control points moved in space, a map
+//! that stays injective, so the solid meshes forward from its parameter box).
 
 use glam::{DVec2, DVec3};
 
 use crate::model::ModelSolid;
-use crate::{Solid2, Solid3};
+use crate::{Solid2, Solid3, Tensor};
 
 /// A preset model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -19,11 +24,39 @@ pub enum Preset {
     /// A fish: degree (6, 4, 2) over `[0, 3] × [−0.8, 0.8] × [−0.5, 0.5]`, a round body, a waist and
     /// a tail fin that is wide in y and thin in z.
     Fish,
+    /// An armchair: degree (6, 6, 6), a block hollowed above the seat and below it between four
+    /// legs; the legs splayed and the back tilted by moving control points.
+    Chair,
+    /// A vase: degree (6, 6, 4), a tube (ξ raised on a ring of control points) with a floor, its
+    /// layers scaled to a belly, a neck and a lip.
+    Vase,
+    /// A twisted ring, knot-like: the ring's net (degree (6, 6, 2)) with its inner columns of
+    /// points lifted along three waves around the axis and its tube's section tilted with them.
+    Knot,
+    /// A clam's shell: degree (6, 6, 4), a hollow dome (ξ raised between two radii) fanned from a
+    /// hinge and ribbed by moving its points.
+    Shell,
+    /// A fish with fins: degree (6, 4, 4), the fish's body and tail with a dorsal fin and two side
+    /// fins (ξ raised there and their points drawn out), bent as it swims.
+    Koi,
+    /// A molar: degree (4, 2, 6), a crown whose top carries four cusps, on two roots.
+    Tooth,
 }
 
 impl Preset {
     /// Every preset, 2D first.
-    pub const ALL: [Self; 4] = [Self::Fig9, Self::Blob, Self::Ring, Self::Fish];
+    pub const ALL: [Self; 10] = [
+        Self::Fig9,
+        Self::Blob,
+        Self::Ring,
+        Self::Fish,
+        Self::Chair,
+        Self::Vase,
+        Self::Knot,
+        Self::Shell,
+        Self::Koi,
+        Self::Tooth,
+    ];
 
     /// The preset's name in files, links and the command line.
     #[must_use]
@@ -33,6 +66,12 @@ impl Preset {
             Self::Blob => "blob",
             Self::Ring => "ring",
             Self::Fish => "fish",
+            Self::Chair => "chair",
+            Self::Vase => "vase",
+            Self::Knot => "knot",
+            Self::Shell => "shell",
+            Self::Koi => "koi",
+            Self::Tooth => "tooth",
         }
     }
 
@@ -50,6 +89,12 @@ impl Preset {
             Self::Blob => ModelSolid::Volume(blob()),
             Self::Ring => ModelSolid::Volume(ring()),
             Self::Fish => ModelSolid::Volume(fish()),
+            Self::Chair => ModelSolid::Volume(chair()),
+            Self::Vase => ModelSolid::Volume(vase()),
+            Self::Knot => ModelSolid::Volume(knot()),
+            Self::Shell => ModelSolid::Volume(shell()),
+            Self::Koi => ModelSolid::Volume(koi()),
+            Self::Tooth => ModelSolid::Volume(tooth()),
         }
     }
 }
@@ -113,6 +158,210 @@ fn fish() -> Solid3 {
     ))
 }
 
+/// The regular grid over `[min, max]` with `ξ(P_I) = xi(I)` (function mapping), whose control
+/// points are then moved to `moved(I, P_I)` (space mapping).
+fn mapped(
+    degree: [usize; 3],
+    min: DVec3,
+    max: DVec3,
+    xi: impl FnMut([usize; 3]) -> f64,
+    moved: impl Fn([usize; 3], DVec3) -> DVec3,
+) -> Solid3 {
+    let grid = valid(Solid3::regular(degree, min, max, xi));
+    let net = Tensor::from_fn(degree, |at| {
+        let c = grid.net()[at];
+        moved(at, c.truncate()).extend(c.w)
+    });
+    valid(
+        net.map_err(crate::SolidError::from)
+            .and_then(Solid3::try_from_net),
+    )
+}
+
+fn chair() -> Solid3 {
+    // Solid everywhere but above the seat between the arms and in front of the back, and below
+    // the seat between the legs.
+    mapped(
+        [6, 6, 6],
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 2.0),
+        |[i, j, k]| {
+            let arm = i == 0 || i == 6;
+            let back = j >= 5;
+            let leg = (i <= 1 || i >= 5) && (j <= 1 || j >= 5);
+            let above = k >= 4 && !arm && !back;
+            let below = k <= 1 && !leg;
+            if above || below { -1.0 } else { 1.0 }
+        },
+        |[_, _, k], p| {
+            let t = k as f64 / 6.0;
+            // Legs splayed at the floor; the back leans back as it rises.
+            let splay = 1.0 + 0.15 * (1.0 - t) * (1.0 - t);
+            let lean = if p.y > 0.5 { 0.35 * t * t } else { 0.0 };
+            DVec3::new(p.x * splay, p.y * splay + lean, p.z)
+        },
+    )
+}
+
+fn vase() -> Solid3 {
+    mapped(
+        [6, 6, 4],
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 3.0),
+        |[i, j, k]| {
+            let r = DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length();
+            match (k, r) {
+                (_, r) if r > 1.0 => -0.5,
+                (0, _) => 2.0,
+                (_, r) if r > 0.5 => 2.0,
+                _ => -4.0,
+            }
+        },
+        |[_, _, k], p| {
+            const SCALE: [f64; 5] = [0.7, 1.15, 0.9, 0.55, 0.8];
+            DVec3::new(p.x * SCALE[k], p.y * SCALE[k], p.z)
+        },
+    )
+}
+
+fn knot() -> Solid3 {
+    mapped(
+        [6, 6, 2],
+        DVec3::new(-1.0, -1.0, -0.5),
+        DVec3::new(1.0, 1.0, 0.5),
+        |[i, j, k]| {
+            let r = DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length();
+            match (k, r) {
+                (1, r) if r > 0.5 && r < 1.0 => 2.0,
+                (1, r) if r <= 0.5 => -1.0,
+                (1, _) => -0.5,
+                _ => -0.3,
+            }
+        },
+        |[i, j, _], p| {
+            // Every inner column of points lifted along three waves around the axis, and its
+            // tube's section tilted with them (the outer side lifted more than the inner): a
+            // twist. The box's sides stay where they are.
+            if i % 6 == 0 || j % 6 == 0 {
+                return p;
+            }
+            let rho = p.truncate().length();
+            let theta = libm::atan2(p.y, p.x);
+            let lift = 1.5 * rho * libm::sin(3.0 * theta);
+            let tilt = 0.5 * (rho - 0.5) * libm::cos(3.0 * theta);
+            DVec3::new(p.x, p.y, p.z + lift + tilt)
+        },
+    )
+}
+
+fn shell() -> Solid3 {
+    // A dome-shaped wall (ξ raised on control points between two radii from the base's centre,
+    // as the ring and the vase raise it on a ring), fanned from a hinge and ribbed by moving the
+    // points.
+    mapped(
+        [6, 6, 4],
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 1.0),
+        |[i, j, k]| {
+            let r = DVec3::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0, k as f64 / 4.0).length();
+            match r {
+                r if r >= 1.0 => -1.0,
+                r if r > 0.55 => 2.0,
+                _ => -3.0,
+            }
+        },
+        |[i, j, _], p| {
+            let t = j as f64 / 6.0;
+            let fan = 0.45 + 0.55 * t;
+            let rib = 1.0 + if i % 2 == 0 { 0.06 } else { -0.06 } * t;
+            DVec3::new(p.x * fan * rib, p.y, p.z)
+        },
+    )
+}
+
+fn koi() -> Solid3 {
+    // The fish's layers, with room above for a dorsal fin on the back's centre row and side fins
+    // on the outer rows: layer 0 its bottom, 1 and 2 its middle, 3 its top, 4 the fin's tip.
+    const MIDDLE: [[f64; 7]; 3] = [
+        [-1.0, -1.0, 3.0, -1.0, -1.0, -1.5, 2.6],
+        [-1.0, 1.2, 2.4, 2.0, 0.2, 0.8, 1.8],
+        [-0.5, 2.5, 3.5, 3.2, 2.6, 3.2, 1.2],
+    ];
+    const OUTER: [[f64; 7]; 3] = [
+        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -2.2],
+        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -1.3],
+        [-1.0, -0.2, 0.3, 0.0, -1.0, -1.8, -1.0],
+    ];
+    const FIN: [f64; 7] = [-3.0, -3.0, 6.0, 4.0, -3.0, -3.0, -3.0];
+    const ROW: [usize; 5] = [0, 1, 2, 1, 0];
+    mapped(
+        [6, 4, 4],
+        DVec3::new(0.0, -0.8, -0.5),
+        DVec3::new(3.0, 0.8, 0.9),
+        |[i, j, k]| match k {
+            4 if j == 2 => FIN[i],
+            4 => -3.0,
+            3 if j == 2 && (i == 2 || i == 3) => 2.5,
+            0 | 3 => OUTER[ROW[j]][i],
+            _ => MIDDLE[ROW[j]][i],
+        },
+        |[i, j, k], p| {
+            // Bent as it swims; the side fins' points drawn out and back, the dorsal fin's up.
+            let bend = 0.15 * libm::sin(core::f64::consts::PI * p.x / 3.0);
+            let side = (j == 0 || j == 4) && i == 2 && (k == 1 || k == 2);
+            let (x, y) = if side {
+                (p.x + 0.3, p.y * 2.0)
+            } else {
+                (p.x, p.y)
+            };
+            let z = match (i, j, k) {
+                (2, 2, 4) => p.z + 2.5,
+                (3, 2, 4) => p.z + 1.5,
+                (2 | 3, 2, 3) => p.z + 0.3,
+                _ => p.z,
+            };
+            DVec3::new(x, y + bend, z)
+        },
+    )
+}
+
+fn tooth() -> Solid3 {
+    // Solid up to its box, whose top carries four cusps (control points raised at its corners
+    // and lowered at its centre), but for the furcation between the two roots.
+    mapped(
+        [4, 2, 6],
+        DVec3::new(-1.0, -0.7, 0.0),
+        DVec3::new(1.0, 0.7, 2.4),
+        |[i, _, k]| match (k, i) {
+            (0..=2, 2) => -6.0,
+            (3, 2) => 0.5,
+            _ => 1.5,
+        },
+        |[i, j, k], p| {
+            // The crown bulges; the roots narrow and close in towards their tips.
+            let x = match (k, i) {
+                (4 | 5, _) => p.x * 1.1,
+                (0, 0) => -0.8,
+                (0, 1) => -0.25,
+                (0, 3) => 0.25,
+                (0, 4) => 0.8,
+                _ => p.x,
+            };
+            let y = match k {
+                0 => p.y * 0.55,
+                1 => p.y * 0.8,
+                _ => p.y,
+            };
+            let z = match (k, i, j) {
+                (6, 1 | 3, 0 | 2) => p.z + 0.6,
+                (6, 2, 1) => p.z - 0.4,
+                _ => p.z,
+            };
+            DVec3::new(x, y, z)
+        },
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -129,7 +378,17 @@ mod tests {
 
     #[test]
     fn presets_mesh_to_closed_surfaces_of_the_right_genus() {
-        for (preset, euler) in [(Preset::Blob, 2), (Preset::Ring, 0), (Preset::Fish, 2)] {
+        for (preset, euler) in [
+            (Preset::Blob, 2),
+            (Preset::Ring, 0),
+            (Preset::Fish, 2),
+            (Preset::Chair, 2),
+            (Preset::Vase, 2),
+            (Preset::Knot, 0),
+            (Preset::Shell, 2),
+            (Preset::Koi, 2),
+            (Preset::Tooth, 2),
+        ] {
             let ModelSolid::Volume(solid) = preset.solid() else {
                 panic!("{preset:?} is a volume");
             };
@@ -143,5 +402,70 @@ mod tests {
                 mesh.triangle_count()
             );
         }
+    }
+
+    /// The zoo's presets are space mappings certified injective (they mesh forward from their
+    /// parameter box, as the page draws them, with no fold to warn of), and each has the feature it
+    /// is named for: a point where the shape must be solid and one where it must be empty.
+    #[test]
+    fn the_zoo_is_mapped_injectively_and_shaped_as_named() {
+        use crate::inverse::Method;
+        let cases: [(Preset, [f64; 3], [f64; 3]); 6] = [
+            // The seat is solid; the space above it, between the arms, is not.
+            (Preset::Chair, [0.0, -0.3, 1.0], [0.0, -0.3, 1.7]),
+            // The floor is solid; the vase is hollow above it.
+            (Preset::Vase, [0.0, 0.0, 0.2], [0.0, 0.0, 1.5]),
+            // The tube is solid; the ring's centre is its hole.
+            (Preset::Knot, [0.75, 0.0, 0.0], [0.0, 0.0, 0.0]),
+            // The dome's wall is solid; under it is hollow.
+            (Preset::Shell, [0.0, 0.0, 0.7], [0.0, 0.0, 0.2]),
+            // The crown is solid; between the roots is not.
+            (Preset::Tooth, [0.0, 0.0, 1.8], [0.0, 0.0, 0.3]),
+            // The body is solid; above the head is not.
+            (Preset::Koi, [1.0, 0.0, 0.0], [0.4, 0.0, 0.8]),
+        ];
+        for (preset, solid, empty) in cases {
+            let ModelSolid::Volume(s) = preset.solid() else {
+                panic!("{preset:?} is a volume");
+            };
+            assert!(
+                s.inverse()
+                    .is_some_and(crate::inverse::InverseMap::injective),
+                "{preset:?} is an injective space mapping"
+            );
+            let f = |p: [f64; 3]| s.evaluate(DVec3::from_array(p), Method::Fast).f;
+            assert!(f(solid) > 0.0, "{preset:?} at {solid:?}: {}", f(solid));
+            assert!(f(empty) < 0.0, "{preset:?} at {empty:?}: {}", f(empty));
+        }
+        // The wave lifts the knot's tube: at the top of a wave the tube's centre is well above the
+        // plane z = 0, at the bottom of the next well below it.
+        let ModelSolid::Volume(knot) = Preset::Knot.solid() else {
+            unreachable!()
+        };
+        let top = |theta: f64| {
+            let (y, x) = (0.75 * theta.sin(), 0.75 * theta.cos());
+            (0..=200)
+                .map(|k| -1.5 + 3.0 * f64::from(k) / 200.0)
+                .filter(|&z| knot.evaluate(DVec3::new(x, y, z), Method::Fast).f > 0.0)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let (up, down) = (
+            top(core::f64::consts::PI / 6.0),
+            top(core::f64::consts::PI / 2.0),
+        );
+        assert!(
+            up > down + 0.2,
+            "the tube's top at the wave's crest {up}, trough {down}"
+        );
+        // The fish's fins: solid beside its body where the fish without fins is empty.
+        let ModelSolid::Volume(koi) = Preset::Koi.solid() else {
+            unreachable!()
+        };
+        let ModelSolid::Volume(fish) = Preset::Fish.solid() else {
+            unreachable!()
+        };
+        let fin = DVec3::new(1.2, 0.8, 0.1);
+        assert!(koi.evaluate(fin, Method::Fast).f > 0.0);
+        assert!(fish.evaluate(fin, Method::Fast).f < 0.0);
     }
 }

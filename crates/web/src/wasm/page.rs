@@ -587,8 +587,9 @@ impl Modeler {
         Ok(())
     }
 
-    /// Opens a preset by name: `"fig9"`, `"flat"` (a flat 4×4 grid), or the volumes `"blob"`,
-    /// `"ring"`, `"fish"`.
+    /// Opens a preset by name: `"fig9"`, `"flat"` (a flat 4×4 grid), the volumes `"blob"`,
+    /// `"ring"`, `"fish"`, or the zoo's space-mapped volumes `"chair"`, `"vase"`, `"knot"`,
+    /// `"shell"`, `"koi"`, `"tooth"`.
     ///
     /// # Errors
     ///
