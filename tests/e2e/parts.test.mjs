@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch, open, settle, ARTIFACTS } from './harness.mjs';
-import { decodePng } from './png.mjs';
+import { surfaceTones } from './png.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -21,18 +21,6 @@ const surfaceAt = (page, resolution) => page.waitForFunction((r) => {
   return p.surface?.[1] === r && p.surface_current;
 }, resolution, { timeout: 60_000 });
 
-/** Warm tones of the shaded surface in a screenshot of the 3D view. */
-function surfaceTones(png) {
-  const img = decodePng(png);
-  const tones = new Set();
-  for (let y = 0; y < img.height; y += 3) {
-    for (let x = 0; x < img.width; x += 3) {
-      const [r, g, b] = img.at(x, y);
-      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
-    }
-  }
-  return tones.size;
-}
 
 test('a model of six parts is built by clicks, edited, undone, shared and opened again', async () => {
   const { page, errors } = await open(browser);

@@ -73,3 +73,17 @@ export function decodePng(buf) {
     },
   };
 }
+
+/** The number of warm tones of the shaded surface (the volume's colour) in a screenshot of the 3D
+ * view, sampled every third pixel: a flat or missing surface has few. */
+export function surfaceTones(png) {
+  const img = decodePng(png);
+  const tones = new Set();
+  for (let y = 0; y < img.height; y += 3) {
+    for (let x = 0; x < img.width; x += 3) {
+      const [r, g, b] = img.at(x, y);
+      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
+    }
+  }
+  return tones.size;
+}

@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch, open, settle, ARTIFACTS, pick } from './harness.mjs';
-import { decodePng } from './png.mjs';
+import { decodePng, surfaceTones } from './png.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -265,15 +265,8 @@ test('a solid a script draws opens in the Bézier mode as its Bézier volume, wh
   assert.match(await page.textContent('#surface-info'), /Surface: [\d,]+ triangles at 64/);
   const shot = await page.locator('#view3d').screenshot();
   writeFileSync(join(ARTIFACTS, 'script-slab-volume-3d.png'), shot);
-  const img = decodePng(shot);
-  const tones = new Set();
-  for (let y = 0; y < img.height; y += 3) {
-    for (let x = 0; x < img.width; x += 3) {
-      const [r, g, b] = img.at(x, y);
-      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
-    }
-  }
-  assert.ok(tones.size > 20, `the shaded surface is drawn (${tones.size} tones)`);
+  const tones = surfaceTones(shot);
+  assert.ok(tones > 20, `the shaded surface is drawn (${tones} tones)`);
   await page.click('#undo');
   assert.equal(await page.evaluate(() => window.bezsolid.modeler.model_json()), previous);
   // A surface in space has no volume: Fig. 1's surface offers a patch only.

@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch, open, settle, ARTIFACTS, pick } from './harness.mjs';
-import { decodePng } from './png.mjs';
+import { surfaceTones } from './png.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -30,16 +30,9 @@ test('a volume preset draws its surface, and the cross-section chooser changes t
   assert.match(await page.textContent('#surface-info'), /triangles at 64/);
   const shot = await page.locator('#view3d').screenshot();
   writeFileSync(join(ARTIFACTS, 'volume-3d.png'), shot);
-  const img = decodePng(shot);
   // The surface is drawn in its warm colour, shaded (more than a few tones of it).
-  const tones = new Set();
-  for (let y = 0; y < img.height; y += 3) {
-    for (let x = 0; x < img.width; x += 3) {
-      const [r, g, b] = img.at(x, y);
-      if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
-    }
-  }
-  assert.ok(tones.size > 40, `the shaded surface is drawn (${tones.size} tones)`);
+  const tones = surfaceTones(shot);
+  assert.ok(tones > 40, `the shaded surface is drawn (${tones} tones)`);
   assert.match(await page.textContent('#surface-info'), /Surface: [\d,]+ triangles/);
 
   const middle = await page.locator('#view').screenshot();
@@ -243,15 +236,8 @@ test('the Bézier zoo: each space-mapped preset opens from the menu and draws it
     assert.match(await page.textContent('#surface-info'), /Surface: [\d,]+ triangles at 64/, name);
     const shot = await page.locator('#view3d').screenshot();
     writeFileSync(join(ARTIFACTS, `zoo-${name}.png`), shot);
-    const img = decodePng(shot);
-    const tones = new Set();
-    for (let y = 0; y < img.height; y += 3) {
-      for (let x = 0; x < img.width; x += 3) {
-        const [r, g, b] = img.at(x, y);
-        if (r > g + 25 && g > b + 15 && r > 90) tones.add(`${r >> 2},${g >> 2},${b >> 2}`);
-      }
-    }
-    assert.ok(tones.size > 40, `${name}: the shaded surface is drawn (${tones.size} tones)`);
+    const tones = surfaceTones(shot);
+    assert.ok(tones > 40, `${name}: the shaded surface is drawn (${tones} tones)`);
     assert.ok(!shots.some((s) => s.equals(shot)), `${name} looks like none before it`);
     shots.push(shot);
   }

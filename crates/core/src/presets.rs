@@ -116,12 +116,18 @@ fn blob() -> Solid3 {
     ))
 }
 
+/// The distance of the control column `(i, j)` of a 7 × 7 grid from its centre, in half-widths
+/// of the grid (1 at the middle of a side).
+fn ring_radius(i: usize, j: usize) -> f64 {
+    DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length()
+}
+
 fn ring() -> Solid3 {
     // The middle layer is raised on the control points at radius 0.5 to 1 from the axis and lowered
     // inside (the hole) and outside; the top and bottom layers are lowered a little.
     let min = DVec3::new(-1.0, -1.0, -0.4);
     valid(Solid3::regular([6, 6, 2], min, -min, |[i, j, k]| {
-        let r = DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length();
+        let r = ring_radius(i, j);
         match (k, r) {
             (1, r) if r > 0.5 && r < 1.0 => 2.0,
             (1, r) if r <= 0.5 => -1.0,
@@ -131,29 +137,30 @@ fn ring() -> Solid3 {
     }))
 }
 
+// The fish's ξ. Along x (i): nose, head, belly, back, waist, tail root, tail. Across y (j) the rows
+// are outer, near, centre, near, outer (`FISH_ROW`); in z (k) the middle layer and the top/bottom
+// layers. The body is high in the middle layer and not too low above and below (round); the tail
+// is wide in y (the outer rows rise at i = 6) and thin in z (top and bottom well below the middle).
+const FISH_MIDDLE: [[f64; 7]; 3] = [
+    [-1.0, -1.0, -1.0, -1.0, -1.0, -1.5, 2.6],
+    [-1.0, 1.2, 2.4, 2.0, 0.2, 0.8, 1.8],
+    [-0.5, 2.5, 3.5, 3.2, 2.6, 3.2, 1.2],
+];
+const FISH_OUTER: [[f64; 7]; 3] = [
+    [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -2.2],
+    [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -1.3],
+    [-1.0, -0.2, 0.3, 0.0, -1.0, -1.8, -1.0],
+];
+const FISH_ROW: [usize; 5] = [0, 1, 2, 1, 0];
+
 fn fish() -> Solid3 {
-    // Along x (i): nose, head, belly, back, waist, tail root, tail. Across y (j) the rows are outer,
-    // near, centre, near, outer; in z (k) the middle layer and the top/bottom layers. The body is
-    // high in the middle layer and not too low above and below (round); the tail is wide in y (the
-    // outer rows rise at i = 6) and thin in z (top and bottom well below the middle).
-    const MIDDLE: [[f64; 7]; 3] = [
-        [-1.0, -1.0, -1.0, -1.0, -1.0, -1.5, 2.6],
-        [-1.0, 1.2, 2.4, 2.0, 0.2, 0.8, 1.8],
-        [-0.5, 2.5, 3.5, 3.2, 2.6, 3.2, 1.2],
-    ];
-    const OUTER: [[f64; 7]; 3] = [
-        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -2.2],
-        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -1.3],
-        [-1.0, -0.2, 0.3, 0.0, -1.0, -1.8, -1.0],
-    ];
-    const ROW: [usize; 5] = [0, 1, 2, 1, 0];
     valid(Solid3::regular(
         [6, 4, 2],
         DVec3::new(0.0, -0.8, -0.5),
         DVec3::new(3.0, 0.8, 0.5),
         |[i, j, k]| {
-            let layer = if k == 1 { &MIDDLE } else { &OUTER };
-            layer[ROW[j]][i]
+            let layer = if k == 1 { &FISH_MIDDLE } else { &FISH_OUTER };
+            layer[FISH_ROW[j]][i]
         },
     ))
 }
@@ -209,7 +216,7 @@ fn vase() -> Solid3 {
         DVec3::new(-1.0, -1.0, 0.0),
         DVec3::new(1.0, 1.0, 3.0),
         |[i, j, k]| {
-            let r = DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length();
+            let r = ring_radius(i, j);
             match (k, r) {
                 (_, r) if r > 1.0 => -0.5,
                 (0, _) => 2.0,
@@ -230,7 +237,7 @@ fn knot() -> Solid3 {
         DVec3::new(-1.0, -1.0, -0.5),
         DVec3::new(1.0, 1.0, 0.5),
         |[i, j, k]| {
-            let r = DVec2::new(i as f64 / 3.0 - 1.0, j as f64 / 3.0 - 1.0).length();
+            let r = ring_radius(i, j);
             match (k, r) {
                 (1, r) if r > 0.5 && r < 1.0 => 2.0,
                 (1, r) if r <= 0.5 => -1.0,
@@ -282,18 +289,7 @@ fn shell() -> Solid3 {
 fn koi() -> Solid3 {
     // The fish's layers, with room above for a dorsal fin on the back's centre row and side fins
     // on the outer rows: layer 0 its bottom, 1 and 2 its middle, 3 its top, 4 the fin's tip.
-    const MIDDLE: [[f64; 7]; 3] = [
-        [-1.0, -1.0, 3.0, -1.0, -1.0, -1.5, 2.6],
-        [-1.0, 1.2, 2.4, 2.0, 0.2, 0.8, 1.8],
-        [-0.5, 2.5, 3.5, 3.2, 2.6, 3.2, 1.2],
-    ];
-    const OUTER: [[f64; 7]; 3] = [
-        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -2.2],
-        [-1.2, -1.2, -1.2, -1.2, -1.2, -1.2, -1.3],
-        [-1.0, -0.2, 0.3, 0.0, -1.0, -1.8, -1.0],
-    ];
     const FIN: [f64; 7] = [-3.0, -3.0, 6.0, 4.0, -3.0, -3.0, -3.0];
-    const ROW: [usize; 5] = [0, 1, 2, 1, 0];
     mapped(
         [6, 4, 4],
         DVec3::new(0.0, -0.8, -0.5),
@@ -302,8 +298,9 @@ fn koi() -> Solid3 {
             4 if j == 2 => FIN[i],
             4 => -3.0,
             3 if j == 2 && (i == 2 || i == 3) => 2.5,
-            0 | 3 => OUTER[ROW[j]][i],
-            _ => MIDDLE[ROW[j]][i],
+            1 | 2 if (j == 0 || j == 4) && i == 2 => 3.0,
+            0 | 3 => FISH_OUTER[FISH_ROW[j]][i],
+            _ => FISH_MIDDLE[FISH_ROW[j]][i],
         },
         |[i, j, k], p| {
             // Bent as it swims; the side fins' points drawn out and back, the dorsal fin's up.
