@@ -248,12 +248,13 @@ test('each export downloads a file that parses back; the model file opens again'
   const [r2, , b2] = png.at(4, 4);
   assert.ok(r > b + 40 && b2 > r2 + 40, `red middle ${[r, b]}, blue corner ${[r2, b2]}`);
 
-  // A space-mapped model has no HyperFun form: a message, no download, nothing changed.
+  // A space-mapped model's HyperFun carries its inverse map, in HyperFun's own loops.
   await edit(page);
   const edited = await model(page);
-  await pick(page, 'export', 'hf');
-  await page.waitForFunction(() => document.querySelector('#status').dataset.kind === 'error');
-  assert.match(await status(page), /regular grid/);
+  const mapped = (await exported(page, 'hf')).bytes.toString();
+  assert.match(mapped, /-- solid: a space-mapped Bezier patch of degree \(\d+, \d+\)/);
+  assert.match(mapped, /while \(m1go = 1\) loop/);
+  assert.match(mapped, /my_model = n\d+;\s*\}\s*$/);
   assert.equal(await model(page), edited);
 
   // Import: the exported model file by the picker (an undo step), and a broken one (kept).

@@ -1,6 +1,7 @@
-//! `bezsolid hf MODEL -o OUT.hf [--height H]`: HyperFun export of a regular patch or volume, or of
-//! a tree of many solids (its regular Bézier leaves as the explicit Bernstein sum); a 2D model is a
-//! prism along z, or with `--height` the extrusion from z = 0 to z = H.
+//! `bezsolid hf MODEL -o OUT.hf [--height H]`: HyperFun export of any patch or volume (a regular one
+//! as the explicit Bernstein sum, a space-mapped one with its inverse map written in HyperFun), or
+//! of a tree of many solids; a 2D model is a prism along z, or with `--height` the extrusion from
+//! z = 0 to z = H.
 
 use anyhow::{Context, Result, bail};
 

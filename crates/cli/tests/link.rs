@@ -75,12 +75,23 @@ fn a_printed_link_opens_as_the_same_model_everywhere() {
     let svg = std::fs::read(a).unwrap();
     assert!(String::from_utf8_lossy(&svg).contains("<path"));
     assert_eq!(svg, std::fs::read(b).unwrap());
-    // HyperFun cannot express a space mapping: refused with the reason, from the link as well.
-    let hf = out_path("moved.hf");
-    let out = bezsolid(&["hf", link, "-o", hf.to_str().unwrap()]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("regular grid"));
-    assert!(!hf.exists());
+    // HyperFun of a space mapping carries its inverse map (seeds, Newton's loop), the same from
+    // the link as from the file.
+    let (a, b) = (out_path("moved-file.hf"), out_path("moved-link.hf"));
+    for (m, out) in [(model, &a), (link, &b)] {
+        let run = bezsolid(&["hf", m, "-o", out.to_str().unwrap()]);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    }
+    let text = std::fs::read_to_string(&a).unwrap();
+    assert!(
+        text.contains("space-mapped") && text.contains("while (") && text.contains("endloop;"),
+        "{text}"
+    );
+    assert_eq!(text, std::fs::read_to_string(&b).unwrap());
 }
 
 #[test]

@@ -135,7 +135,7 @@ pub fn svg(solid: &Solid2) -> String {
 ///
 /// # Errors
 ///
-/// For a space-mapped model, which HyperFun cannot express.
+/// For a space-mapped model past the export's cap ([`bezsolid_core::hyperfun::MAX_NUMBERS`]).
 pub fn hyperfun(editor: &Editor) -> Result<String, Error> {
     match editor.volume() {
         Some(v) => solid3_hf(v),
@@ -669,7 +669,9 @@ mod tests {
         let made = headless::svg(&patch_json(&e)).unwrap();
         assert_eq!(made.data, svg, "the worker's SVG is the same");
         assert_eq!(made.approximate, 0);
-        assert!(hyperfun(&e).unwrap_err().message().contains("regular grid"));
+        // A space mapping's HyperFun carries its inverse map.
+        let mapped = hyperfun(&e).unwrap();
+        assert!(mapped.contains("space-mapped") && mapped.contains("endloop;"));
         assert!(
             hyperfun(&Editor::new(Solid2::fig9()))
                 .unwrap()

@@ -67,7 +67,6 @@ from_display!(
     ReadError,
     UnknownFormat,
     EscError,
-    bezsolid_core::hyperfun::SpaceMapped,
     bezsolid_core::hyperfun::TreeHfError,
     bezsolid_core::tree::TreeMeshError,
     bezsolid_core::link::LinkError,

@@ -1,7 +1,9 @@
-//! HyperFun (`.hf`) export of regular-grid solids. A space-mapped solid (moved control points) is
-//! refused with [`SpaceMapped`]: its inverse map has no closed form that HyperFun could evaluate.
+//! HyperFun (`.hf`) export of every model: a regular-grid solid in closed form, a space-mapped one
+//! (moved control points) with its inverse map written in HyperFun itself (seeds, Newton's
+//! method, the largest clipped value over the preimages: `mapped.rs`), a tree of many solids node
+//! by node ([`tree_hf`]).
 //!
-//! The model is written as the explicit Bernstein sum in plain HyperFun arithmetic (`+ − * /` and the
+//! A regular solid is written as the explicit Bernstein sum in plain HyperFun arithmetic (`+ − * /` and the
 //! R-function intersection `&`, which HyperFun defines as `f1 + f2 − sqrt(f1² + f2²)`, the paper's), so
 //! it needs no library primitive and is exact: the same polynomial, the same clipping. Numbers are
 //! written in Rust's shortest round-trip decimal, so they read back to the same `f64`s.
@@ -21,9 +23,12 @@ use glam::{DVec2, DVec3};
 use crate::bernstein::binomial;
 use crate::{Solid2, Solid3};
 
+#[cfg(test)]
+mod interp;
+mod mapped;
 mod tree;
 
-pub use tree::{TreeHfError, tree_hf};
+pub use tree::{MAX_NUMBERS, TreeHfError, tree_hf};
 
 /// A number as a HyperFun literal: negative ones in parentheses, so `a*(-0.5)` parses.
 fn num(x: f64) -> String {
@@ -73,22 +78,6 @@ fn header(out: &mut String, what: &str) {
     );
 }
 
-/// Why a solid has no HyperFun export: its control points are not a regular grid.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SpaceMapped;
-
-impl core::fmt::Display for SpaceMapped {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(
-            f,
-            "HyperFun export needs a regular grid of control points: this model is space-mapped \
-             (moved points), and its inverse map has no closed form in HyperFun"
-        )
-    }
-}
-
-impl core::error::Error for SpaceMapped {}
-
 /// A 2D model's HyperFun export ([`solid2_hf`], or [`tree_hf`] of a 2D model: a prism along z)
 /// bounded to the slab `0 ≤ z ≤ height`: `my_model = f & (x[3]·(height − x[3]))`, the slab's
 /// strip intersected by HyperFun's `&` (the R-function, as the domain's box clips). `None` for a
@@ -111,14 +100,16 @@ pub fn extruded(text: &str, height: f64) -> Option<String> {
 }
 
 /// The HyperFun model of a 2D solid: a function of `x[1], x[2]` (HyperFun models are 3D, so `x[3]` is
-/// unused and the solid is a prism along z).
+/// unused and the solid is a prism along z). A space-mapped one is written with its inverse map
+/// ([`tree_hf`] of the solid alone).
 ///
 /// # Errors
 ///
-/// [`SpaceMapped`] for a space-mapped solid.
-pub fn solid2_hf(solid: &Solid2) -> Result<String, SpaceMapped> {
+/// [`TreeHfError::TooLarge`] for a space-mapped solid past [`MAX_NUMBERS`] (none within the
+/// model's caps).
+pub fn solid2_hf(solid: &Solid2) -> Result<String, TreeHfError> {
     if solid.inverse().is_some() {
-        return Err(SpaceMapped);
+        return tree_hf(&crate::model::ModelFile::from_solid2(solid));
     }
     let [n, m] = solid.degree();
     let (min, max): (DVec2, DVec2) = solid.domain();
@@ -148,14 +139,16 @@ pub fn solid2_hf(solid: &Solid2) -> Result<String, SpaceMapped> {
 }
 
 /// The HyperFun model of a 3D solid: the explicit Bernstein sum, with the equivalent
-/// `hfBezierVolume` call in a comment.
+/// `hfBezierVolume` call in a comment; a space-mapped one with its inverse map ([`tree_hf`] of
+/// the solid alone).
 ///
 /// # Errors
 ///
-/// [`SpaceMapped`] for a space-mapped solid.
-pub fn solid3_hf(solid: &Solid3) -> Result<String, SpaceMapped> {
+/// [`TreeHfError::TooLarge`] for a space-mapped solid past [`MAX_NUMBERS`] (none within the
+/// model's caps).
+pub fn solid3_hf(solid: &Solid3) -> Result<String, TreeHfError> {
     if solid.inverse().is_some() {
-        return Err(SpaceMapped);
+        return tree_hf(&crate::model::ModelFile::from_solid3(solid));
     }
     let [n, m, l] = solid.degree();
     let (min, max): (DVec3, DVec3) = solid.domain();
@@ -230,160 +223,12 @@ mod tests {
     use crate::model::ModelSolid;
     use crate::presets::Preset;
     use crate::testutil::Rng;
-    use alloc::collections::BTreeMap;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    /// An interpreter for the subset of HyperFun the exporter writes: a `my_model(x[3], a[1])` body of
-    /// `name = expr;` lines with numbers, names, `x[k]`, parentheses, unary minus, `+ - * /` and `&`
-    /// (the R-function intersection, lowest precedence). Comments start with `--`.
+    /// The file `text` at the point `x`, by the tests' HyperFun interpreter.
     fn run_hf(text: &str, x: [f64; 3]) -> f64 {
-        let body: String = text
-            .lines()
-            .map(|l| l.split("--").next().unwrap())
-            .collect::<Vec<_>>()
-            .join("\n");
-        let open = body.find('{').unwrap();
-        let close = body.rfind('}').unwrap();
-        assert!(body[..open].trim().starts_with("my_model(x[3], a[1])"));
-        let mut vars: BTreeMap<String, f64> = BTreeMap::new();
-        for stmt in body[open + 1..close]
-            .split(';')
-            .map(str::trim)
-            .filter(|s| !s.is_empty())
-        {
-            let (name, expr) = stmt.split_once('=').unwrap();
-            let tokens = tokenize(expr);
-            let mut p = Parser {
-                tokens: &tokens,
-                at: 0,
-                vars: &vars,
-                x,
-            };
-            let value = p.and();
-            assert_eq!(p.at, tokens.len(), "trailing tokens in {stmt}");
-            vars.insert(name.trim().to_lowercase(), value);
-        }
-        vars["my_model"]
-    }
-
-    #[derive(Debug, PartialEq)]
-    enum Tok {
-        Num(f64),
-        Name(String),
-        Op(char),
-    }
-
-    fn tokenize(s: &str) -> Vec<Tok> {
-        let chars: Vec<char> = s.chars().collect();
-        let mut out = Vec::new();
-        let mut i = 0;
-        while i < chars.len() {
-            let c = chars[i];
-            if c.is_whitespace() {
-                i += 1;
-            } else if c.is_ascii_digit() || c == '.' {
-                let start = i;
-                while i < chars.len()
-                    && (chars[i].is_ascii_digit() || chars[i] == '.' || chars[i] == 'e')
-                {
-                    i += 1;
-                }
-                out.push(Tok::Num(
-                    chars[start..i].iter().collect::<String>().parse().unwrap(),
-                ));
-            } else if c.is_ascii_alphabetic() {
-                let start = i;
-                while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
-                    i += 1;
-                }
-                out.push(Tok::Name(
-                    chars[start..i].iter().collect::<String>().to_lowercase(),
-                ));
-            } else {
-                assert!("+-*/&()[]".contains(c), "unexpected {c:?}");
-                out.push(Tok::Op(c));
-                i += 1;
-            }
-        }
-        out
-    }
-
-    struct Parser<'a> {
-        tokens: &'a [Tok],
-        at: usize,
-        vars: &'a BTreeMap<String, f64>,
-        x: [f64; 3],
-    }
-
-    impl Parser<'_> {
-        fn peek(&self, op: char) -> bool {
-            self.tokens.get(self.at) == Some(&Tok::Op(op))
-        }
-        fn and(&mut self) -> f64 {
-            let mut a = self.sum();
-            while self.peek('&') {
-                self.at += 1;
-                let b = self.sum();
-                a = a + b - (a * a + b * b).sqrt();
-            }
-            a
-        }
-        fn sum(&mut self) -> f64 {
-            let mut a = self.product();
-            loop {
-                if self.peek('+') {
-                    self.at += 1;
-                    a += self.product();
-                } else if self.peek('-') {
-                    self.at += 1;
-                    a -= self.product();
-                } else {
-                    return a;
-                }
-            }
-        }
-        fn product(&mut self) -> f64 {
-            let mut a = self.unary();
-            loop {
-                if self.peek('*') {
-                    self.at += 1;
-                    a *= self.unary();
-                } else if self.peek('/') {
-                    self.at += 1;
-                    a /= self.unary();
-                } else {
-                    return a;
-                }
-            }
-        }
-        fn unary(&mut self) -> f64 {
-            if self.peek('-') {
-                self.at += 1;
-                return -self.unary();
-            }
-            let tok = &self.tokens[self.at];
-            self.at += 1;
-            match tok {
-                Tok::Num(v) => *v,
-                Tok::Op('(') => {
-                    let v = self.and();
-                    assert!(self.peek(')'));
-                    self.at += 1;
-                    v
-                }
-                Tok::Name(n) if n == "x" => {
-                    assert!(self.peek('['));
-                    let Tok::Num(k) = self.tokens[self.at + 1] else {
-                        panic!("x[k]")
-                    };
-                    self.at += 3;
-                    self.x[k as usize - 1]
-                }
-                Tok::Name(n) => *self.vars.get(n).unwrap_or_else(|| panic!("undefined {n}")),
-                t => panic!("unexpected {t:?}"),
-            }
-        }
+        super::interp::eval(text, x)
     }
 
     #[test]
@@ -433,18 +278,5 @@ mod tests {
                 "{p}: {got} vs {want}"
             );
         }
-    }
-
-    #[test]
-    fn space_mapped_solids_are_refused() {
-        let mut s2 = Solid2::fig9();
-        s2.set_point([1, 1], glam::DVec2::new(0.6, 0.45)).unwrap();
-        assert_eq!(solid2_hf(&s2), Err(SpaceMapped));
-        let ModelSolid::Volume(mut s3) = Preset::Blob.solid() else {
-            unreachable!()
-        };
-        s3.set_point([1, 1, 1], DVec3::new(0.1, 0.0, 0.2)).unwrap();
-        assert_eq!(solid3_hf(&s3), Err(SpaceMapped));
-        assert!(alloc::string::ToString::to_string(&SpaceMapped).contains("regular grid"));
     }
 }

@@ -14,6 +14,7 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt::{self, Write as _};
 
+use super::mapped::{self, MappedLeaf, mapped_leaf, mapped_net, write_mapped};
 use super::{basis_term, num};
 use crate::model::{CoordAxis, ModelError, ModelFile, Rotation, SolidSpec};
 use crate::solid::Solid;
@@ -24,18 +25,28 @@ use crate::tree::ModelTree;
 pub enum TreeHfError {
     /// The model is not a valid tree.
     Model(ModelError),
-    /// A Bézier leaf is space-mapped (its inverse map has no closed form): its path.
-    SpaceMapped(String),
+    /// The export would write more numbers than [`MAX_NUMBERS`] (the space-mapped leaves' nets and
+    /// seed tables): the path of the leaf that passed it and the count so far.
+    TooLarge {
+        /// The leaf's path in the tree.
+        path: String,
+        /// The numbers the export had written with it.
+        numbers: usize,
+    },
 }
+
+/// The most numbers one export writes in the arrays of its space-mapped leaves (about 20 MB of
+/// text).
+pub const MAX_NUMBERS: usize = 1 << 20;
 
 impl fmt::Display for TreeHfError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Model(e) => e.fmt(f),
-            Self::SpaceMapped(path) => write!(
+            Self::TooLarge { path, numbers } => write!(
                 f,
-                "{path}: HyperFun export needs a regular grid of control points: this solid is \
-                 space-mapped (moved points), and its inverse map has no closed form in HyperFun"
+                "{path}: the HyperFun export of this model's space-mapped solids would write \
+                 {numbers} numbers, more than the {MAX_NUMBERS} it writes at most"
             ),
         }
     }
@@ -47,8 +58,13 @@ impl core::error::Error for TreeHfError {}
 ///
 /// # Errors
 ///
-/// [`TreeHfError`]: an invalid tree, or a space-mapped Bézier leaf.
+/// [`TreeHfError`]: an invalid tree, or one whose space-mapped leaves pass [`MAX_NUMBERS`].
 pub fn tree_hf(file: &ModelFile) -> Result<String, TreeHfError> {
+    tree_hf_within(file, MAX_NUMBERS)
+}
+
+/// [`tree_hf`] writing at most `cap` numbers for space-mapped leaves.
+fn tree_hf_within(file: &ModelFile, cap: usize) -> Result<String, TreeHfError> {
     let dim = match file.to_tree().map_err(TreeHfError::Model)? {
         ModelTree::Plane(_) => 2,
         ModelTree::Space(_) => 3,
@@ -58,6 +74,8 @@ pub fn tree_hf(file: &ModelFile) -> Result<String, TreeHfError> {
         body: String::new(),
         arrays: Vec::new(),
         next: 0,
+        numbers: 0,
+        cap,
     };
     let root = w.node(&file.solid, "solid", "x")?;
     let mut out = String::new();
@@ -83,6 +101,10 @@ struct Writer {
     /// Arrays to declare: name and length.
     arrays: Vec<(String, usize)>,
     next: usize,
+    /// The numbers the space-mapped leaves' arrays hold so far.
+    numbers: usize,
+    /// The most they may hold.
+    cap: usize,
 }
 
 impl Writer {
@@ -301,15 +323,25 @@ impl Writer {
 
     /// A regular Bézier leaf: the explicit Bernstein sum, clipped to its box, in coordinates `q`.
     fn bezier(&mut self, spec: &SolidSpec, path: &str, q: &str) -> Result<String, TreeHfError> {
-        let mapped = || TreeHfError::SpaceMapped(String::from(path));
-        let parts = match ModelFile::from_spec(spec.clone())
+        let tree = ModelFile::from_spec(spec.clone())
             .to_tree()
-            .map_err(TreeHfError::Model)?
-        {
-            ModelTree::Plane(t) => regular_parts(&t),
-            ModelTree::Space(t) => regular_parts(&t),
+            .map_err(TreeHfError::Model)?;
+        let parts = match &tree {
+            ModelTree::Plane(t) => regular_parts(t),
+            ModelTree::Space(t) => regular_parts(t),
         };
-        let RegularLeaf { degree, lo, hi, xi } = parts.ok_or_else(mapped)?;
+        let Some(RegularLeaf { degree, lo, hi, xi }) = parts else {
+            let (leaf, degree) = match &tree {
+                ModelTree::Plane(t) => t
+                    .as_solid()
+                    .and_then(|s| Some((mapped_leaf(s)?, s.degree().to_vec()))),
+                ModelTree::Space(t) => t
+                    .as_solid()
+                    .and_then(|s| Some((mapped_leaf(s)?, s.degree().to_vec()))),
+            }
+            .expect("a Bézier leaf is regular or space-mapped");
+            return self.mapped(&leaf, &degree, path, q);
+        };
         let tag = self.name("b");
         let mut params = Vec::new();
         for (k, &n) in degree.iter().enumerate() {
@@ -361,19 +393,111 @@ impl Writer {
 }
 
 impl Writer {
+    /// Counts `leaf`'s numbers against [`MAX_NUMBERS`].
+    fn count(&mut self, leaf: &MappedLeaf, path: &str) -> Result<(), TreeHfError> {
+        self.numbers += leaf.numbers();
+        if self.numbers > self.cap {
+            return Err(TreeHfError::TooLarge {
+                path: String::from(path),
+                numbers: self.numbers,
+            });
+        }
+        Ok(())
+    }
+
+    /// A space-mapped Bézier leaf in coordinates `q`: its inverse map written out.
+    fn mapped(
+        &mut self,
+        leaf: &MappedLeaf,
+        degree: &[usize],
+        path: &str,
+        q: &str,
+    ) -> Result<String, TreeHfError> {
+        self.count(leaf, path)?;
+        let tag = self.name("m");
+        let _ = writeln!(
+            self.body,
+            "  -- {path}: a space-mapped Bezier {} of degree ({})",
+            if degree.len() == 2 { "patch" } else { "volume" },
+            join(degree)
+        );
+        let code = write_mapped(leaf, &tag, q, None, &mut self.arrays);
+        let f = code.single(&tag, &mut self.body);
+        Ok(self.set(path, &f))
+    }
+
+    /// A piecewise leaf with moved points in coordinates `q`: every cell's preimages, the largest
+    /// value over them (clipped on the global parameter), and with none the largest of the
+    /// cells' continuations.
+    fn piecewise_mapped(
+        &mut self,
+        cells: &[(Vec<usize>, MappedLeaf)],
+        counts: &[usize],
+        path: &str,
+        q: &str,
+    ) -> Result<String, TreeHfError> {
+        let tag = self.name("m");
+        let mut codes = Vec::with_capacity(cells.len());
+        for (k, (at, leaf)) in cells.iter().enumerate() {
+            self.count(leaf, path)?;
+            let cell_tag = format!("{tag}c{k}x");
+            let code = write_mapped(leaf, &cell_tag, q, Some((at, counts)), &mut self.arrays);
+            self.body.push_str(&code.setup);
+            codes.push(code);
+        }
+        let f = format!("{tag}f");
+        let any = format!("{tag}any");
+        let _ = writeln!(self.body, "  {any} = 0; {f} = 0;");
+        for code in &codes {
+            self.body.push_str(&code.search);
+            let _ = writeln!(
+                self.body,
+                "  if ({} = 1) then\n    if ({any} = 0 or {} > {f}) then {f} = {}; endif;\n    \
+                 {any} = 1;\n  endif;",
+                code.found, code.best, code.best
+            );
+        }
+        let _ = writeln!(
+            self.body,
+            "  -- No preimage in any cell: the largest continuation."
+        );
+        let _ = writeln!(self.body, "  if ({any} = 0) then");
+        for (k, code) in codes.iter().enumerate() {
+            self.body.push_str(&mapped::indent(&code.continuation, 2));
+            let pick = if k == 0 {
+                String::new()
+            } else {
+                format!(" or {} > {f}", code.cont)
+            };
+            let _ = writeln!(
+                self.body,
+                "    if ({any} = 0{pick}) then {f} = {}; endif;\n    {any} = 1;",
+                code.cont
+            );
+        }
+        let _ = writeln!(self.body, "  endif;");
+        Ok(self.set(path, &f))
+    }
+
     /// A regular piecewise leaf in coordinates `q`: the global parameters, each axis's cell
     /// (chosen by `if`s as `eval` chooses it: the last cell past the box, the first before it) and
     /// local parameter, the chosen cell's Bernstein sum, clipped by the global box.
     fn piecewise(&mut self, spec: &SolidSpec, path: &str, q: &str) -> Result<String, TreeHfError> {
-        let mapped = || TreeHfError::SpaceMapped(String::from(path));
-        let leaf = match ModelFile::from_spec(spec.clone())
+        let tree = ModelFile::from_spec(spec.clone())
             .to_tree()
-            .map_err(TreeHfError::Model)?
-        {
-            ModelTree::Plane(t) => regular_cells(&t),
-            ModelTree::Space(t) => regular_cells(&t),
-        }
-        .ok_or_else(mapped)?;
+            .map_err(TreeHfError::Model)?;
+        let regular = match &tree {
+            ModelTree::Plane(t) => regular_cells(t),
+            ModelTree::Space(t) => regular_cells(t),
+        };
+        let Some(leaf) = regular else {
+            let (cells, counts) = match &tree {
+                ModelTree::Plane(t) => moved_cells(t),
+                ModelTree::Space(t) => moved_cells(t),
+            }
+            .expect("a piecewise leaf is regular or moved");
+            return self.piecewise_mapped(&cells, &counts, path, q);
+        };
         let tag = self.name("p");
         let d = leaf.cells.len();
         let _ = writeln!(
@@ -477,6 +601,38 @@ impl Writer {
     }
 }
 
+/// The cells of a piecewise leaf with moved points (their indices and nets) and the cell counts;
+/// `None` for any other tree.
+#[allow(clippy::type_complexity)]
+fn moved_cells<const D: usize>(
+    tree: &crate::tree::Tree<D>,
+) -> Option<(Vec<(Vec<usize>, MappedLeaf)>, Vec<usize>)>
+where
+    crate::dim::Dim<D>: crate::dim::Dimension<D>,
+{
+    let s = tree.as_piecewise()?;
+    let counts = s.cells();
+    let total: usize = counts.iter().product();
+    let cells = (0..total)
+        .filter_map(|k| {
+            let at = crate::tensor::multi_index(counts, k);
+            let part = s.part(at)?;
+            let injective = part.inverse().is_none_or(|m| m.injective());
+            Some((at.to_vec(), mapped_net(part.net(), injective)))
+        })
+        .collect();
+    Some((cells, counts.to_vec()))
+}
+
+/// Numbers joined by commas.
+fn join(values: &[usize]) -> String {
+    values
+        .iter()
+        .map(|v| format!("{v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A regular piecewise leaf as its export needs it.
 struct RegularCellsLeaf {
     cells: Vec<usize>,
@@ -550,403 +706,18 @@ mod tests {
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
-    /// A HyperFun interpreter for the subset the export writes, from the language's definitions:
-    /// `|`, `&`, `\` are the R-functions, the library's `hfSphere`, `hfCylinderX/Y/Z`,
-    /// `hfBlendUni` and `hfBlendInt` as the HyperFun library defines them.
-    mod hf {
-        use alloc::collections::BTreeMap;
-        use alloc::string::String;
-        use alloc::vec::Vec;
-
-        #[derive(Clone, Debug, PartialEq)]
-        enum Tok {
-            Num(f64),
-            Id(String),
-            Sym(char),
-        }
-
-        fn lex(text: &str) -> Vec<Tok> {
-            let mut out = Vec::new();
-            let c: Vec<char> = text.chars().collect();
-            let mut i = 0;
-            while i < c.len() {
-                match c[i] {
-                    ' ' | '\n' | '\t' | '\r' => i += 1,
-                    '-' if c.get(i + 1) == Some(&'-') => {
-                        while i < c.len() && c[i] != '\n' {
-                            i += 1;
-                        }
-                    }
-                    d if d.is_ascii_digit() || d == '.' => {
-                        let start = i;
-                        while i < c.len()
-                            && (c[i].is_ascii_digit()
-                                || c[i] == '.'
-                                || c[i] == 'e'
-                                || ((c[i] == '-' || c[i] == '+') && c[i - 1] == 'e'))
-                        {
-                            i += 1;
-                        }
-                        let s: String = c[start..i].iter().collect();
-                        out.push(Tok::Num(s.parse().unwrap()));
-                    }
-                    a if a.is_ascii_alphabetic() || a == '_' => {
-                        let start = i;
-                        while i < c.len() && (c[i].is_ascii_alphanumeric() || c[i] == '_') {
-                            i += 1;
-                        }
-                        out.push(Tok::Id(c[start..i].iter().collect()));
-                    }
-                    s => {
-                        out.push(Tok::Sym(s));
-                        i += 1;
-                    }
-                }
-            }
-            out
-        }
-
-        #[derive(Clone, Debug)]
-        enum Val {
-            Num(f64),
-            Arr(Vec<f64>),
-        }
-
-        impl Val {
-            fn num(&self) -> f64 {
-                match self {
-                    Val::Num(v) => *v,
-                    Val::Arr(_) => panic!("an array where a number is wanted"),
-                }
-            }
-            fn arr(&self) -> &[f64] {
-                match self {
-                    Val::Arr(a) => a,
-                    Val::Num(_) => panic!("a number where an array is wanted"),
-                }
-            }
-        }
-
-        fn or(a: f64, b: f64) -> f64 {
-            a + b + (a * a + b * b).sqrt()
-        }
-        fn and(a: f64, b: f64) -> f64 {
-            a + b - (a * a + b * b).sqrt()
-        }
-
-        struct Run<'a> {
-            t: &'a [Tok],
-            i: usize,
-            vars: BTreeMap<String, Val>,
-        }
-
-        impl Run<'_> {
-            fn peek(&self) -> Option<&Tok> {
-                self.t.get(self.i)
-            }
-            fn eat(&mut self, s: char) -> bool {
-                if self.peek() == Some(&Tok::Sym(s)) {
-                    self.i += 1;
-                    true
-                } else {
-                    false
-                }
-            }
-            fn expect(&mut self, s: char) {
-                assert!(self.eat(s), "expected {s:?} at token {:?}", self.peek());
-            }
-            fn id(&mut self) -> String {
-                match self.t[self.i].clone() {
-                    Tok::Id(s) => {
-                        self.i += 1;
-                        s
-                    }
-                    t => panic!("expected a name, found {t:?}"),
-                }
-            }
-            /// One statement: an array's declaration, an assignment (to a variable, an array
-            /// element or a whole array), or `if (a REL b) then … [else …] endif;`.
-            fn statement(&mut self) {
-                let name = self.id();
-                if name == "if" {
-                    self.expect('(');
-                    let a = self.set_ops().num();
-                    let rel = match self.t[self.i].clone() {
-                        Tok::Sym(c @ ('<' | '>' | '=')) => {
-                            self.i += 1;
-                            let eq = c != '=' && self.eat('=');
-                            (c, eq)
-                        }
-                        Tok::Sym('/') => {
-                            self.i += 1;
-                            self.expect('=');
-                            ('/', true)
-                        }
-                        t => panic!("expected a relation, found {t:?}"),
-                    };
-                    let b = self.set_ops().num();
-                    self.expect(')');
-                    assert_eq!(self.id(), "then");
-                    let holds = match rel {
-                        ('<', false) => a < b,
-                        ('<', true) => a <= b,
-                        ('>', false) => a > b,
-                        ('>', true) => a >= b,
-                        ('=', _) => a == b,
-                        _ => a != b,
-                    };
-                    if holds {
-                        self.block();
-                        if self.word("else") {
-                            self.skip();
-                        }
-                    } else {
-                        self.skip();
-                        if self.word("else") {
-                            self.block();
-                        }
-                    }
-                    assert!(self.word("endif"), "expected endif at {:?}", self.peek());
-                    self.expect(';');
-                    return;
-                }
-                if name == "array" {
-                    let array = self.id();
-                    self.expect('[');
-                    let Val::Num(n) = self.primary() else {
-                        panic!()
-                    };
-                    self.expect(']');
-                    self.expect(';');
-                    self.vars.insert(array, Val::Arr(vec_of(n as usize)));
-                    return;
-                }
-                if self.eat('[') {
-                    let k = self.set_ops().num() as usize;
-                    self.expect(']');
-                    self.expect('=');
-                    let v = self.set_ops().num();
-                    self.expect(';');
-                    match self.vars.get_mut(&name) {
-                        Some(Val::Arr(a)) => a[k - 1] = v,
-                        _ => panic!("{name} is not an array"),
-                    }
-                    return;
-                }
-                self.expect('=');
-                let value = if self.eat('[') {
-                    let mut items = Vec::new();
-                    loop {
-                        items.push(self.set_ops().num());
-                        if self.eat(']') {
-                            break;
-                        }
-                        self.expect(',');
-                    }
-                    Val::Arr(items)
-                } else {
-                    self.set_ops()
-                };
-                self.expect(';');
-                self.vars.insert(name, value);
-            }
-
-            /// Whether the next token is the word `w`, taken if so.
-            fn word(&mut self, w: &str) -> bool {
-                if matches!(self.peek(), Some(Tok::Id(s)) if s == w) {
-                    self.i += 1;
-                    true
-                } else {
-                    false
-                }
-            }
-
-            /// Statements up to the `else` or `endif` of this level, run.
-            fn block(&mut self) {
-                while !matches!(self.peek(), Some(Tok::Id(s)) if s == "else" || s == "endif") {
-                    self.statement();
-                }
-            }
-
-            /// Tokens up to the `else` or `endif` of this level, skipped unread.
-            fn skip(&mut self) {
-                let mut depth = 0;
-                loop {
-                    match self.peek() {
-                        Some(Tok::Id(s)) if s == "if" => depth += 1,
-                        Some(Tok::Id(s)) if s == "endif" || s == "else" => {
-                            if depth == 0 {
-                                return;
-                            }
-                            if s == "endif" {
-                                depth -= 1;
-                            }
-                        }
-                        None => panic!("an if without its endif"),
-                        _ => {}
-                    }
-                    self.i += 1;
-                }
-            }
-
-            fn set_ops(&mut self) -> Val {
-                let mut a = self.sum();
-                loop {
-                    let op = match self.peek() {
-                        Some(Tok::Sym(c @ ('|' | '&' | '\\'))) => *c,
-                        _ => return a,
-                    };
-                    self.i += 1;
-                    let (x, y) = (a.num(), self.sum().num());
-                    a = Val::Num(match op {
-                        '|' => or(x, y),
-                        '&' => and(x, y),
-                        _ => and(x, -y),
-                    });
-                }
-            }
-            fn sum(&mut self) -> Val {
-                let mut a = self.product();
-                loop {
-                    if self.eat('+') {
-                        a = Val::Num(a.num() + self.product().num());
-                    } else if self.eat('-') {
-                        a = Val::Num(a.num() - self.product().num());
-                    } else {
-                        return a;
-                    }
-                }
-            }
-            fn product(&mut self) -> Val {
-                let mut a = self.unary();
-                loop {
-                    if self.eat('*') {
-                        a = Val::Num(a.num() * self.unary().num());
-                    } else if self.eat('/') {
-                        a = Val::Num(a.num() / self.unary().num());
-                    } else {
-                        return a;
-                    }
-                }
-            }
-            fn unary(&mut self) -> Val {
-                if self.eat('-') {
-                    return Val::Num(-self.unary().num());
-                }
-                let base = self.primary();
-                if self.eat('^') {
-                    let e = self.unary().num();
-                    return Val::Num(base.num().powf(e));
-                }
-                base
-            }
-            fn primary(&mut self) -> Val {
-                match self.t[self.i].clone() {
-                    Tok::Num(v) => {
-                        self.i += 1;
-                        Val::Num(v)
-                    }
-                    Tok::Sym('(') => {
-                        self.i += 1;
-                        let v = self.set_ops();
-                        self.expect(')');
-                        v
-                    }
-                    Tok::Id(name) => {
-                        self.i += 1;
-                        if self.eat('(') {
-                            let mut args = Vec::new();
-                            if !self.eat(')') {
-                                loop {
-                                    args.push(self.set_ops());
-                                    if self.eat(')') {
-                                        break;
-                                    }
-                                    self.expect(',');
-                                }
-                            }
-                            return Val::Num(call(&name, &args));
-                        }
-                        let value = self
-                            .vars
-                            .get(&name)
-                            .cloned()
-                            .unwrap_or_else(|| panic!("{name} is used before it is set"));
-                        if self.eat('[') {
-                            let k = self.set_ops().num() as usize;
-                            self.expect(']');
-                            return Val::Num(value.arr()[k - 1]);
-                        }
-                        value
-                    }
-                    t => panic!("unexpected {t:?}"),
-                }
-            }
-        }
-
-        fn call(name: &str, a: &[Val]) -> f64 {
-            let sq = |v: f64| v * v;
-            match name {
-                "sqrt" => a[0].num().sqrt(),
-                "hfSphere" => {
-                    let (x, c, r) = (a[0].arr(), a[1].arr(), a[2].num());
-                    r * r - (0..3).map(|i| sq(x[i] - c[i])).sum::<f64>()
-                }
-                "hfCylinderX" | "hfCylinderY" | "hfCylinderZ" => {
-                    let skip = ["hfCylinderX", "hfCylinderY", "hfCylinderZ"]
-                        .iter()
-                        .position(|n| *n == name)
-                        .unwrap();
-                    let (x, c, r) = (a[0].arr(), a[1].arr(), a[2].num());
-                    r * r
-                        - (0..3)
-                            .filter(|&i| i != skip)
-                            .map(|i| sq(x[i] - c[i]))
-                            .sum::<f64>()
-                }
-                "hfBlendUni" | "hfBlendInt" => {
-                    let [f1, f2, a0, a1, a2] = [0, 1, 2, 3, 4].map(|k| a[k].num());
-                    let base = if name == "hfBlendUni" {
-                        or(f1, f2)
-                    } else {
-                        and(f1, f2)
-                    };
-                    base + a0 / (1.0 + sq(f1 / a1) + sq(f2 / a2))
-                }
-                _ => panic!("no function {name}"),
-            }
-        }
-
-        /// `my_model` of the file at the point `x`.
-        pub(super) fn eval(text: &str, x: [f64; 3]) -> f64 {
-            let t = lex(text);
-            let open = t.iter().position(|k| *k == Tok::Sym('{')).expect("a body");
-            let mut run = Run {
-                t: &t,
-                i: open + 1,
-                vars: BTreeMap::new(),
-            };
-            run.vars.insert("x".into(), Val::Arr(x.to_vec()));
-            while !run.eat('}') {
-                run.statement();
-            }
-            run.vars["my_model"].num()
-        }
-
-        fn vec_of(n: usize) -> Vec<f64> {
-            alloc::vec![0.0; n]
-        }
-    }
+    use super::super::interp as hf;
 
     fn agree(file: &ModelFile, points: &[[f64; 3]]) {
         let text = tree_hf(file).unwrap();
+        let program = hf::Program::new(&text);
         let tree = file.to_tree().unwrap();
         for &p in points {
             let want = match &tree {
                 ModelTree::Plane(t) => t.f(glam::DVec2::new(p[0], p[1])),
                 ModelTree::Space(t) => t.f(glam::DVec3::from_array(p)),
             };
-            let got = hf::eval(&text, p);
+            let got = program.run(p);
             assert!(
                 (got - want).abs() <= 1e-9 * want.abs().max(1.0),
                 "{p:?}: HyperFun {got}, eval {want}\n{text}"
@@ -981,20 +752,6 @@ mod tests {
             .map(|_| [rng.range(-0.5, 3.5), rng.range(-0.5, 2.5), 0.0])
             .collect();
         agree(&file, &samples);
-        // Moved points: no closed form yet, said with the leaf's path.
-        let moved = ModelFile::from_spec(S::Union {
-            of: vec![
-                S::Sphere {
-                    center: [0.0; 3],
-                    radius: 0.2,
-                },
-                crate::testutil::random_piecewise3(&mut rng, true),
-            ],
-        });
-        assert_eq!(
-            tree_hf(&moved).unwrap_err(),
-            TreeHfError::SpaceMapped("solid.of[1]".into())
-        );
     }
 
     /// A 2D model exported as a slab `0 ≤ z ≤ H`: the 2D function intersected with the slab's
@@ -1126,22 +883,199 @@ mod tests {
         );
     }
 
+    /// How the export of a space-mapped solid met `eval` on a set of points.
+    #[derive(Debug, Default)]
+    struct Met {
+        /// Points with a preimage where the values agreed to 1e-9.
+        exact: usize,
+        /// Points with a preimage.
+        inside: usize,
+        /// Points with two preimages or more.
+        folded: usize,
+        /// Points off the surface (`|f| > 1e-9`) where the signs differ.
+        wrong_sign: usize,
+    }
+
+    /// The export `text` against `eval` (its value and preimage count) at `points`: values to 1e-9
+    /// at every point with a preimage where `exact` says so, signs everywhere.
+    fn meet(
+        text: &str,
+        points: &[[f64; 3]],
+        eval: impl Fn([f64; 3]) -> (f64, usize),
+        exact: bool,
+    ) -> Met {
+        let mut met = Met::default();
+        let program = hf::Program::new(text);
+        for &p in points {
+            let (want, preimages) = eval(p);
+            let got = program.run(p);
+            let close = (got - want).abs() <= 1e-9 * want.abs().max(1.0);
+            if preimages > 0 {
+                met.inside += 1;
+                met.exact += usize::from(close);
+                assert!(!exact || close, "{p:?}: HyperFun {got}, eval {want}");
+            }
+            met.folded += usize::from(preimages > 1);
+            if want.abs() > 1e-9 && (got > 0.0) != (want > 0.0) {
+                met.wrong_sign += 1;
+            }
+        }
+        met
+    }
+
+    fn grid2(lo: glam::DVec2, hi: glam::DVec2, n: usize) -> Vec<[f64; 3]> {
+        let (lo, hi) = (lo - (hi - lo) * 0.2, hi + (hi - lo) * 0.2);
+        (0..n * n)
+            .map(|k| {
+                let t = glam::DVec2::new((k % n) as f64, (k / n) as f64) / (n - 1) as f64;
+                let p = lo + (hi - lo) * t;
+                [p.x, p.y, 0.7]
+            })
+            .collect()
+    }
+
+    /// A space-mapped patch is written with its inverse map: where the map is certified injective
+    /// the export is `eval` to 1e-9 at every point with a preimage; where it folds, every point
+    /// of a dense grid has `eval`'s sign and the values agree where two preimages meet.
     #[test]
-    fn space_mapped_leaves_are_refused_with_their_path() {
-        let mut fig9 = crate::Solid2::fig9();
-        fig9.set_point([1, 1], glam::DVec2::new(0.6, 0.4)).unwrap();
+    fn space_mapped_patches_export_their_inverse_map_injective_or_folded() {
+        use crate::inverse::Method;
+        use glam::DVec2;
+        let mut gentle = crate::Solid2::fig9();
+        gentle.set_point([1, 1], DVec2::new(0.6, 0.45)).unwrap();
+        gentle.set_point([2, 0], DVec2::new(1.1, -0.2)).unwrap();
+        let mut folded = crate::Solid2::fig9();
+        folded.set_point([1, 1], DVec2::new(3.0, 0.5)).unwrap();
+        assert!(gentle.inverse().unwrap().injective());
+        assert!(!folded.inverse().unwrap().injective());
+        for (solid, injective) in [(&gentle, true), (&folded, false)] {
+            let text = super::super::solid2_hf(solid).unwrap();
+            assert!(
+                text.contains("while (") && text.contains("endloop;") && text.contains("array "),
+                "{text}"
+            );
+            let (lo, hi) = solid.domain();
+            let points = grid2(lo, hi, 48);
+            let met = meet(
+                &text,
+                &points,
+                |p| {
+                    let v = solid.evaluate(DVec2::new(p[0], p[1]), Method::Fast);
+                    (v.f, v.preimages)
+                },
+                injective,
+            );
+            std::println!("injective {injective}: {met:?}");
+            assert_eq!(met.wrong_sign, 0, "{met:?}");
+            assert!(met.inside > 300, "{met:?}");
+            if !injective {
+                assert!(met.folded > 50, "the grid crosses the fold: {met:?}");
+                assert!(met.exact * 100 >= met.inside * 99, "{met:?}");
+            }
+        }
+    }
+
+    /// Volumes, alone, in a tree, and a piecewise volume with moved points (each cell's
+    /// preimages, clipped on the global parameter).
+    #[test]
+    fn space_mapped_volumes_trees_and_piecewise_solids_export_their_inverse_map() {
+        use crate::inverse::Method;
+        use glam::DVec3;
+        let mut rng = Rng::new(43);
+        let crate::model::ModelSolid::Volume(mut blob) = crate::presets::Preset::Blob.solid()
+        else {
+            unreachable!()
+        };
+        blob.set_point([1, 1, 1], DVec3::new(0.3, -0.2, 0.1))
+            .unwrap();
+        blob.set_point([2, 0, 2], DVec3::new(1.2, -1.1, 0.9))
+            .unwrap();
+        assert!(blob.inverse().unwrap().injective());
+        let text = super::super::solid3_hf(&blob).unwrap();
+        let points: Vec<[f64; 3]> = (0..150).map(|_| random_point(&mut rng, 1.3)).collect();
+        let met = meet(
+            &text,
+            &points,
+            |p| {
+                let v = blob.evaluate(DVec3::from_array(p), Method::Fast);
+                (v.f, v.preimages)
+            },
+            true,
+        );
+        assert_eq!(met.wrong_sign, 0, "{met:?}");
+        assert!(met.inside > 30, "{met:?}");
+
+        // In a tree: the union with a sphere, equal where the point has a preimage.
         let file = ModelFile::from_spec(S::Union {
             of: vec![
-                S::Circle {
-                    center: [0.0, 0.0],
-                    radius: 1.0,
+                S::Sphere {
+                    center: [0.9, 0.9, 0.9],
+                    radius: 0.5,
                 },
-                ModelFile::from_solid2(&fig9).solid,
+                ModelFile::from_solid3(&blob).solid,
             ],
         });
-        assert_eq!(
-            tree_hf(&file),
-            Err(TreeHfError::SpaceMapped("solid.of[1]".into()))
+        let text = tree_hf(&file).unwrap();
+        let ModelTree::Space(tree) = file.to_tree().unwrap() else {
+            unreachable!()
+        };
+        let met = meet(
+            &text,
+            &points,
+            |p| {
+                let v = blob.evaluate(DVec3::from_array(p), Method::Fast);
+                (tree.f(DVec3::from_array(p)), v.preimages)
+            },
+            true,
         );
+        assert_eq!(met.wrong_sign, 0, "{met:?}");
+
+        // Piecewise volumes with moved points.
+        for _ in 0..4 {
+            let spec = crate::testutil::random_piecewise3(&mut rng, true);
+            let file = ModelFile::from_spec(spec);
+            let text = tree_hf(&file).unwrap();
+            let ModelTree::Space(tree) = file.to_tree().unwrap() else {
+                unreachable!()
+            };
+            let solid = tree.as_piecewise().unwrap();
+            let points: Vec<[f64; 3]> = (0..60).map(|_| random_point(&mut rng, 1.2)).collect();
+            let met = meet(
+                &text,
+                &points,
+                |p| {
+                    let v = solid.evaluate(DVec3::from_array(p), Method::Fast);
+                    (v.f, v.preimages)
+                },
+                true,
+            );
+            assert_eq!(met.wrong_sign, 0, "{met:?}");
+            assert!(met.inside > 5, "{met:?}");
+        }
+    }
+
+    /// Past [`MAX_NUMBERS`] the export says which leaf passed it; the message names the cap.
+    #[test]
+    fn an_export_past_the_cap_says_so() {
+        let mut fig9 = crate::Solid2::fig9();
+        fig9.set_point([1, 1], glam::DVec2::new(0.6, 0.4)).unwrap();
+        let leaf = ModelFile::from_solid2(&fig9).solid;
+        let file = ModelFile::from_spec(S::Union {
+            of: vec![leaf.clone(), leaf],
+        });
+        let one = mapped_leaf(&fig9).unwrap().numbers();
+        let err = tree_hf_within(&file, one + 1).unwrap_err();
+        assert_eq!(
+            err,
+            TreeHfError::TooLarge {
+                path: "solid.of[1]".into(),
+                numbers: 2 * one,
+            }
+        );
+        assert!(
+            alloc::string::ToString::to_string(&err).contains("more than the"),
+            "{err}"
+        );
+        assert!(tree_hf_within(&file, 2 * one).is_ok());
     }
 }

@@ -668,11 +668,11 @@ impl Modeler {
         document::svg(self.editor.solid())
     }
 
-    /// The HyperFun model.
+    /// The HyperFun model (a space-mapped solid with its inverse map written in HyperFun).
     ///
     /// # Errors
     ///
-    /// For a space-mapped model, which HyperFun cannot express.
+    /// For a model whose space-mapped solids pass the export's cap.
     pub fn hyperfun(&self) -> Result<String, JsError> {
         match &self.parts {
             Some(parts) => Ok(bezsolid_core::hyperfun::tree_hf(&parts.file(&self.editor))
