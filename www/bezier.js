@@ -16,7 +16,8 @@ export function setupBezier(app) {
     list: app.work,
     worker: () => app.runners.surface,
     request: () => modeler.surface_request(),
-    revision: () => modeler.revision(),
+    // The model's revision with the cut's changes: a surface asked for before either is stale.
+    revision: () => modeler.surface_revision(),
     // What the view shows: a model of many solids less its hidden parts.
     job: ([, resolution]) => ({ kind: 'surface', model: modeler.view_json() ?? modeler.model_json(), resolution }),
     accept: ([revision, resolution], { data, shares }) => {
@@ -312,14 +313,18 @@ export function setupBezier(app) {
     if (s) app.attempt('Slice', () => modeler.set_slice(s[0], e.target.valueAsNumber));
   });
   // The true section of the volume by a plane across the slice's axis, live, instead of the slice.
+  // The 3D surface can be cut at the plane, its cut face closed.
   const applySection = () => {
     const on = $('section-on').checked;
     $('section-at').disabled = !on;
+    $('section-cap').disabled = !on;
     modeler.set_section(on, $('section-at').valueAsNumber / 100);
+    modeler.set_section_cap(on && $('section-cap').checked);
     app.redraw();
   };
   $('section-on').addEventListener('change', applySection);
   $('section-at').addEventListener('input', applySection);
+  $('section-cap').addEventListener('change', applySection);
   $('resolution').addEventListener('change', (e) => {
     const v = e.target.valueAsNumber;
     if (!Number.isFinite(v)) return;
@@ -329,7 +334,7 @@ export function setupBezier(app) {
 
   // What the views are called, for screen readers: what they show now.
   const ORBIT = 'drag elsewhere to orbit, right-drag or Shift-drag to pan, turn the wheel to zoom, F frames the model again';
-  const nameViews = (volume, parts, slice, section) => {
+  const nameViews = (volume, parts, slice, section, cap) => {
     const bezier = !parts || parts.open;
     const view2 = section
       ? `2D view of the volume's true section by the plane ${'xyz'[section[0]]} = ${fmt(section[1])}: f on the plane and its zero contour (area ${fmt(section[2])}); move the plane with the Section plane slider, turn the section off to edit the slice's points here; the wheel zooms, F fits`
@@ -339,7 +344,7 @@ export function setupBezier(app) {
     const view3 = parts
       ? `3D view of the model of many solids: the surface of the whole model${parts.open ? ', the open part\'s control points as spheres' : ''}, the selection framed in orange with handles to move, turn and scale it; ${ORBIT}`
       : volume
-        ? `3D view of the volume solid: its surface coloured by ξ and its control points as spheres. Drag a sphere to change its ξ (or move it in space mode); ${ORBIT}`
+        ? `3D view of the volume solid: its surface${cap ? `, cut at ${'xyz'[cap[0]]} = ${fmt(cap[1])} (the solid below the plane, its cut face closed)` : ''}${section ? `, the section plane ${'xyz'[section[0]]} = ${fmt(section[1])} in violet (drag its frame to move it)` : ''} and its control points as spheres coloured by ξ. Drag a sphere to change its ξ (or move it in space mode); ${ORBIT}`
         : `3D view of the patch: the surface (x, y, ξ) coloured by ξ, the plane ξ = 0 and the control points as spheres. Drag a sphere to change its ξ (or move it in x and y in space mode); ${ORBIT}`;
     if (canvas.getAttribute('aria-label') !== view2) canvas.setAttribute('aria-label', view2);
     if (app.canvas3.getAttribute('aria-label') !== view3) app.canvas3.setAttribute('aria-label', view3);
@@ -423,7 +428,7 @@ export function setupBezier(app) {
       const stack = p.stack;
       $('surface-info').textContent = parts
         ? `Surface of the whole model: ${t.toLocaleString('en')} triangles at ${resolution}${p.surface_current ? '' : ' (of the model before the last edit, until the new one comes)'}`
-        : `Surface: ${t.toLocaleString('en')} triangles at ${resolution}; `
+        : `Surface: ${t.toLocaleString('en')} triangles at ${resolution}${p.cap ? `, cut at ${'xyz'[p.cap[0]]} = ${fmt(p.cap[1])}` : ''}; `
         + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
       document.body.dataset.stack = stack ? `${stack[0]},${stack[1] ? 1 : 0}` : '';
     } else {
@@ -443,7 +448,7 @@ export function setupBezier(app) {
     // The contours of a 3D model are its open part's slice's: none without one.
     enableItems('#export-menu [data-value="svg"]', !(parts && parts.dimension === 3 && !parts.open));
     document.body.dataset.kind = volume ? 'volume' : 'patch';
-    nameViews(volume, parts, slice, p.frame.section);
+    nameViews(volume, parts, slice, p.frame.section, p.cap);
     if (!modeler.dragging() && !modeler.busy_3d() && probeSeen !== modeler.revision()) showProbe();
     $('hint').hidden = !hinting;
     $('undo').disabled = !p.can_undo;

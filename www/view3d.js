@@ -102,6 +102,12 @@ export function setupView3d(app) {
       app.coalesce('drag-3d', (since) => {
         if (!modeler.busy_3d() || !modeler.pointer_move_3d(x, y)) return;
         const editing = modeler.editing_3d();
+        // The true section's plane dragged: the slider and the 2D view follow.
+        const plane = modeler.section_dragged_3d();
+        if (plane) {
+          const at = modeler.section_fraction();
+          if (at !== undefined) document.getElementById('section-at').value = String(Math.round(at * 100));
+        }
         if (editing) {
           app.stats.lastEdit = since;
           // A volume's surface is meshed coarsely while the point moves, finely when it rests.
@@ -109,7 +115,7 @@ export function setupView3d(app) {
           clearTimeout(restTimer);
           restTimer = setTimeout(() => { modeler.set_coarse(false); app.redraw(VIEW3); }, 250);
         }
-        app.redraw(editing ? VIEW2 | VIEW3 : VIEW3);
+        app.redraw(editing || plane ? VIEW2 | VIEW3 : VIEW3);
       });
       return;
     }

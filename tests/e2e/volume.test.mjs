@@ -217,6 +217,79 @@ test('the true section of a volume: f on a plane, live as the plane moves and as
   await page.close();
 });
 
+test('the 3D surface cut at the section plane: the solid below it, its cut face closed, following the plane', async () => {
+  const { page, errors } = await open(browser);
+  await openFish(page);
+  const panel = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel()));
+  // The fine surface of the model as it is, at 64.
+  const fine = () => page.waitForFunction(() => {
+    const p = JSON.parse(window.bezsolid.modeler.panel());
+    return p.surface_current && p.surface?.[1] === 64;
+  });
+  await fine();
+  const whole = (await panel()).surface[0];
+  const wholeShot = await page.locator('#view3d').screenshot();
+  // The cut is offered with the section only; by the keyboard.
+  assert.ok(await page.isDisabled('#section-cap'));
+  await page.focus('#section-on');
+  await page.keyboard.press('Space');
+  await settle(page);
+  assert.ok(!(await page.isDisabled('#section-cap')));
+  await page.focus('#section-cap');
+  await page.keyboard.press('Space');
+  await page.waitForFunction(() => /triangles at 64, cut at z = 0;/.test(document.getElementById('surface-info').textContent));
+  await fine();
+  let p = await panel();
+  assert.deepEqual(p.cap, [2, 0]);
+  const cut = p.surface[0];
+  assert.notEqual(cut, whole);
+  // What the worker meshes: the fish intersected with the half-space z <= 0.
+  const job = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.view_json()));
+  assert.equal(job.solid.kind, 'intersection');
+  assert.deepEqual(job.solid.of[1], { kind: 'halfspace', normal: [0, 0, 1], offset: 0 });
+  assert.match(await page.getAttribute('#view3d', 'aria-label'), /cut at z = 0 \(the solid below the plane, its cut face closed\)/);
+  const cutShot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'section-cut-z0.png'), cutShot);
+  assert.ok(!cutShot.equals(wholeShot), 'the cut surface looks otherwise');
+  assert.ok(surfaceTones(cutShot) > 20, 'the cut surface is drawn, shaded');
+  // The plane moved: a new cut comes, lower in the body.
+  await page.focus('#section-at');
+  for (let k = 0; k < 20; k++) await page.keyboard.press('ArrowLeft');
+  await page.waitForFunction(() => /cut at z = -0\.\d+;/.test(document.getElementById('surface-info').textContent));
+  await fine();
+  p = await panel();
+  assert.ok(p.cap[1] < -0.1, `z = ${p.cap[1]}`);
+  assert.ok(p.surface[0] !== cut, 'another cut');
+  writeFileSync(join(ARTIFACTS, 'section-cut-low.png'), await page.locator('#view3d').screenshot());
+  // The plane's frame dragged up in the 3D view (between the control points on the box's side):
+  // the section, its slider and the cut follow; the model is not edited.
+  const revision = await page.evaluate(() => window.bezsolid.modeler.revision());
+  const [fx, fy] = await page.evaluate(() => window.bezsolid.modeler.section_screen_3d(0, 0.375));
+  const view3 = await page.locator('#view3d').boundingBox();
+  const low = p.frame.section[1];
+  await page.mouse.move(view3.x + fx, view3.y + fy);
+  await page.mouse.down();
+  for (let k = 1; k <= 8; k++) await page.mouse.move(view3.x + fx, view3.y + fy - 4 * k);
+  await page.mouse.up();
+  await settle(page);
+  p = await panel();
+  assert.ok(p.frame.section[1] > low + 0.05, `z = ${p.frame.section[1]} after the drag, ${low} before`);
+  assert.ok(Math.abs(p.cap[1] - p.frame.section[1]) < 1e-12, 'the cut is at the plane');
+  const fraction = await page.evaluate(() => window.bezsolid.modeler.section_fraction());
+  assert.equal(Number(await page.inputValue('#section-at')), Math.round(fraction * 100));
+  assert.equal(await page.evaluate(() => window.bezsolid.modeler.revision()), revision);
+  await fine();
+  writeFileSync(join(ARTIFACTS, 'section-cut-dragged.png'), await page.locator('#view3d').screenshot());
+  // Off: the whole surface again.
+  await page.focus('#section-cap');
+  await page.keyboard.press('Space');
+  await page.waitForFunction(() => !/cut at/.test(document.getElementById('surface-info').textContent));
+  await fine();
+  assert.equal((await panel()).surface[0], whole);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test('the Bézier zoo: each space-mapped preset opens from the menu and draws its shaded surface', async () => {
   const { page, errors } = await open(browser);
   const zoo = [

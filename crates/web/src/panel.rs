@@ -60,6 +60,8 @@ pub struct Panel {
     pub surface_current: bool,
     /// The contour stack drawn: its segments, and whether it is of the model as it is.
     pub stack: Option<(usize, bool)>,
+    /// The plane the 3D surface is cut at: `(axis, at)` (axis 0 = x, 1 = y, 2 = z).
+    pub cap: Option<(usize, f64)>,
     /// Undo and redo are possible.
     pub can_undo: bool,
     /// See `can_undo`.
@@ -90,6 +92,7 @@ impl Panel {
                 .map(|(t, r)| [t, r]),
             surface_current: view3.surface_is_current(editor),
             stack: view3.stack_info(editor),
+            cap: view3.cap(),
             can_undo: editor.can_undo(),
             can_redo: editor.can_redo(),
             mode: match editor.mode() {

@@ -10,6 +10,7 @@
 
 use bezsolid_core::contour::solid_contour;
 use bezsolid_core::mesh::Share;
+use bezsolid_core::model::{ModelFile, SolidSpec};
 use bezsolid_core::{Axis, Solid3};
 use glam::{DAffine3, DVec2, DVec3, DVec4};
 
@@ -30,12 +31,18 @@ const NET_COLOR: Rgba = [0.35, 0.37, 0.42, 1.0];
 const SURFACE_COLOR: Rgba = [0.86, 0.62, 0.42, 1.0];
 const CONTOUR_COLOR: Rgba = [0.1, 0.1, 0.12, 1.0];
 const SLICE_COLOR: Rgba = [1.0, 0.62, 0.0, 0.16];
+/// The true section's plane: translucent violet, apart from the slice's orange.
+const SECTION_COLOR: Rgba = [0.45, 0.3, 0.85, 0.22];
+/// Its frame, which a drag moves along the plane's axis.
+const SECTION_EDGE_COLOR: Rgba = [0.45, 0.3, 0.85, 1.0];
 /// The polygonization's resolution at rest, by default (cells along the longest side).
 pub const DEFAULT_RESOLUTION: usize = 64;
 /// The most cells along the longest side the page meshes at.
 pub const MAX_RESOLUTION: usize = 160;
 /// Cells along the longest side while a point is being dragged.
 const COARSE_RESOLUTION: usize = 24;
+/// The low bits of a surface's key that count the cap's changes ([`View3::surface_key`]).
+const CAP_BITS: u32 = 20;
 /// Cells per side of each slice's contour in the stack.
 const STACK_CELLS: usize = 48;
 
@@ -96,7 +103,69 @@ enum Gesture {
     /// A handle of the selection: which, where the pointer went down, the handle's centre then,
     /// and the offset from the grab point to it.
     Handle(Handle, DVec2, DVec3, DVec3),
+    /// The true section's plane, moved along its axis: where it was and the grab point on it.
+    Plane(f64, DVec3),
 }
+
+/// The true section's plane as the 3D view shows it: across `axis` at `at`, over the box
+/// `lo`…`hi` of the other two axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectionPlane {
+    /// 0 = x, 1 = y, 2 = z.
+    pub axis: usize,
+    /// Where it lies along the axis.
+    pub at: f64,
+    /// The model's box: the plane's extent, and the range it moves in.
+    pub lo: DVec3,
+    /// See `lo`.
+    pub hi: DVec3,
+}
+
+impl SectionPlane {
+    /// Its four corners, in order around it.
+    fn corners(&self) -> [DVec3; 4] {
+        let (a, b) = match self.axis {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        let corner = |i: bool, j: bool| {
+            let mut p = self.lo;
+            p[self.axis] = self.at;
+            p[a] = if i { self.hi[a] } else { self.lo[a] };
+            p[b] = if j { self.hi[b] } else { self.lo[b] };
+            p
+        };
+        [
+            corner(false, false),
+            corner(true, false),
+            corner(true, true),
+            corner(false, true),
+        ]
+    }
+
+    /// Where the ray `o + t·d` meets the plane's frame: the band along its edges, a tenth of
+    /// its extent wide on either side of them (the middle is left to orbiting the camera).
+    fn hit(&self, o: DVec3, d: DVec3) -> Option<DVec3> {
+        let mut n = DVec3::ZERO;
+        n[self.axis] = 1.0;
+        let mut p = self.lo;
+        p[self.axis] = self.at;
+        let hit = plane_hit(o, d, p, n)?;
+        let mut near_edge = false;
+        for k in (0..3).filter(|&k| k != self.axis) {
+            let t = (hit[k] - self.lo[k]) / (self.hi[k] - self.lo[k]).max(f64::MIN_POSITIVE);
+            if !(-RIM..=1.0 + RIM).contains(&t) {
+                return None;
+            }
+            near_edge |= !(RIM..=1.0 - RIM).contains(&t);
+        }
+        near_edge.then_some(hit)
+    }
+}
+
+/// The width of the section plane's frame that a drag grabs, as a fraction of its extent.
+const RIM: f64 = 0.1;
 
 /// The contour stack of a volume's slices across one axis, for one revision of the model.
 #[derive(Clone, Debug)]
@@ -117,6 +186,8 @@ struct GeometryKey {
     stack: Option<(u64, Axis)>,
     height: u64,
     whole: u64,
+    /// The section plane's axis and where it lies (its bits).
+    section: Option<(usize, u64)>,
 }
 
 /// A scene's triangles for one [`GeometryKey`], and the size of what they show.
@@ -155,6 +226,15 @@ pub struct View3 {
     whole_generation: u64,
     /// What a handle's drag asks for since it began, not yet taken ([`Self::take_handle`]).
     handle_drag: Option<(Handle, DVec3)>,
+    /// The plane the surface is cut at, `(axis, at)`: the solid is kept where `p[axis] ≤ at`
+    /// and the cut face closed ([`capped`]).
+    cap: Option<(usize, f64)>,
+    /// A count of the cap's changes: with the model's revision, the key a surface is made for.
+    cap_generation: u64,
+    /// The true section's plane, drawn and dragged along its axis while the section is on.
+    section: Option<SectionPlane>,
+    /// Where a drag of the plane asks it to be since the last call ([`Self::take_section_drag`]).
+    section_drag: Option<f64>,
 }
 
 impl View3 {
@@ -175,6 +255,10 @@ impl View3 {
             whole: None,
             whole_generation: 0,
             handle_drag: None,
+            cap: None,
+            cap_generation: 0,
+            section: None,
+            section_drag: None,
         };
         v.fit(editor);
         v
@@ -184,6 +268,64 @@ impl View3 {
     #[must_use]
     pub fn camera(&self) -> &Camera {
         self.orbit.camera()
+    }
+
+    /// Cuts the surface at a plane, `(axis, at)`: the solid where `p[axis] ≤ at`, the cut face
+    /// closed; `None` draws it whole. A new cap asks for a new surface.
+    pub fn set_cap(&mut self, cap: Option<(usize, f64)>) {
+        if cap != self.cap {
+            self.cap = cap;
+            self.cap_generation += 1;
+        }
+    }
+
+    /// Shows the true section's plane (`None`: no section), which a drag on it moves along its
+    /// axis within the box.
+    pub fn set_section_plane(&mut self, plane: Option<SectionPlane>) {
+        self.section = plane;
+    }
+
+    /// Where a drag of the section's plane asks it to be, since the last call.
+    pub fn take_section_drag(&mut self) -> Option<f64> {
+        self.section_drag.take()
+    }
+
+    /// Whether the section's plane is being dragged.
+    #[must_use]
+    pub fn section_dragged(&self) -> bool {
+        matches!(self.gesture, Some(Gesture::Plane(..)))
+    }
+
+    /// Whether the ray through CSS pixel `q` meets the section's plane.
+    #[must_use]
+    pub fn over_section(&self, q: DVec2) -> bool {
+        let (o, d) = self.orbit.ray(q);
+        self.section.and_then(|s| s.hit(o, d)).is_some()
+    }
+
+    /// The CSS pixel of the section plane's point at fractions `(s, t)` of its extent along its
+    /// two other axes in order (`(0.5, 0.5)` its centre, `0` or `1` on its frame); `None` with no
+    /// section (or behind the eye).
+    #[must_use]
+    pub fn section_screen(&self, s: f64, t: f64) -> Option<DVec2> {
+        let plane = self.section?;
+        let c = plane.corners();
+        // Corners in order: (lo, lo), (hi, lo), (hi, hi), (lo, hi) of the two other axes.
+        let p = c[0] + (c[1] - c[0]) * s + (c[3] - c[0]) * t;
+        self.orbit.screen_of(p)
+    }
+
+    /// The plane the surface is cut at.
+    #[must_use]
+    pub fn cap(&self) -> Option<(usize, f64)> {
+        self.cap
+    }
+
+    /// The key a surface is made for: the model's revision and the cap's generation, so that a
+    /// surface made before either changed is not taken after.
+    #[must_use]
+    pub fn surface_key(&self, editor: &Editor) -> u64 {
+        (editor.revision() << CAP_BITS) | (self.cap_generation & ((1 << CAP_BITS) - 1))
     }
 
     /// Sets the viewport size in CSS pixels (sizes below 1 become 1). Until the camera is moved,
@@ -204,7 +346,7 @@ impl View3 {
             let drawn = self
                 .surface
                 .drawn()
-                .filter(|m| m.revision == editor.revision())
+                .filter(|m| m.revision == self.surface_key(editor))
                 .and_then(|m| {
                     let (lo, hi) = m.vertices.iter().fold(
                         (DVec3::INFINITY, DVec3::NEG_INFINITY),
@@ -452,6 +594,14 @@ impl View3 {
             self.gesture = Some(Gesture::Point(mode, centre - grab));
             return true;
         }
+        if !pan && let Some(s) = self.section {
+            let (o, d) = self.orbit.ray(q);
+            if let Some(grab) = s.hit(o, d) {
+                self.gesture = Some(Gesture::Plane(s.at, grab));
+                self.section_drag = None;
+                return false;
+            }
+        }
         self.orbit.pointer_down(q, pan || other_mode);
         false
     }
@@ -486,6 +636,24 @@ impl View3 {
     pub fn pointer_move(&mut self, editor: &mut Editor, q: DVec2) -> bool {
         match self.gesture {
             None => self.orbit.pointer_move(q),
+            Some(Gesture::Plane(start, grab)) => {
+                let Some(s) = self.section else {
+                    return false;
+                };
+                // The point of the line through the grab point along the axis nearest the ray.
+                let (o, d) = self.orbit.ray(q);
+                let w = o - grab;
+                let b = d[s.axis];
+                let denom = 1.0 - b * b;
+                if denom < 1e-9 {
+                    // Looking along the axis: the ray says nothing about where along it.
+                    return false;
+                }
+                let along = (w[s.axis] - b * d.dot(w)) / denom;
+                let at = (start + along).clamp(s.lo[s.axis], s.hi[s.axis]);
+                self.section_drag = Some(at);
+                true
+            }
             Some(Gesture::Handle(handle, start, centre, offset)) => {
                 let amount = match handle {
                     Handle::Move => {
@@ -624,7 +792,7 @@ impl View3 {
     /// Whether the surface drawn is of `editor`'s model as it is now.
     #[must_use]
     pub fn surface_is_current(&self, editor: &Editor) -> bool {
-        self.surface.info(editor.revision()).is_some()
+        self.surface.info(self.surface_key(editor)).is_some()
     }
 
     /// Whether the fine surface and the contour stack are made elsewhere (see
@@ -691,12 +859,13 @@ impl View3 {
             return false;
         }
         let vertices = float_vertices(data, SURFACE_COLOR);
+        let current = self.surface_key(editor);
         if self.whole.is_some() {
             self.surface
-                .hand_in_newer(revision, editor.revision(), resolution, vertices)
+                .hand_in_newer(revision, current, resolution, vertices)
         } else {
             self.surface
-                .hand_in(revision, editor.revision(), resolution, vertices)
+                .hand_in(revision, current, resolution, vertices)
         }
     }
 
@@ -714,7 +883,7 @@ impl View3 {
             // The whole model's surface is made elsewhere only (it can be large); the one drawn
             // stays until the new one comes.
             if self.whole.as_ref().is_some_and(|w| w.shown) {
-                self.surface.ask(editor.revision(), resolution);
+                self.surface.ask(self.surface_key(editor), resolution);
             } else {
                 self.surface.clear();
             }
@@ -729,13 +898,22 @@ impl View3 {
             stack: self.stack.as_ref().map(|c| (c.revision, c.axis)),
             height: self.height.to_bits(),
             whole: self.whole_generation,
+            section: self.section.map(|s| (s.axis, s.at.to_bits())),
         };
         if self.geometry.as_ref().is_none_or(|g| g.key != key) {
-            let (opaque, translucent, extent) = match (&self.whole, editor.volume()) {
+            let (mut opaque, mut translucent, extent) = match (&self.whole, editor.volume()) {
                 (Some(whole), _) => self.whole_geometry(editor, whole),
                 (None, Some(volume)) => self.volume_geometry(editor, volume),
                 (None, None) => self.patch_geometry(editor),
             };
+            if let Some(s) = self.section {
+                translucent.extend(quad(s.corners(), SECTION_COLOR));
+                let c = s.corners();
+                let r = Self::radius(editor) * 0.25;
+                for k in 0..4 {
+                    prism(&mut opaque, c[k], c[(k + 1) % 4], r, SECTION_EDGE_COLOR);
+                }
+            }
             let generation = next_generation();
             self.geometry = Some(Geometry {
                 key,
@@ -853,12 +1031,16 @@ impl View3 {
         };
         let axis = editor.slice().map_or(Axis::W, |(a, _)| a);
         let revision = editor.revision();
+        let cap = self.cap;
         self.surface.update(
-            revision,
+            self.surface_key(editor),
             resolution,
             COARSE_RESOLUTION.min(resolution),
             self.external && !moving,
-            |r| surface_vertices(volume, r),
+            |r| match cap {
+                None => surface_vertices(volume, r),
+                Some(cap) => capped_vertices(editor, cap, r),
+            },
         );
         if !self
             .stack
@@ -1085,6 +1267,26 @@ pub fn mesh_floats(mesh: &bezsolid_core::mesh::Mesh) -> Vec<f32> {
         }
     }
     out
+}
+
+/// `spec` cut at the plane `p[axis] = at`: its intersection with the half-space `p[axis] ≤ at`,
+/// whose surface is the solid's below the plane closed by the cut face.
+#[must_use]
+pub fn capped(spec: SolidSpec, (axis, at): (usize, f64)) -> SolidSpec {
+    let mut normal = [0.0; 3];
+    normal[axis] = 1.0;
+    SolidSpec::Intersection {
+        of: vec![spec, SolidSpec::Halfspace { normal, offset: at }],
+    }
+}
+
+/// The surface of `editor`'s volume cut at `cap` ([`capped`]), made as a model of many solids is.
+fn capped_vertices(editor: &Editor, cap: (usize, f64), resolution: usize) -> Vec<MeshVertex> {
+    let file = ModelFile::from_spec(capped(crate::document::model_file(editor).solid, cap));
+    serde_json::to_string(&file)
+        .ok()
+        .and_then(|json| crate::document::headless::surface(&json, resolution).ok())
+        .map_or_else(Vec::new, |m| float_vertices(&m.data, SURFACE_COLOR))
 }
 
 fn surface_vertices(volume: &Solid3, resolution: usize) -> Vec<MeshVertex> {
@@ -1456,6 +1658,109 @@ mod tests {
         assert_ne!(view.scene(&editor).generation, selected);
     }
 
+    /// The true section's plane is drawn (translucent, with its frame), and a drag on its frame
+    /// moves it along its axis within the box; a drag in its middle orbits the camera.
+    #[test]
+    fn the_section_plane_is_drawn_and_its_frame_drags_it_along_its_axis() {
+        use bezsolid_core::model::ModelSolid;
+        use bezsolid_core::presets::Preset;
+        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
+            unreachable!()
+        };
+        let (mut editor, mut view) = setup();
+        editor.set_volume(blob.clone());
+        view.fit(&editor);
+        let (lo, hi) = blob.domain();
+        view.set_section_plane(Some(SectionPlane {
+            axis: 2,
+            at: 0.0,
+            lo,
+            hi,
+        }));
+        let scene = view.scene(&editor);
+        assert!(
+            scene
+                .translucent
+                .iter()
+                .any(|v| v.color == SECTION_COLOR && v.position[2] == 0.0)
+        );
+        let revision = editor.revision();
+        // Inside the frame, between the control points: the camera orbits.
+        let middle = project(&view, DVec3::new(0.5, -0.5, 0.0));
+        assert!(!view.pointer_down(&mut editor, middle, false, false));
+        assert!(!view.section_dragged());
+        view.pointer_up(&mut editor);
+        // Its frame, on the edge x = lo between two control points: the plane is grabbed and
+        // follows upwards.
+        let edge = project(&view, DVec3::new(lo.x, 0.5, 0.0));
+        assert!(view.over_section(edge));
+        assert!(!view.pointer_down(&mut editor, edge, false, false));
+        assert!(view.section_dragged());
+        assert!(view.pointer_move(&mut editor, edge - DVec2::new(0.0, 40.0)));
+        let up = view.take_section_drag().unwrap();
+        assert!(up > 0.05 && up <= hi.z, "{up}");
+        // Down: below the middle; far down or up, held at the box's faces.
+        assert!(view.pointer_move(&mut editor, edge + DVec2::new(0.0, 60.0)));
+        assert!(view.take_section_drag().unwrap() < -0.1);
+        assert!(view.pointer_move(&mut editor, edge + DVec2::new(0.0, 300.0)));
+        assert_eq!(view.take_section_drag(), Some(lo.z));
+        assert!(view.pointer_move(&mut editor, edge - DVec2::new(0.0, 600.0)));
+        assert_eq!(view.take_section_drag(), Some(hi.z));
+        view.pointer_up(&mut editor);
+        assert!(!view.section_dragged());
+        assert_eq!(editor.revision(), revision, "the model is not edited");
+    }
+
+    /// A cap cuts the surface at its plane and closes it there (the cut face's vertices lie on
+    /// the plane, its normals across it); a new cap asks for a new surface and one made for the
+    /// old cap is not taken; without it the surface is whole again.
+    #[test]
+    fn a_cap_cuts_the_surface_at_its_plane_and_asks_for_a_new_one() {
+        use bezsolid_core::model::ModelSolid;
+        use bezsolid_core::presets::Preset;
+        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
+            unreachable!()
+        };
+        let (mut editor, mut view) = setup();
+        editor.set_volume(blob.clone());
+        view.set_external_surface(true);
+        let _ = view.scene(&editor);
+        let (before, _) = view.take_request().unwrap();
+        let highest = |view: &View3| {
+            let m = view.surface.drawn().unwrap();
+            m.vertices
+                .iter()
+                .map(|v| v.position[2])
+                .fold(f32::NEG_INFINITY, f32::max)
+        };
+        assert!(highest(&view) > 0.5, "the whole blob reaches up");
+        view.set_cap(Some((2, 0.25)));
+        let _ = view.scene(&editor);
+        let (after, wanted) = view.take_request().unwrap();
+        assert_ne!(after, before);
+        assert_eq!(after, view.surface_key(&editor));
+        // The coarse surface drawn meanwhile is cut: nothing above the plane, a face on it.
+        assert!(highest(&view) <= 0.25 + 1e-6, "{}", highest(&view));
+        let m = view.surface.drawn().unwrap();
+        let on_plane: Vec<_> = m
+            .vertices
+            .iter()
+            .filter(|v| (v.position[2] - 0.25).abs() < 1e-5)
+            .collect();
+        assert!(on_plane.len() > 30, "{}", on_plane.len());
+        assert!(on_plane.iter().any(|v| v.normal[2] > 0.99));
+        // A surface made for the key before the cap is not taken.
+        let data = surface_floats(&blob, wanted);
+        assert!(!view.set_surface(&editor, before, wanted, &data));
+        // The same cap again asks for nothing new; no cap asks for the whole surface.
+        view.set_cap(Some((2, 0.25)));
+        assert_eq!(view.surface_key(&editor), after);
+        view.set_cap(None);
+        let _ = view.scene(&editor);
+        assert!(view.take_request().is_some());
+        assert!(highest(&view) > 0.5);
+    }
+
     #[test]
     fn a_surface_made_elsewhere_replaces_the_coarse_one_for_its_revision_only() {
         use bezsolid_core::model::ModelSolid;
@@ -1470,7 +1775,10 @@ mod tests {
         let (coarse, res) = view.surface_info().unwrap();
         assert_eq!(res, COARSE_RESOLUTION);
         let (revision, wanted) = view.take_request().unwrap();
-        assert_eq!((revision, wanted), (editor.revision(), DEFAULT_RESOLUTION));
+        assert_eq!(
+            (revision, wanted),
+            (view.surface_key(&editor), DEFAULT_RESOLUTION)
+        );
         assert!(view.take_request().is_none());
         let data = surface_floats(&blob, wanted);
         // A surface for an older revision is dropped.
@@ -1574,7 +1882,7 @@ mod tests {
         );
         assert_eq!(
             there.take_request(),
-            Some((editor.revision(), DEFAULT_RESOLUTION))
+            Some((there.surface_key(&editor), DEFAULT_RESOLUTION))
         );
         // Another axis: the stack across the old one is no longer drawn.
         editor.set_slice(Axis::U, 0).unwrap();

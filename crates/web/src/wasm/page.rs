@@ -49,6 +49,8 @@ pub struct Modeler {
     /// A 2D model of many solids compiled for one revision of the editor: the tree, and whether
     /// a Bézier part of it is space-mapped (the 2D view then samples it more coarsely).
     plane: Option<(u64, bezsolid_core::tree::Tree<2>, bool)>,
+    /// Whether the 3D surface is cut at the true section's plane (while the section is on).
+    cap_on: bool,
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -264,6 +266,7 @@ pub async fn start(canvas: HtmlCanvasElement, backend: Backend) -> Result<Modele
         adapter: info.name.clone(),
         figures: FrameFigures::default(),
         parts: None,
+        cap_on: false,
         whole_revision: None,
         plane: None,
     })
@@ -360,6 +363,58 @@ impl Modeler {
         if was && !on && self.parts.is_none() {
             self.view2.set_scene(None);
         }
+    }
+
+    /// Cuts the 3D surface at the true section's plane (`on`, while the section is on), the cut
+    /// face closed: the solid below the plane is shown. A single volume's only.
+    pub fn set_section_cap(&mut self, on: bool) {
+        self.cap_on = on;
+        self.sync_cap();
+    }
+
+    /// Gives the 3D view the section's plane as its cap, where the cap is on: where the plane is
+    /// now (it follows the box as points move).
+    fn sync_cap(&mut self) {
+        let plane = self.parts.is_none().then(|| self.section_plane()).flatten();
+        let cap = plane
+            .filter(|_| self.cap_on)
+            .map(|(axis, at, _)| (axis, at));
+        self.view3.set_cap(cap);
+        let shown = plane.and_then(|(axis, at, _)| {
+            let (lo, hi) = self.editor.volume()?.domain();
+            Some(crate::view3d::SectionPlane { axis, at, lo, hi })
+        });
+        self.view3.set_section_plane(shown);
+    }
+
+    /// Where the true section's plane lies, from 0 (the box's low face) to 1; `undefined` with
+    /// no section.
+    #[must_use]
+    pub fn section_fraction(&self) -> Option<f64> {
+        self.view2.section()
+    }
+
+    /// Whether the section's plane is being dragged in the 3D view.
+    #[must_use]
+    pub fn section_dragged_3d(&self) -> bool {
+        self.view3.section_dragged()
+    }
+
+    /// The CSS pixel `[x, y]` of the section plane's point at fractions `(s, t)` of its extent
+    /// along its two other axes in the 3D view (`0` or `1` on its frame, which a drag moves);
+    /// `undefined` with no section.
+    #[must_use]
+    pub fn section_screen_3d(&self, s: f64, t: f64) -> Option<Vec<f64>> {
+        self.view3
+            .section_screen(s, t)
+            .map(|q| q.to_array().to_vec())
+    }
+
+    /// The key of the surface the 3D view wants: the model's revision with the cap's changes
+    /// (see `surface_request`).
+    #[must_use]
+    pub fn surface_revision(&self) -> f64 {
+        self.view3.surface_key(&self.editor) as f64
     }
 
     /// The true section drawn, when one is: its axis, where it lies and the plane's box.
@@ -832,6 +887,7 @@ impl Modeler {
     /// Draws the 3D view.
     pub fn render_3d(&mut self, viewer: &mut Viewer3) {
         self.follow_parts();
+        self.sync_cap();
         let scene = self.view3.scene(&self.editor);
         viewer.present(&scene);
     }
@@ -859,6 +915,19 @@ impl Modeler {
     /// Pointer moved in the 3D view; returns whether the camera or the model changed.
     pub fn pointer_move_3d(&mut self, x: f64, y: f64) -> bool {
         let changed = self.view3.pointer_move(&mut self.editor, DVec2::new(x, y));
+        if let Some(at) = self.view3.take_section_drag()
+            && let Some(volume) = self.editor.volume()
+            && let Some((axis, _)) = self.editor.slice()
+        {
+            // The plane dragged in 3D: the 2D view's section (and the cut) follow.
+            let (lo, hi) = volume.domain();
+            let a = axis.index();
+            let fraction = ((at - lo[a]) / (hi[a] - lo[a])).clamp(0.0, 1.0);
+            if fraction.is_finite() {
+                self.view2.set_section(Some(fraction));
+                self.sync_cap();
+            }
+        }
         if let (Some((handle, amount)), Some(parts)) = (self.view3.take_handle(), &mut self.parts) {
             parts.drag_handle(handle, amount, &mut self.editor);
             self.follow_parts();
@@ -894,7 +963,9 @@ impl Modeler {
     #[must_use]
     pub fn hit_3d(&self, x: f64, y: f64) -> bool {
         let q = DVec2::new(x, y);
-        self.view3.pick(&self.editor, q).is_some() || self.view3.over_handle(q)
+        self.view3.pick(&self.editor, q).is_some()
+            || self.view3.over_handle(q)
+            || self.view3.over_section(q)
     }
 
     /// The wheel over the 3D view: zooms.
@@ -1029,6 +1100,10 @@ impl Modeler {
     /// of many solids (what the worker meshes for the 3D view); `undefined` when all is hidden.
     #[must_use]
     pub fn view_json(&self) -> Option<String> {
+        if let Some(cap) = self.view3.cap() {
+            let spec = crate::view3d::capped(document::model_file(&self.editor).solid, cap);
+            return serde_json::to_string(&ModelFile::from_spec(spec)).ok();
+        }
         match &self.parts {
             Some(parts) => parts
                 .shown(&self.editor)
