@@ -314,16 +314,21 @@ export function setupBezier(app) {
   });
   // The true section of the volume by a plane across the slice's axis, live, instead of the slice.
   // The 3D surface can be cut at the plane, its cut face closed.
+  // Across the parameters, the plane u, v or w = t of the parameter box: f at its points S(u).
   const applySection = () => {
     const on = $('section-on').checked;
+    const across = $('section-params').checked;
     $('section-at').disabled = !on;
-    $('section-cap').disabled = !on;
+    $('section-params').disabled = !on;
+    $('section-cap').disabled = !on || across;
     modeler.set_section(on, $('section-at').valueAsNumber / 100);
-    modeler.set_section_cap(on && $('section-cap').checked);
+    modeler.set_section_parameters(across);
+    modeler.set_section_cap(on && !across && $('section-cap').checked);
     app.redraw();
   };
   $('section-on').addEventListener('change', applySection);
   $('section-at').addEventListener('input', applySection);
+  $('section-params').addEventListener('change', applySection);
   $('section-cap').addEventListener('change', applySection);
   $('resolution').addEventListener('change', (e) => {
     const v = e.target.valueAsNumber;
@@ -336,7 +341,9 @@ export function setupBezier(app) {
   const ORBIT = 'drag elsewhere to orbit, right-drag or Shift-drag to pan, turn the wheel to zoom, F frames the model again';
   const nameViews = (volume, parts, slice, section, cap) => {
     const bezier = !parts || parts.open;
-    const view2 = section
+    const view2 = section && section[3]
+      ? `2D view of the volume's section across its parameters, ${'uvw'[section[0]]} = ${fmt(section[1])}: f at the points S(u) of that parameter plane, over the parameter square drawn on the volume's box, and its zero contour (${fmt(100 * section[2])} % of the square inside); move it with the Section plane slider; the wheel zooms, F fits`
+      : section
       ? `2D view of the volume's true section by the plane ${'xyz'[section[0]]} = ${fmt(section[1])}: f on the plane and its zero contour (area ${fmt(section[2])}); move the plane with the Section plane slider, turn the section off to edit the slice's points here; the wheel zooms, F fits`
       : !bezier
       ? '2D view of the model of many solids: its field and its contour. Select a Bézier part under Parts to edit its points here'
@@ -344,7 +351,7 @@ export function setupBezier(app) {
     const view3 = parts
       ? `3D view of the model of many solids: the surface of the whole model${parts.open ? ', the open part\'s control points as spheres' : ''}, the selection framed in orange with handles to move, turn and scale it; ${ORBIT}`
       : volume
-        ? `3D view of the volume solid: its surface${cap ? `, cut at ${'xyz'[cap[0]]} = ${fmt(cap[1])} (the solid below the plane, its cut face closed)` : ''}${section ? `, the section plane ${'xyz'[section[0]]} = ${fmt(section[1])} in violet (drag its frame to move it)` : ''} and its control points as spheres coloured by ξ. Drag a sphere to change its ξ (or move it in space mode); ${ORBIT}`
+        ? `3D view of the volume solid: its surface${cap ? `, cut at ${'xyz'[cap[0]]} = ${fmt(cap[1])} (the solid below the plane, its cut face closed)` : ''}${section && !section[3] ? `, the section plane ${'xyz'[section[0]]} = ${fmt(section[1])} in violet (drag its frame to move it)` : ''} and its control points as spheres coloured by ξ. Drag a sphere to change its ξ (or move it in space mode); ${ORBIT}`
         : `3D view of the patch: the surface (x, y, ξ) coloured by ξ, the plane ξ = 0 and the control points as spheres. Drag a sphere to change its ξ (or move it in x and y in space mode); ${ORBIT}`;
     if (canvas.getAttribute('aria-label') !== view2) canvas.setAttribute('aria-label', view2);
     if (app.canvas3.getAttribute('aria-label') !== view3) app.canvas3.setAttribute('aria-label', view3);
@@ -402,8 +409,12 @@ export function setupBezier(app) {
     $('range-max').textContent = fmt(p.frame.range[1]);
     const n = p.frame.contours;
     const section = p.frame.section;
-    $('section-info').textContent = section ? `${'xyz'[section[0]]} = ${fmt(section[1])}` : '–';
-    $('contour-info').textContent = (section ? `True section ${'xyz'[section[0]]} = ${fmt(section[1])}: area ${fmt(section[2])}; ` : '')
+    // A section across the parameters names u, v, w and gives the part of the parameter square inside.
+    const plane = section && `${(section[3] ? 'uvw' : 'xyz')[section[0]]} = ${fmt(section[1])}`;
+    $('section-info').textContent = section ? plane : '–';
+    $('contour-info').textContent = (!section ? ''
+      : section[3] ? `Section across the parameters ${plane}: ${fmt(100 * section[2])} % of the parameter square inside; `
+      : `True section ${plane}: area ${fmt(section[2])}; `)
       + `Zero contour: ${n} ${n === 1 ? 'piece' : 'pieces'}`
       + (p.frame.folded ? ' (the net folds over itself: the lines of every sheet are shown)' : '')
       + (p.frame.unclipped ? `; S_ξ = 0 unclipped: ${p.frame.unclipped} ${p.frame.unclipped === 1 ? 'piece' : 'pieces'}, dashed` : '');

@@ -217,6 +217,45 @@ test('the true section of a volume: f on a plane, live as the plane moves and as
   await page.close();
 });
 
+test('a section across the parameters: f at the points of the plane w = t, over the parameter square', async () => {
+  const { page, errors } = await open(browser);
+  await openFish(page);
+  const frame = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).frame;
+  assert.ok(await page.isDisabled('#section-params'), 'offered with the section only');
+  await page.check('#section-on');
+  await settle(page);
+  const space = (await frame()).section;
+  assert.equal(space[3], 0);
+  // Across the parameters, by the keyboard.
+  await page.focus('#section-params');
+  await page.keyboard.press('Space');
+  await settle(page);
+  let f = await frame();
+  const [axis, t, part, across] = f.section;
+  assert.deepEqual([axis, t, across], [2, 0.5, 1]);
+  assert.ok(part > 0.05 && part < 1 && f.contours >= 1, `${part} of the square inside, ${f.contours} pieces`);
+  assert.match(await page.textContent('#contour-info'), /Section across the parameters w = 0\.50*: [\d.]+ % of the parameter square inside/);
+  assert.match(await page.textContent('#section-info'), /^w = 0\.50*$/);
+  // No cut in 3D: the plane is not one in space.
+  assert.ok(await page.isDisabled('#section-cap'));
+  assert.equal(JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel())).cap, null);
+  writeFileSync(join(ARTIFACTS, 'section-params-fish.png'), await page.locator('#view').screenshot());
+  // A space-mapped volume of the zoo: the vase's wall across its height, f through the inverse map.
+  await pick(page, 'preset', 'vase');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await settle(page);
+  f = await frame();
+  assert.ok(f.section && f.section[3] === 1, 'still across the parameters');
+  assert.ok(f.contours >= 1, `${f.contours} pieces`);
+  writeFileSync(join(ARTIFACTS, 'section-params-vase.png'), await page.locator('#view').screenshot());
+  // Back across space.
+  await page.uncheck('#section-params');
+  await settle(page);
+  assert.equal((await frame()).section[3], 0);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test('the 3D surface cut at the section plane: the solid below it, its cut face closed, following the plane', async () => {
   const { page, errors } = await open(browser);
   await openFish(page);

@@ -92,6 +92,9 @@ pub struct Frame {
     /// A volume's true section drawn instead of its control slice ([`frame_section`]): the axis
     /// across which its plane lies (0 for x), where, and the area inside.
     pub section: Option<(usize, f64, f64)>,
+    /// The section is across the parameters ([`frame_parameter_section`]): its axis is u, v or
+    /// w, where it lies a parameter, its area a fraction of the parameter square.
+    pub section_in_parameters: bool,
 }
 
 pub use bezsolid_core::tree::plane_axes;
@@ -131,18 +134,78 @@ pub fn frame_section(
     axes[b] = &vs;
     volume.plan(w * h);
     let values = volume.f_grid(axes);
-    let (field, range, magnitude) = whole_field(w, h, &values);
-    let contours = contour(
-        &grid,
-        &values,
-        |q| volume.f(place(q)),
-        CONTOUR_ACCURACY * magnitude,
-    );
-    let area = contours
+    let mut frame = section_frame(editor, view, (&grid, w, h), &values, |q| volume.f(place(q)));
+    let area = frame
+        .contours
         .iter()
         .filter(|l| l.closed)
         .map(Polyline::signed_area)
         .sum();
+    frame.section = Some((axis, at, area));
+    frame
+}
+
+/// The frame of a volume's section across its parameters: the plane `u[axis] = t` of the
+/// parameter box, shown over the volume's box in the plane's axes ([`plane_axes`]: parameter
+/// `(u_a, u_b)` at `lo + u·(hi − lo)`), `f` at the points `S(u)` of that surface in space
+/// (exactly: through the inverse map where the points moved), its zero contour, and the part of
+/// the parameter square inside (as the area, a fraction); no control points. On a regular grid
+/// it is the section by the plane `p[axis] = lo + t·(hi − lo)`.
+#[must_use]
+pub fn frame_parameter_section(
+    editor: &Editor,
+    view: &View2,
+    volume: &bezsolid_core::Solid3,
+    axis: usize,
+    t: f64,
+) -> Frame {
+    use bezsolid_core::inverse::Forward;
+    let long = if volume.inverse().is_some() {
+        TREE_MAPPED_SAMPLES
+    } else {
+        FIELD_SAMPLES
+    };
+    let (w, h) = field_size(view, long);
+    let grid = view_grid(editor, view, w, h);
+    let [a, b] = plane_axes(axis);
+    let (lo, hi) = volume.domain();
+    let f_at = |q: DVec2| {
+        let mut u = [t; 3];
+        u[a] = (q.x - lo[a]) / (hi[a] - lo[a]);
+        u[b] = (q.y - lo[b]) / (hi[b] - lo[b]);
+        volume.f(DVec3::from_array(volume.net().forward(u).x))
+    };
+    volume.plan(w * h);
+    let (xs, ys) = (grid.xs(), grid.ys());
+    let values: Vec<f64> = ys
+        .iter()
+        .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
+        .map(f_at)
+        .collect();
+    let mut frame = section_frame(editor, view, (&grid, w, h), &values, f_at);
+    let square = (hi[a] - lo[a]) * (hi[b] - lo[b]);
+    let area: f64 = frame
+        .contours
+        .iter()
+        .filter(|l| l.closed)
+        .map(Polyline::signed_area)
+        .sum();
+    frame.section = Some((axis, t, area / square));
+    frame.section_in_parameters = true;
+    frame
+}
+
+/// A section's frame from `values` sampled on `grid` (`w × h`): the field, its zero contour
+/// refined on `f`, drawn; no control points.
+fn section_frame(
+    editor: &Editor,
+    view: &View2,
+    (grid, w, h): (&Grid2, usize, usize),
+    values: &[f64],
+    f: impl Fn(DVec2) -> f64,
+) -> Frame {
+    let (field, range, magnitude) = whole_field(w, h, values);
+    let contours = contour(grid, values, f, CONTOUR_ACCURACY * magnitude);
     let mut pen = Pen {
         out: Vec::new(),
         size: view.size(),
@@ -156,7 +219,8 @@ pub fn frame_section(
         range,
         folded: false,
         unclipped: Vec::new(),
-        section: Some((axis, at, area)),
+        section: None,
+        section_in_parameters: false,
     }
 }
 
@@ -219,6 +283,7 @@ pub fn frame(editor: &Editor, view: &View2) -> Frame {
         folded: false,
         unclipped,
         section: None,
+        section_in_parameters: false,
     }
 }
 
@@ -260,6 +325,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
         folded: false,
         unclipped: Vec::new(),
         section: None,
+        section_in_parameters: false,
     }
 }
 
@@ -371,6 +437,7 @@ fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
         folded: !injective,
         unclipped,
         section: None,
+        section_in_parameters: false,
     }
 }
 
@@ -661,6 +728,64 @@ mod tests {
         // Only the contour: no control points (discs) over the field.
         let slice = frame(&editor, &view);
         assert!(section.shapes.len() < slice.shapes.len());
+    }
+
+    /// A section across the parameters: on a regular grid it is the section by the matching
+    /// plane in space (its part of the parameter square the space section's area over the box's
+    /// face); on a moved volume its contour lies on `f(S(u)) = 0`.
+    #[test]
+    fn a_section_across_the_parameters_is_f_at_the_points_of_the_parameter_plane() {
+        use bezsolid_core::inverse::Forward;
+        let bezsolid_core::model::ModelSolid::Volume(fish) =
+            bezsolid_core::presets::Preset::Fish.solid()
+        else {
+            unreachable!()
+        };
+        let mut editor = Editor::new(Solid2::fig9());
+        editor.set_volume(fish.clone());
+        let mut view = View2::new();
+        let (lo, hi) = fish.domain();
+        view.set_scene(Some((lo.truncate(), hi.truncate())));
+        view.sync(&editor);
+        let t = 0.6;
+        let across = frame_parameter_section(&editor, &view, &fish, 2, t);
+        assert!(across.section_in_parameters);
+        let (axis, at, part) = across.section.unwrap();
+        assert_eq!((axis, at), (2, t));
+        assert!(part > 0.05 && part < 1.0, "{part}");
+        let space = frame_section(&editor, &view, &fish, 2, lo.z + t * (hi.z - lo.z));
+        let (_, _, area) = space.section.unwrap();
+        let face = (hi.x - lo.x) * (hi.y - lo.y);
+        assert!(
+            (part * face - area).abs() < 1e-4 * area,
+            "{part} of {face} against {area}"
+        );
+
+        let mut moved = fish.clone();
+        moved
+            .set_point([3, 2, 1], DVec3::new(0.4, 0.3, 0.2))
+            .unwrap();
+        moved
+            .set_point([5, 1, 2], DVec3::new(1.3, -0.2, 0.6))
+            .unwrap();
+        assert!(moved.inverse().is_some());
+        editor.set_volume(moved.clone());
+        let (lo, hi) = moved.domain();
+        view.set_scene(Some((lo.truncate(), hi.truncate())));
+        view.sync(&editor);
+        let across = frame_parameter_section(&editor, &view, &moved, 2, 0.5);
+        assert!(!across.contours.is_empty());
+        for line in &across.contours {
+            for q in line.points.iter().step_by(5) {
+                let u = [
+                    (q.x - lo.x) / (hi.x - lo.x),
+                    (q.y - lo.y) / (hi.y - lo.y),
+                    0.5,
+                ];
+                let f = moved.f(DVec3::from_array(moved.net().forward(u).x));
+                assert!(f.abs() < 1e-6, "f = {f} at S({u:?})");
+            }
+        }
     }
 
     /// Two discs apart and the paper's patch between them: the view shows the whole field, three

@@ -18,8 +18,10 @@ pub struct FrameFigures {
     pub folded: bool,
     /// Pieces of the unclipped contour of `S_ξ` drawn (0 when it is not shown).
     pub unclipped: usize,
-    /// The true section drawn: `[axis, at, area]` (axis 0 for x).
-    pub section: Option<[f64; 3]>,
+    /// The true section drawn: `[axis, at, area, across]` (axis 0 for x; `across` 1 for a
+    /// section across the parameters, whose axis 0 is u, `at` a parameter and area a fraction
+    /// of the parameter square, 0 across space).
+    pub section: Option<[f64; 4]>,
 }
 
 impl From<&Frame> for FrameFigures {
@@ -29,9 +31,14 @@ impl From<&Frame> for FrameFigures {
             contours: frame.contours.len(),
             folded: frame.folded,
             unclipped: frame.unclipped.len(),
-            section: frame
-                .section
-                .map(|(axis, at, area)| [axis as f64, at, area]),
+            section: frame.section.map(|(axis, at, area)| {
+                let across = if frame.section_in_parameters {
+                    1.0
+                } else {
+                    0.0
+                };
+                [axis as f64, at, area, across]
+            }),
         }
     }
 }

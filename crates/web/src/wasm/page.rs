@@ -15,7 +15,8 @@ use crate::document;
 use crate::editor::Editor;
 use crate::error::Error;
 use crate::frame2d::{
-    TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_section, frame_tree, plane_axes,
+    TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_parameter_section, frame_section, frame_tree,
+    plane_axes,
 };
 use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
@@ -51,6 +52,8 @@ pub struct Modeler {
     plane: Option<(u64, bezsolid_core::tree::Tree<2>, bool)>,
     /// Whether the 3D surface is cut at the true section's plane (while the section is on).
     cap_on: bool,
+    /// Whether the section is across the volume's parameters (u, v, w) instead of space.
+    section_parameters: bool,
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -267,6 +270,7 @@ pub async fn start(canvas: HtmlCanvasElement, backend: Backend) -> Result<Modele
         figures: FrameFigures::default(),
         parts: None,
         cap_on: false,
+        section_parameters: false,
         whole_revision: None,
         plane: None,
     })
@@ -323,13 +327,18 @@ impl Modeler {
     pub fn render(&mut self) {
         self.follow_parts();
         let section = self.section_plane();
-        if let Some((_, _, scene)) = section {
+        let across = self.parameter_plane();
+        if let Some((_, _, scene)) = section.or(across) {
             self.view2.set_scene(Some(scene));
         }
         self.view2.sync(&self.editor);
         let frame = match (&self.plane, section, self.editor.volume()) {
             (None, Some((axis, at, _)), Some(volume)) => {
                 frame_section(&self.editor, &self.view2, volume, axis, at)
+            }
+            (None, None, Some(volume)) if across.is_some() => {
+                let (axis, t, _) = across.unwrap_or_default();
+                frame_parameter_section(&self.editor, &self.view2, volume, axis, t)
             }
             (Some((_, tree, mapped)), ..) => {
                 let part = self.parts.as_ref().is_some_and(|p| p.open().is_some());
@@ -417,8 +426,38 @@ impl Modeler {
         self.view3.surface_key(&self.editor) as f64
     }
 
-    /// The true section drawn, when one is: its axis, where it lies and the plane's box.
+    /// Puts the true section across the volume's parameters (`on`: the plane `u[axis] = t` of
+    /// the parameter box, `f` at its points `S(u)`) or across space.
+    pub fn set_section_parameters(&mut self, on: bool) {
+        self.section_parameters = on;
+        self.sync_cap();
+    }
+
+    /// The section across the parameters drawn, when one is: its axis (0 = u), the parameter
+    /// it lies at, and the volume's box in the plane's axes (where the parameter square is shown).
+    fn parameter_plane(&self) -> Option<(usize, f64, (DVec2, DVec2))> {
+        if !self.section_parameters {
+            return None;
+        }
+        let t = self.view2.section()?;
+        let volume = self.editor.volume()?;
+        let (axis, _) = self.editor.slice()?;
+        let axis = axis.index();
+        let (lo, hi) = volume.domain();
+        let [a, b] = plane_axes(axis);
+        Some((
+            axis,
+            t,
+            (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b])),
+        ))
+    }
+
+    /// The true section drawn across space, when one is: its axis, where it lies and the
+    /// plane's box.
     fn section_plane(&self) -> Option<(usize, f64, (DVec2, DVec2))> {
+        if self.section_parameters {
+            return None;
+        }
         let fraction = self.view2.section()?;
         let volume = self.editor.volume()?;
         let (axis, _) = self.editor.slice()?;
@@ -543,6 +582,15 @@ impl Modeler {
                 s[a] = p.x;
                 s[b] = p.y;
                 volume.f(glam::DVec3::from_array(s))
+            }
+            (None, None, Some(volume)) if self.parameter_plane().is_some() => {
+                use bezsolid_core::inverse::Forward;
+                let (axis, t, (lo, hi)) = self.parameter_plane().unwrap_or_default();
+                let [a, b] = plane_axes(axis);
+                let mut u = [t; 3];
+                u[a] = (p.x - lo.x) / (hi.x - lo.x);
+                u[b] = (p.y - lo.y) / (hi.y - lo.y);
+                volume.f(glam::DVec3::from_array(volume.net().forward(u).x))
             }
             (Some((_, tree, _)), ..) => tree.f(p),
             _ => self.view2.probe(&self.editor, q),
@@ -1133,7 +1181,7 @@ impl Modeler {
     /// Whether the 2D view shows points to pick: a part is open and no true section is drawn
     /// instead of its slice.
     fn points_shown(&self) -> bool {
-        self.part_open() && self.section_plane().is_none()
+        self.part_open() && self.section_plane().is_none() && self.parameter_plane().is_none()
     }
 
     /// [`Self::part_open`], or the error that says what to do.
