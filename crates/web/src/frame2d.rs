@@ -159,7 +159,6 @@ pub fn frame_parameter_section(
     axis: usize,
     t: f64,
 ) -> Frame {
-    use bezsolid_core::inverse::Forward;
     let long = if volume.inverse().is_some() {
         TREE_MAPPED_SAMPLES
     } else {
@@ -169,12 +168,7 @@ pub fn frame_parameter_section(
     let grid = view_grid(editor, view, w, h);
     let [a, b] = plane_axes(axis);
     let (lo, hi) = volume.domain();
-    let f_at = |q: DVec2| {
-        let mut u = [t; 3];
-        u[a] = (q.x - lo[a]) / (hi[a] - lo[a]);
-        u[b] = (q.y - lo[b]) / (hi[b] - lo[b]);
-        volume.f(DVec3::from_array(volume.net().forward(u).x))
-    };
+    let f_at = |q: DVec2| volume.f(parameter_point(volume, axis, t, q));
     volume.plan(w * h);
     let (xs, ys) = (grid.xs(), grid.ys());
     let values: Vec<f64> = ys
@@ -193,6 +187,20 @@ pub fn frame_parameter_section(
     frame.section = Some((axis, t, area / square));
     frame.section_in_parameters = true;
     frame
+}
+
+/// The point `S(u)` in space of the view point `q` of a section across the parameters
+/// ([`frame_parameter_section`]): `u[axis] = t`, the other two parameters `q` over the volume's
+/// box in the plane's axes.
+#[must_use]
+pub fn parameter_point(volume: &bezsolid_core::Solid3, axis: usize, t: f64, q: DVec2) -> DVec3 {
+    use bezsolid_core::inverse::Forward;
+    let [a, b] = plane_axes(axis);
+    let (lo, hi) = volume.domain();
+    let mut u = [t; 3];
+    u[a] = (q.x - lo[a]) / (hi[a] - lo[a]);
+    u[b] = (q.y - lo[b]) / (hi[b] - lo[b]);
+    DVec3::from_array(volume.net().forward(u).x)
 }
 
 /// A section's frame from `values` sampled on `grid` (`w × h`): the field, its zero contour
@@ -689,21 +697,32 @@ mod tests {
         assert!(!mapped.unclipped.is_empty() && mapped.shapes.len() > 100);
     }
 
-    /// A volume's true section: its contour on `f = 0` of the plane, its area the core's section's,
-    /// no control points drawn; the view frames the plane's box.
-    #[test]
-    fn a_true_section_is_the_contour_of_f_on_the_plane() {
+    /// `volume` in an editor and a view that frames its box.
+    fn framed(volume: &bezsolid_core::Solid3) -> (Editor, View2) {
+        let mut editor = Editor::new(Solid2::fig9());
+        editor.set_volume(volume.clone());
+        let mut view = View2::new();
+        let (lo, hi) = volume.domain();
+        view.set_scene(Some((lo.truncate(), hi.truncate())));
+        view.sync(&editor);
+        (editor, view)
+    }
+
+    fn fish() -> bezsolid_core::Solid3 {
         let bezsolid_core::model::ModelSolid::Volume(fish) =
             bezsolid_core::presets::Preset::Fish.solid()
         else {
             unreachable!()
         };
-        let mut editor = Editor::new(Solid2::fig9());
-        editor.set_volume(fish.clone());
-        let mut view = View2::new();
-        let (lo, hi) = fish.domain();
-        view.set_scene(Some((lo.truncate(), hi.truncate())));
-        view.sync(&editor);
+        fish
+    }
+
+    /// A volume's true section: its contour on `f = 0` of the plane, its area the core's section's,
+    /// no control points drawn; the view frames the plane's box.
+    #[test]
+    fn a_true_section_is_the_contour_of_f_on_the_plane() {
+        let fish = fish();
+        let (editor, view) = framed(&fish);
         let section = frame_section(&editor, &view, &fish, 2, 0.1);
         let (axis, at, area) = section.section.unwrap();
         assert_eq!((axis, at), (2, 0.1));
@@ -735,18 +754,9 @@ mod tests {
     /// face); on a moved volume its contour lies on `f(S(u)) = 0`.
     #[test]
     fn a_section_across_the_parameters_is_f_at_the_points_of_the_parameter_plane() {
-        use bezsolid_core::inverse::Forward;
-        let bezsolid_core::model::ModelSolid::Volume(fish) =
-            bezsolid_core::presets::Preset::Fish.solid()
-        else {
-            unreachable!()
-        };
-        let mut editor = Editor::new(Solid2::fig9());
-        editor.set_volume(fish.clone());
-        let mut view = View2::new();
+        let fish = fish();
+        let (editor, view) = framed(&fish);
         let (lo, hi) = fish.domain();
-        view.set_scene(Some((lo.truncate(), hi.truncate())));
-        view.sync(&editor);
         let t = 0.6;
         let across = frame_parameter_section(&editor, &view, &fish, 2, t);
         assert!(across.section_in_parameters);
@@ -769,21 +779,14 @@ mod tests {
             .set_point([5, 1, 2], DVec3::new(1.3, -0.2, 0.6))
             .unwrap();
         assert!(moved.inverse().is_some());
-        editor.set_volume(moved.clone());
-        let (lo, hi) = moved.domain();
-        view.set_scene(Some((lo.truncate(), hi.truncate())));
-        view.sync(&editor);
+        let (editor, view) = framed(&moved);
         let across = frame_parameter_section(&editor, &view, &moved, 2, 0.5);
         assert!(!across.contours.is_empty());
         for line in &across.contours {
-            for q in line.points.iter().step_by(5) {
-                let u = [
-                    (q.x - lo.x) / (hi.x - lo.x),
-                    (q.y - lo.y) / (hi.y - lo.y),
-                    0.5,
-                ];
-                let f = moved.f(DVec3::from_array(moved.net().forward(u).x));
-                assert!(f.abs() < 1e-6, "f = {f} at S({u:?})");
+            for &q in line.points.iter().step_by(5) {
+                let p = parameter_point(&moved, 2, 0.5, q);
+                let f = moved.f(p);
+                assert!(f.abs() < 1e-6, "f = {f} at {p}");
             }
         }
     }

@@ -1658,6 +1658,20 @@ mod tests {
         assert_ne!(view.scene(&editor).generation, selected);
     }
 
+    /// The blob volume in a view whose fine surface is made elsewhere, its scene drawn once.
+    fn blob_elsewhere() -> (Solid3, Editor, View3) {
+        use bezsolid_core::model::ModelSolid;
+        use bezsolid_core::presets::Preset;
+        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
+            unreachable!()
+        };
+        let (mut editor, mut view) = setup();
+        editor.set_volume(blob.clone());
+        view.set_external_surface(true);
+        let _ = view.scene(&editor);
+        (blob, editor, view)
+    }
+
     /// The true section's plane is drawn (translucent, with its frame), and a drag on its frame
     /// moves it along its axis within the box; a drag in its middle orbits the camera.
     #[test]
@@ -1716,15 +1730,7 @@ mod tests {
     /// old cap is not taken; without it the surface is whole again.
     #[test]
     fn a_cap_cuts_the_surface_at_its_plane_and_asks_for_a_new_one() {
-        use bezsolid_core::model::ModelSolid;
-        use bezsolid_core::presets::Preset;
-        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
-            unreachable!()
-        };
-        let (mut editor, mut view) = setup();
-        editor.set_volume(blob.clone());
-        view.set_external_surface(true);
-        let _ = view.scene(&editor);
+        let (blob, editor, mut view) = blob_elsewhere();
         let (before, _) = view.take_request().unwrap();
         let highest = |view: &View3| {
             let m = view.surface.drawn().unwrap();
@@ -1763,15 +1769,7 @@ mod tests {
 
     #[test]
     fn a_surface_made_elsewhere_replaces_the_coarse_one_for_its_revision_only() {
-        use bezsolid_core::model::ModelSolid;
-        use bezsolid_core::presets::Preset;
-        let ModelSolid::Volume(blob) = Preset::Blob.solid() else {
-            unreachable!()
-        };
-        let (mut editor, mut view) = setup();
-        editor.set_volume(blob.clone());
-        view.set_external_surface(true);
-        let _ = view.scene(&editor);
+        let (blob, mut editor, mut view) = blob_elsewhere();
         let (coarse, res) = view.surface_info().unwrap();
         assert_eq!(res, COARSE_RESOLUTION);
         let (revision, wanted) = view.take_request().unwrap();

@@ -324,13 +324,7 @@ pub(super) fn write_mapped(
     for c in 1..=d {
         let _ = writeln!(w, "    {tag}r{c} = {tag}x{c} - {q}[{c}];");
     }
-    let _ = writeln!(w, "    {tag}res = abs({tag}r1);");
-    for c in 2..=d {
-        let _ = writeln!(
-            w,
-            "    if (abs({tag}r{c}) > {tag}res) then {tag}res = abs({tag}r{c}); endif;"
-        );
-    }
+    largest_abs(w, "    ", &format!("{tag}res"), &format!("{tag}r"), d);
     let _ = writeln!(
         w,
         "    if ({tag}res <= {} or ({tag}set = 1 and {tag}res <= {})) then",
@@ -390,13 +384,13 @@ pub(super) fn write_mapped(
         let t = &params[a - 1];
         let _ = writeln!(w, "          {t} = {t} - {tag}e{a};");
     }
-    let _ = writeln!(w, "          {tag}step = abs({tag}e1);");
-    for a in 2..=d {
-        let _ = writeln!(
-            w,
-            "          if (abs({tag}e{a}) > {tag}step) then {tag}step = abs({tag}e{a}); endif;"
-        );
-    }
+    largest_abs(
+        w,
+        "          ",
+        &format!("{tag}step"),
+        &format!("{tag}e"),
+        d,
+    );
     let _ = writeln!(
         w,
         "          if ({tag}step <= 1e-13) then {tag}set = 1; endif;"
@@ -544,6 +538,17 @@ impl MappedCode {
         body.push_str(&indent(&self.continuation, 2));
         let _ = writeln!(body, "    {tag}f = {};\n  endif;", self.cont);
         format!("{tag}f")
+    }
+}
+
+/// Lines that set `var` to the largest `|{of}1|`, …, `|{of}d|`, indented by `pad`.
+fn largest_abs(w: &mut String, pad: &str, var: &str, of: &str, d: usize) {
+    let _ = writeln!(w, "{pad}{var} = abs({of}1);");
+    for c in 2..=d {
+        let _ = writeln!(
+            w,
+            "{pad}if (abs({of}{c}) > {var}) then {var} = abs({of}{c}); endif;"
+        );
     }
 }
 

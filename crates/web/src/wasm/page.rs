@@ -16,7 +16,7 @@ use crate::editor::Editor;
 use crate::error::Error;
 use crate::frame2d::{
     TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_parameter_section, frame_section, frame_tree,
-    plane_axes,
+    parameter_point, plane_axes,
 };
 use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
@@ -436,14 +436,7 @@ impl Modeler {
     /// The section across the parameters drawn, when one is: its axis (0 = u), the parameter
     /// it lies at, and the volume's box in the plane's axes (where the parameter square is shown).
     fn parameter_plane(&self) -> Option<(usize, f64, (DVec2, DVec2))> {
-        if !self.section_parameters {
-            return None;
-        }
-        let t = self.view2.section()?;
-        let volume = self.editor.volume()?;
-        let (axis, _) = self.editor.slice()?;
-        let axis = axis.index();
-        let (lo, hi) = volume.domain();
+        let (axis, t, (lo, hi)) = self.section_box().filter(|_| self.section_parameters)?;
         let [a, b] = plane_axes(axis);
         Some((
             axis,
@@ -452,17 +445,18 @@ impl Modeler {
         ))
     }
 
-    /// The true section drawn across space, when one is: its axis, where it lies and the
-    /// plane's box.
-    fn section_plane(&self) -> Option<(usize, f64, (DVec2, DVec2))> {
-        if self.section_parameters {
-            return None;
-        }
+    /// The section's axis (the slice's), where it lies from 0 to 1, and the volume's box.
+    fn section_box(&self) -> Option<(usize, f64, (glam::DVec3, glam::DVec3))> {
         let fraction = self.view2.section()?;
         let volume = self.editor.volume()?;
         let (axis, _) = self.editor.slice()?;
-        let axis = axis.index();
-        let (lo, hi) = volume.domain();
+        Some((axis.index(), fraction, volume.domain()))
+    }
+
+    /// The true section drawn across space, when one is: its axis, where it lies and the
+    /// plane's box.
+    fn section_plane(&self) -> Option<(usize, f64, (DVec2, DVec2))> {
+        let (axis, fraction, (lo, hi)) = self.section_box().filter(|_| !self.section_parameters)?;
         let at = lo[axis] + fraction * (hi[axis] - lo[axis]);
         let [a, b] = plane_axes(axis);
         Some((
@@ -584,13 +578,8 @@ impl Modeler {
                 volume.f(glam::DVec3::from_array(s))
             }
             (None, None, Some(volume)) if self.parameter_plane().is_some() => {
-                use bezsolid_core::inverse::Forward;
-                let (axis, t, (lo, hi)) = self.parameter_plane().unwrap_or_default();
-                let [a, b] = plane_axes(axis);
-                let mut u = [t; 3];
-                u[a] = (p.x - lo.x) / (hi.x - lo.x);
-                u[b] = (p.y - lo.y) / (hi.y - lo.y);
-                volume.f(glam::DVec3::from_array(volume.net().forward(u).x))
+                let (axis, t, _) = self.parameter_plane().unwrap_or_default();
+                volume.f(parameter_point(volume, axis, t, p))
             }
             (Some((_, tree, _)), ..) => tree.f(p),
             _ => self.view2.probe(&self.editor, q),
