@@ -111,13 +111,7 @@ pub fn frame_section(
     axis: usize,
     at: f64,
 ) -> Frame {
-    let long = if volume.inverse().is_some() {
-        TREE_MAPPED_SAMPLES
-    } else {
-        FIELD_SAMPLES
-    };
-    let (w, h) = field_size(view, long);
-    let grid = view_grid(editor, view, w, h);
+    let (grid, w, h) = section_grid(editor, view, volume);
     let (us, vs) = (grid.xs(), grid.ys());
     let [a, b] = plane_axes(axis);
     let place = |q: DVec2| {
@@ -159,13 +153,7 @@ pub fn frame_parameter_section(
     axis: usize,
     t: f64,
 ) -> Frame {
-    let long = if volume.inverse().is_some() {
-        TREE_MAPPED_SAMPLES
-    } else {
-        FIELD_SAMPLES
-    };
-    let (w, h) = field_size(view, long);
-    let grid = view_grid(editor, view, w, h);
+    let (grid, w, h) = section_grid(editor, view, volume);
     let [a, b] = plane_axes(axis);
     let (lo, hi) = volume.domain();
     let f_at = |q: DVec2| volume.f(parameter_point(volume, axis, t, q));
@@ -201,6 +189,22 @@ pub fn parameter_point(volume: &bezsolid_core::Solid3, axis: usize, t: f64, q: D
     u[a] = (q.x - lo[a]) / (hi[a] - lo[a]);
     u[b] = (q.y - lo[b]) / (hi[b] - lo[b]);
     DVec3::from_array(volume.net().forward(u).x)
+}
+
+/// The sample grid of a section of `volume` over the view, `w × h`: coarser for a space-mapped
+/// volume (an inverse map per sample).
+fn section_grid(
+    editor: &Editor,
+    view: &View2,
+    volume: &bezsolid_core::Solid3,
+) -> (Grid2, usize, usize) {
+    let long = if volume.inverse().is_some() {
+        TREE_MAPPED_SAMPLES
+    } else {
+        FIELD_SAMPLES
+    };
+    let (w, h) = field_size(view, long);
+    (view_grid(editor, view, w, h), w, h)
 }
 
 /// A section's frame from `values` sampled on `grid` (`w × h`): the field, its zero contour
