@@ -294,6 +294,14 @@ export function setupBezier(app) {
   for (const [id, axis] of [['elevate-u', 0], ['elevate-v', 1], ['elevate-w', 2]]) {
     $(id).addEventListener('click', () => app.attempt('Elevate', () => modeler.elevate(axis)));
   }
+  for (const [axis, name] of ['u', 'v', 'w'].entries()) {
+    $(`cell-add-${name}`).addEventListener('click', () => {
+      if (app.attempt('Add a cell', () => modeler.add_cell(axis))) say(`Added a cell along ${name}: the last cells mirrored; drag a point on the shared face to move both cells.`);
+    });
+    $(`cell-remove-${name}`).addEventListener('click', () => {
+      if (app.attempt('Remove a cell', () => modeler.remove_cell(axis))) say(`Removed the last cell along ${name}.`);
+    });
+  }
   $('new-volume').addEventListener('click', () => {
     app.attempt('New volume', () => modeler.new_volume($('grid-u').valueAsNumber, $('grid-v').valueAsNumber, $('grid-w').valueAsNumber));
   });
@@ -451,8 +459,21 @@ export function setupBezier(app) {
       $('model-name').textContent = `Many solids, ${n} ${n === 1 ? 'node' : 'nodes'}`;
       $('model-name').title = parts.open ? `Editing a Bézier ${volume ? 'volume' : 'patch'}${mapped ? ', space-mapped' : ''}` : '';
     }
+    if (p.cells) {
+      const { count, degree } = p.cells;
+      const dims = count.map((c, k) => c * degree[k] + 1);
+      $('model-info').textContent = `Piecewise ${volume ? 'volume' : 'patch'}: ${count.join(' × ')} cells of degree ${degree.join(' × ')}, one net of ${dims.join(' × ')} points${mapped ? ', points moved' : ''}; a point on a face that cells share moves in each of them.`;
+    }
     $('volume-controls').hidden = !volume;
-    $('elevate-w').disabled = !volume;
+    // A piecewise net's cells keep their degree: cells are added instead.
+    $('elevate-u').disabled = $('elevate-v').disabled = Boolean(p.cells);
+    $('elevate-w').disabled = !volume || Boolean(p.cells);
+    const editing = !parts || Boolean(parts.open);
+    for (const [axis, name] of ['u', 'v', 'w'].entries()) {
+      const has = axis < 2 || volume;
+      $(`cell-add-${name}`).disabled = !editing || !has;
+      $(`cell-remove-${name}`).disabled = !editing || !has || !p.cells || p.cells.count[axis] < 2;
+    }
     const solid3d = volume || parts?.dimension === 3;
     enableItems('#export-menu [data-volume]', solid3d);
     enableItems('#export-menu [data-bezier]', true);

@@ -4,7 +4,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, canvasPixels, canvasBox, settle, URL as BASE, ARTIFACTS, pick } from './harness.mjs';
+import { launch, open, canvasPixels, canvasBox, screenOf, settle, URL as BASE, ARTIFACTS, pick } from './harness.mjs';
 import { decodePng } from './png.mjs';
 
 let browser;
@@ -13,17 +13,6 @@ after(async () => { await browser?.close(); });
 
 const model = (page) => page.evaluate(() => window.bezsolid.modeler.model_json());
 const status = (page) => page.textContent('#status');
-
-/** The screen position (page CSS pixels) of a world point. */
-async function screenOf(page, x, y) {
-  const box = await canvasBox(page);
-  // probe() maps screen to world; the view is isotropic: find the map from two probes.
-  const [x0, y0] = await page.evaluate(() => [...window.bezsolid.modeler.probe(0, 0)]);
-  const [x1, y1] = await page.evaluate(() => [...window.bezsolid.modeler.probe(100, 100)]);
-  const sx = 100 / (x1 - x0);
-  const sy = 100 / (y1 - y0);
-  return [box.x + (x - x0) * sx, box.y + (y - y0) * sy];
-}
 
 /**
  * The 2D view as a picture, without the focus ring laid over it (which a key press shows on the

@@ -62,6 +62,15 @@ export async function canvasBox(page) {
   return page.locator('#view').boundingBox();
 }
 
+/** The viewport position (CSS pixels, what `page.mouse` takes) of world point (x, y) in the 2D view. */
+export async function screenOf(page, x, y) {
+  const box = await canvasBox(page);
+  // probe() maps screen to world; the view is isotropic: find the map from two probes.
+  const [x0, y0] = await page.evaluate(() => [...window.bezsolid.modeler.probe(0, 0)]);
+  const [x1, y1] = await page.evaluate(() => [...window.bezsolid.modeler.probe(100, 100)]);
+  return [box.x + (x - x0) * 100 / (x1 - x0), box.y + (y - y0) * 100 / (y1 - y0)];
+}
+
 const isRed = ([r, g, b]) => r - b > 40 && r > 120;
 const isDark = ([r, g, b]) => r < 90 && g < 90 && b < 90;
 

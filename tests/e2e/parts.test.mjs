@@ -7,7 +7,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { launch, open, settle, canvasBox, screenOf, ARTIFACTS } from './harness.mjs';
 import { surfaceTones } from './png.mjs';
 
 let browser;
@@ -330,6 +330,112 @@ test('a piecewise solid opens from a file and a link: one solid in both views, n
   assert.ok(triangles > 1000, `the whole surface across both cells: ${triangles} triangles`);
   const shot = await page.locator('#view3d').screenshot();
   writeFileSync(join(ARTIFACTS, 'piecewise-3d.png'), shot);
+  assert.ok(surfaceTones(shot) > 20, 'the surface is drawn, shaded');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a piecewise net is edited like one net: a shared point moves every cell, cells are added and removed', async () => {
+  const { page, errors } = await open(browser);
+  const panel = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel()));
+  const model = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.model_json())).solid;
+  /** f at world point (x, y) of the 2D view. */
+  const fAt = async (x, y) => {
+    const box = await canvasBox(page);
+    const [sx, sy] = await screenOf(page, x, y);
+    return page.evaluate(([a, b]) => window.bezsolid.modeler.probe(a, b)[2], [sx - box.x, sy - box.y]);
+  };
+  // Two quadratic cells side by side over [0, 2] × [0, 1]: one net of 5 × 3 points.
+  const solid = piecewise([2, 1], [2, 2], [2, 1], (t) => 0.5 - 2 * (t[0] - 0.5) ** 2 - 3 * (t[1] - 0.5) ** 2);
+  await page.evaluate((m) => { window.bezsolid.modeler.load_model(m); window.bezsolid.redraw(); }, JSON.stringify({ format: 'bezsolid', version: 1, solid }));
+  await settle(page);
+  await settle(page);
+  assert.deepEqual((await outline(page)).open, [], 'the piecewise part is open in the editor');
+  let p = await panel();
+  assert.deepEqual(p.cells, { count: [2, 1], degree: [2, 2] });
+  assert.deepEqual(p.degree, [4, 2], 'the 2D view edits the global net');
+  assert.match(await page.textContent('#model-info'), /Piecewise patch: 2 × 1 cells of degree 2 × 2, one net of 5 × 3 points/);
+
+  // The point in the middle of the edge x = 1 the cells share, dragged in space: f changes on
+  // both sides of the edge, the file keeps one net with the point moved once.
+  const left0 = await fAt(0.85, 0.5);
+  const right0 = await fAt(1.15, 0.5);
+  await page.check('input[name="mode"][value="space"]');
+  const from = await screenOf(page, 1, 0.5);
+  const to = await screenOf(page, 1.25, 0.62);
+  await page.mouse.move(...from);
+  await page.mouse.down();
+  await page.mouse.move(...to, { steps: 8 });
+  await page.mouse.up();
+  await settle(page);
+  const moved = await model();
+  assert.equal(moved.kind, 'piecewise');
+  assert.deepEqual(moved.cells, [2, 1]);
+  const shared = moved.points[2 * 3 + 1];
+  assert.ok(Math.abs(shared[0] - 1.25) < 0.03 && Math.abs(shared[1] - 0.62) < 0.03, `the shared point: ${shared}`);
+  assert.deepEqual(moved.points.filter((q, k) => k !== 7), solid.points.filter((q, k) => k !== 7), 'no other point moved');
+  const [left1, right1] = [await fAt(0.85, 0.5), await fAt(1.15, 0.5)];
+  assert.ok(Math.abs(left1 - left0) > 1e-3 && Math.abs(right1 - right0) > 1e-3, `both cells follow: ${left0} → ${left1}, ${right0} → ${right1}`);
+  assert.equal((await panel()).space_mapped, true);
+  writeFileSync(join(ARTIFACTS, 'piecewise-edit-2d.png'), await page.screenshot());
+  await page.click('#undo');
+  await settle(page);
+  assert.deepEqual((await model()).points, solid.points, 'one undo step for the drag');
+
+  // Cells by the keyboard: a cell added along u, then removed; none to remove along v; no w.
+  assert.equal(await page.isDisabled('#cell-remove-v'), true);
+  assert.equal(await page.isDisabled('#cell-add-w'), true, 'a patch has no w');
+  await page.focus('#cell-add-u');
+  await page.keyboard.press('Enter');
+  await settle(page);
+  p = await panel();
+  assert.deepEqual(p.cells.count, [3, 1]);
+  assert.deepEqual(p.degree, [6, 2]);
+  assert.match(await page.textContent('#model-info'), /3 × 1 cells/);
+  assert.match(await page.textContent('#status'), /Added a cell along u/);
+  // The new cell mirrors the last across x = 2: points 2·P₄ − P₃ and 2·P₄ − P₂ in the plane, ξ mirrored.
+  const grown = (await model()).points;
+  assert.equal(grown.length, 7 * 3);
+  for (let j = 0; j < 3; j++) {
+    for (const [i, mirror] of [[5, 3], [6, 2]]) {
+      const [q, b, m] = [grown[i * 3 + j], grown[4 * 3 + j], grown[mirror * 3 + j]];
+      assert.ok(Math.abs(q[0] - (2 * b[0] - m[0])) < 1e-12 && Math.abs(q[1] - (2 * b[1] - m[1])) < 1e-12 && q[2] === m[2], `P${i}${j} = ${q}`);
+    }
+  }
+  await page.focus('#cell-remove-u');
+  await page.keyboard.press('Enter');
+  await settle(page);
+  assert.deepEqual((await model()).points, solid.points, 'the cell removed: the net as it was');
+
+  // A single volume becomes piecewise with a cell along w; a point of the face the cells share
+  // dragged in the 3D view moves in both cells; the whole surface is drawn.
+  await page.click('#new-volume');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await page.click('#cell-add-w');
+  await settle(page);
+  const o = await outline(page);
+  assert.match(o.rows[0].label, /^Piecewise volume: 1 × 1 × 2 cells of degree 3 × 3 × 2/);
+  p = await panel();
+  assert.deepEqual(p.volume_degree, [3, 3, 4]);
+  const before = await model();
+  // Point (1, 1, 2) of the 4 × 4 × 5 net: on the face w = 1/2.
+  const index = (1 * 4 + 1) * 5 + 2;
+  const box = await page.locator('#view3d').boundingBox();
+  const [x, y] = await page.evaluate((k) => [...window.bezsolid.modeler.sphere_screen_3d(k)], index);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x + 30, box.y + y - 25, { steps: 6 });
+  await page.mouse.up();
+  await settle(page);
+  const after = await model();
+  assert.equal(after.kind, 'piecewise');
+  const changed = after.points.flatMap((q, k) => (JSON.stringify(q) === JSON.stringify(before.points[k]) ? [] : [k]));
+  assert.deepEqual(changed, [index], 'the one shared point moved');
+  await surfaceAt(page, 64);
+  const [triangles] = (await panel()).surface;
+  assert.ok(triangles > 1000, `the whole surface: ${triangles} triangles`);
+  const shot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'piecewise-edit-3d.png'), shot);
   assert.ok(surfaceTones(shot) > 20, 'the surface is drawn, shaded');
   assert.deepEqual(errors, []);
   await page.close();

@@ -337,6 +337,56 @@ impl SolidSpec {
         }
     }
 
+    /// The spec of a piecewise solid ([`SolidSpec::Piecewise`]).
+    #[must_use]
+    pub fn from_piecewise<const D: usize>(solid: &crate::piecewise::Piecewise<D>) -> Self
+    where
+        crate::dim::Dim<D>: crate::dim::Dimension<D>,
+    {
+        use crate::dim::{Dim, Dimension};
+        Self::Piecewise {
+            cells: solid.cells().to_vec(),
+            degree: solid.degree().to_vec(),
+            points: solid
+                .points()
+                .iter()
+                .map(|&c| {
+                    let (x, xi) = Dim::<D>::split(c);
+                    x.into_iter().chain([xi]).collect()
+                })
+                .collect(),
+        }
+    }
+
+    /// The piecewise solid of `D` dimensions this spec is: a [`SolidSpec::Piecewise`], or a
+    /// single patch or volume as one of one cell ([`crate::piecewise::Piecewise::from_solid`]);
+    /// `None` for another kind or dimension.
+    #[must_use]
+    pub fn to_piecewise<const D: usize>(
+        &self,
+    ) -> Option<Result<crate::piecewise::Piecewise<D>, crate::piecewise::PiecewiseError>>
+    where
+        crate::dim::Dim<D>: crate::dim::Dimension<D>,
+    {
+        let single = |degree: &[usize], points: Vec<Vec<f64>>| {
+            (degree.len() == D).then(|| crate::tree::piecewise::<D>(&[1; D], degree, &points))
+        };
+        match self {
+            Self::Piecewise {
+                cells,
+                degree,
+                points,
+            } => (cells.len() == D).then(|| crate::tree::piecewise::<D>(cells, degree, points)),
+            Self::Patch { degree, points } => {
+                single(degree, points.iter().map(|p| p.to_vec()).collect())
+            }
+            Self::Volume { degree, points } => {
+                single(degree, points.iter().map(|p| p.to_vec()).collect())
+            }
+            _ => None,
+        }
+    }
+
     /// Whether this is a kind only a tree of many solids has: a primitive, an operation or a
     /// transform (a single patch or volume is also a tree, of one leaf, but reads as itself).
     #[must_use]

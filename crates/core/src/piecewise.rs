@@ -283,6 +283,107 @@ where
         (Dim::<D>::point(self.min), Dim::<D>::point(self.max))
     }
 
+    /// A single solid as a piecewise one of one cell: the same function (a single cell is
+    /// clipped on its own parameter, which is then the global one).
+    ///
+    /// # Errors
+    ///
+    /// None for a solid of a degree a cell takes (every solid's); the type is [`Self::new`]'s.
+    pub fn from_solid(solid: &Solid<D>) -> Result<Self, PiecewiseError> {
+        Self::new([1; D], solid.degree(), solid.net().points().to_vec())
+    }
+
+    /// `S(t)` with its `ξ` at global parameter `t` (in the unit box; past it, the nearest cell's
+    /// polynomial extended): the cell's net at its local parameter.
+    #[must_use]
+    pub fn eval(&self, t: [f64; D]) -> Control<D> {
+        let (k, u) = self.locate(t);
+        self.parts[k].net().eval(u)
+    }
+
+    /// The point `S(t)` in space of global parameter `t` ([`Self::eval`] without `ξ`).
+    #[must_use]
+    pub fn point(&self, t: [f64; D]) -> Point<D> {
+        Dim::<D>::point(Dim::<D>::split(self.eval(t)).0)
+    }
+
+    /// The solid with one more cell along `axis`, after the last: the last cells mirrored across
+    /// the face they end on, so that the net goes on as it was made. With `B` the index of that
+    /// face along the axis and the other indices fixed, the new points are
+    /// `P_{B+k} = 2·P_B − P_{B−k}` in space (on a regular grid: the grid's spacing, continued) and
+    /// `ξ_{B+k} = ξ_{B−k}` (the solid's mirror image), `k = 1..=degree`.
+    ///
+    /// # Errors
+    ///
+    /// [`PiecewiseError::Dimension`] for an axis past the solid's, [`PiecewiseError::Cells`] or
+    /// [`PiecewiseError::CellCount`] past the caps, [`PiecewiseError::Solid`] where a mirrored
+    /// point is past the largest coordinate.
+    pub fn with_cell_added(&self, axis: usize) -> Result<Self, PiecewiseError> {
+        self.check_axis(axis)?;
+        let mut cells = self.cells;
+        cells[axis] += 1;
+        let dims = self.dims();
+        let n = self.degree[axis];
+        let mut new_dims = dims;
+        new_dims[axis] += n;
+        let boundary = dims[axis] - 1;
+        let old = |index: [usize; D]| self.points[(0..D).fold(0, |k, a| k * dims[a] + index[a])];
+        let count: usize = new_dims.iter().product();
+        let points = (0..count)
+            .map(|k| {
+                let index = multi_index(new_dims, k);
+                let i = index[axis];
+                if i <= boundary {
+                    return old(index);
+                }
+                let mut face = index;
+                face[axis] = boundary;
+                let mut mirror = index;
+                mirror[axis] = 2 * boundary - i;
+                let (b, _) = Dim::<D>::split(old(face));
+                let (m, xi) = Dim::<D>::split(old(mirror));
+                Dim::<D>::control(core::array::from_fn(|c| 2.0 * b[c] - m[c]), xi)
+            })
+            .collect();
+        Self::new(cells, self.degree, points)
+    }
+
+    /// The solid without its last cells along `axis` (the inverse of [`Self::with_cell_added`]).
+    ///
+    /// # Errors
+    ///
+    /// [`PiecewiseError::Dimension`] for an axis past the solid's, [`PiecewiseError::Cells`]
+    /// (`got: 0`) where the axis has one cell.
+    pub fn with_cell_removed(&self, axis: usize) -> Result<Self, PiecewiseError> {
+        self.check_axis(axis)?;
+        let mut cells = self.cells;
+        cells[axis] -= 1;
+        if cells[axis] == 0 {
+            return Err(PiecewiseError::Cells { axis, got: 0 });
+        }
+        let dims = self.dims();
+        let keep = cells[axis] * self.degree[axis] + 1;
+        let points = self
+            .points
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| multi_index(dims, k)[axis] < keep)
+            .map(|(_, &p)| p)
+            .collect();
+        Self::new(cells, self.degree, points)
+    }
+
+    fn check_axis(&self, axis: usize) -> Result<(), PiecewiseError> {
+        if axis < D {
+            Ok(())
+        } else {
+            Err(PiecewiseError::Dimension {
+                cells: axis + 1,
+                degree: D,
+            })
+        }
+    }
+
     /// The global parameter of local parameter `u` of cell number `k`.
     fn global(&self, k: usize, u: [f64; D]) -> [f64; D] {
         let cell = multi_index(self.cells, k);
@@ -685,6 +786,116 @@ mod tests {
                 let (a, b) = (piecewise.f(p), single.f(p));
                 assert!((a - b).abs() <= 1e-9 * a.abs().max(1.0), "{p}: {a} {b}");
             }
+        }
+    }
+
+    #[test]
+    fn a_cell_added_mirrors_the_last_across_their_face_and_removing_it_gives_the_solid_back() {
+        let mut rng = Rng::new(19);
+        // One cell and its mirror: the solid is symmetric about the face they share (the clipping
+        // x(1 − x) of the global parameter is symmetric too), patches and volumes.
+        for _ in 0..10 {
+            let degree = [rng.int(1, 4), rng.int(1, 4)];
+            let bx = ([rng.range(-2.0, 0.0), 0.0], [rng.range(0.5, 2.0), 1.0]);
+            let points = regular_points(&mut rng, degree.map(|d| d + 1), bx);
+            let one = piecewise2([1, 1], degree, &points);
+            let axis = rng.int(0, 1);
+            let two = one.with_cell_added(axis).unwrap();
+            assert_eq!(two.cells()[axis], 2);
+            assert!(two.is_regular(), "a regular grid goes on with its spacing");
+            let (lo, hi) = two.domain();
+            let width = bx.1[axis] - bx.0[axis];
+            assert!((hi[axis] - (bx.1[axis] + width)).abs() < 1e-12);
+            assert!((lo[axis] - bx.0[axis]).abs() < 1e-12);
+            for _ in 0..100 {
+                let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+                let mut q = p;
+                q[axis] = 2.0 * bx.1[axis] - p[axis];
+                let (a, b) = (two.f(p), two.f(q));
+                assert!((a - b).abs() < 1e-12, "{p} {q}: {a} {b}");
+            }
+            assert_eq!(two.with_cell_removed(axis).unwrap(), one);
+        }
+        // Moved volumes of many cells: every new point is the mirror of one of the last cells
+        // across the face, and removing the cell gives the net back.
+        for _ in 0..10 {
+            let cells = [rng.int(1, 3), rng.int(1, 3), rng.int(1, 3)];
+            let degree = [rng.int(1, 3), rng.int(1, 3), rng.int(1, 3)];
+            let dims: [usize; 3] = core::array::from_fn(|a| cells[a] * degree[a] + 1);
+            let mut points = regular_points(&mut rng, dims, ([0.0; 3], [1.0; 3]));
+            for p in &mut points {
+                for x in &mut p[..3] {
+                    *x += rng.range(-0.02, 0.02);
+                }
+            }
+            let solid = piecewise3(cells, degree, &points);
+            let axis = rng.int(0, 2);
+            let grown = solid.with_cell_added(axis).unwrap();
+            let new_dims = grown.dims();
+            assert_eq!(new_dims[axis], dims[axis] + degree[axis]);
+            let b = dims[axis] - 1;
+            let at = |dims: [usize; 3], i: [usize; 3]| (i[0] * dims[1] + i[1]) * dims[2] + i[2];
+            for k in 0..grown.points().len() {
+                let i = multi_index(new_dims, k);
+                let got = grown.points()[k];
+                if i[axis] <= b {
+                    assert_eq!(got, solid.points()[at(dims, i)]);
+                    continue;
+                }
+                let (mut face, mut mirror) = (i, i);
+                face[axis] = b;
+                mirror[axis] = 2 * b - i[axis];
+                let (f, m) = (
+                    solid.points()[at(dims, face)],
+                    solid.points()[at(dims, mirror)],
+                );
+                let want = (2.0 * f - m).truncate().extend(m.w);
+                assert!((got - want).abs().max_element() < 1e-12, "{got} {want}");
+            }
+            assert_eq!(grown.with_cell_removed(axis).unwrap(), solid);
+        }
+    }
+
+    #[test]
+    fn cells_are_added_and_removed_within_the_caps() {
+        let points = regular_points(&mut Rng::new(2), [2, 2], ([0.0; 2], [1.0; 2]));
+        let mut solid = piecewise2([1, 1], [1, 1], &points);
+        assert_eq!(
+            solid.with_cell_removed(0),
+            Err(PiecewiseError::Cells { axis: 0, got: 0 })
+        );
+        for _ in 1..MAX_CELLS {
+            solid = solid.with_cell_added(1).unwrap();
+        }
+        assert_eq!(
+            solid.with_cell_added(1),
+            Err(PiecewiseError::Cells {
+                axis: 1,
+                got: MAX_CELLS + 1
+            })
+        );
+        assert!(matches!(
+            solid.with_cell_added(2),
+            Err(PiecewiseError::Dimension { .. })
+        ));
+    }
+
+    #[test]
+    fn specs_spell_piecewise_solids_and_single_ones_as_one_cell() {
+        use crate::model::SolidSpec;
+        let mut rng = Rng::new(23);
+        let points = regular_points(&mut rng, [4, 3, 3], ([0.0; 3], [1.0; 3]));
+        let solid = piecewise3([3, 1, 2], [1, 2, 1], &points);
+        let spec = SolidSpec::from_piecewise(&solid);
+        assert_eq!(spec.to_piecewise::<3>().unwrap().unwrap(), solid);
+        assert!(spec.to_piecewise::<2>().is_none());
+        let patch = crate::Solid2::fig9();
+        let spec = crate::model::ModelFile::from_solid2(&patch).solid;
+        let one = spec.to_piecewise::<2>().unwrap().unwrap();
+        assert_eq!(one, Piecewise::from_solid(&patch).unwrap());
+        for _ in 0..100 {
+            let p = DVec2::new(rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
+            assert!((one.f(p) - patch.f(p)).abs() < 1e-12);
         }
     }
 

@@ -2,15 +2,15 @@
 //! the patch's or the selected slice's contours, HyperFun, and for volumes STL, OBJ and PLY meshes).
 //! Plain Rust over the core, tested natively; the page only moves the strings and bytes.
 
-use bezsolid_core::Solid2;
 use bezsolid_core::contour::solid_contour;
 use bezsolid_core::hyperfun::{solid2_hf, solid3_hf};
 use bezsolid_core::link;
 use bezsolid_core::mesh::Mesh;
 use bezsolid_core::mesh::svg::contours_svg;
-use bezsolid_core::model::{ModelFile, ModelSolid};
+use bezsolid_core::model::{ModelFile, ModelSolid, SolidSpec};
+use bezsolid_core::{Patch, Solid2, Solid3, SolidError, Volume};
 
-use crate::editor::Editor;
+use crate::editor::{Cells, Editor, MAX_PIECEWISE_POINTS, piecewise_spec};
 use crate::error::Error;
 
 /// Accuracy of exported mesh vertices on f = 0.
@@ -23,13 +23,14 @@ pub const SVG_RESOLUTION: usize = 256;
 /// How closely exported contour vertices lie on f = 0.
 pub const SVG_ACCURACY: f64 = 1e-9;
 
-/// The model file of the editor's model.
+/// The model file of the editor's model (a piecewise one as its cells and global net).
 #[must_use]
 pub fn model_file(editor: &Editor) -> ModelFile {
-    match editor.volume() {
+    let plain = match editor.volume() {
         Some(v) => ModelFile::from_solid3(v),
         None => ModelFile::from_solid2(editor.solid()),
-    }
+    };
+    ModelFile::from_spec(piecewise_spec(editor.cells(), plain.solid))
 }
 
 /// The model file of the editor's model, as pretty JSON.
@@ -45,6 +46,67 @@ pub fn open(editor: &mut Editor, model: ModelSolid) {
         ModelSolid::Patch(s) => editor.set_solid(s),
         ModelSolid::Volume(v) => editor.set_volume(v),
     }
+}
+
+/// Whether the editor edits `spec` as a node of a model: a patch, a volume, or a piecewise one
+/// whose global net has at most [`MAX_PIECEWISE_POINTS`] points along each axis.
+#[must_use]
+pub fn editable(spec: &SolidSpec) -> bool {
+    match spec {
+        SolidSpec::Patch { .. } | SolidSpec::Volume { .. } => true,
+        SolidSpec::Piecewise { cells, degree, .. } => cells
+            .iter()
+            .zip(degree)
+            .all(|(&c, &d)| c.saturating_mul(d) < MAX_PIECEWISE_POINTS),
+        _ => false,
+    }
+}
+
+/// Opens a node of a model in the editor (one undo step): a patch or a volume, or a piecewise
+/// one, whose global net the editor edits as one net.
+///
+/// # Errors
+///
+/// What is wrong with the node, or that the editor does not edit it ([`editable`]); the
+/// editor is unchanged then.
+pub fn open_spec(editor: &mut Editor, spec: SolidSpec) -> Result<(), Error> {
+    let SolidSpec::Piecewise { cells, degree, .. } = &spec else {
+        open(editor, ModelFile::from_spec(spec).to_solid()?);
+        return Ok(());
+    };
+    if !editable(&spec) {
+        return Err(Error::new(format!(
+            "this piecewise net has more than {MAX_PIECEWISE_POINTS} points along an axis: it is \
+             drawn, saved and exported as it is, and edited as a file"
+        )));
+    }
+    let cells = Cells {
+        count: cells.clone(),
+        degree: degree.clone(),
+    };
+    // Checked as a piecewise solid first, for its errors.
+    let bad = |e: bezsolid_core::piecewise::PiecewiseError| Error::new(e.to_string());
+    let net = match cells.count.len() {
+        2 => {
+            let p = spec
+                .to_piecewise::<2>()
+                .ok_or_else(|| Error::new("not a piecewise patch"))?
+                .map_err(bad)?;
+            let net = Patch::try_new(p.dims().map(|n| n - 1), p.points().to_vec())
+                .map_err(SolidError::from)?;
+            ModelSolid::Patch(Solid2::try_from_net(net)?)
+        }
+        _ => {
+            let p = spec
+                .to_piecewise::<3>()
+                .ok_or_else(|| Error::new("not a piecewise volume"))?
+                .map_err(bad)?;
+            let net = Volume::try_new(p.dims().map(|n| n - 1), p.points().to_vec())
+                .map_err(SolidError::from)?;
+            ModelSolid::Volume(Solid3::try_from_net(net)?)
+        }
+    };
+    editor.set_piecewise(net, cells)
 }
 
 /// The preset called `name`.
@@ -116,7 +178,11 @@ pub fn open_link(text: &str) -> Result<ModelSolid, Error> {
 /// of a volume (what [`svg`] draws).
 #[must_use]
 pub fn patch_json(editor: &Editor) -> String {
-    serde_json::to_string(&ModelFile::from_solid2(editor.solid())).unwrap_or_default()
+    let file = match editor.piecewise2() {
+        Some(p) => ModelFile::from_spec(SolidSpec::from_piecewise(&p)),
+        None => ModelFile::from_solid2(editor.solid()),
+    };
+    serde_json::to_string(&file).unwrap_or_default()
 }
 
 /// The zero contours as SVG, in the domain's box with a one-cell margin.

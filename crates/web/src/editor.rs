@@ -6,6 +6,8 @@
 
 use std::collections::VecDeque;
 
+use bezsolid_core::model::{ModelSolid, SolidSpec};
+use bezsolid_core::piecewise::{Piecewise2, Piecewise3};
 use bezsolid_core::{Axis, Patch, Solid2, Solid3, SolidError, Volume};
 use glam::{DVec2, DVec3, DVec4};
 
@@ -48,6 +50,22 @@ pub fn dome<const D: usize>(index: [usize; D], degree: [usize; D]) -> f64 {
     0.25 - 0.75 * sum / f64::from(axes)
 }
 
+/// `plain`, a patch's or a volume's spec, as the piecewise solid of `cells` where there are cells.
+#[must_use]
+pub fn piecewise_spec(cells: Option<&Cells>, plain: SolidSpec) -> SolidSpec {
+    let Some(cells) = cells else { return plain };
+    let points = match plain {
+        SolidSpec::Patch { points, .. } => points.iter().map(|p| p.to_vec()).collect(),
+        SolidSpec::Volume { points, .. } => points.iter().map(|p| p.to_vec()).collect(),
+        other => return other,
+    };
+    SolidSpec::Piecewise {
+        cells: cells.count.clone(),
+        degree: cells.degree.clone(),
+        points,
+    }
+}
+
 /// What dragging a control point changes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
@@ -79,12 +97,40 @@ struct Drag {
     before: Net,
 }
 
-/// A model's control net, as the undo history keeps it.
+/// A model's control net, as the undo history keeps it, with the cells it is cut into when the
+/// model is piecewise.
 #[derive(Clone, Debug, PartialEq)]
 enum Net {
-    Patch(Patch<DVec3>),
-    Volume(Volume<DVec4>),
+    Patch(Patch<DVec3>, Option<Cells>),
+    Volume(Volume<DVec4>, Option<Cells>),
 }
+
+/// The cells of a piecewise model ([`bezsolid_core::piecewise`]) whose global net the editor
+/// holds as one net (the patch's, or the volume's): every view edits it as one, so a dragged
+/// point that cells share moves in each of them. What the editor's solid evaluates to is the
+/// piecewise solid's `f` ([`Editor::f`], [`Editor::piecewise2`], [`Editor::piecewise3`]).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Cells {
+    /// The cells along each axis (u, v[, w]).
+    pub count: Vec<usize>,
+    /// Each cell's degree along each axis.
+    pub degree: Vec<usize>,
+}
+
+impl Cells {
+    /// The cells of the plane of two axes (a volume's slice across the third).
+    fn plane(&self, a: Axis, b: Axis) -> Option<Self> {
+        let pick = |x: &[usize]| Some(vec![*x.get(a.index())?, *x.get(b.index())?]);
+        Some(Self {
+            count: pick(&self.count)?,
+            degree: pick(&self.degree)?,
+        })
+    }
+}
+
+/// The most control points along an axis of a piecewise net the editor holds: its global net is
+/// a net of one degree up to [`bezsolid_core::MAX_DEGREE`] (five cubic cells, eight quadratic).
+pub const MAX_PIECEWISE_POINTS: usize = bezsolid_core::MAX_DEGREE + 1;
 
 /// A volume model: the solid, and the slice of its control net that the patch editor shows (the
 /// paper's cross-section chooser, Fig. 11).
@@ -115,6 +161,8 @@ pub struct Editor {
     mode: Mode,
     /// The volume when the model is one; `solid` is then its selected slice.
     volume: Option<VolumeDoc>,
+    /// The cells when the model is piecewise: the patch's or the volume's net is the global one.
+    cells: Option<Cells>,
     /// A control point of the volume dragged in 3D, and the model before the drag.
     volume_drag: Option<(usize, Net)>,
     /// Counts changes of the model (for caches of what is drawn from it).
@@ -139,6 +187,7 @@ impl Editor {
             drag: None,
             mode: Mode::Function,
             volume: None,
+            cells: None,
             volume_drag: None,
             revision: 0,
             undo: VecDeque::new(),
@@ -164,32 +213,110 @@ impl Editor {
     /// Replaces the model by a patch solid (a preset, an opened file or link): one undo step. The
     /// selection is kept where the new net has that point.
     pub fn set_solid(&mut self, solid: Solid2) {
-        let before = self.net();
-        self.drag = None;
-        self.volume_drag = None;
-        self.opened += 1;
-        self.solid = solid;
-        self.volume = None;
-        self.changed_from(before, Step::Other);
-        self.keep_selection_in_range();
+        self.replace(ModelSolid::Patch(solid), None);
     }
 
     /// Replaces the model by a volume solid: one undo step. The patch editor shows its middle
     /// slice across w.
     pub fn set_volume(&mut self, solid: Solid3) {
+        self.replace(ModelSolid::Volume(solid), None);
+    }
+
+    /// Replaces the model by a piecewise one: `net` is its global net (a patch's or a volume's)
+    /// cut into `cells`; one undo step. A volume's middle slice across w is shown.
+    ///
+    /// # Errors
+    ///
+    /// When the net's point counts are not the cells' (`count·degree + 1` along each axis) or
+    /// the cells are of another dimension; nothing changes then.
+    pub fn set_piecewise(&mut self, net: ModelSolid, cells: Cells) -> Result<(), Error> {
+        let dims = match &net {
+            ModelSolid::Patch(s) => s.net().dims().to_vec(),
+            ModelSolid::Volume(v) => v.net().dims().to_vec(),
+        };
+        let fits = cells.count.len() == dims.len()
+            && cells.degree.len() == dims.len()
+            && (0..dims.len()).all(|a| cells.count[a] * cells.degree[a] + 1 == dims[a]);
+        if !fits {
+            return Err(Error::new(format!(
+                "a net of {dims:?} points is not {:?} cells of degree {:?}",
+                cells.count, cells.degree
+            )));
+        }
+        self.replace(net, Some(cells));
+        Ok(())
+    }
+
+    fn replace(&mut self, model: ModelSolid, cells: Option<Cells>) {
         let before = self.net();
         self.drag = None;
         self.volume_drag = None;
         self.opened += 1;
-        let index = solid.degree()[2] / 2;
-        self.volume = Some(VolumeDoc {
-            solid,
-            axis: Axis::W,
-            index,
-        });
-        self.refresh_slice();
+        match model {
+            ModelSolid::Patch(solid) => {
+                self.solid = solid;
+                self.volume = None;
+            }
+            ModelSolid::Volume(solid) => {
+                let index = solid.degree()[2] / 2;
+                self.volume = Some(VolumeDoc {
+                    solid,
+                    axis: Axis::W,
+                    index,
+                });
+                self.refresh_slice();
+            }
+        }
+        self.cells = cells;
         self.changed_from(before, Step::Other);
         self.keep_selection_in_range();
+    }
+
+    /// The cells, when the model is piecewise.
+    #[must_use]
+    pub fn cells(&self) -> Option<&Cells> {
+        self.cells.as_ref()
+    }
+
+    /// The 2D solid shown (the patch, or the volume's slice) as the piecewise solid it is, when
+    /// the model is piecewise (a slice of a piecewise volume is a piecewise patch of the cells of
+    /// its plane).
+    #[must_use]
+    pub fn piecewise2(&self) -> Option<Piecewise2> {
+        let cells = match self.slice() {
+            Some((axis, _)) => {
+                let (a, b) = axis.others();
+                self.cells.as_ref()?.plane(a, b)?
+            }
+            None => self.cells.clone()?,
+        };
+        Piecewise2::new(
+            cells.count.try_into().ok()?,
+            cells.degree.try_into().ok()?,
+            self.solid.net().points().to_vec(),
+        )
+        .ok()
+    }
+
+    /// The piecewise volume, when the model is one.
+    #[must_use]
+    pub fn piecewise3(&self) -> Option<Piecewise3> {
+        let cells = self.cells.clone()?;
+        Piecewise3::new(
+            cells.count.try_into().ok()?,
+            cells.degree.try_into().ok()?,
+            self.volume()?.net().points().to_vec(),
+        )
+        .ok()
+    }
+
+    /// `f` of the 2D solid shown at `p`: the patch's or the slice's, piecewise where the model is.
+    #[must_use]
+    pub fn f(&self, p: DVec2) -> f64 {
+        match self.piecewise2() {
+            Some(solid) => solid.f(p),
+            None => self.solid.f(p),
+        }
     }
 
     /// The volume, when the model is one.
@@ -247,9 +374,10 @@ impl Editor {
 
     /// The model's net, as the history keeps it.
     fn net(&self) -> Net {
+        let cells = self.cells.clone();
         match &self.volume {
-            Some(doc) => Net::Volume(doc.solid.net().clone()),
-            None => Net::Patch(self.solid.net().clone()),
+            Some(doc) => Net::Volume(doc.solid.net().clone(), cells),
+            None => Net::Patch(self.solid.net().clone(), cells),
         }
     }
 
@@ -329,19 +457,24 @@ impl Editor {
     /// The models of the undo steps, oldest first, as the model file spells a solid (what a model
     /// of many solids made from this one keeps as its history).
     #[must_use]
-    pub fn undo_specs(&self) -> Vec<bezsolid_core::model::SolidSpec> {
-        use bezsolid_core::model::SolidSpec;
+    pub fn undo_specs(&self) -> Vec<SolidSpec> {
         self.undo
             .iter()
             .map(|net| match net {
-                Net::Patch(p) => SolidSpec::Patch {
-                    degree: p.degree(),
-                    points: p.points().iter().map(|q| q.to_array()).collect(),
-                },
-                Net::Volume(v) => SolidSpec::Volume {
-                    degree: v.degree(),
-                    points: v.points().iter().map(|q| q.to_array()).collect(),
-                },
+                Net::Patch(p, cells) => piecewise_spec(
+                    cells.as_ref(),
+                    SolidSpec::Patch {
+                        degree: p.degree(),
+                        points: p.points().iter().map(|q| q.to_array()).collect(),
+                    },
+                ),
+                Net::Volume(v, cells) => piecewise_spec(
+                    cells.as_ref(),
+                    SolidSpec::Volume {
+                        degree: v.degree(),
+                        points: v.points().iter().map(|q| q.to_array()).collect(),
+                    },
+                ),
             })
             .collect()
     }
@@ -410,14 +543,15 @@ impl Editor {
     /// keeps the slice shown where the net still has it.
     fn restore(&mut self, net: Net) -> bool {
         match net {
-            Net::Patch(patch) => match Solid2::try_from_net(patch) {
+            Net::Patch(patch, cells) => match Solid2::try_from_net(patch) {
                 Ok(solid) => {
                     self.solid = solid;
                     self.volume = None;
+                    self.cells = cells;
                 }
                 Err(_) => return false,
             },
-            Net::Volume(volume) => match Solid3::try_from_net(volume) {
+            Net::Volume(volume, cells) => match Solid3::try_from_net(volume) {
                 Ok(solid) => {
                     let (axis, index) = self.slice().unwrap_or((Axis::W, 0));
                     let d = solid.degree();
@@ -427,6 +561,7 @@ impl Editor {
                         axis,
                         index: index.min(top),
                     });
+                    self.cells = cells;
                     self.refresh_slice();
                 }
                 Err(_) => return false,
@@ -494,6 +629,11 @@ impl Editor {
     ///
     /// Past [`MAX_POINTS_PER_SIDE`] points, or for [`Axis::W`].
     pub fn elevate(&mut self, axis: Axis) -> Result<(), Error> {
+        if self.cells.is_some() {
+            return Err(
+                "a piecewise net's cells keep their degree: add cells along an axis instead".into(),
+            );
+        }
         if let Some(doc) = &self.volume {
             let d = doc.solid.degree();
             let side = d[axis.index()];
@@ -558,6 +698,14 @@ impl Editor {
             return Ok(());
         }
         let (min, max) = self.solid.domain();
+        if self.cells.is_some() {
+            // From a piecewise patch: a single patch over its domain.
+            let patch =
+                Solid2::regular([nu - 1, nv - 1], min, max, |ij| dome(ij, [nu - 1, nv - 1]))
+                    .map_err(Error::from)?;
+            self.set_solid(patch);
+            return Ok(());
+        }
         self.apply(Step::Other, |s| {
             *s = Solid2::regular([nu - 1, nv - 1], min, max, |ij| dome(ij, [nu - 1, nv - 1]))?;
             Ok(())

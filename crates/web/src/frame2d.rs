@@ -8,7 +8,7 @@ use bezsolid_core::contour::{
     Grid2, Polyline, contour, sheet_contour, solid_contour, unclipped_contour,
 };
 use bezsolid_core::rfunc::clip2;
-use bezsolid_core::tree::Tree;
+use bezsolid_core::tree::{ModelTree, Tree};
 use glam::{DVec2, DVec3};
 
 use crate::color::{Rgba, SELECT_COLOR, diverging};
@@ -99,6 +99,63 @@ pub struct Frame {
 
 pub use bezsolid_core::tree::plane_axes;
 
+/// A volume a true section cuts: a single Bézier volume, or a piecewise one (its global
+/// parameter is the section's parameter).
+pub trait Sectioned {
+    /// `f` at `p`.
+    fn f(&self, p: DVec3) -> f64;
+    /// `f` on the grid `axes[0] × axes[1] × axes[2]`, the first axis fastest.
+    fn f_grid(&self, axes: [&[f64]; 3]) -> Vec<f64>;
+    /// Says that about `queries` evaluations are coming.
+    fn plan(&self, _queries: usize) {}
+    /// Whether points moved in space (an inverse map per sample).
+    fn mapped(&self) -> bool;
+    /// The regular grid's box, or the moved net's bounds.
+    fn domain(&self) -> (DVec3, DVec3);
+    /// The point `S(u)` in space of parameter `u`.
+    fn point(&self, u: [f64; 3]) -> DVec3;
+}
+
+impl Sectioned for bezsolid_core::Solid3 {
+    fn f(&self, p: DVec3) -> f64 {
+        bezsolid_core::Solid3::f(self, p)
+    }
+    fn f_grid(&self, axes: [&[f64]; 3]) -> Vec<f64> {
+        bezsolid_core::Solid3::f_grid(self, axes)
+    }
+    fn plan(&self, queries: usize) {
+        bezsolid_core::Solid3::plan(self, queries);
+    }
+    fn mapped(&self) -> bool {
+        self.inverse().is_some()
+    }
+    fn domain(&self) -> (DVec3, DVec3) {
+        bezsolid_core::Solid3::domain(self)
+    }
+    fn point(&self, u: [f64; 3]) -> DVec3 {
+        use bezsolid_core::inverse::Forward;
+        DVec3::from_array(self.net().forward(u).x)
+    }
+}
+
+impl Sectioned for bezsolid_core::piecewise::Piecewise3 {
+    fn f(&self, p: DVec3) -> f64 {
+        bezsolid_core::piecewise::Piecewise3::f(self, p)
+    }
+    fn f_grid(&self, axes: [&[f64]; 3]) -> Vec<f64> {
+        bezsolid_core::piecewise::Piecewise3::f_grid(self, axes)
+    }
+    fn mapped(&self) -> bool {
+        !self.is_regular()
+    }
+    fn domain(&self) -> (DVec3, DVec3) {
+        bezsolid_core::piecewise::Piecewise3::domain(self)
+    }
+    fn point(&self, u: [f64; 3]) -> DVec3 {
+        bezsolid_core::piecewise::Piecewise3::point(self, u)
+    }
+}
+
 /// The frame of a volume's true section by the plane `p[axis] = at` (in space): `f` itself sampled
 /// over the view in the plane's coordinates ([`plane_axes`]), its zero contour refined on `f`,
 /// and the area inside; no control points (the section is not edited: the control slice is). A
@@ -107,7 +164,7 @@ pub use bezsolid_core::tree::plane_axes;
 pub fn frame_section(
     editor: &Editor,
     view: &View2,
-    volume: &bezsolid_core::Solid3,
+    volume: &(impl Sectioned + ?Sized),
     axis: usize,
     at: f64,
 ) -> Frame {
@@ -149,7 +206,7 @@ pub fn frame_section(
 pub fn frame_parameter_section(
     editor: &Editor,
     view: &View2,
-    volume: &bezsolid_core::Solid3,
+    volume: &(impl Sectioned + ?Sized),
     axis: usize,
     t: f64,
 ) -> Frame {
@@ -181,14 +238,13 @@ pub fn frame_parameter_section(
 /// ([`frame_parameter_section`]): `u[axis] = t`, the other two parameters `q` over the volume's
 /// box in the plane's axes.
 #[must_use]
-pub fn parameter_point(volume: &bezsolid_core::Solid3, axis: usize, t: f64, q: DVec2) -> DVec3 {
-    use bezsolid_core::inverse::Forward;
+pub fn parameter_point(volume: &(impl Sectioned + ?Sized), axis: usize, t: f64, q: DVec2) -> DVec3 {
     let [a, b] = plane_axes(axis);
     let (lo, hi) = volume.domain();
     let mut u = [t; 3];
     u[a] = (q.x - lo[a]) / (hi[a] - lo[a]);
     u[b] = (q.y - lo[b]) / (hi[b] - lo[b]);
-    DVec3::from_array(volume.net().forward(u).x)
+    volume.point(u)
 }
 
 /// The sample grid of a section of `volume` over the view, `w × h`: coarser for a space-mapped
@@ -196,9 +252,9 @@ pub fn parameter_point(volume: &bezsolid_core::Solid3, axis: usize, t: f64, q: D
 fn section_grid(
     editor: &Editor,
     view: &View2,
-    volume: &bezsolid_core::Solid3,
+    volume: &(impl Sectioned + ?Sized),
 ) -> (Grid2, usize, usize) {
-    let long = if volume.inverse().is_some() {
+    let long = if volume.mapped() {
         TREE_MAPPED_SAMPLES
     } else {
         FIELD_SAMPLES
@@ -255,6 +311,20 @@ fn unclipped(editor: &Editor, view: &View2, accuracy: f64) -> Vec<Polyline> {
 /// space mapping is drawn in parameter space and mapped forward (`frame_mapped`).
 #[must_use]
 pub fn frame(editor: &Editor, view: &View2) -> Frame {
+    if let Some(solid) = editor.piecewise2() {
+        // A piecewise patch (or slice) is drawn as the tree of one leaf it is.
+        let samples = if solid.is_regular() {
+            TREE_SAMPLES
+        } else {
+            TREE_MAPPED_SAMPLES
+        };
+        let spec = bezsolid_core::model::SolidSpec::from_piecewise(&solid);
+        if let Ok(ModelTree::Plane(tree)) =
+            bezsolid_core::model::ModelFile::from_spec(spec).to_tree()
+        {
+            return frame_tree(editor, view, &tree, true, samples);
+        }
+    }
     if editor.solid().inverse().is_some() {
         return frame_mapped(editor, view);
     }
@@ -509,8 +579,13 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
         dpr: view.dpr(),
     };
     let patch = editor.solid().net();
-    // The domain's outline: the patch's four boundary curves (the box of a regular grid).
-    for line in outline(patch) {
+    // The domain's outline: the patch's four boundary curves (the box of a regular grid); a
+    // piecewise patch's, and the curves its cells meet on.
+    let lines = match editor.piecewise2() {
+        Some(solid) => piecewise_outline(&solid),
+        None => outline(patch).to_vec(),
+    };
+    for line in lines {
         for w in line.windows(2) {
             pen.segment(
                 view.part_to_screen(editor, w[0]),
@@ -612,6 +687,29 @@ pub fn outline(patch: &Patch<DVec3>) -> [Vec<DVec2>; 4] {
     ]
 }
 
+/// The boundary curves of a piecewise patch and the curves its cells meet on, each cell's
+/// [`OUTLINE_SAMPLES`] segments long.
+#[must_use]
+pub fn piecewise_outline(solid: &bezsolid_core::piecewise::Piecewise2) -> Vec<Vec<DVec2>> {
+    let [cu, cv] = solid.cells();
+    let curve = |cells: usize, at: &dyn Fn(f64) -> [f64; 2]| -> Vec<DVec2> {
+        let n = OUTLINE_SAMPLES * cells;
+        (0..=n)
+            .map(|k| solid.point(at(k as f64 / n as f64)))
+            .collect()
+    };
+    let mut lines = Vec::new();
+    for a in 0..=cu {
+        let u = a as f64 / cu as f64;
+        lines.push(curve(cv, &|s| [u, s]));
+    }
+    for b in 0..=cv {
+        let v = b as f64 / cv as f64;
+        lines.push(curve(cu, &|s| [s, v]));
+    }
+    lines
+}
+
 /// Turns CSS-pixel strokes and discs into NDC triangles.
 struct Pen {
     out: Vec<ShapeVertex>,
@@ -699,6 +797,75 @@ mod tests {
         let editor = Editor::new(moved);
         let mapped = frame(&editor, &view);
         assert!(!mapped.unclipped.is_empty() && mapped.shapes.len() > 100);
+    }
+
+    /// A piecewise volume (a dome volume with a cell added along u, a point of the face the
+    /// cells share moved in space): its slice is drawn as the piecewise patch it is, its section
+    /// and the probe are of the piecewise solid, not of the global net read as one volume.
+    #[test]
+    fn a_piecewise_model_is_drawn_sliced_and_cut_as_the_piecewise_solid() {
+        let mut editor = Editor::new(Solid2::fig9());
+        editor.new_volume(4, 4, 4).unwrap();
+        let mut parts = crate::parts::Parts::of_editor(&mut editor).unwrap();
+        parts.add_cell(0, &mut editor).unwrap();
+        // Point (3, 1, 2) lies on the face u = 1/2 of the global net: move it out in space.
+        let index = (3 * 4 + 1) * 4 + 2;
+        editor.begin_volume_drag(index);
+        let p = editor.volume().unwrap().net().points()[index];
+        assert!(editor.drag_volume_to(Some(p.truncate() + DVec3::new(0.15, -0.1, 0.05)), None));
+        editor.end_drag();
+        parts.sync(&editor);
+        let pieces = editor.piecewise3().unwrap();
+        assert!(!pieces.is_regular());
+        editor.set_slice(bezsolid_core::Axis::W, 2).unwrap();
+        let slice = editor.piecewise2().unwrap();
+        let mut view = View2::new();
+        let (lo, hi) = pieces.domain();
+        view.set_scene(Some((lo.truncate(), hi.truncate())));
+        view.sync(&editor);
+        let drawn = frame(&editor, &view);
+        assert!(!drawn.contours.is_empty());
+        let mut off_single = 0.0f64;
+        for line in &drawn.contours {
+            for &q in &line.points {
+                assert!(slice.f(q).abs() < 1e-6, "f = {} at {q}", slice.f(q));
+                off_single = off_single.max(editor.solid().f(q).abs());
+            }
+        }
+        assert!(
+            off_single > 1e-3,
+            "the global net as one patch is another contour"
+        );
+        let q = view.to_screen(&editor, DVec2::new(0.5, 0.5));
+        assert_eq!(view.probe(&editor, q), slice.f(view.to_world(&editor, q)));
+        // The outline: the boundary and the curve the two cells meet on, from corner to corner of
+        // their shared edge.
+        let lines = piecewise_outline(&slice);
+        assert_eq!(lines.len(), 3 + 2);
+        let shared = &lines[1];
+        let net = editor.solid().net();
+        let ends = [shared[0], shared[shared.len() - 1]];
+        assert!((ends[0] - net[[3, 0]].truncate()).length() < 1e-12);
+        assert!((ends[1] - net[[3, 3]].truncate()).length() < 1e-12);
+        // The true section by z = at, on f of the piecewise volume.
+        let at = (lo.z + hi.z) / 2.0;
+        let section = frame_section(&editor, &view, &pieces, 2, at);
+        assert!(!section.contours.is_empty());
+        for line in &section.contours {
+            for &q in &line.points {
+                let f = pieces.f(DVec3::new(q.x, q.y, at));
+                assert!(f.abs() < 1e-6, "f = {f} at {q}");
+            }
+        }
+        // Across the parameters: f at the piecewise map's points of the global parameter plane.
+        let across = frame_parameter_section(&editor, &view, &pieces, 2, 0.5);
+        assert!(!across.contours.is_empty());
+        for line in &across.contours {
+            for &q in &line.points {
+                let f = pieces.f(parameter_point(&pieces, 2, 0.5, q));
+                assert!(f.abs() < 1e-6, "f = {f} at {q}");
+            }
+        }
     }
 
     /// `volume` in an editor and a view that frames its box.

@@ -74,7 +74,8 @@ pub struct Row {
     pub depth: usize,
     /// What it is, for people: `Union`, `Sphere r = 0.5`, `Bézier volume 4 × 4 × 4`, …
     pub label: String,
-    /// Whether it is a Bézier patch or volume (its control points edit in the 2D and 3D views).
+    /// Whether it is a Bézier patch or volume, or a piecewise one the editor takes (its control
+    /// points edit in the 2D and 3D views).
     pub bezier: bool,
     /// Whether the views leave it out: it is a hidden part, or inside one.
     pub hidden: bool,
@@ -234,7 +235,7 @@ impl Outline {
             out.push(Row {
                 depth: path.len(),
                 label: label(spec),
-                bezier: matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. }),
+                bezier: crate::document::editable(spec),
                 hidden,
                 path: path.clone(),
             });

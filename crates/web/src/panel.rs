@@ -60,6 +60,8 @@ pub struct Panel {
     pub volume_degree: Option<[usize; 3]>,
     /// The slice edited: `[axis, index]` (axis 0 = u, 1 = v, 2 = w).
     pub slice: Option<[usize; 2]>,
+    /// The cells of a piecewise model (the degrees above are then its global net's).
+    pub cells: Option<crate::editor::Cells>,
     /// The surface drawn (a volume's, or a 3D model of many solids'): `[triangles, resolution]`.
     pub surface: Option<[usize; 2]>,
     /// Whether the surface drawn is of the model as it is (not the one before the last edit,
@@ -93,6 +95,7 @@ impl Panel {
             },
             volume_degree: editor.volume().map(bezsolid_core::Solid::degree),
             slice: editor.slice().map(|(axis, index)| [axis.index(), index]),
+            cells: editor.cells().cloned(),
             surface: (editor.volume().is_some() || view3.whole().is_some())
                 .then(|| view3.surface_info())
                 .flatten()

@@ -9,11 +9,12 @@
 //! the editor's own history is not used while a tree is open.
 
 use bezsolid_core::model::{ModelFile, Rotation, SolidSpec};
+use bezsolid_core::piecewise::{Piecewise, PiecewiseError};
 use bezsolid_core::tree::ModelTree;
 use glam::{DAffine2, DAffine3, DMat3, DVec3};
 
 use crate::document;
-use crate::editor::Editor;
+use crate::editor::{Editor, MAX_PIECEWISE_POINTS};
 use crate::history::{History, Weighed};
 
 /// The most bytes the undo and redo steps of a model of many solids keep (each step holds the
@@ -98,7 +99,71 @@ fn editor_spec(editor: &Editor) -> SolidSpec {
 }
 
 fn is_bezier(spec: &SolidSpec) -> bool {
-    matches!(spec, SolidSpec::Patch { .. } | SolidSpec::Volume { .. })
+    document::editable(spec)
+}
+
+/// The names of the parameter axes.
+const AXES: [&str; 3] = ["u", "v", "w"];
+
+/// `spec` (a patch, a volume or a piecewise one of `D` axes) with a cell more or less along
+/// `axis`; one cell along every axis is written as the single patch or volume it is.
+fn cells_changed<const D: usize>(
+    spec: &SolidSpec,
+    axis: usize,
+    add: bool,
+) -> Result<SolidSpec, Error>
+where
+    bezsolid_core::Dim<D>: bezsolid_core::Dimension<D>,
+    Piecewise<D>: Cellular,
+{
+    let bad = |e: PiecewiseError| Error::new(e.to_string());
+    let solid = spec
+        .to_piecewise::<D>()
+        .ok_or_else(|| Error::new("the part is not a Bézier patch or volume"))?
+        .map_err(bad)?;
+    if axis >= D {
+        return Err(Error::new(format!(
+            "the part has no axis {}",
+            AXES.get(axis).unwrap_or(&"?")
+        )));
+    }
+    if !add && solid.cells()[axis] == 1 {
+        return Err(Error::new(format!(
+            "the part has one cell along {}: there is none to remove",
+            AXES[axis]
+        )));
+    }
+    let changed = if add {
+        solid.with_cell_added(axis)
+    } else {
+        solid.with_cell_removed(axis)
+    }
+    .map_err(bad)?;
+    Ok(changed
+        .single_spec()
+        .unwrap_or_else(|| SolidSpec::from_piecewise(&changed)))
+}
+
+/// What a piecewise solid of one cell along every axis is as a single one.
+trait Cellular {
+    /// The spec of the single patch or volume, where the solid has one cell.
+    fn single_spec(&self) -> Option<SolidSpec>;
+}
+
+impl Cellular for Piecewise<2> {
+    fn single_spec(&self) -> Option<SolidSpec> {
+        (self.cells() == [1, 1])
+            .then(|| self.part([0, 0]).map(|s| ModelFile::from_solid2(s).solid))?
+    }
+}
+
+impl Cellular for Piecewise<3> {
+    fn single_spec(&self) -> Option<SolidSpec> {
+        (self.cells() == [1, 1, 1]).then(|| {
+            self.part([0, 0, 0])
+                .map(|s| ModelFile::from_solid3(s).solid)
+        })?
+    }
 }
 
 /// The numbers of a transform node in 3D: `T`, the angles of `R` in degrees (one angle is about
@@ -350,7 +415,7 @@ impl Parts {
                 let same =
                     self.open.as_deref() == Some(&selected[..]) && editor_spec(editor) == spec;
                 if !same {
-                    document::open(editor, ModelFile::from_spec(spec).to_solid()?);
+                    document::open_spec(editor, spec)?;
                 }
                 self.open = Some(selected);
             }
@@ -477,6 +542,49 @@ impl Parts {
         Ok(())
     }
 
+    /// Adds a cell along `axis` (0 = u) to the open part, after its last
+    /// ([`Piecewise::with_cell_added`]: the last cells mirrored across their face); a single
+    /// patch or volume becomes a piecewise one of two cells. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// No part open, an axis the part lacks, or a net past what the editor takes
+    /// ([`document::editable`]): nothing changes.
+    pub fn add_cell(&mut self, axis: usize, editor: &mut Editor) -> Result<(), Error> {
+        self.change_cells(axis, true, editor)
+    }
+
+    /// Removes the open part's last cell along `axis`; a piecewise solid left with one cell is a
+    /// single patch or volume again. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// No part open, or one cell along `axis`: nothing changes.
+    pub fn remove_cell(&mut self, axis: usize, editor: &mut Editor) -> Result<(), Error> {
+        self.change_cells(axis, false, editor)
+    }
+
+    fn change_cells(&mut self, axis: usize, add: bool, editor: &mut Editor) -> Result<(), Error> {
+        self.sync(editor);
+        let path = self
+            .open
+            .clone()
+            .ok_or_else(|| Error::new("select a Bézier part to change its cells"))?;
+        let spec = editor_spec(editor);
+        let node = if editor.volume().is_some() {
+            cells_changed::<3>(&spec, axis, add)?
+        } else {
+            cells_changed::<2>(&spec, axis, add)?
+        };
+        if !document::editable(&node) {
+            return Err(Error::new(format!(
+                "the net would have more than {MAX_PIECEWISE_POINTS} points along {}: the \
+                 editor takes at most that many",
+                AXES[axis]
+            )));
+        }
+        self.edit(editor, |o| o.replace(&path, node))
+    }
     /// Forgets every undo and redo step (after restoring an autosaved model at start-up).
     pub fn forget_history(&mut self) {
         self.history.clear();
@@ -782,6 +890,7 @@ impl Parts {
 mod tests {
     use super::*;
     use bezsolid_core::Solid3;
+    use glam::DVec2;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
@@ -790,6 +899,128 @@ mod tests {
         e.new_volume(4, 4, 4).unwrap();
         e.forget_history();
         e
+    }
+
+    /// The piecewise patch of `cells` quadratic cells over `[0, cells]` of the file, `ξ` a bump.
+    fn piecewise_patch(cells: [usize; 2]) -> SolidSpec {
+        let dims = cells.map(|c| 2 * c + 1);
+        let points = (0..dims[0])
+            .flat_map(|i| (0..dims[1]).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let (x, y) = (i as f64 / 2.0, j as f64 / 2.0);
+                vec![x, y, 0.3 - 0.1 * ((x - 0.8).powi(2) + (y - 0.5).powi(2))]
+            })
+            .collect();
+        SolidSpec::Piecewise {
+            cells: cells.to_vec(),
+            degree: vec![2, 2],
+            points,
+        }
+    }
+
+    /// The page's path: a piecewise file opened as a model, its global net in the editor; a point
+    /// on the face two cells share dragged (in space, then in ξ) moves in both cells, as one undo
+    /// step; the views' `f` is the piecewise solid's.
+    #[test]
+    fn a_piecewise_net_is_edited_as_one_and_a_shared_point_moves_every_cell_that_holds_it() {
+        let mut e = Editor::new(bezsolid_core::Solid2::fig9());
+        let mut parts = Parts::new(piecewise_patch([2, 1]), &mut e).unwrap();
+        assert_eq!(
+            parts.open(),
+            Some(&[][..]),
+            "a piecewise part is opened for editing"
+        );
+        assert_eq!(e.solid().degree(), [4, 2], "the global net, 5 × 3 points");
+        let cells = e.cells().cloned().unwrap();
+        assert_eq!((cells.count, cells.degree), (vec![2, 1], vec![2, 2]));
+        // Point (2, 1) lies on the face x = 1 that the two cells share.
+        let index = 2 * 3 + 1;
+        let cell = |parts: &Parts, e: &Editor, c: [usize; 2]| {
+            let solid = parts.root(e).to_piecewise::<2>().unwrap().unwrap();
+            solid.part(c).unwrap().net().clone()
+        };
+        e.begin_drag(index, crate::editor::Mode::Space);
+        assert!(e.drag_to(Some(DVec2::new(1.1, 0.55)), Some(0.9)));
+        e.end_drag();
+        parts.sync(&e);
+        let moved = glam::DVec3::new(1.1, 0.55, 0.9);
+        assert_eq!(cell(&parts, &e, [0, 0]).points()[2 * 3 + 1], moved);
+        assert_eq!(
+            cell(&parts, &e, [1, 0]).points()[1],
+            moved,
+            "the same point of the next cell"
+        );
+        assert!(matches!(
+            parts.outline().root(),
+            SolidSpec::Piecewise { .. }
+        ));
+        // What the views evaluate is the piecewise solid, not the global net as one patch.
+        let solid = parts.root(&e).to_piecewise::<2>().unwrap().unwrap();
+        for p in [
+            DVec2::new(1.05, 0.5),
+            DVec2::new(0.3, 0.2),
+            DVec2::new(1.9, 0.8),
+        ] {
+            assert_eq!(e.f(p), solid.f(p));
+        }
+        assert!(
+            (e.f(DVec2::new(1.05, 0.5)) - e.solid().f(DVec2::new(1.05, 0.5))).abs() > 1e-6,
+            "one patch of the global net is another solid"
+        );
+        assert!(parts.undo(&mut e));
+        assert_eq!(parts.root(&e), piecewise_patch([2, 1]));
+        assert!(
+            e.cells().is_some(),
+            "undo gives the piecewise part back, still piecewise"
+        );
+    }
+
+    /// Cells added along an axis of a single patch, then of a piecewise volume; removed again
+    /// down to the single solid; the caps say what they are.
+    #[test]
+    fn cells_are_added_along_an_axis_and_removed_within_the_editors_caps() {
+        let mut e = Editor::new(bezsolid_core::Solid2::fig9());
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        parts.add_cell(0, &mut e).unwrap();
+        let SolidSpec::Piecewise { cells, degree, .. } = parts.root(&e) else {
+            panic!("a patch with a cell added is piecewise");
+        };
+        assert_eq!((cells, degree), (vec![2, 1], vec![2, 2]));
+        assert_eq!(e.solid().degree(), [4, 2]);
+        // The new cell mirrors the first: f is symmetric about their face.
+        let (lo, hi) = e.solid().domain();
+        let mid = (lo.x + hi.x) / 2.0;
+        for p in [DVec2::new(0.2, 0.3), DVec2::new(0.45, 0.8)] {
+            let q = DVec2::new(2.0 * mid - p.x, p.y);
+            assert!((e.f(p) - e.f(q)).abs() < 1e-12);
+        }
+        assert!(parts.remove_cell(1, &mut e).is_err(), "one cell along v");
+        parts.remove_cell(0, &mut e).unwrap();
+        assert_eq!(
+            parts.root(&e),
+            ModelFile::from_solid2(&bezsolid_core::Solid2::fig9()).solid,
+            "one cell left: the single patch again"
+        );
+        assert!(e.cells().is_none());
+        // Quadratic cells: eight fit the editor (17 points), a ninth does not.
+        for _ in 0..7 {
+            parts.add_cell(1, &mut e).unwrap();
+        }
+        let err = parts.add_cell(1, &mut e).unwrap_err();
+        assert!(err.to_string().contains("points along v"), "{err}");
+        assert!(parts.add_cell(2, &mut e).is_err(), "a patch has no w");
+        // A volume's cells, and the slice the 2D view shows is piecewise across its plane.
+        let mut e = volume_editor();
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        parts.add_cell(2, &mut e).unwrap();
+        parts.add_cell(0, &mut e).unwrap();
+        let volume = e.piecewise3().unwrap();
+        assert_eq!(volume.cells(), [2, 1, 2]);
+        e.set_slice(bezsolid_core::Axis::V, 1).unwrap();
+        let slice = e.piecewise2().unwrap();
+        assert_eq!(slice.cells(), [2, 2], "the cells of the xz plane");
+        assert!(parts.undo(&mut e) && parts.undo(&mut e) && !parts.undo(&mut e));
+        assert!(e.cells().is_none(), "two steps back: the single volume");
     }
 
     /// Built as the page builds it: a volume, parts added, a point of the volume dragged, a

@@ -301,7 +301,7 @@ impl View2 {
     /// `f` at the world point under a CSS pixel.
     #[must_use]
     pub fn probe(&self, editor: &Editor, q: DVec2) -> f64 {
-        editor.solid().f(self.to_world(editor, q))
+        editor.f(self.to_world(editor, q))
     }
 
     /// The control point whose disc is under the CSS pixel `q`, nearest first.

@@ -943,11 +943,19 @@ impl View3 {
         // The surface over a parameter grid, normals from the grid's differences.
         let n = SURFACE_CELLS;
         let ts: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
-        let pts: Vec<DVec3> = patch
-            .eval_grid([&ts, &ts])
-            .into_iter()
-            .map(|p| self.world(p))
-            .collect();
+        // A piecewise patch: each cell's polynomial over its share of the global parameter.
+        let pts: Vec<DVec3> = match editor.piecewise2() {
+            Some(pieces) => ts
+                .iter()
+                .flat_map(|&v| ts.iter().map(move |&u| [u, v]))
+                .map(|t| self.world(pieces.eval(t)))
+                .collect(),
+            None => patch
+                .eval_grid([&ts, &ts])
+                .into_iter()
+                .map(|p| self.world(p))
+                .collect(),
+        };
         let side = n + 1;
         let at = |a: usize, b: usize| pts[b * side + a];
         let normal = |a: usize, b: usize| {
@@ -1656,6 +1664,32 @@ mod tests {
         let selected = view.scene(&editor).generation;
         editor.set_selected_xi(0.5).unwrap();
         assert_ne!(view.scene(&editor).generation, selected);
+    }
+
+    /// A piecewise patch's surface is its cells' polynomials over the global parameter, not the
+    /// global net read as one patch.
+    #[test]
+    fn a_piecewise_patch_is_drawn_cell_by_cell() {
+        let (mut editor, mut view) = setup();
+        let mut parts = crate::parts::Parts::of_editor(&mut editor).unwrap();
+        parts.add_cell(0, &mut editor).unwrap();
+        let pieces = editor.piecewise2().unwrap();
+        let height = view.height;
+        let scene = view.scene(&editor);
+        // The vertex over the middle of the edge the cells share (t = (1/2, 1/2), a grid point).
+        let t = [0.5, 0.5];
+        let p = pieces.eval(t);
+        let z = scene.opaque[..SURFACE_CELLS * SURFACE_CELLS * 6]
+            .iter()
+            .find(|v| {
+                (f64::from(v.position[0]) - p.x).abs() < 1e-5
+                    && (f64::from(v.position[1]) - p.y).abs() < 1e-5
+            })
+            .map(|v| f64::from(v.position[2]))
+            .unwrap();
+        assert!((z - p.z * height).abs() < 1e-4, "{z} vs {}", p.z * height);
+        let single = editor.solid().net().eval(t).z * height;
+        assert!((z - single).abs() > 1e-2, "not the global net as one patch");
     }
 
     /// The blob volume in a view whose fine surface is made elsewhere, its scene drawn once.

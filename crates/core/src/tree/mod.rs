@@ -1209,7 +1209,8 @@ where
     Solid::try_from_net(net)
 }
 
-fn piecewise<const D: usize>(
+/// The piecewise solid of a [`SolidSpec::Piecewise`]'s numbers.
+pub(crate) fn piecewise<const D: usize>(
     cells: &[usize],
     degree: &[usize],
     points: &[Vec<f64>],

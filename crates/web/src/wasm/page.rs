@@ -15,8 +15,8 @@ use crate::document;
 use crate::editor::Editor;
 use crate::error::Error;
 use crate::frame2d::{
-    TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_parameter_section, frame_section, frame_tree,
-    parameter_point, plane_axes,
+    Sectioned, TREE_MAPPED_SAMPLES, TREE_SAMPLES, frame, frame_parameter_section, frame_section,
+    frame_tree, parameter_point, plane_axes,
 };
 use crate::freeform::FreeForm;
 use crate::panel::{FrameFigures, Panel};
@@ -54,6 +54,18 @@ pub struct Modeler {
     cap_on: bool,
     /// Whether the section is across the volume's parameters (u, v, w) instead of space.
     section_parameters: bool,
+}
+
+/// What a true section cuts: the piecewise volume where the model is one (`pieces`), else the
+/// editor's volume; `None` for a patch.
+fn sectioned<'a>(
+    editor: &'a Editor,
+    pieces: Option<&'a bezsolid_core::piecewise::Piecewise3>,
+) -> Option<&'a dyn Sectioned> {
+    match pieces {
+        Some(p) => Some(p),
+        None => editor.volume().map(|v| v as &dyn Sectioned),
+    }
 }
 
 fn error(context: &str, e: impl core::fmt::Display) -> JsError {
@@ -332,7 +344,12 @@ impl Modeler {
             self.view2.set_scene(Some(scene));
         }
         self.view2.sync(&self.editor);
-        let frame = match (&self.plane, section, self.editor.volume()) {
+        let pieces = self.editor.piecewise3();
+        let frame = match (
+            &self.plane,
+            section,
+            sectioned(&self.editor, pieces.as_ref()),
+        ) {
             (None, Some((axis, at, _)), Some(volume)) => {
                 frame_section(&self.editor, &self.view2, volume, axis, at)
             }
@@ -569,7 +586,12 @@ impl Modeler {
     pub fn probe(&self, x: f64, y: f64) -> Vec<f64> {
         let q = DVec2::new(x, y);
         let p = self.view2.to_world(&self.editor, q);
-        let f = match (&self.plane, self.section_plane(), self.editor.volume()) {
+        let pieces = self.editor.piecewise3();
+        let f = match (
+            &self.plane,
+            self.section_plane(),
+            sectioned(&self.editor, pieces.as_ref()),
+        ) {
             (None, Some((axis, at, _)), Some(volume)) => {
                 let [a, b] = plane_axes(axis);
                 let mut s = [at; 3];
@@ -753,11 +775,13 @@ impl Modeler {
     /// The zero contours of the patch (or of the volume's selected slice) as SVG.
     #[must_use]
     pub fn svg(&self) -> String {
-        if let Some(parts) = self.parts.as_ref().filter(|p| p.outline().dimension() == 2) {
-            let json = serde_json::to_string(&parts.file(&self.editor)).unwrap_or_default();
-            return document::headless::svg(&json).map_or_else(|_| String::new(), |m| m.data);
-        }
-        document::svg(self.editor.solid())
+        let json = match self.parts.as_ref().filter(|p| p.outline().dimension() == 2) {
+            Some(parts) => serde_json::to_string(&parts.file(&self.editor)).unwrap_or_default(),
+            // A piecewise slice: the tree of one leaf it is.
+            None if self.editor.cells().is_some() => document::patch_json(&self.editor),
+            None => return document::svg(self.editor.solid()),
+        };
+        document::headless::svg(&json).map_or_else(|_| String::new(), |m| m.data)
     }
 
     /// The HyperFun model (a space-mapped solid with its inverse map written in HyperFun).
@@ -1084,6 +1108,29 @@ impl Modeler {
     pub fn outline_add(&mut self, kind: PartKind) -> Result<(), JsError> {
         let kind = kind.try_into()?;
         self.with_parts(|parts, editor| parts.add(kind, editor))
+    }
+
+    /// Adds a cell along `axis` to the selected Bézier part, after its last (the last cells
+    /// mirrored across their face; a single patch or volume becomes a piecewise one). One undo
+    /// step.
+    ///
+    /// # Errors
+    ///
+    /// No Bézier part selected, an axis the part lacks, or a net past what the editor takes.
+    pub fn add_cell(&mut self, axis: ParamAxis) -> Result<(), JsError> {
+        let axis = bezsolid_core::Axis::from(axis).index();
+        self.with_parts(|parts, editor| parts.add_cell(axis, editor))
+    }
+
+    /// Removes the selected part's last cell along `axis` (one cell left everywhere: a single
+    /// patch or volume again). One undo step.
+    ///
+    /// # Errors
+    ///
+    /// No Bézier part selected, or one cell along `axis`.
+    pub fn remove_cell(&mut self, axis: ParamAxis) -> Result<(), JsError> {
+        let axis = bezsolid_core::Axis::from(axis).index();
+        self.with_parts(|parts, editor| parts.remove_cell(axis, editor))
     }
 
     /// Puts an operation or a transform around the selection. One undo step.
