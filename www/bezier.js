@@ -352,12 +352,12 @@ export function setupBezier(app) {
     const view2 = section && section[3]
       ? `2D view of the volume's section across its parameters, ${'uvw'[section[0]]} = ${fmt(section[1])}: f at the points S(u) of that parameter plane, over the parameter square drawn on the volume's box, and its zero contour (${fmt(100 * section[2])} % of the square inside); move it with the Section plane slider; the wheel zooms, F fits`
       : section
-      ? `2D view of the volume's true section by the plane ${'xyz'[section[0]]} = ${fmt(section[1])}: f on the plane and its zero contour (area ${fmt(section[2])}); move the plane with the Section plane slider, turn the section off to edit the slice's points here; the wheel zooms, F fits`
+      ? `2D view of the ${parts ? 'whole model\'s' : 'volume\'s'} true section by the plane ${'xyz'[section[0]]} = ${fmt(section[1])}: f on the plane and its zero contour (area ${fmt(section[2])}); move the plane with the Section plane slider, turn the section off to edit the slice's points here; the wheel zooms, F fits`
       : !bezier
       ? '2D view of the model of many solids: its field and its contour. Select a Bézier part under Parts to edit its points here'
       : `2D contour view of ${slice ? `the ${'uvw'[slice[0]]} slice ${slice[1]} of the volume` : 'the patch solid'}: click a control point, or press Tab to walk the points (Esc then Tab leaves the view), then drag, press Page Up and Page Down, or turn the wheel over it to change its function value; the wheel elsewhere zooms about the pointer, F fits`;
     const view3 = parts
-      ? `3D view of the model of many solids: the surface of the whole model${parts.open ? ', the open part\'s control points as spheres' : ''}, the selection framed in orange with handles to move, turn and scale it; ${ORBIT}`
+      ? `3D view of the model of many solids: the surface of the whole model${cap ? `, cut at ${'xyz'[cap[0]]} = ${fmt(cap[1])} (the solid below the plane, its cut face closed)` : ''}${section && !section[3] ? `, the section plane ${'xyz'[section[0]]} = ${fmt(section[1])} in violet (drag its frame to move it)` : ''}${parts.open ? ', the open part\'s control points as spheres' : ''}, the selection framed in orange with handles to move, turn and scale it; ${ORBIT}`
       : volume
         ? `3D view of the volume solid: its surface${cap ? `, cut at ${'xyz'[cap[0]]} = ${fmt(cap[1])} (the solid below the plane, its cut face closed)` : ''}${section && !section[3] ? `, the section plane ${'xyz'[section[0]]} = ${fmt(section[1])} in violet (drag its frame to move it)` : ''} and its control points as spheres coloured by ξ. Drag a sphere to change its ξ (or move it in space mode); ${ORBIT}`
         : `3D view of the patch: the surface (x, y, ξ) coloured by ξ, the plane ξ = 0 and the control points as spheres. Drag a sphere to change its ξ (or move it in x and y in space mode); ${ORBIT}`;
@@ -446,7 +446,7 @@ export function setupBezier(app) {
       const [t, resolution] = p.surface ?? [0, 0];
       const stack = p.stack;
       $('surface-info').textContent = parts
-        ? `Surface of the whole model: ${t.toLocaleString('en')} triangles at ${resolution}${p.surface_current ? '' : ' (of the model before the last edit, until the new one comes)'}`
+        ? `Surface of the whole model: ${t.toLocaleString('en')} triangles at ${resolution}${p.cap ? `, cut at ${'xyz'[p.cap[0]]} = ${fmt(p.cap[1])}` : ''}${p.surface_current ? '' : ' (of the model before the last edit, until the new one comes)'}`
         : `Surface: ${t.toLocaleString('en')} triangles at ${resolution}${p.cap ? `, cut at ${'xyz'[p.cap[0]]} = ${fmt(p.cap[1])}` : ''}; `
         + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
       document.body.dataset.stack = stack ? `${stack[0]},${stack[1] ? 1 : 0}` : '';

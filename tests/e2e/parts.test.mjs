@@ -377,7 +377,12 @@ test('a piecewise net is edited like one net: a shared point moves every cell, c
   const [left1, right1] = [await fAt(0.85, 0.5), await fAt(1.15, 0.5)];
   assert.ok(Math.abs(left1 - left0) > 1e-3 && Math.abs(right1 - right0) > 1e-3, `both cells follow: ${left0} → ${left1}, ${right0} → ${right1}`);
   assert.equal((await panel()).space_mapped, true);
+  // S_ξ = 0 unclipped beside the solid, across the cells; off the net's image the field is full blue.
+  await page.check('#unclipped');
+  await settle(page);
+  assert.ok((await panel()).frame.unclipped >= 1, 'the unclipped curve is drawn');
   writeFileSync(join(ARTIFACTS, 'piecewise-edit-2d.png'), await page.screenshot());
+  await page.uncheck('#unclipped');
   await page.click('#undo');
   await settle(page);
   assert.deepEqual((await model()).points, solid.points, 'one undo step for the drag');
@@ -437,6 +442,58 @@ test('a piecewise net is edited like one net: a shared point moves every cell, c
   const shot = await page.locator('#view3d').screenshot();
   writeFileSync(join(ARTIFACTS, 'piecewise-edit-3d.png'), shot);
   assert.ok(surfaceTones(shot) > 20, 'the surface is drawn, shaded');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a model of many solids: the true section and the 3D cut are of the whole model', async () => {
+  const { page, errors } = await open(browser);
+  const panel = async () => JSON.parse(await page.evaluate(() => window.bezsolid.modeler.panel()));
+  // A volume (a ball in [0, 1]³) and a sphere beside it; the volume open in the editors.
+  await page.click('#new-volume');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await page.click('[data-add="sphere"]');
+  await page.click('#outline-tree [data-path="0"]');
+  await page.waitForSelector('body[data-kind="volume"]');
+  const sphere = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.model_json())).solid.of[1];
+  assert.equal(sphere.kind, 'sphere');
+  await surfaceAt(page, 64);
+  const whole = (await panel()).surface[0];
+  // The section by the keyboard: across z in the whole model's box, through the sphere too.
+  await page.focus('#section-on');
+  await page.keyboard.press('Space');
+  await settle(page);
+  let p = await panel();
+  const at = p.frame.section[1];
+  assert.equal(p.frame.section[0], 2);
+  assert.ok(Math.abs(at - sphere.center[2]) < sphere.radius, `z = ${at} cuts the sphere`);
+  const box = await canvasBox(page);
+  const [sx, sy] = await screenOf(page, sphere.center[0] + 0.3 * sphere.radius, sphere.center[1]);
+  const [, , f] = await page.evaluate(([a, b]) => [...window.bezsolid.modeler.probe(a, b)], [sx - box.x, sy - box.y]);
+  assert.ok(f > 0, `inside the sphere on the section: f = ${f}`);
+  assert.match(await page.getAttribute('#view', 'aria-label'), /whole model's true section by the plane z = /);
+  // The cut: the worker meshes the whole model intersected with the half-space below the plane.
+  await page.focus('#section-cap');
+  await page.keyboard.press('Space');
+  await page.waitForFunction(() => /Surface of the whole model: [\d,]+ triangles at 64, cut at z = /.test(document.getElementById('surface-info').textContent));
+  await surfaceAt(page, 64);
+  p = await panel();
+  assert.deepEqual(p.cap, [2, at]);
+  assert.notEqual(p.surface[0], whole);
+  const job = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.view_json()));
+  assert.equal(job.solid.kind, 'intersection');
+  assert.equal(job.solid.of[0].kind, 'union');
+  assert.deepEqual(job.solid.of[1], { kind: 'halfspace', normal: [0, 0, 1], offset: at });
+  const shot = await page.locator('#view3d').screenshot();
+  writeFileSync(join(ARTIFACTS, 'parts-section-cut.png'), shot);
+  assert.ok(surfaceTones(shot) > 20, 'the cut surface is drawn, shaded');
+  writeFileSync(join(ARTIFACTS, 'parts-section-2d.png'), await page.locator('#view').screenshot());
+  // Off: the whole surface again.
+  await page.focus('#section-cap');
+  await page.keyboard.press('Space');
+  await page.waitForFunction(() => !/cut at/.test(document.getElementById('surface-info').textContent));
+  await surfaceAt(page, 64);
+  assert.equal((await panel()).surface[0], whole);
   assert.deepEqual(errors, []);
   await page.close();
 });

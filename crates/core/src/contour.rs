@@ -133,11 +133,49 @@ pub fn unclipped_contour(
     let grid = Grid2::new(DVec2::splat(-m), DVec2::splat(1.0 + m), n + 1, n + 1);
     let xi = solid.xi_net();
     let values = xi.eval_grid([&grid.xs(), &grid.ys()]);
-    let mut lines = contour(&grid, &values, |p| xi.eval([p.x, p.y]), accuracy);
     let net = solid.net();
+    mapped_forward(
+        contour(&grid, &values, |p| xi.eval([p.x, p.y]), accuracy),
+        |p| net.eval([p.x, p.y]).truncate(),
+    )
+}
+
+/// [`unclipped_contour`] of a piecewise patch: the zero contour of `S_ξ` over the global
+/// parameter square grown by `margin` (each cell's polynomial over its share of it, the outer
+/// cells' extended past it), `resolution` cells per side of each cell, mapped forward through the
+/// cells' `(S_x, S_y)`.
+#[must_use]
+pub fn unclipped_piecewise_contour(
+    solid: &crate::piecewise::Piecewise2,
+    resolution: usize,
+    margin: f64,
+    accuracy: f64,
+) -> Vec<Polyline> {
+    let cells = solid.cells();
+    let m = if margin.is_finite() {
+        margin.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let n = cells.map(|c| resolution.max(1) * c);
+    let grid = Grid2::new(DVec2::splat(-m), DVec2::splat(1.0 + m), n[0] + 1, n[1] + 1);
+    let xi = |p: DVec2| solid.eval([p.x, p.y]).z;
+    let (xs, ys) = (grid.xs(), grid.ys());
+    let values: Vec<f64> = ys
+        .iter()
+        .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
+        .map(xi)
+        .collect();
+    mapped_forward(contour(&grid, &values, xi, accuracy), |p| {
+        solid.point([p.x, p.y])
+    })
+}
+
+/// `lines` traced in a parameter square, each point moved by `map`.
+fn mapped_forward(mut lines: Vec<Polyline>, map: impl Fn(DVec2) -> DVec2) -> Vec<Polyline> {
     for line in &mut lines {
         for p in &mut line.points {
-            *p = net.eval([p.x, p.y]).truncate();
+            *p = map(*p);
         }
     }
     lines
@@ -443,6 +481,45 @@ mod tests {
                 assert!(xi.abs() <= 1e-7, "S_ξ = {xi} at {p}");
             }
         }
+    }
+
+    /// A piecewise patch's `S_ξ = 0` unclipped: one cell is the single patch's curve; two cells
+    /// (the first mirrored) give a curve on each cell's polynomial, across their shared edge, on
+    /// past the outer boundary only.
+    #[test]
+    fn unclipped_piecewise_contours_lie_on_each_cells_s_xi() {
+        use crate::piecewise::Piecewise2;
+        let solid = Solid2::regular([2, 2], DVec2::ZERO, DVec2::new(2.0, 1.0), |[i, j]| {
+            1.0 - j as f64 + if (i, j) == (1, 1) { 0.3 } else { 0.0 }
+        })
+        .unwrap();
+        let one = Piecewise2::from_solid(&solid).unwrap();
+        let (a, b) = (
+            unclipped_contour(&solid, 64, 0.25, 1e-12),
+            unclipped_piecewise_contour(&one, 64, 0.25, 1e-12),
+        );
+        assert_eq!(a.len(), b.len());
+        for (a, b) in a.iter().zip(&b) {
+            assert_eq!(a.points.len(), b.points.len());
+            for (p, q) in a.points.iter().zip(&b.points) {
+                assert!((*p - *q).length() < 1e-9, "{p} {q}");
+            }
+        }
+        let two = one.with_cell_added(0).unwrap();
+        let lines = unclipped_piecewise_contour(&two, 64, 0.25, 1e-12);
+        assert_eq!(lines.len(), 1, "one curve across the shared edge x = 2");
+        let line = &lines[0];
+        for p in &line.points {
+            let t = [p.x / 4.0, p.y];
+            let xi = two.eval(t).z;
+            assert!(xi.abs() <= 1e-9, "S_ξ = {xi} at {p}");
+        }
+        let xs = line.points.iter().map(|p| p.x);
+        let (lo, hi) = xs.fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
+        assert!(
+            (lo + 1.0).abs() < 1e-9 && (hi - 5.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
     }
 
     #[test]

@@ -6,9 +6,10 @@
 use bezsolid_core::Patch;
 use bezsolid_core::contour::{
     Grid2, Polyline, contour, sheet_contour, solid_contour, unclipped_contour,
+    unclipped_piecewise_contour,
 };
 use bezsolid_core::rfunc::clip2;
-use bezsolid_core::tree::{ModelTree, Tree};
+use bezsolid_core::tree::Tree;
 use glam::{DVec2, DVec3};
 
 use crate::color::{Rgba, SELECT_COLOR, diverging};
@@ -153,6 +154,41 @@ impl Sectioned for bezsolid_core::piecewise::Piecewise3 {
     }
     fn point(&self, u: [f64; 3]) -> DVec3 {
         bezsolid_core::piecewise::Piecewise3::point(self, u)
+    }
+}
+
+/// A model of many solids in space as a true section cuts it: the tree, the box the section
+/// spans, and whether a Bézier part of it is space-mapped (then sampled more coarsely). Its
+/// parameter is its box's, `lo + u·(hi − lo)`.
+#[derive(Clone, Copy, Debug)]
+pub struct TreeSection<'a> {
+    /// The tree.
+    pub tree: &'a Tree<3>,
+    /// The box the section spans.
+    pub bounds: (DVec3, DVec3),
+    /// Whether a Bézier part of it is space-mapped.
+    pub mapped: bool,
+}
+
+impl Sectioned for TreeSection<'_> {
+    fn f(&self, p: DVec3) -> f64 {
+        self.tree.f(p)
+    }
+    fn f_grid(&self, axes: [&[f64]; 3]) -> Vec<f64> {
+        self.tree.f_grid(axes)
+    }
+    fn plan(&self, queries: usize) {
+        self.tree.plan(queries);
+    }
+    fn mapped(&self) -> bool {
+        self.mapped
+    }
+    fn domain(&self) -> (DVec3, DVec3) {
+        self.bounds
+    }
+    fn point(&self, u: [f64; 3]) -> DVec3 {
+        let (lo, hi) = self.bounds;
+        lo + DVec3::from_array(u) * (hi - lo)
     }
 }
 
@@ -312,18 +348,7 @@ fn unclipped(editor: &Editor, view: &View2, accuracy: f64) -> Vec<Polyline> {
 #[must_use]
 pub fn frame(editor: &Editor, view: &View2) -> Frame {
     if let Some(solid) = editor.piecewise2() {
-        // A piecewise patch (or slice) is drawn as the tree of one leaf it is.
-        let samples = if solid.is_regular() {
-            TREE_SAMPLES
-        } else {
-            TREE_MAPPED_SAMPLES
-        };
-        let spec = bezsolid_core::model::SolidSpec::from_piecewise(&solid);
-        if let Ok(ModelTree::Plane(tree)) =
-            bezsolid_core::model::ModelFile::from_spec(spec).to_tree()
-        {
-            return frame_tree(editor, view, &tree, true, samples);
-        }
+        return frame_piecewise(editor, view, &solid);
     }
     if editor.solid().inverse().is_some() {
         return frame_mapped(editor, view);
@@ -406,6 +431,81 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
         range,
         folded: false,
         unclipped: Vec::new(),
+        section: None,
+        section_in_parameters: false,
+    }
+}
+
+/// The frame of a piecewise patch (or a piecewise volume's slice): its field sampled over the
+/// view, its zero contour, the global net with the curves its cells meet on, and `S_ξ = 0`
+/// unclipped when the view asks. Where points moved, the field outside the net's image (no
+/// preimage in any cell, where the continuation only keeps `f` negative) is drawn full blue, as a
+/// single space-mapped patch's is.
+fn frame_piecewise(
+    editor: &Editor,
+    view: &View2,
+    solid: &bezsolid_core::piecewise::Piecewise2,
+) -> Frame {
+    use bezsolid_core::inverse::Method;
+    let long = if solid.is_regular() {
+        TREE_SAMPLES
+    } else {
+        TREE_MAPPED_SAMPLES
+    };
+    let (w, h) = field_size(view, long);
+    let grid = view_grid(editor, view, w, h);
+    let (xs, ys) = (grid.xs(), grid.ys());
+    let samples: Vec<(f64, bool)> = ys
+        .iter()
+        .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
+        .map(|p| {
+            let v = solid.evaluate(p, Method::Fast);
+            (v.f, solid.is_regular() || v.preimages > 0)
+        })
+        .collect();
+    // The colour range is taken inside the domain (as a single patch's is): far outside, the
+    // clipping falls off steeply and would wash out the interior.
+    let (dmin, dmax) = solid.domain();
+    let in_domain = |k: usize| {
+        let p = DVec2::new(xs[k % w], ys[k / w]);
+        p.cmpge(dmin).all() && p.cmple(dmax).all()
+    };
+    let values: Vec<f64> = samples.iter().map(|s| s.0).collect();
+    let (_, _, magnitude) = whole_field(w, h, &values);
+    let range = samples
+        .iter()
+        .enumerate()
+        .filter(|&(k, s)| s.1 && s.0.is_finite() && in_domain(k))
+        .map(|(_, s)| s)
+        .fold((0.0f64, 0.0f64), |r, s| (r.0.min(s.0), r.1.max(s.0)));
+    let outside = range.0.min(-f64::MIN_POSITIVE) * 2.0;
+    let shown: Vec<f64> = samples
+        .iter()
+        .map(|&(f, image)| if image { f } else { outside })
+        .collect();
+    let field = field_image(w, h, &shown, range);
+    let contours = contour(&grid, &values, |p| solid.f(p), CONTOUR_ACCURACY * magnitude);
+    let mut shapes = shapes(editor, view, &contours);
+    let unclipped = if view.unclipped() {
+        // About as many cells along the longer side as a single patch's curve has.
+        let most = solid.cells().into_iter().max().unwrap_or(1);
+        unclipped_piecewise_contour(
+            solid,
+            (MAPPED_CONTOUR_CELLS / most).max(16),
+            UNCLIPPED_MARGIN,
+            CONTOUR_ACCURACY * magnitude,
+        )
+    } else {
+        Vec::new()
+    };
+    shapes.extend(dashed(editor, view, &unclipped));
+    Frame {
+        field,
+        shapes,
+        contours,
+        range,
+        folded: false,
+        unclipped,
         section: None,
         section_in_parameters: false,
     }
@@ -688,7 +788,7 @@ pub fn outline(patch: &Patch<DVec3>) -> [Vec<DVec2>; 4] {
 }
 
 /// The boundary curves of a piecewise patch and the curves its cells meet on, each cell's
-/// [`OUTLINE_SAMPLES`] segments long.
+/// 64 segments long (as a single patch's outline).
 #[must_use]
 pub fn piecewise_outline(solid: &bezsolid_core::piecewise::Piecewise2) -> Vec<Vec<DVec2>> {
     let [cu, cv] = solid.cells();
@@ -836,6 +936,16 @@ mod tests {
             off_single > 1e-3,
             "the global net as one patch is another contour"
         );
+        // Outside the moved net's image (a corner of the view, past the points' bounds): full
+        // blue, as a single space-mapped patch is drawn.
+        let blue = crate::color::diverging(-1.0).map(|c| (c * 255.0).round() as u8);
+        assert_eq!(drawn.field.rgba[..4], blue);
+        // S_ξ = 0 unclipped, dashed, beside it.
+        view.set_unclipped(true);
+        let with = frame(&editor, &view);
+        assert!(!with.unclipped.is_empty());
+        assert!(with.shapes.len() > drawn.shapes.len() + 6 * with.unclipped.len());
+        view.set_unclipped(false);
         let q = view.to_screen(&editor, DVec2::new(0.5, 0.5));
         assert_eq!(view.probe(&editor, q), slice.f(view.to_world(&editor, q)));
         // The outline: the boundary and the curve the two cells meet on, from corner to corner of
@@ -866,6 +976,53 @@ mod tests {
                 assert!(f.abs() < 1e-6, "f = {f} at {q}");
             }
         }
+    }
+
+    /// A model of many solids cut across space: the contour is of the whole tree's `f` on the
+    /// plane (a volume and a sphere beside it, overlapping), not of the open part alone.
+    #[test]
+    fn a_section_of_a_model_of_many_solids_cuts_the_whole_model() {
+        let mut editor = Editor::new(Solid2::fig9());
+        editor.new_volume(4, 4, 4).unwrap();
+        let mut parts = crate::parts::Parts::of_editor(&mut editor).unwrap();
+        parts
+            .add(crate::outline::NewNode::Sphere, &mut editor)
+            .unwrap();
+        parts.select(&[0], &mut editor).unwrap();
+        let bezsolid_core::tree::ModelTree::Space(tree) = parts.tree(&editor).unwrap() else {
+            unreachable!()
+        };
+        let (lo, hi) = tree.bounds().unwrap();
+        let bounds = (DVec3::from_array(lo), DVec3::from_array(hi));
+        let whole = TreeSection {
+            tree: &tree,
+            bounds,
+            mapped: false,
+        };
+        let mut view = View2::new();
+        view.set_scene(Some((bounds.0.truncate(), bounds.1.truncate())));
+        view.sync(&editor);
+        let at = 0.5;
+        let cut = frame_section(&editor, &view, &whole, 2, at);
+        for line in &cut.contours {
+            for &q in &line.points {
+                let f = tree.f(DVec3::new(q.x, q.y, at));
+                assert!(f.abs() < 1e-6, "f = {f} at {q}");
+            }
+        }
+        // The sphere (centre (1, 0.5, 0.5), radius 0.4) reaches past the volume's box, x ≤ 1.
+        let reach = |frame: &Frame| {
+            frame
+                .contours
+                .iter()
+                .flat_map(|l| l.points.iter().map(|p| p.x))
+                .fold(f64::MIN, f64::max)
+        };
+        assert!((reach(&cut) - 1.4).abs() < 1e-3, "{}", reach(&cut));
+        let part = frame_section(&editor, &view, editor.volume().unwrap(), 2, at);
+        assert!(reach(&part) < 1.0, "the open part alone");
+        let (whole_area, part_area) = (cut.section.unwrap().2, part.section.unwrap().2);
+        assert!(whole_area > part_area + 0.1, "{whole_area} {part_area}");
     }
 
     /// `volume` in an editor and a view that frames its box.

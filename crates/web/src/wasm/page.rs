@@ -7,7 +7,7 @@ use super::{
     Backend, DragMode, FreeFormDisplay, FreeFormExample, MeshFormat, Operation, ParamAxis,
     PartKind, PartOperation,
 };
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use wasm_bindgen::prelude::*;
 use web_sys::HtmlCanvasElement;
 
@@ -50,6 +50,10 @@ pub struct Modeler {
     /// A 2D model of many solids compiled for one revision of the editor: the tree, and whether
     /// a Bézier part of it is space-mapped (the 2D view then samples it more coarsely).
     plane: Option<(u64, bezsolid_core::tree::Tree<2>, bool)>,
+    /// A 3D model of many solids compiled for one revision of the editor, while a true section
+    /// is shown (it cuts the whole model): the tree, its box, and whether a Bézier part of it is
+    /// space-mapped.
+    space: Option<(u64, bezsolid_core::tree::Tree<3>, (DVec3, DVec3), bool)>,
     /// Whether the 3D surface is cut at the true section's plane (while the section is on).
     cap_on: bool,
     /// Whether the section is across the volume's parameters (u, v, w) instead of space.
@@ -285,6 +289,7 @@ pub async fn start(canvas: HtmlCanvasElement, backend: Backend) -> Result<Modele
         section_parameters: false,
         whole_revision: None,
         plane: None,
+        space: None,
     })
 }
 
@@ -338,6 +343,7 @@ impl Modeler {
     /// Draws the current state.
     pub fn render(&mut self) {
         self.follow_parts();
+        self.follow_space();
         let section = self.section_plane();
         let across = self.parameter_plane();
         if let Some((_, _, scene)) = section.or(across) {
@@ -345,17 +351,24 @@ impl Modeler {
         }
         self.view2.sync(&self.editor);
         let pieces = self.editor.piecewise3();
+        let whole = self.whole_section();
+        let cut = whole.as_ref().map(|w| w as &dyn Sectioned);
         let frame = match (
             &self.plane,
             section,
             sectioned(&self.editor, pieces.as_ref()),
         ) {
             (None, Some((axis, at, _)), Some(volume)) => {
-                frame_section(&self.editor, &self.view2, volume, axis, at)
+                frame_section(&self.editor, &self.view2, cut.unwrap_or(volume), axis, at)
             }
             (None, None, Some(volume)) if across.is_some() => {
                 let (axis, t, _) = across.unwrap_or_default();
                 frame_parameter_section(&self.editor, &self.view2, volume, axis, t)
+            }
+            // The model is its one Bézier part, open: drawn as that solid (its unclipped curve,
+            // a moved net's image).
+            (Some(_), ..) if self.parts.as_ref().and_then(Parts::open) == Some(&[]) => {
+                frame(&self.editor, &self.view2)
             }
             (Some((_, tree, mapped)), ..) => {
                 let part = self.parts.as_ref().is_some_and(|p| p.open().is_some());
@@ -392,7 +405,8 @@ impl Modeler {
     }
 
     /// Cuts the 3D surface at the true section's plane (`on`, while the section is on), the cut
-    /// face closed: the solid below the plane is shown. A single volume's only.
+    /// face closed: the solid below the plane is shown (the whole model's, in a model of many
+    /// solids).
     pub fn set_section_cap(&mut self, on: bool) {
         self.cap_on = on;
         self.sync_cap();
@@ -401,16 +415,65 @@ impl Modeler {
     /// Gives the 3D view the section's plane as its cap, where the cap is on: where the plane is
     /// now (it follows the box as points move).
     fn sync_cap(&mut self) {
-        let plane = self.parts.is_none().then(|| self.section_plane()).flatten();
+        self.follow_space();
+        let plane = self.section_plane();
         let cap = plane
             .filter(|_| self.cap_on)
             .map(|(axis, at, _)| (axis, at));
         self.view3.set_cap(cap);
         let shown = plane.and_then(|(axis, at, _)| {
-            let (lo, hi) = self.editor.volume()?.domain();
+            let (_, _, (lo, hi)) = self.section_box()?;
             Some(crate::view3d::SectionPlane { axis, at, lo, hi })
         });
         self.view3.set_section_plane(shown);
+    }
+
+    /// The whole 3D model of many solids as the true section cuts it, when one is open and
+    /// compiled ([`Self::follow_space`]).
+    fn whole_section(&self) -> Option<crate::frame2d::TreeSection<'_>> {
+        self.space
+            .as_ref()
+            .map(|(_, tree, bounds, mapped)| crate::frame2d::TreeSection {
+                tree,
+                bounds: *bounds,
+                mapped: *mapped,
+            })
+    }
+
+    /// Compiles what the views show of a 3D model of many solids for the true section, while one
+    /// is shown across space (the section then cuts the whole model, in its box); forgets it
+    /// otherwise.
+    fn follow_space(&mut self) {
+        let wanted = self.view2.section().is_some()
+            && !self.section_parameters
+            && self.editor.volume().is_some();
+        let Some(parts) = self
+            .parts
+            .as_ref()
+            .filter(|p| wanted && p.outline().dimension() == 3)
+        else {
+            self.space = None;
+            return;
+        };
+        let revision = self.editor.revision();
+        if self.space.as_ref().is_some_and(|(r, ..)| *r == revision) {
+            return;
+        }
+        let shown = parts
+            .shown(&self.editor)
+            .map(|s| ModelFile::from_spec(s).to_tree());
+        self.space = match shown {
+            Some(Ok(bezsolid_core::tree::ModelTree::Space(t))) => t
+                .bounds()
+                .filter(|(lo, hi)| (0..3).all(|a| lo[a] < hi[a]))
+                .or_else(|| t.parts_box())
+                .map(|(lo, hi)| {
+                    let bounds = (DVec3::from_array(lo), DVec3::from_array(hi));
+                    let mapped = parts.has_space_mapped_part(&self.editor);
+                    (revision, t, bounds, mapped)
+                }),
+            _ => None,
+        };
     }
 
     /// Where the true section's plane lies, from 0 (the box's low face) to 1; `undefined` with
@@ -467,7 +530,12 @@ impl Modeler {
         let fraction = self.view2.section()?;
         let volume = self.editor.volume()?;
         let (axis, _) = self.editor.slice()?;
-        Some((axis.index(), fraction, volume.domain()))
+        // Across space in a model of many solids: the whole model's box.
+        let bounds = match &self.space {
+            Some((_, _, bounds, _)) if !self.section_parameters => *bounds,
+            _ => volume.domain(),
+        };
+        Some((axis.index(), fraction, bounds))
     }
 
     /// The true section drawn across space, when one is: its axis, where it lies and the
@@ -587,6 +655,7 @@ impl Modeler {
         let q = DVec2::new(x, y);
         let p = self.view2.to_world(&self.editor, q);
         let pieces = self.editor.piecewise3();
+        let whole = self.whole_section();
         let f = match (
             &self.plane,
             self.section_plane(),
@@ -597,7 +666,8 @@ impl Modeler {
                 let mut s = [at; 3];
                 s[a] = p.x;
                 s[b] = p.y;
-                volume.f(glam::DVec3::from_array(s))
+                let cut = whole.as_ref().map_or(volume, |w| w as &dyn Sectioned);
+                cut.f(glam::DVec3::from_array(s))
             }
             (None, None, Some(volume)) if self.parameter_plane().is_some() => {
                 let (axis, t, _) = self.parameter_plane().unwrap_or_default();
@@ -977,12 +1047,9 @@ impl Modeler {
     pub fn pointer_move_3d(&mut self, x: f64, y: f64) -> bool {
         let changed = self.view3.pointer_move(&mut self.editor, DVec2::new(x, y));
         if let Some(at) = self.view3.take_section_drag()
-            && let Some(volume) = self.editor.volume()
-            && let Some((axis, _)) = self.editor.slice()
+            && let Some((a, _, (lo, hi))) = self.section_box()
         {
             // The plane dragged in 3D: the 2D view's section (and the cut) follow.
-            let (lo, hi) = volume.domain();
-            let a = axis.index();
             let fraction = ((at - lo[a]) / (hi[a] - lo[a])).clamp(0.0, 1.0);
             if fraction.is_finite() {
                 self.view2.set_section(Some(fraction));
@@ -1184,16 +1251,16 @@ impl Modeler {
     /// of many solids (what the worker meshes for the 3D view); `undefined` when all is hidden.
     #[must_use]
     pub fn view_json(&self) -> Option<String> {
-        if let Some(cap) = self.view3.cap() {
-            let spec = crate::view3d::capped(document::model_file(&self.editor).solid, cap);
-            return serde_json::to_string(&ModelFile::from_spec(spec)).ok();
-        }
-        match &self.parts {
-            Some(parts) => parts
-                .shown(&self.editor)
-                .and_then(|s| serde_json::to_string(&ModelFile::from_spec(s)).ok()),
-            None => Some(self.model_json()),
-        }
+        let shown = match &self.parts {
+            Some(parts) => parts.shown(&self.editor)?,
+            None => document::model_file(&self.editor).solid,
+        };
+        // Cut at the section's plane: the model intersected with the half-space below it.
+        let spec = match self.view3.cap() {
+            Some(cap) => crate::view3d::capped(shown, cap),
+            None => shown,
+        };
+        serde_json::to_string(&ModelFile::from_spec(spec)).ok()
     }
 
     /// Sets a number of the selection (`radius`, `center[0]`, `a0`, `t`, `translate[2]`, …);
