@@ -98,6 +98,28 @@ pub struct Frame {
     pub section_in_parameters: bool,
 }
 
+impl Frame {
+    /// A frame of a plane's field, its contour and shapes: not folded, no section.
+    fn plain(
+        field: FieldImage,
+        shapes: Vec<ShapeVertex>,
+        contours: Vec<Polyline>,
+        range: (f64, f64),
+        unclipped: Vec<Polyline>,
+    ) -> Self {
+        Self {
+            field,
+            shapes,
+            contours,
+            range,
+            folded: false,
+            unclipped,
+            section: None,
+            section_in_parameters: false,
+        }
+    }
+}
+
 pub use bezsolid_core::tree::plane_axes;
 
 /// A volume a true section cuts: a single Bézier volume, or a piecewise one (its global
@@ -316,16 +338,7 @@ fn section_frame(
         dpr: view.dpr(),
     };
     contour_shapes(&mut pen, editor, view, &contours);
-    Frame {
-        field,
-        shapes: pen.out,
-        contours,
-        range,
-        folded: false,
-        unclipped: Vec::new(),
-        section: None,
-        section_in_parameters: false,
-    }
+    Frame::plain(field, pen.out, contours, range, Vec::new())
 }
 
 /// The unclipped contour of the editor's patch when `view` shows it, `accuracy` in `S_ξ`.
@@ -382,16 +395,7 @@ pub fn frame(editor: &Editor, view: &View2) -> Frame {
     let unclipped = unclipped(editor, view, CONTOUR_ACCURACY * magnitude);
     let mut shapes = shapes(editor, view, &contours);
     shapes.extend(dashed(editor, view, &unclipped));
-    Frame {
-        field,
-        shapes,
-        contours,
-        range,
-        folded: false,
-        unclipped,
-        section: None,
-        section_in_parameters: false,
-    }
+    Frame::plain(field, shapes, contours, range, unclipped)
 }
 
 /// Samples of a model of many solids' field along the view's longer side: the whole field where
@@ -424,16 +428,7 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
         contour_shapes(&mut pen, editor, view, &contours);
         pen.out
     };
-    Frame {
-        field,
-        shapes,
-        contours,
-        range,
-        folded: false,
-        unclipped: Vec::new(),
-        section: None,
-        section_in_parameters: false,
-    }
+    Frame::plain(field, shapes, contours, range, Vec::new())
 }
 
 /// The frame of a piecewise patch (or a piecewise volume's slice): its field sampled over the
@@ -499,16 +494,7 @@ fn frame_piecewise(
         Vec::new()
     };
     shapes.extend(dashed(editor, view, &unclipped));
-    Frame {
-        field,
-        shapes,
-        contours,
-        range,
-        folded: false,
-        unclipped,
-        section: None,
-        section_in_parameters: false,
-    }
+    Frame::plain(field, shapes, contours, range, unclipped)
 }
 
 /// Field samples `(w, h)` of the view with `long` along its longer side.
