@@ -125,11 +125,7 @@ pub fn unclipped_contour(
     accuracy: f64,
 ) -> Vec<Polyline> {
     let n = resolution.max(1);
-    let m = if margin.is_finite() {
-        margin.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let m = unclipped_margin(margin);
     let grid = Grid2::new(DVec2::splat(-m), DVec2::splat(1.0 + m), n + 1, n + 1);
     let xi = solid.xi_net();
     let values = xi.eval_grid([&grid.xs(), &grid.ys()]);
@@ -152,11 +148,7 @@ pub fn unclipped_piecewise_contour(
     accuracy: f64,
 ) -> Vec<Polyline> {
     let cells = solid.cells();
-    let m = if margin.is_finite() {
-        margin.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let m = unclipped_margin(margin);
     let n = cells.map(|c| resolution.max(1) * c);
     let grid = Grid2::new(DVec2::splat(-m), DVec2::splat(1.0 + m), n[0] + 1, n[1] + 1);
     let xi = |p: DVec2| solid.eval([p.x, p.y]).z;
@@ -169,6 +161,16 @@ pub fn unclipped_piecewise_contour(
     mapped_forward(contour(&grid, &values, xi, accuracy), |p| {
         solid.point([p.x, p.y])
     })
+}
+
+/// The margin an unclipped contour grows the parameter square by: `margin` within `[0, 1]`, 0
+/// for a value that is not finite.
+fn unclipped_margin(margin: f64) -> f64 {
+    if margin.is_finite() {
+        margin.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// `lines` traced in a parameter square, each point moved by `map`.

@@ -8,7 +8,7 @@ use bezsolid_core::link;
 use bezsolid_core::mesh::Mesh;
 use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::model::{ModelFile, ModelSolid, SolidSpec};
-use bezsolid_core::{Patch, Solid2, Solid3, SolidError, Volume};
+use bezsolid_core::{Solid2, SolidError};
 
 use crate::editor::{Cells, Editor, MAX_PIECEWISE_POINTS, piecewise_spec};
 use crate::error::Error;
@@ -84,29 +84,26 @@ pub fn open_spec(editor: &mut Editor, spec: SolidSpec) -> Result<(), Error> {
         count: cells.clone(),
         degree: degree.clone(),
     };
-    // Checked as a piecewise solid first, for its errors.
-    let bad = |e: bezsolid_core::piecewise::PiecewiseError| Error::new(e.to_string());
     let net = match cells.count.len() {
-        2 => {
-            let p = spec
-                .to_piecewise::<2>()
-                .ok_or_else(|| Error::new("not a piecewise patch"))?
-                .map_err(bad)?;
-            let net = Patch::try_new(p.dims().map(|n| n - 1), p.points().to_vec())
-                .map_err(SolidError::from)?;
-            ModelSolid::Patch(Solid2::try_from_net(net)?)
-        }
-        _ => {
-            let p = spec
-                .to_piecewise::<3>()
-                .ok_or_else(|| Error::new("not a piecewise volume"))?
-                .map_err(bad)?;
-            let net = Volume::try_new(p.dims().map(|n| n - 1), p.points().to_vec())
-                .map_err(SolidError::from)?;
-            ModelSolid::Volume(Solid3::try_from_net(net)?)
-        }
+        2 => ModelSolid::Patch(global_net::<2>(&spec)?),
+        _ => ModelSolid::Volume(global_net::<3>(&spec)?),
     };
     editor.set_piecewise(net, cells)
+}
+
+/// The global net of a piecewise spec as one solid's net (checked as a piecewise solid first,
+/// for its errors).
+fn global_net<const D: usize>(spec: &SolidSpec) -> Result<bezsolid_core::Solid<D>, Error>
+where
+    bezsolid_core::Dim<D>: bezsolid_core::Dimension<D>,
+{
+    let solid = spec
+        .to_piecewise::<D>()
+        .ok_or_else(|| Error::new(format!("not a piecewise solid of {D} axes")))?
+        .map_err(|e| Error::new(e.to_string()))?;
+    let net = bezsolid_core::Tensor::try_new(solid.dims().map(|n| n - 1), solid.points().to_vec())
+        .map_err(SolidError::from)?;
+    Ok(bezsolid_core::Solid::try_from_net(net)?)
 }
 
 /// The preset called `name`.

@@ -480,7 +480,7 @@ fn frame_piecewise(
         .collect();
     let field = field_image(w, h, &shown, range);
     let contours = contour(&grid, &values, |p| solid.f(p), CONTOUR_ACCURACY * magnitude);
-    let mut shapes = shapes(editor, view, &contours);
+    let mut shapes = shapes_of(editor, view, &contours, Some(solid));
     let unclipped = if view.unclipped() {
         // About as many cells along the longer side as a single patch's curve has.
         let most = solid.cells().into_iter().max().unwrap_or(1);
@@ -658,6 +658,16 @@ fn dashed(editor: &Editor, view: &View2, lines: &[Polyline]) -> Vec<ShapeVertex>
 }
 
 fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVertex> {
+    shapes_of(editor, view, contours, editor.piecewise2().as_ref())
+}
+
+/// [`shapes`] with the piecewise patch the editor shows, where it is one, made already.
+fn shapes_of(
+    editor: &Editor,
+    view: &View2,
+    contours: &[Polyline],
+    pieces: Option<&bezsolid_core::piecewise::Piecewise2>,
+) -> Vec<ShapeVertex> {
     let scale = editor.xi_scale();
     let mut pen = Pen {
         out: Vec::new(),
@@ -667,8 +677,8 @@ fn shapes(editor: &Editor, view: &View2, contours: &[Polyline]) -> Vec<ShapeVert
     let patch = editor.solid().net();
     // The domain's outline: the patch's four boundary curves (the box of a regular grid); a
     // piecewise patch's, and the curves its cells meet on.
-    let lines = match editor.piecewise2() {
-        Some(solid) => piecewise_outline(&solid),
+    let lines = match pieces {
+        Some(solid) => piecewise_outline(solid),
         None => outline(patch).to_vec(),
     };
     for line in lines {

@@ -350,7 +350,8 @@ impl Modeler {
             self.view2.set_scene(Some(scene));
         }
         self.view2.sync(&self.editor);
-        let pieces = self.editor.piecewise3();
+        // The piecewise volume is made only for a section (its cells' inverse maps).
+        let pieces = section.or(across).and_then(|_| self.editor.piecewise3());
         let whole = self.whole_section();
         let cut = whole.as_ref().map(|w| w as &dyn Sectioned);
         let frame = match (
@@ -654,7 +655,9 @@ impl Modeler {
     pub fn probe(&self, x: f64, y: f64) -> Vec<f64> {
         let q = DVec2::new(x, y);
         let p = self.view2.to_world(&self.editor, q);
-        let pieces = self.editor.piecewise3();
+        let pieces = (self.section_plane().is_some() || self.parameter_plane().is_some())
+            .then(|| self.editor.piecewise3())
+            .flatten();
         let whole = self.whole_section();
         let f = match (
             &self.plane,
