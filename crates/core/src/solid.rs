@@ -6,6 +6,8 @@ use alloc::boxed::Box;
 use alloc::vec::Vec;
 use core::fmt;
 
+use once_cell::race::OnceBox;
+
 use glam::DVec2;
 
 use crate::dim::{Control, Dim, Dimension, Point};
@@ -99,8 +101,30 @@ where
     /// The regular grid's box, or the bounds of the moved net (which contain its image).
     min: [f64; D],
     max: [f64; D],
-    /// The inverse map of a space mapping; `None` on a regular grid.
-    map: Option<Box<InverseMap<D>>>,
+    /// The inverse map of a space mapping, built on first use; `None` on a regular grid.
+    map: Option<LazyMap<D>>,
+}
+
+/// The inverse map of a space mapping, built when `f` is first asked for: a solid made only to be
+/// edited, sliced or written (a piecewise model's global net, each step of a drag whose frame
+/// evaluates something else) never pays for it. The map is a function of the net, so two solids
+/// of equal nets are equal whether or not either has built it.
+#[derive(Clone, Debug, Default)]
+struct LazyMap<const D: usize>(OnceBox<InverseMap<D>>);
+
+impl<const D: usize> PartialEq for LazyMap<D> {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl<const D: usize> LazyMap<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    fn get(&self, net: &Tensor<Control<D>, D>) -> &InverseMap<D> {
+        self.0.get_or_init(|| Box::new(InverseMap::new(net)))
+    }
 }
 
 /// A 2D Bézier solid: a patch with control points `P_ij = (x, y, ξ)`.
@@ -249,20 +273,27 @@ where
             self.map = None;
         } else {
             (self.min, self.max) = point_bounds(&spatial);
-            self.map = Some(Box::new(InverseMap::new(&self.net)));
+            self.map = Some(LazyMap::default());
         }
     }
 
-    /// The inverse map of a space mapping; `None` on a regular grid.
+    /// The inverse map of a space mapping (built on the first call that needs it); `None` on a
+    /// regular grid.
     #[must_use]
     pub fn inverse(&self) -> Option<&InverseMap<D>> {
-        self.map.as_deref()
+        self.map.as_ref().map(|map| map.get(&self.net))
+    }
+
+    /// Whether the net is a space mapping (not a regular grid), without building its inverse map.
+    #[must_use]
+    pub fn is_space_mapped(&self) -> bool {
+        self.map.is_some()
     }
 
     /// Says that about `queries` evaluations of `f` are coming, before the first (see
     /// [`InverseMap::plan`]); nothing for a regular grid.
     pub fn plan(&self, queries: usize) {
-        if let Some(map) = &self.map {
+        if let Some(map) = self.inverse() {
             map.plan(queries);
         }
     }
@@ -271,7 +302,10 @@ where
     /// many times over ([`InverseMap::exhausted`]); 0 for a regular grid.
     #[must_use]
     pub fn exhausted(&self) -> usize {
-        self.map.as_ref().map_or(0, |map| map.exhausted())
+        self.map
+            .as_ref()
+            .and_then(|map| map.0.get())
+            .map_or(0, InverseMap::exhausted)
     }
 
     /// The solid of the same `S_ξ` on the regular grid over the unit box: the solid in parameter
@@ -304,7 +338,7 @@ where
     }
 
     fn evaluate_seeded(&self, p: [f64; D], method: Method, seed: Option<[f64; D]>) -> Value<D> {
-        match &self.map {
+        match self.inverse() {
             None => {
                 let t = self.scaled(p);
                 let inside = t.iter().all(|&x| (0.0..=1.0).contains(&x));

@@ -90,8 +90,8 @@ impl Panel {
             frame,
             degree: solid.degree(),
             space_mapped: match editor.volume() {
-                Some(v) => v.inverse().is_some(),
-                None => solid.inverse().is_some(),
+                Some(v) => v.is_space_mapped(),
+                None => solid.is_space_mapped(),
             },
             volume_degree: editor.volume().map(bezsolid_core::Solid::degree),
             slice: editor.slice().map(|(axis, index)| [axis.index(), index]),

@@ -745,8 +745,8 @@ impl Parts {
         while let Some(spec) = todo.pop() {
             if is_bezier(spec) {
                 let mapped = match ModelFile::from_spec(spec.clone()).to_solid() {
-                    Ok(bezsolid_core::model::ModelSolid::Patch(s)) => s.inverse().is_some(),
-                    Ok(bezsolid_core::model::ModelSolid::Volume(v)) => v.inverse().is_some(),
+                    Ok(bezsolid_core::model::ModelSolid::Patch(s)) => s.is_space_mapped(),
+                    Ok(bezsolid_core::model::ModelSolid::Volume(v)) => v.is_space_mapped(),
                     Err(_) => false,
                 };
                 if mapped {

@@ -108,7 +108,7 @@ pub fn extruded(text: &str, height: f64) -> Option<String> {
 /// [`TreeHfError::TooLarge`] for a space-mapped solid past [`MAX_NUMBERS`] (none within the
 /// model's caps).
 pub fn solid2_hf(solid: &Solid2) -> Result<String, TreeHfError> {
-    if solid.inverse().is_some() {
+    if solid.is_space_mapped() {
         return tree_hf(&crate::model::ModelFile::from_solid2(solid));
     }
     let [n, m] = solid.degree();
@@ -147,7 +147,7 @@ pub fn solid2_hf(solid: &Solid2) -> Result<String, TreeHfError> {
 /// [`TreeHfError::TooLarge`] for a space-mapped solid past [`MAX_NUMBERS`] (none within the
 /// model's caps).
 pub fn solid3_hf(solid: &Solid3) -> Result<String, TreeHfError> {
-    if solid.inverse().is_some() {
+    if solid.is_space_mapped() {
         return tree_hf(&crate::model::ModelFile::from_solid3(solid));
     }
     let [n, m, l] = solid.degree();

@@ -680,7 +680,7 @@ where
     crate::dim::Dim<D>: crate::dim::Dimension<D>,
 {
     let s: &Solid<D> = tree.as_solid()?;
-    if s.inverse().is_some() {
+    if s.is_space_mapped() {
         return None;
     }
     let (lo, hi) = s.domain();

@@ -336,7 +336,7 @@ impl Solid3 {
         if !(accuracy.is_finite() && accuracy > 0.0) {
             return Err(MeshError::Accuracy);
         }
-        if self.inverse().is_some() {
+        if self.is_space_mapped() {
             return Ok(None);
         }
         self.polygonize_adaptive(resolution, accuracy).map(Some)
@@ -354,7 +354,7 @@ impl Solid3 {
         if !(accuracy.is_finite() && accuracy > 0.0) {
             return Err(MeshError::Accuracy);
         }
-        if self.inverse().is_some() {
+        if self.is_space_mapped() {
             return self.polygonize(resolution, accuracy);
         }
         let grid = self.mesh_grid(resolution)?;

@@ -246,7 +246,7 @@ where
         Shape::Bezier(solid, _) => {
             let (lo, hi) = solid.domain();
             let (lo, hi) = (Dim::<D>::coords(lo), Dim::<D>::coords(hi));
-            if solid.inverse().is_some() {
+            if solid.is_space_mapped() {
                 // A space mapping: negative outside its net's hull, and no more is known.
                 if level < 0.0 {
                     return None;

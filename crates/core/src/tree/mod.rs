@@ -332,7 +332,7 @@ impl<const D: usize> Regular<D> {
     where
         Dim<D>: Dimension<D>,
     {
-        if solid.inverse().is_some() {
+        if solid.is_space_mapped() {
             return None;
         }
         let (min, max) = solid.domain();
