@@ -163,6 +163,56 @@ pub fn unclipped_piecewise_contour(
     })
 }
 
+/// How often [`forward_piecewise_contour`] checks a vertex against `f`: a sheet's zero line
+/// hidden under another is a run of vertices, found when it is this long or longer.
+pub const PIECEWISE_CHECK_STRIDE: usize = 8;
+
+/// The zero contour of a moved piecewise patch, traced in its global parameter square (the clipped
+/// `S_ξ & F_s(t)`, `resolution` cells per side of each cell, one cell of margin where it is
+/// negative) and mapped forward through the cells' `(S_x, S_y)`, vertices refined to
+/// `|f| ≤ accuracy` in parameter space. The lines are then checked against `f` itself, the max
+/// over the preimages in all cells, at their ends and every [`PIECEWISE_CHECK_STRIDE`]th vertex:
+/// `None` when one is off by more than `10·accuracy` (a fold or cells overlapping, where a
+/// sheet's zero line lies under another), so that the caller samples `f` instead. Cheap
+/// otherwise: a few inverse queries per line.
+#[must_use]
+pub fn forward_piecewise_contour(
+    solid: &crate::piecewise::Piecewise2,
+    resolution: usize,
+    accuracy: f64,
+) -> Option<Vec<Polyline>> {
+    let n = solid.cells().map(|c| resolution.max(1) * c);
+    let margin = DVec2::new(1.0 / n[0] as f64, 1.0 / n[1] as f64);
+    let grid = Grid2::new(-margin, DVec2::ONE + margin, n[0] + 3, n[1] + 3);
+    let clipped = |p: DVec2| crate::rfunc::clip(solid.eval([p.x, p.y]).z, [p.x, p.y]);
+    let mut lines = contour_grid(&grid, clipped, accuracy);
+    let tolerance = 10.0 * accuracy;
+    for line in &mut lines {
+        let last = line.points.len().saturating_sub(1);
+        for (k, p) in line.points.iter_mut().enumerate() {
+            *p = solid.point([p.x, p.y]);
+            let checked = k % PIECEWISE_CHECK_STRIDE == 0 || k == last;
+            // NaN fails the check too.
+            let on_f = || solid.f(*p).abs() <= tolerance;
+            if checked && !on_f() {
+                return None;
+            }
+        }
+    }
+    // An orientation-reversing map puts the solid on the right: walk every line backwards.
+    let at = |t: [f64; 2]| solid.point(t);
+    let (du, dv) = (
+        at([0.51, 0.5]) - at([0.49, 0.5]),
+        at([0.5, 0.51]) - at([0.5, 0.49]),
+    );
+    if du.perp_dot(dv) < 0.0 {
+        for line in &mut lines {
+            line.points.reverse();
+        }
+    }
+    Some(lines)
+}
+
 /// The margin an unclipped contour grows the parameter square by: `margin` within `[0, 1]`, 0
 /// for a value that is not finite.
 fn unclipped_margin(margin: f64) -> f64 {
@@ -522,6 +572,56 @@ mod tests {
             (lo + 1.0).abs() < 1e-9 && (hi - 5.0).abs() < 1e-9,
             "{lo} {hi}"
         );
+    }
+
+    /// A moved piecewise patch: the contour traced in the global parameters and mapped forward
+    /// lies on `f` (the max over every cell's preimages) at every vertex, checked or not, and
+    /// bounds the area the sampled contour of `f` does; where a cell folds over the other and
+    /// hides the first one's zero line, the check refuses it.
+    #[test]
+    fn forward_piecewise_contours_lie_on_f_and_folds_are_refused() {
+        use crate::piecewise::Piecewise2;
+        let grid_point = |i: usize, j: usize, x: f64| {
+            let (u, v) = (i as f64 / 4.0, j as f64 / 2.0);
+            let xi = 0.25 - (u - 0.55).powi(2) - 0.8 * (v - 0.5).powi(2);
+            DVec3::new(x, j as f64 / 2.0, xi)
+        };
+        let mut points: Vec<DVec3> = (0..5)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| grid_point(i, j, i as f64 / 2.0))
+            .collect();
+        // The middle point of the shared edge moved out in space.
+        points[2 * 3 + 1] += DVec3::new(0.2, 0.15, 0.0);
+        let solid = Piecewise2::new([2, 1], [2, 2], points.clone()).unwrap();
+        assert!(!solid.is_regular());
+        let lines = forward_piecewise_contour(&solid, 48, 1e-10).unwrap();
+        assert_eq!(lines.len(), 1);
+        assert!(lines[0].closed);
+        for p in &lines[0].points {
+            assert!(solid.f(*p).abs() < 1e-7, "f = {} at {p}", solid.f(*p));
+        }
+        let (lo, hi) = solid.domain();
+        let box_grid = Grid2::new(lo - DVec2::splat(0.1), hi + DVec2::splat(0.1), 160, 90);
+        let sampled = contour_grid(&box_grid, |p| solid.f(p), 1e-10);
+        let area = |lines: &[Polyline]| lines.iter().map(Polyline::signed_area).sum::<f64>();
+        let (a, b) = (area(&lines), area(&sampled));
+        assert!(a > 0.0 && (a - b).abs() < 0.01 * b, "{a} {b}");
+        // The second cell folded back over the first with S_ξ high: the first cell's zero line
+        // lies under it.
+        let folded: Vec<DVec3> = (0..5)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let x = if i <= 2 {
+                    i as f64 / 2.0
+                } else {
+                    2.0 - i as f64 / 2.0
+                };
+                let xi = [-1.0, 1.0, 5.0, 5.0, 5.0][i];
+                DVec3::new(x, j as f64 / 2.0, xi)
+            })
+            .collect();
+        let solid = Piecewise2::new([2, 1], [2, 2], folded).unwrap();
+        assert!(forward_piecewise_contour(&solid, 48, 1e-10).is_none());
     }
 
     #[test]

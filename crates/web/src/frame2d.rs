@@ -5,8 +5,8 @@
 
 use bezsolid_core::Patch;
 use bezsolid_core::contour::{
-    Grid2, Polyline, contour, sheet_contour, solid_contour, unclipped_contour,
-    unclipped_piecewise_contour,
+    Grid2, Polyline, contour, forward_piecewise_contour, sheet_contour, solid_contour,
+    unclipped_contour, unclipped_piecewise_contour,
 };
 use bezsolid_core::rfunc::clip2;
 use bezsolid_core::tree::Tree;
@@ -150,7 +150,7 @@ impl Sectioned for bezsolid_core::Solid3 {
         bezsolid_core::Solid3::plan(self, queries);
     }
     fn mapped(&self) -> bool {
-        self.inverse().is_some()
+        self.is_space_mapped()
     }
     fn domain(&self) -> (DVec3, DVec3) {
         bezsolid_core::Solid3::domain(self)
@@ -363,7 +363,7 @@ pub fn frame(editor: &Editor, view: &View2) -> Frame {
     if let Some(solid) = editor.piecewise2() {
         return frame_piecewise(editor, view, &solid);
     }
-    if editor.solid().inverse().is_some() {
+    if editor.solid().is_space_mapped() {
         return frame_mapped(editor, view);
     }
     let (w, h) = field_size(view, FIELD_SAMPLES);
@@ -431,16 +431,51 @@ pub fn frame_tree(editor: &Editor, view: &View2, tree: &Tree<2>, part: bool, lon
     Frame::plain(field, shapes, contours, range, Vec::new())
 }
 
-/// The frame of a piecewise patch (or a piecewise volume's slice): its field sampled over the
-/// view, its zero contour, the global net with the curves its cells meet on, and `S_ξ = 0`
-/// unclipped when the view asks. Where points moved, the field outside the net's image (no
-/// preimage in any cell, where the continuation only keeps `f` negative) is drawn full blue, as a
-/// single space-mapped patch's is.
+/// The frame of a piecewise patch (or a piecewise volume's slice): its field, its zero contour,
+/// the global net with the curves its cells meet on, and `S_ξ = 0` unclipped when the view asks.
+/// Where points moved, the field and the contour are drawn forward through the cells
+/// ([`piecewise_forward`]) unless cells fold over each other, where `f` is sampled over the view
+/// ([`piecewise_field`]).
 fn frame_piecewise(
     editor: &Editor,
     view: &View2,
     solid: &bezsolid_core::piecewise::Piecewise2,
 ) -> Frame {
+    let forward = (!solid.is_regular())
+        .then(|| piecewise_forward(editor, view, solid))
+        .flatten();
+    let (field, mesh, contours, range, magnitude) = forward.unwrap_or_else(|| {
+        let (field, contours, range, magnitude) = piecewise_field(editor, view, solid);
+        (field, Vec::new(), contours, range, magnitude)
+    });
+    let mut shapes = mesh;
+    shapes.extend(shapes_of(editor, view, &contours, Some(solid)));
+    let unclipped = if view.unclipped() {
+        // About as many cells along the longer side as a single patch's curve has.
+        let most = solid.cells().into_iter().max().unwrap_or(1);
+        unclipped_piecewise_contour(
+            solid,
+            (MAPPED_CONTOUR_CELLS / most).max(16),
+            UNCLIPPED_MARGIN,
+            CONTOUR_ACCURACY * magnitude,
+        )
+    } else {
+        Vec::new()
+    };
+    shapes.extend(dashed(editor, view, &unclipped));
+    Frame::plain(field, shapes, contours, range, unclipped)
+}
+
+/// The sampled field of a piecewise patch over the view, with its zero contour, the colour range
+/// and the largest `|f|`: `f` at every sample (the inverse map of every cell near it where points
+/// moved). Where points moved, the field outside the net's image (no preimage in any cell, where
+/// the continuation only keeps `f` negative) is drawn full blue, as a single space-mapped patch's
+/// is.
+fn piecewise_field(
+    editor: &Editor,
+    view: &View2,
+    solid: &bezsolid_core::piecewise::Piecewise2,
+) -> (FieldImage, Vec<Polyline>, (f64, f64), f64) {
     use bezsolid_core::inverse::Method;
     let long = if solid.is_regular() {
         TREE_SAMPLES
@@ -480,21 +515,58 @@ fn frame_piecewise(
         .collect();
     let field = field_image(w, h, &shown, range);
     let contours = contour(&grid, &values, |p| solid.f(p), CONTOUR_ACCURACY * magnitude);
-    let mut shapes = shapes_of(editor, view, &contours, Some(solid));
-    let unclipped = if view.unclipped() {
-        // About as many cells along the longer side as a single patch's curve has.
-        let most = solid.cells().into_iter().max().unwrap_or(1);
-        unclipped_piecewise_contour(
-            solid,
-            (MAPPED_CONTOUR_CELLS / most).max(16),
-            UNCLIPPED_MARGIN,
-            CONTOUR_ACCURACY * magnitude,
-        )
-    } else {
-        Vec::new()
-    };
-    shapes.extend(dashed(editor, view, &unclipped));
-    Frame::plain(field, shapes, contours, range, unclipped)
+    (field, contours, range, magnitude)
+}
+
+/// A moved piecewise patch's field drawn forward, as a single moved patch's is: each cell's
+/// parameter grid mapped through its `(S_x, S_y)` and coloured by the globally clipped `S_ξ` (no
+/// inverse map; the mesh, over a flat full-blue field image), with the contour traced in the
+/// global parameter square and mapped forward ([`forward_piecewise_contour`], every vertex
+/// checked against `f`), the colour range and the largest `|f|`. `None` where that check fails
+/// (cells folding over each other): the caller samples `f` itself.
+#[allow(clippy::type_complexity)]
+fn piecewise_forward(
+    editor: &Editor,
+    view: &View2,
+    solid: &bezsolid_core::piecewise::Piecewise2,
+) -> Option<(FieldImage, Vec<ShapeVertex>, Vec<Polyline>, (f64, f64), f64)> {
+    let [cu, cv] = solid.cells();
+    let per_cell = (MAPPED_MESH_CELLS / cu.max(cv)).max(8);
+    let local: Vec<f64> = (0..=per_cell).map(|k| k as f64 / per_cell as f64).collect();
+    let mut sheets = Vec::with_capacity(cu * cv);
+    for b in 0..cv {
+        for a in 0..cu {
+            let part = solid.part([a, b])?;
+            let net = part.net().eval_grid([&local, &local]);
+            let side = per_cell + 1;
+            let values = net
+                .iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let t = DVec2::new(
+                        (a as f64 + local[k % side]) / cu as f64,
+                        (b as f64 + local[k / side]) / cv as f64,
+                    );
+                    clip2(p.z, t.x, t.y)
+                })
+                .collect();
+            sheets.push(Sheet {
+                screen: net
+                    .iter()
+                    .map(|p| view.part_to_screen(editor, p.truncate()))
+                    .collect(),
+                values,
+                cells: [per_cell; 2],
+            });
+        }
+    }
+    let (field, mesh, range, magnitude) = forward_field(view, &sheets);
+    let contours = forward_piecewise_contour(
+        solid,
+        (MAPPED_CONTOUR_CELLS / cu.max(cv)).max(16),
+        CONTOUR_ACCURACY * magnitude,
+    )?;
+    Some((field, mesh, contours, range, magnitude))
 }
 
 /// Field samples `(w, h)` of the view with `long` along its longer side.
@@ -544,7 +616,6 @@ fn sample_view(editor: &Editor, view: &View2, w: usize, h: usize) -> (Grid2, Vec
 /// every sheet ([`sheet_contour`]) and [`Frame::folded`] says so. Exports use the exact `f`.
 fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
     let injective = editor.solid().inverse().is_some_and(|m| m.injective());
-    let (w, h) = (2, 2);
     let cells = MAPPED_MESH_CELLS;
     let ts: Vec<f64> = (0..=cells).map(|k| k as f64 / cells as f64).collect();
     let net = editor.solid().net().eval_grid([&ts, &ts]);
@@ -554,39 +625,13 @@ fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
         .enumerate()
         .map(|(k, p)| clip2(p.z, ts[k % side], ts[k / side]))
         .collect();
-    let range = fs
-        .iter()
-        .fold((0.0f64, 0.0f64), |r, &v| (r.0.min(v), r.1.max(v)));
-    let values = vec![range.0.min(-1e-300); w * h];
-    let field = field_image(w, h, &values, range);
-
-    let mut pen = Pen {
-        out: Vec::with_capacity(cells * cells * 6),
-        size: view.size(),
-        dpr: view.dpr(),
+    let points = net.iter().map(|p| view.to_screen(editor, p.truncate()));
+    let sheet = Sheet {
+        screen: points.collect(),
+        values: fs,
+        cells: [cells; 2],
     };
-    let mut triangles: Vec<(f64, [usize; 3])> = Vec::with_capacity(cells * cells * 2);
-    for b in 0..cells {
-        for a in 0..cells {
-            let k = b * side + a;
-            for tri in [[k, k + 1, k + side + 1], [k, k + side + 1, k + side]] {
-                let top = tri.iter().map(|&i| fs[i]).fold(f64::NEG_INFINITY, f64::max);
-                triangles.push((top, tri));
-            }
-        }
-    }
-    triangles.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let colour = |v: f64| diverging(normalise(v, range));
-    for (_, tri) in &triangles {
-        for &i in tri {
-            let q = view.to_screen(editor, net[i].truncate());
-            pen.out.push(ShapeVertex {
-                position: pen.ndc(q),
-                color: colour(fs[i]),
-            });
-        }
-    }
-    let magnitude = fs.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let (field, mesh, range, magnitude) = forward_field(view, &[sheet]);
     let accuracy = CONTOUR_ACCURACY * magnitude;
     let contours = if injective {
         solid_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
@@ -594,7 +639,7 @@ fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
         sheet_contour(editor.solid(), MAPPED_CONTOUR_CELLS, accuracy)
     };
     let unclipped = unclipped(editor, view, accuracy);
-    let mut drawn = pen.out;
+    let mut drawn = mesh;
     drawn.extend(shapes(editor, view, &contours));
     drawn.extend(dashed(editor, view, &unclipped));
     Frame {
@@ -607,6 +652,64 @@ fn frame_mapped(editor: &Editor, view: &View2) -> Frame {
         section: None,
         section_in_parameters: false,
     }
+}
+
+/// A sheet of the forward-drawn field: a `(cells + 1)`-point grid over a parameter box (the
+/// first axis fastest), each point on the screen with the clipped `S_ξ` there.
+struct Sheet {
+    screen: Vec<DVec2>,
+    values: Vec<f64>,
+    cells: [usize; 2],
+}
+
+/// The field of a space mapping drawn forward: each sheet's grid cells as two triangles coloured
+/// by their values, all drawn in increasing `f` so that where sheets overlap (a fold, cells of a
+/// piecewise patch lying over each other) the larger value, the max over preimages, is on top.
+/// Outside the sheets `f` is negative everywhere: the 2 × 2 field image under them is flat full
+/// blue. With the colour range and the largest `|f|`.
+fn forward_field(
+    view: &View2,
+    sheets: &[Sheet],
+) -> (FieldImage, Vec<ShapeVertex>, (f64, f64), f64) {
+    let all = || sheets.iter().flat_map(|s| s.values.iter().copied());
+    let range = all().fold((0.0f64, 0.0f64), |r, v| (r.0.min(v), r.1.max(v)));
+    let magnitude = all().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+    let (w, h) = (2, 2);
+    let field = field_image(w, h, &vec![range.0.min(-1e-300); w * h], range);
+    let mut triangles: Vec<(f64, usize, [usize; 3])> = Vec::new();
+    for (k, sheet) in sheets.iter().enumerate() {
+        let [cu, cv] = sheet.cells;
+        let side = cu + 1;
+        for b in 0..cv {
+            for a in 0..cu {
+                let i = b * side + a;
+                for tri in [[i, i + 1, i + side + 1], [i, i + side + 1, i + side]] {
+                    let top = tri
+                        .iter()
+                        .map(|&v| sheet.values[v])
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    triangles.push((top, k, tri));
+                }
+            }
+        }
+    }
+    triangles.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let pen = Pen {
+        out: Vec::with_capacity(triangles.len() * 3),
+        size: view.size(),
+        dpr: view.dpr(),
+    };
+    let mut pen = pen;
+    for (_, k, tri) in &triangles {
+        let sheet = &sheets[*k];
+        for &i in tri {
+            pen.out.push(ShapeVertex {
+                position: pen.ndc(sheet.screen[i]),
+                color: diverging(normalise(sheet.values[i], range)),
+            });
+        }
+    }
+    (field, pen.out, range, magnitude)
 }
 
 /// The unclipped contour's lines, dashed (the pattern runs on along each line).
