@@ -9,6 +9,7 @@ pub(crate) struct Args<'a> {
     cmd: &'static str,
     model: Option<&'a str>,
     values: Vec<(&'static str, &'a str)>,
+    flags: Vec<&'static str>,
 }
 
 impl<'a> Args<'a> {
@@ -19,15 +20,29 @@ impl<'a> Args<'a> {
         args: &'a [String],
         options: &[&'static str],
     ) -> Result<Self> {
+        Self::parse_with_flags(cmd, args, options, &[])
+    }
+
+    /// [`Args::parse`] for a command that also takes the options named in `flags`, which take
+    /// no value ([`Args::flag`]).
+    pub(crate) fn parse_with_flags(
+        cmd: &'static str,
+        args: &'a [String],
+        options: &[&'static str],
+        flags: &[&'static str],
+    ) -> Result<Self> {
         let mut parsed = Self {
             cmd,
             model: None,
             values: Vec::new(),
+            flags: Vec::new(),
         };
         let mut it = args.iter();
         while let Some(a) = it.next() {
             let name = if a == "-o" { "--output" } else { a.as_str() };
-            if let Some(&option) = options.iter().find(|&&o| o == name) {
+            if let Some(&flag) = flags.iter().find(|&&f| f == name) {
+                parsed.flags.push(flag);
+            } else if let Some(&option) = options.iter().find(|&&o| o == name) {
                 let value = it.next().with_context(|| format!("{a} needs a value"))?;
                 parsed.values.push((option, value));
             } else if a.starts_with('-') && a.len() > 1 {
@@ -45,6 +60,11 @@ impl<'a> Args<'a> {
     pub(crate) fn model(&self, usage: &str) -> Result<&'a str> {
         self.model
             .with_context(|| format!("{}: which model? usage: {usage}", self.cmd))
+    }
+
+    /// Whether the flag `name` was given.
+    pub(crate) fn flag(&self, name: &str) -> bool {
+        self.flags.contains(&name)
     }
 
     /// The value of option `name` (the last one given), if any.

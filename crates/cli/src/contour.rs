@@ -1,11 +1,13 @@
-//! `bezsolid contour MODEL --res N -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]`: the zero contour
-//! of a patch solid, or of a 2D tree of many solids (within its bounds, or within the box); with
-//! `--section x=C` (or `y=`, `z=`), the true section of a 3D model by that plane.
+//! `bezsolid contour MODEL --res N -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1] [--stats]`: the
+//! zero contour of a patch solid, or of a 2D tree of many solids (within its bounds, or within the
+//! box); with `--section x=C` (or `y=`, `z=`), the true section of a 3D model by that plane. With
+//! `--stats` (and then `-o` may be left out) the area and perimeter inside the contour are printed
+//! on stdout.
 
 use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
-use bezsolid_core::contour::solid_contour;
+use bezsolid_core::contour::{Measure, Polyline, solid_contour};
 use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::model::ModelSolid;
 use bezsolid_core::tree::{ModelTree, TreeMeshError};
@@ -15,14 +17,23 @@ use glam::DVec2;
 const MAX_RES: usize = 4096;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse(
+    let args = Args::parse_with_flags(
         "contour",
         args,
         &["--res", "--accuracy", "--output", "--box", "--section"],
+        &["--stats"],
     )?;
     let model = args.model("bezsolid contour MODEL --res N -o OUT.svg")?;
-    let out = args.required("--output", "-o OUT.svg")?;
     let res: usize = args.number("--res", 256)?;
+    let out = Output {
+        path: match args.value("--output") {
+            Some(out) => Some(out),
+            None if args.flag("--stats") => None,
+            None => Some(args.required("--output", "-o OUT.svg")?),
+        },
+        stats: args.flag("--stats"),
+        res,
+    };
     let accuracy: f64 = args.number("--accuracy", 1e-9)?;
     if !(2..=MAX_RES).contains(&res) {
         bail!("--res {res} is outside 2..={MAX_RES}");
@@ -32,7 +43,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     }
     let file = crate::load_file(model)?;
     if let Some(plane) = args.value("--section") {
-        return section(&args, model, &file, plane, res, accuracy, out);
+        return section(&args, model, &file, plane, res, accuracy, &out);
     }
     if file.solid.is_tree() {
         let region = args.bounds::<2>("--box")?;
@@ -52,23 +63,63 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             .map_or((DVec2::ZERO, DVec2::ONE), |(lo, hi)| {
                 (DVec2::from_array(lo), DVec2::from_array(hi))
             });
-        let cell = (hi - lo) / res as f64;
-        std::fs::write(out, contours_svg(&lines, lo - cell, hi + cell))
-            .with_context(|| format!("cannot write {out}"))?;
-        eprintln!("bezsolid: {} contour pieces written to {out}", lines.len());
-        return Ok(());
+        return out.write(&lines, lo, hi, "");
     }
     let ModelSolid::Patch(solid) = file.to_solid().with_context(|| crate::describe(model))? else {
         bail!("contour draws patch (2D) models; for a volume use `bezsolid mesh`");
     };
     let (lo, hi) = solid.domain();
-    let cell = (hi - lo) / res as f64;
     let lines = solid_contour(&solid, res, accuracy);
-    std::fs::write(out, contours_svg(&lines, lo - cell, hi + cell))
-        .with_context(|| format!("cannot write {out}"))?;
-    eprintln!("bezsolid: {} contour pieces written to {out}", lines.len());
     crate::warn_exhausted(solid.exhausted());
-    Ok(())
+    out.write(&lines, lo, hi, "")
+}
+
+/// Where the contour goes: the SVG file, the measurements on stdout, or both.
+struct Output<'a> {
+    path: Option<&'a str>,
+    stats: bool,
+    /// Cells per side of what was sampled (the SVG's margin is one of them).
+    res: usize,
+}
+
+impl Output<'_> {
+    /// Writes `lines`, drawn over `[lo, hi]`, as SVG and says so (`what` names a section), and
+    /// prints their measurements with `--stats`.
+    fn write(&self, lines: &[Polyline], lo: DVec2, hi: DVec2, what: &str) -> Result<()> {
+        let measure = Measure::of(lines);
+        if let Some(out) = self.path {
+            let cell = (hi - lo) / self.res as f64;
+            std::fs::write(out, contours_svg(lines, lo - cell, hi + cell))
+                .with_context(|| format!("cannot write {out}"))?;
+            eprintln!(
+                "bezsolid: {what}{} contour pieces{} written to {out}",
+                lines.len(),
+                if what.is_empty() {
+                    String::new()
+                } else {
+                    format!(", area {:.6},", measure.area)
+                }
+            );
+        }
+        if self.stats {
+            println!("area: {}", measure.area);
+            println!("perimeter: {}", measure.perimeter);
+            eprintln!(
+                "bezsolid: measured on the contour at --res {} (exact for its polylines; a finer \
+                 --res comes nearer the solid)",
+                self.res
+            );
+            if measure.open > 0 {
+                eprintln!(
+                    "bezsolid: warning: {} open contour pieces end on the sampled box and bound \
+                     nothing; they are left out of the area and perimeter (a larger --box closes \
+                     them)",
+                    measure.open
+                );
+            }
+        }
+        Ok(())
+    }
 }
 
 /// `--section x=C`: the true section of a 3D model (a volume, a piecewise volume or a 3D tree) by
@@ -80,7 +131,7 @@ fn section(
     plane: &str,
     res: usize,
     accuracy: f64,
-    out: &str,
+    out: &Output<'_>,
 ) -> Result<()> {
     let parsed = plane.split_once('=').and_then(|(name, at)| {
         let axis = ["x", "y", "z"].iter().position(|a| *a == name.trim())?;
@@ -108,17 +159,5 @@ fn section(
         .map_or((DVec2::ZERO, DVec2::ONE), |(lo, hi)| {
             (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]))
         });
-    let cell = (hi - lo) / res as f64;
-    std::fs::write(out, contours_svg(&lines, lo - cell, hi + cell))
-        .with_context(|| format!("cannot write {out}"))?;
-    let area: f64 = lines
-        .iter()
-        .filter(|l| l.closed)
-        .map(bezsolid_core::contour::Polyline::signed_area)
-        .sum();
-    eprintln!(
-        "bezsolid: the section {plane}: {} contour pieces, area {area:.6}, written to {out}",
-        lines.len()
-    );
-    Ok(())
+    out.write(&lines, lo, hi, &format!("the section {plane}: "))
 }

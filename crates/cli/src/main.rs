@@ -38,20 +38,24 @@ commands (DESIGN §5):
                                    the paper's spline guess and Bézier clipping, by clipping
                                    over the whole domain, or by seeded Newton, the default)
   contour MODEL [--res N] -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]
-          [--section x=C|y=C|z=C]
+          [--section x=C|y=C|z=C] [--stats]
                                    zero contours of a patch solid, a piecewise patch or a 2D
                                    tree (N cells per side, default 256; vertices refined to
                                    |f| <= A, default 1e-9; a tree that may be unbounded needs
                                    --box); with --section, the true section of a 3D model by
                                    that plane, in the plane's coordinates (--box X0,Y0,Z0,X1,
-                                   Y1,Z1 for one that may be unbounded)
+                                   Y1,Z1 for one that may be unbounded); --stats prints
+                                   `area: A` and `perimeter: P` of the region the contour
+                                   bounds on stdout (exact for the contour; -o may be left out)
   mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
-       [--threads T]               closed boundary mesh of a volume solid, a piecewise volume
+       [--threads T] [--stats]     closed boundary mesh of a volume solid, a piecewise volume
                                    or a 3D tree (N cells along the longest side, default 64;
                                    vertices refined to |f| <= A, default 1e-9; a tree that may
                                    be unbounded, such as a half-space, needs --box, and is cut
                                    by it; meshed on T threads, default every core: the same
-                                   mesh as on one)
+                                   mesh as on one); --stats prints `volume: V`, `area: A` and
+                                   `bbox: X0 Y0 Z0 X1 Y1 Z1` of the mesh on stdout (exact for
+                                   the mesh, by the divergence theorem; -o may be left out)
   hf MODEL -o OUT.hf [--height H]  HyperFun export (the explicit Bernstein sum; a piecewise
                                    solid's cells chosen by `if`s; a tree with HyperFun's set
                                    operations, blends and primitives); a 2D model is a prism

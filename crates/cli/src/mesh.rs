@@ -1,7 +1,9 @@
 //! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
-//! [--threads T]`: the closed boundary mesh of a volume solid, of a 3D tree of many solids (within
+//! [--threads T] [--stats]`: the closed boundary mesh of a volume solid, of a 3D tree of many solids (within
 //! its bounds, or within the box, cut by it), or of the result of a free-form model. A volume
-//! solid or a tree is meshed on `T` threads (default: every core), the same mesh as on one.
+//! solid or a tree is meshed on `T` threads (default: every core), the same mesh as on one. With
+//! `--stats` (and then `-o` may be left out) the mesh's volume, area and bounding box are printed on
+//! stdout.
 
 use anyhow::{Context, Result, bail};
 
@@ -23,13 +25,19 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool> {
 const MAX_THREADS: usize = 256;
 
 pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse(
+    let args = Args::parse_with_flags(
         "mesh",
         args,
         &["--res", "--accuracy", "--output", "--box", "--threads"],
+        &["--stats"],
     )?;
     let model = args.model("bezsolid mesh MODEL --res N -o OUT.stl")?;
-    let out = args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?;
+    let stats = args.flag("--stats");
+    let out = match args.value("--output") {
+        Some(out) => Some(out),
+        None if stats => None,
+        None => Some(args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?),
+    };
     let res: usize = args.number("--res", 64)?;
     let accuracy: f64 = args.number("--accuracy", 1e-9)?;
     let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
@@ -37,8 +45,12 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
     if !(1..=MAX_THREADS).contains(&threads) {
         bail!("--threads {threads} is outside 1..={MAX_THREADS}");
     }
-    let Some(format) = Format::of_path(out) else {
-        bail!("mesh: {out} should end in .stl, .obj or .ply");
+    let format = match out {
+        Some(out) => match Format::of_path(out) {
+            Some(format) => Some((out, format)),
+            None => bail!("mesh: {out} should end in .stl, .obj or .ply"),
+        },
+        None => None,
     };
     if !(1..=MAX_RESOLUTION).contains(&res) {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
@@ -78,11 +90,33 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         crate::warn_exhausted(solid.exhausted());
         mesh
     };
-    std::fs::write(out, format.write(&mesh)).with_context(|| format!("cannot write {out}"))?;
-    eprintln!(
-        "bezsolid: {} triangles, {} vertices written to {out}",
-        mesh.triangle_count(),
-        mesh.positions.len()
-    );
+    if let Some((out, format)) = format {
+        std::fs::write(out, format.write(&mesh)).with_context(|| format!("cannot write {out}"))?;
+        eprintln!(
+            "bezsolid: {} triangles, {} vertices written to {out}",
+            mesh.triangle_count(),
+            mesh.positions.len()
+        );
+    }
+    if stats {
+        print_stats(&mesh, res);
+    }
     Ok(())
+}
+
+/// `--stats`: the mesh's volume, area and box on stdout, one `name: value` line each; what they
+/// are measured on (the mesh at `res`) on stderr.
+fn print_stats(mesh: &bezsolid_core::mesh::Mesh, res: usize) {
+    let m = mesh.measure();
+    println!("volume: {}", m.volume);
+    println!("area: {}", m.area);
+    println!(
+        "bbox: {} {} {} {} {} {}",
+        m.min.x, m.min.y, m.min.z, m.max.x, m.max.y, m.max.z
+    );
+    eprintln!(
+        "bezsolid: measured on the mesh of {} triangles at --res {res} (exact for the mesh; \
+         a finer --res comes nearer the solid)",
+        mesh.triangle_count()
+    );
 }

@@ -563,3 +563,140 @@ fn hf_extrudes_2d_models_to_a_slab() {
         );
     }
 }
+
+/// The `name: numbers` lines of a `--stats` output, by name.
+fn stats_lines(stdout: &[u8]) -> std::collections::HashMap<String, Vec<f64>> {
+    String::from_utf8_lossy(stdout)
+        .lines()
+        .filter_map(|line| {
+            let (name, values) = line.split_once(':')?;
+            let values = values.split_whitespace().map(|v| v.parse().unwrap());
+            Some((name.to_string(), values.collect()))
+        })
+        .collect()
+}
+
+/// `mesh --stats` and `contour --stats` print what the mesh and the contour measure, on stdout,
+/// with or without a file written: a ball of radius 1 minus a box has the ball's volume less the
+/// box's part, a ring of radii 1 and 0.5 its area and both circles' length, each near the
+/// formula at a fine resolution and exact for the mesh written beside it.
+#[test]
+fn meshes_and_contours_are_measured_on_stdout() {
+    let tree = out_path("stats-tree.bsolid.json");
+    std::fs::write(
+        &tree,
+        r#"{"format":"bezsolid","version":1,"solid":{"kind":"difference","of":[
+            {"kind":"sphere","center":[0,0,0],"radius":1},
+            {"kind":"box","min":[0,0,0],"max":[2,2,2]}]}}"#,
+    )
+    .unwrap();
+    let path = out_path("stats-tree.obj");
+    let out = bezsolid(&[
+        "mesh",
+        tree.to_str().unwrap(),
+        "--res",
+        "64",
+        "--stats",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats = stats_lines(&out.stdout);
+    let mesh = read_obj(&std::fs::read_to_string(&path).unwrap());
+    let (volume, area) = (stats["volume"][0], stats["area"][0]);
+    // The OBJ's coordinates are rounded: the file's mesh agrees to its digits.
+    assert!((volume - mesh.volume()).abs() < 1e-6 * volume, "{volume}");
+    assert!((area - mesh.area()).abs() < 1e-6 * area, "{area}");
+    let ball = 4.0 / 3.0 * std::f64::consts::PI;
+    assert!((volume - ball * 7.0 / 8.0).abs() < 0.01 * ball, "{volume}");
+    let sphere = 4.0 * std::f64::consts::PI;
+    let expected_area = sphere * 7.0 / 8.0 + 3.0 * std::f64::consts::PI / 4.0;
+    assert!(
+        (area - expected_area).abs() < 0.02 * expected_area,
+        "{area}"
+    );
+    let bbox = &stats["bbox"];
+    assert_eq!(bbox.len(), 6);
+    for (k, want) in [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0].into_iter().enumerate() {
+        assert!((bbox[k] - want).abs() < 0.02, "{bbox:?}");
+    }
+    // Without -o: only the measurements.
+    let out = bezsolid(&["mesh", "preset:blob", "--res", "24", "--stats"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats = stats_lines(&out.stdout);
+    assert!(stats["volume"][0] > 0.0 && stats["area"][0] > 0.0);
+    // And without either, the error it always gave.
+    let out = bezsolid(&["mesh", "preset:blob"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("-o OUT.stl"));
+
+    let plane = out_path("stats-ring.bsolid.json");
+    std::fs::write(
+        &plane,
+        r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "difference", "of": [
+            {"kind": "circle", "center": [0, 0], "radius": 1},
+            {"kind": "circle", "center": [0, 0], "radius": 0.5}]}}"#,
+    )
+    .unwrap();
+    let out = bezsolid(&[
+        "contour",
+        plane.to_str().unwrap(),
+        "--res",
+        "256",
+        "--stats",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats = stats_lines(&out.stdout);
+    let pi = std::f64::consts::PI;
+    let (area, perimeter) = (stats["area"][0], stats["perimeter"][0]);
+    assert!((area - pi * 0.75).abs() < 1e-3 * pi, "{area}");
+    assert!((perimeter - 3.0 * pi).abs() < 1e-3 * pi, "{perimeter}");
+    // A patch solid: its area is the one its SVG's loops enclose.
+    let svg = out_path("stats-fig9.svg");
+    let out = bezsolid(&[
+        "contour",
+        "preset:fig9",
+        "--res",
+        "128",
+        "--stats",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats = stats_lines(&out.stdout);
+    let loops = svg_loops(&std::fs::read_to_string(&svg).unwrap());
+    assert!(!loops.is_empty());
+    let shoelace: f64 = loops
+        .iter()
+        .map(|l| {
+            (0..l.len())
+                .map(|k| {
+                    let (a, b) = (l[k], l[(k + 1) % l.len()]);
+                    a[0] * b[1] - a[1] * b[0]
+                })
+                .sum::<f64>()
+                / 2.0
+        })
+        .sum();
+    assert!(
+        (stats["area"][0] - shoelace.abs()).abs() < 1e-3 * shoelace.abs(),
+        "{} {shoelace}",
+        stats["area"][0]
+    );
+}

@@ -101,6 +101,51 @@ impl Polyline {
             .sum::<f64>()
             * 0.5
     }
+
+    /// The length of the polyline, with the closing segment of a closed one.
+    #[must_use]
+    pub fn length(&self) -> f64 {
+        let open: f64 = self.points.windows(2).map(|w| w[0].distance(w[1])).sum();
+        match (self.closed, self.points.first(), self.points.last()) {
+            (true, Some(a), Some(b)) => open + a.distance(*b),
+            _ => open,
+        }
+    }
+}
+
+/// The area and perimeter of a region bounded by zero contours (a 2D solid's), exact for the
+/// polylines (the shoelace sum, the divergence theorem in the plane), so as near the solid as
+/// their resolution: holes, walked clockwise, count negative. Open pieces (ended on a grid's
+/// border) bound nothing: they are left out, and counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Measure {
+    /// The area inside.
+    pub area: f64,
+    /// The total length of the closed loops.
+    pub perimeter: f64,
+    /// How many open pieces were left out.
+    pub open: usize,
+}
+
+impl Measure {
+    /// The measurements of the region `lines` bound.
+    #[must_use]
+    pub fn of(lines: &[Polyline]) -> Self {
+        lines.iter().fold(Self::default(), |m, line| {
+            if line.closed {
+                Self {
+                    area: m.area + line.signed_area(),
+                    perimeter: m.perimeter + line.length(),
+                    open: m.open,
+                }
+            } else {
+                Self {
+                    open: m.open + 1,
+                    ..m
+                }
+            }
+        })
+    }
 }
 
 /// The zero contour of a patch solid, `resolution` cells per side of its domain with one cell of
@@ -622,6 +667,41 @@ mod tests {
             .collect();
         let solid = Piecewise2::new([2, 1], [2, 2], folded).unwrap();
         assert!(forward_piecewise_contour(&solid, 48, 1e-10).is_none());
+    }
+
+    /// A square with a square hole (walked clockwise) and an open piece: the area is the ring's,
+    /// the perimeter both loops', the open piece left out and counted.
+    #[test]
+    fn contours_are_measured_by_the_shoelace_sum() {
+        let square = |lo: f64, hi: f64| {
+            vec![
+                DVec2::new(lo, lo),
+                DVec2::new(hi, lo),
+                DVec2::new(hi, hi),
+                DVec2::new(lo, hi),
+            ]
+        };
+        let mut hole = square(1.0, 2.0);
+        hole.reverse();
+        let lines = [
+            Polyline {
+                points: square(0.0, 4.0),
+                closed: true,
+            },
+            Polyline {
+                points: hole,
+                closed: true,
+            },
+            Polyline {
+                points: vec![DVec2::ZERO, DVec2::new(0.0, 9.0)],
+                closed: false,
+            },
+        ];
+        let m = Measure::of(&lines);
+        assert!((m.area - 15.0).abs() < 1e-12, "{}", m.area);
+        assert!((m.perimeter - 20.0).abs() < 1e-12, "{}", m.perimeter);
+        assert_eq!(m.open, 1);
+        assert!((lines[2].length() - 9.0).abs() < 1e-12);
     }
 
     #[test]

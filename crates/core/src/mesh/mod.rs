@@ -177,6 +177,19 @@ pub struct Mesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// The measurements of a closed mesh ([`Mesh::measure`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measure {
+    /// The enclosed volume.
+    pub volume: f64,
+    /// The surface area.
+    pub area: f64,
+    /// The low corner of the bounding box (the origin for an empty mesh).
+    pub min: DVec3,
+    /// The high corner of the bounding box.
+    pub max: DVec3,
+}
+
 impl Mesh {
     /// The number of triangles.
     #[must_use]
@@ -200,15 +213,10 @@ impl Mesh {
     pub fn volume(&self) -> f64 {
         // Taken about the middle of the bounds: the same for a closed mesh, without the
         // cancellation of large products for a small mesh far from the origin.
-        let (lo, hi) = self.positions.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let o = if lo.is_finite() && hi.is_finite() {
-            (lo + hi) * 0.5
-        } else {
-            DVec3::ZERO
-        };
+        let o = self
+            .bounds()
+            .filter(|(lo, hi)| lo.is_finite() && hi.is_finite())
+            .map_or(DVec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
         (0..self.triangles.len())
             .map(|t| {
                 let [a, b, c] = self.corners(t).map(|p| p - o);
@@ -216,6 +224,32 @@ impl Mesh {
             })
             .sum::<f64>()
             / 6.0
+    }
+
+    /// The box of the vertices that triangles use, `(min, max)`; `None` for a mesh without
+    /// triangles.
+    #[must_use]
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let mut used = self
+            .triangles
+            .iter()
+            .flatten()
+            .filter_map(|&i| self.positions.get(i as usize));
+        let first = *used.next()?;
+        Some(used.fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
+    }
+
+    /// What [`Mesh::volume`], [`Mesh::area`] and [`Mesh::bounds`] say of the mesh: exact for the
+    /// mesh (the divergence theorem), so as near the solid as the mesh's resolution.
+    #[must_use]
+    pub fn measure(&self) -> Measure {
+        let (min, max) = self.bounds().unwrap_or((DVec3::ZERO, DVec3::ZERO));
+        Measure {
+            volume: self.volume(),
+            area: self.area(),
+            min,
+            max,
+        }
     }
 
     /// The surface area.
@@ -268,8 +302,40 @@ impl Mesh {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use alloc::vec;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// A box with a box-shaped hole walked inward: the volume and area of the two shells
+    /// together, the box of the outer one; an empty mesh measures nothing.
+    #[test]
+    fn a_mesh_is_measured_by_the_divergence_theorem() {
+        let (lo, hi) = (DVec3::new(-1.0, 2.0, 10.0), DVec3::new(2.0, 4.0, 14.0));
+        let (mut positions, mut triangles) = crate::testutil::box_mesh(lo, hi, 0);
+        let (hole, mut inward) =
+            crate::testutil::box_mesh(DVec3::new(0.0, 2.5, 11.0), DVec3::new(1.0, 3.5, 12.0), 8);
+        for t in &mut inward {
+            t.swap(1, 2);
+        }
+        positions.extend(hole);
+        triangles.extend(inward);
+        let mesh = Mesh {
+            normals: vec![DVec3::Z; positions.len()],
+            positions,
+            triangles,
+        };
+        let m = mesh.measure();
+        assert!(
+            (m.volume - (3.0 * 2.0 * 4.0 - 1.0)).abs() < 1e-12,
+            "{}",
+            m.volume
+        );
+        let outer = 2.0 * (3.0 * 2.0 + 3.0 * 4.0 + 2.0 * 4.0);
+        assert!((m.area - (outer + 6.0)).abs() < 1e-12, "{}", m.area);
+        assert_eq!((m.min, m.max), (lo, hi));
+        assert_eq!(Mesh::default().bounds(), None);
+        assert_eq!(Mesh::default().measure().volume, 0.0);
+    }
 
     /// A small closed mesh with normals and awkward coordinates: a ball polygonized by linear marching
     /// cubes, shifted off the grid.
