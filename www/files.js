@@ -202,6 +202,58 @@ export function setupFiles(app) {
       capture(app.canvas3, 'bezsolid-script.png');
     },
   };
+  // What the solid measures, on the mesh (or contour) the exports make: in the export worker, in
+  // the work list with a Cancel, said in the status bar until dismissed.
+  const fixed = (v) => Number(v.toPrecision(6)).toString();
+  const describeMeasure = (m) => (m.dimension === 3
+    ? `Volume ${fixed(m.volume)}, surface area ${fixed(m.area)}, bounding box `
+      + `${fixed(m.bbox[0])} to ${fixed(m.bbox[3])} × ${fixed(m.bbox[1])} to ${fixed(m.bbox[4])} × `
+      + `${fixed(m.bbox[2])} to ${fixed(m.bbox[5])}: measured on the mesh at ${m.resolution} cells `
+      + `along the longest side (${m.triangles} triangles), as the mesh exports make it.`
+    : `Area ${fixed(m.area)}, perimeter ${fixed(m.perimeter)}: measured on the contour at `
+      + `${m.resolution} cells per side, as the SVG export draws it`
+      + (m.open ? `; ${m.open} open ${m.open === 1 ? 'piece ends' : 'pieces end'} on the drawn box and ${m.open === 1 ? 'is' : 'are'} left out.` : '.'));
+  const measure = async () => {
+    const free = freeform();
+    const model = free ? ff.model_json() : modeler.model_json();
+    const resolution = free ? ff.resolution() : modeler.resolution();
+    const worker = app.runners.export;
+    let text;
+    let approximate = 0;
+    try {
+      if (worker) {
+        const running = worker.run({ kind: 'measure', model, resolution }, {
+          onProgress: (done, total) => task.progress(done, total),
+          onStart: () => task.started(),
+        });
+        const task = app.work.start('measure', 'Measuring', () => running.cancel());
+        try {
+          const done = await running;
+          text = new TextDecoder().decode(done.data);
+          approximate = done.approximate ?? 0;
+        } finally {
+          task.end();
+        }
+      } else {
+        text = (await tools()).headless_measure(model, resolution);
+      }
+    } catch (err) {
+      if (err.cancelled) say('Measuring was cancelled.');
+      else say(`Could not measure the solid: ${messageOf(err)}`, 'error');
+      return;
+    }
+    const m = JSON.parse(text);
+    document.body.dataset.measure = text;
+    say(describeMeasure(m) + (approximate
+      ? ` Approximate where the net folds over itself very many times: ${approximate} ${approximate === 1 ? 'evaluation' : 'evaluations'} ran out of their work budget.`
+      : ''), approximate ? 'warn' : 'result');
+  };
+  for (const button of document.querySelectorAll('button.measure')) {
+    button.addEventListener('click', () => {
+      if (!scripting()) measure();
+    });
+  }
+
   setupMenu($('export'), (kind) => {
     const exporters = scripting() ? scriptExports : freeform() ? freeformExports : bezierExports;
     if (!Object.hasOwn(exporters, kind)) return;

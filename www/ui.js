@@ -9,8 +9,9 @@ const INFO_MS = 5000;
 let fade = 0;
 
 /**
- * Says `message` in the status bar over the views; `kind` is 'info' (fades after a while), 'warn'
- * or 'error' (stay until dismissed or replaced).
+ * Says `message` in the status bar over the views; `kind` is 'info' (fades after a while),
+ * 'result' (looks like info, for something to read at leisure such as measurements), 'warn' or
+ * 'error' (these three stay until dismissed or replaced).
  */
 export function say(message, kind = 'info') {
   const bar = $('status-bar');

@@ -9,7 +9,7 @@ import { fileURLToPath } from 'node:url';
 const pkg = new URL('../../www/pkg/', import.meta.url);
 const glue = await import(new URL('bezsolid_web.js', pkg));
 await glue.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_web_bg.wasm', pkg))) });
-const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface, headless_approximate } = glue;
+const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface, headless_approximate, headless_measure } = glue;
 const page = await import(new URL('bezsolid_page.js', pkg));
 await page.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_page_bg.wasm', pkg))) });
 
@@ -50,6 +50,36 @@ test('STL, OBJ and PLY of a volume from a link parse back with one triangle coun
   assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, count);
   const ply = Buffer.from(headless_mesh(MODEL, 'ply', 24));
   assert.match(ply.subarray(0, 400).toString('latin1'), new RegExp(`element face ${count}\\b`));
+});
+
+test('measurements of a volume, from its link: the volume and area of the STL the same link gives', () => {
+  const link = headless_link(MODEL);
+  const m = JSON.parse(headless_measure(link, 24));
+  assert.equal(m.dimension, 3);
+  assert.equal(m.resolution, 24);
+  // The STL's facets, read back: the divergence theorem and the triangles' areas.
+  const stl = Buffer.from(headless_mesh(link, 'stl', 24));
+  const count = stl.readUInt32LE(80);
+  assert.equal(m.triangles, count);
+  let volume = 0;
+  let area = 0;
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (let t = 0; t < count; t++) {
+    const p = [0, 1, 2].map((c) => [0, 1, 2].map((a) => stl.readFloatLE(84 + 50 * t + 12 + 12 * c + 4 * a)));
+    const [a, b, c] = p;
+    volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    const u = [0, 1, 2].map((k) => b[k] - a[k]);
+    const v = [0, 1, 2].map((k) => c[k] - a[k]);
+    area += Math.hypot(u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]) / 2;
+    for (const q of p) for (let k = 0; k < 3; k++) { lo[k] = Math.min(lo[k], q[k]); hi[k] = Math.max(hi[k], q[k]); }
+  }
+  assert.ok(m.volume > 0 && Math.abs(m.volume - volume) < 1e-4 * m.volume, `${m.volume} against ${volume}`);
+  assert.ok(Math.abs(m.area - area) < 1e-4 * m.area, `${m.area} against ${area}`);
+  for (let k = 0; k < 3; k++) {
+    assert.ok(Math.abs(m.bbox[k] - lo[k]) < 1e-5 && Math.abs(m.bbox[k + 3] - hi[k]) < 1e-5, `${m.bbox}`);
+  }
+  assert.throws(() => headless_measure(link, 1), /resolution/);
 });
 
 test('the surface for the worker and the contour SVG of a patch', () => {

@@ -225,6 +225,7 @@ pub fn read_any(text: &str) -> Result<ModelSolid, Error> {
 pub mod headless {
     use super::{Editor, MESH_ACCURACY, model_json, open, read_any, read_file, share_fragment};
     use crate::error::Error;
+    use bezsolid_core::contour::solid_contour;
     use bezsolid_core::mesh::{Format, Mesh, Share};
     use bezsolid_core::model::ModelSolid;
     use bezsolid_core::tree::{ModelTree, Tree, TreeMeshError};
@@ -473,6 +474,87 @@ pub mod headless {
         }
     }
 
+    /// What the solid of a model file or link measures, as JSON, on what the exports write: a 3D
+    /// model's (or a free-form model's result's) closed mesh at `resolution` cells along the
+    /// longest side (the mesh export's),
+    /// `{"dimension": 3, "resolution", "triangles", "volume", "area", "bbox": [x0, y0, z0, x1,
+    /// y1, z1]}`; a 2D model's zero contour at [`super::SVG_RESOLUTION`] cells per side (the SVG
+    /// export's), `{"dimension": 2, "resolution", "area", "perimeter", "open"}` (`open`: pieces
+    /// that end on the sampled box and bound nothing, left out). Exact for the mesh or the
+    /// polylines (the divergence theorem, the shoelace sum), so as near the solid as the
+    /// resolution; `progress(done, total)` on the way.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input, a resolution outside 2 to 512, a model that may be
+    /// unbounded, or nothing to measure (an empty mesh).
+    pub fn measure_in_steps(
+        text: &str,
+        resolution: usize,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<Made<String>, Error> {
+        use bezsolid_core::contour::Measure;
+        let (svg_res, svg_acc) = (super::SVG_RESOLUTION, super::SVG_ACCURACY);
+        let plane = |lines: &[bezsolid_core::contour::Polyline], approximate| {
+            let m = Measure::of(lines);
+            let json = serde_json::json!({
+                "dimension": 2,
+                "resolution": svg_res,
+                "area": m.area,
+                "perimeter": m.perimeter,
+                "open": m.open,
+            });
+            Made {
+                data: json.to_string(),
+                approximate,
+            }
+        };
+        let space = |mesh: &Mesh, approximate| -> Result<Made<String>, Error> {
+            if mesh.triangles.is_empty() {
+                return Err("the solid is empty at this resolution: nothing to measure".into());
+            }
+            let m = mesh.measure();
+            let json = serde_json::json!({
+                "dimension": 3,
+                "resolution": resolution,
+                "triangles": mesh.triangle_count(),
+                "volume": m.volume,
+                "area": m.area,
+                "bbox": [m.min.x, m.min.y, m.min.z, m.max.x, m.max.y, m.max.z],
+            });
+            Ok(Made {
+                data: json.to_string(),
+                approximate,
+            })
+        };
+        if crate::freeform::is_free_form(text) {
+            let mesh = crate::freeform::headless::result_mesh(text, resolution, progress)?;
+            return space(&mesh, 0);
+        }
+        if let Some(t) = tree(text)? {
+            return match &t {
+                ModelTree::Plane(p) => {
+                    let lines = p.contour(svg_res, svg_acc, None).map_err(unbounded)?;
+                    Ok(plane(&lines, 0))
+                }
+                ModelTree::Space(_) => space(&tree_mesh(&t, resolution, false, progress)?, 0),
+            };
+        }
+        match read_any(text)? {
+            ModelSolid::Patch(s) => {
+                let lines = solid_contour(&s, svg_res, svg_acc);
+                Ok(plane(&lines, s.exhausted()))
+            }
+            ModelSolid::Volume(_) => {
+                let v = volume(text, resolution)?;
+                let mesh = v
+                    .polygonize_in_steps(resolution, MESH_ACCURACY, progress)
+                    .map_err(Error::from)?;
+                space(&mesh, v.exhausted())
+            }
+        }
+    }
+
     /// The zero contours of a patch model as SVG.
     ///
     /// # Errors
@@ -605,6 +687,92 @@ mod tests {
         assert!(headless::stack(&json, Axis::W, |_, _| {}).is_ok());
         assert!(headless::model("#v1.garbage").is_err());
         assert!(headless::model("{ not json").is_err());
+    }
+
+    /// Measurements on what the exports make: a volume's mesh file measures what the JSON says
+    /// (read back from the STL), near the formula for a ball; a 2D tree's area and perimeter are
+    /// its contour's, near a ring's; a free-form result is measured on its mesh; what cannot be
+    /// measured says why.
+    #[test]
+    fn headless_measurements_are_of_what_the_exports_make() {
+        let ball = r#"{"format": "bezsolid", "version": 1,
+            "solid": {"kind": "sphere", "center": [1, 2, 3], "radius": 0.5}}"#;
+        let m: serde_json::Value = serde_json::from_str(
+            &headless::measure_in_steps(ball, 48, |_, _| {})
+                .unwrap()
+                .data,
+        )
+        .unwrap();
+        let stl = headless::mesh(ball, Format::Stl, 48).unwrap().data;
+        let mesh = Format::Stl.read(&stl).unwrap();
+        assert_eq!(m["dimension"], 3);
+        assert_eq!(m["resolution"], 48);
+        assert_eq!(m["triangles"], mesh.triangle_count());
+        let (volume, area) = (m["volume"].as_f64().unwrap(), m["area"].as_f64().unwrap());
+        // The STL holds f32 coordinates.
+        assert!((volume - mesh.volume()).abs() < 1e-5 * volume, "{volume}");
+        assert!((area - mesh.area()).abs() < 1e-5 * area, "{area}");
+        let pi = std::f64::consts::PI;
+        assert!((volume - pi / 6.0).abs() < 0.01 * pi / 6.0, "{volume}");
+        assert!((area - pi).abs() < 0.01 * pi, "{area}");
+        let bbox: Vec<f64> = m["bbox"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        for (got, want) in bbox.iter().zip([0.5, 1.5, 2.5, 1.5, 2.5, 3.5]) {
+            assert!((got - want).abs() < 0.01, "{bbox:?}");
+        }
+
+        let ring = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "difference", "of": [
+            {"kind": "circle", "center": [0, 0], "radius": 1},
+            {"kind": "circle", "center": [0, 0], "radius": 0.5}]}}"#;
+        let m: serde_json::Value = serde_json::from_str(
+            &headless::measure_in_steps(ring, 48, |_, _| {})
+                .unwrap()
+                .data,
+        )
+        .unwrap();
+        assert_eq!(m["dimension"], 2);
+        assert_eq!(m["resolution"], SVG_RESOLUTION);
+        assert_eq!(m["open"], 0);
+        let (area, perimeter) = (
+            m["area"].as_f64().unwrap(),
+            m["perimeter"].as_f64().unwrap(),
+        );
+        assert!((area - 0.75 * pi).abs() < 1e-3, "{area}");
+        assert!((perimeter - 3.0 * pi).abs() < 1e-3, "{perimeter}");
+        // A patch: the area its SVG contour encloses.
+        let fig9 = model_json(&Editor::new(Solid2::fig9()));
+        let m: serde_json::Value = serde_json::from_str(
+            &headless::measure_in_steps(&fig9, 48, |_, _| {})
+                .unwrap()
+                .data,
+        )
+        .unwrap();
+        let lines = solid_contour(&Solid2::fig9(), SVG_RESOLUTION, SVG_ACCURACY);
+        let enclosed: f64 = lines.iter().map(|l| l.signed_area()).sum();
+        assert_eq!(m["area"].as_f64().unwrap(), enclosed);
+        assert!(enclosed > 0.1);
+
+        let free = crate::freeform::FreeForm::new().model_file();
+        let free = serde_json::to_string(&free).unwrap();
+        let m: serde_json::Value = serde_json::from_str(
+            &headless::measure_in_steps(&free, 24, |_, _| {})
+                .unwrap()
+                .data,
+        )
+        .unwrap();
+        assert_eq!(m["dimension"], 3);
+        assert!(m["volume"].as_f64().unwrap() > 0.0);
+
+        let half = r#"{"format": "bezsolid", "version": 1,
+            "solid": {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0}}"#;
+        let e = headless::measure_in_steps(half, 16, |_, _| {}).unwrap_err();
+        assert!(e.message().contains("unbounded"), "{e}");
+        assert!(headless::measure_in_steps(ball, 1, |_, _| {}).is_err());
+        assert!(headless::measure_in_steps("{ not json", 16, |_, _| {}).is_err());
     }
 
     #[test]

@@ -995,11 +995,24 @@ pub mod headless {
         resolution: usize,
         progress: impl FnMut(usize, usize),
     ) -> Result<Vec<u8>, Error> {
+        Ok(format.write(&result_mesh(text, resolution, progress)?))
+    }
+
+    /// The closed mesh of the result's surface that [`mesh_in_steps`] writes.
+    ///
+    /// # Errors
+    ///
+    /// As [`mesh`].
+    pub fn result_mesh(
+        text: &str,
+        resolution: usize,
+        progress: impl FnMut(usize, usize),
+    ) -> Result<bezsolid_core::mesh::Mesh, Error> {
         let mesh = boolean(text, resolution)?.surface_in_steps(resolution, progress);
         if mesh.triangles.is_empty() {
             return Err("the result is empty: there is no surface to export".into());
         }
-        Ok(format.write(&mesh))
+        Ok(mesh)
     }
 }
 

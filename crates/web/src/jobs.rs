@@ -51,6 +51,15 @@ pub enum Job {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         share: Option<[usize; 2]>,
     },
+    /// What a model's solid measures, JSON ([`crate::document::headless::measure_in_steps`]):
+    /// a 3D model's mesh at `resolution` (the mesh export's), a 2D model's contour (the SVG
+    /// export's), with a progress report on the way.
+    Measure {
+        /// A model file or link.
+        model: String,
+        /// Cells along the longest side of a 3D model's mesh.
+        resolution: usize,
+    },
     /// The SVG of a patch model's contours.
     Svg {
         /// A model file or link.
@@ -202,6 +211,10 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             let m = bezier::stack_share(model, *axis, share_of(*share)?, progress)?;
             counted(Payload::F64(m.data), m.approximate)
         }
+        Job::Measure { model, resolution } => {
+            let m = bezier::measure_in_steps(model, *resolution, progress)?;
+            counted(Payload::Bytes(m.data.into_bytes()), m.approximate)
+        }
         Job::Svg { model } => {
             let m = bezier::svg(model)?;
             counted(Payload::Bytes(m.data.into_bytes()), m.approximate)
@@ -301,6 +314,26 @@ mod tests {
         let mut e = Editor::new(Solid2::fig9());
         e.new_volume(3, 3, 3).unwrap();
         model_json(&e)
+    }
+
+    /// The page's Measure: the JSON of the headless measurement, with progress on the way.
+    #[test]
+    fn a_measure_job_gives_the_measurements_as_json() {
+        let model = volume();
+        let mut steps = 0;
+        let bytes = run_bytes(
+            serde_json::json!({"kind": "measure", "model": model, "resolution": 16})
+                .to_string()
+                .as_bytes(),
+            |_, _| steps += 1,
+        )
+        .unwrap();
+        let (header, payload) = decode(&bytes);
+        assert_eq!(header["payload"], "bytes");
+        assert_eq!(header["approximate"], 0);
+        let want = crate::document::headless::measure_in_steps(&model, 16, |_, _| {}).unwrap();
+        assert_eq!(payload, want.data.as_bytes());
+        assert!(steps > 0);
     }
 
     #[test]

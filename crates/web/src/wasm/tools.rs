@@ -79,6 +79,26 @@ pub fn headless_stack(
     ))
 }
 
+/// What the solid of a model (a model file or link) measures, as JSON: a 3D model's volume, area
+/// and bounding box on its mesh at `resolution` cells along the longest side (`{"dimension": 3,
+/// "resolution", "triangles", "volume", "area", "bbox": [x0, y0, z0, x1, y1, z1]}`), a 2D model's
+/// area and perimeter on its zero contour (`{"dimension": 2, "resolution", "area", "perimeter",
+/// "open"}`); exact for the mesh or contour, so as near the solid as the resolution. No page or
+/// GPU needed.
+///
+/// # Errors
+///
+/// What is wrong with the input, a resolution outside 2 to 512, a model that may be unbounded or
+/// an empty solid.
+#[wasm_bindgen]
+pub fn headless_measure(text: &str, resolution: u32) -> Result<String, JsError> {
+    made(document::headless::measure_in_steps(
+        text,
+        resolution as usize,
+        |_, _| {},
+    ))
+}
+
 /// The zero contours of a patch model (a model file or link) as SVG; no page or GPU needed.
 ///
 /// # Errors
