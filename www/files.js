@@ -5,8 +5,10 @@ import { tools } from './modules.js';
 import { $, say, messageOf, download, capture, setupMenu } from './ui.js';
 
 const MESH_FILE = /\.(obj|stl|ply)$/i;
-const MESH_FORMATS = ['stl', 'obj', 'ply'];
-const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream' };
+const MESH_FORMATS = ['stl', 'obj', 'ply', '3mf', 'glb'];
+const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream', '3mf': 'model/3mf', glb: 'model/gltf-binary' };
+// Written by the tools' module only (the page's module has no zip or glTF writer).
+const CONTAINERS = new Set(['3mf', 'glb']);
 
 /** Sets up links, files and exports on `app` (see main.js); returns what the page asks of them. */
 export function setupFiles(app) {
@@ -167,8 +169,13 @@ export function setupFiles(app) {
     // The exact contour: on a folded net, the inverse map at every sample (seconds).
     svg: () => exportJob('bezsolid-contours.svg', 'image/svg+xml', 'Exporting SVG', { kind: 'svg', model: modeler.patch_json() }, () => modeler.svg()),
     hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
-    ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => exportMesh(
-      `bezsolid.${format}`, 'mesh', format, modeler.model_json(), modeler.resolution(), () => modeler.mesh_file(format))])),
+    ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
+      const model = modeler.model_json();
+      const resolution = modeler.resolution();
+      exportMesh(`bezsolid.${format}`, 'mesh', format, model, resolution, async () => (CONTAINERS.has(format)
+        ? (await tools()).headless_mesh(model, format, resolution)
+        : modeler.mesh_file(format)));
+    }])),
     // The canvas is read in the same task as the frame is drawn, before the browser clears it.
     png: () => {
       modeler.render();

@@ -5,6 +5,10 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
+import { createRequire } from 'node:module';
+
+// The Khronos glTF validator (npm gltf-validator, in the tests' lockfile).
+const validator = createRequire(import.meta.url)('gltf-validator');
 
 const pkg = new URL('../../www/pkg/', import.meta.url);
 const glue = await import(new URL('bezsolid_web.js', pkg));
@@ -80,6 +84,24 @@ test('measurements of a volume, from its link: the volume and area of the STL th
     assert.ok(Math.abs(m.bbox[k] - lo[k]) < 1e-5 && Math.abs(m.bbox[k + 3] - hi[k]) < 1e-5, `${m.bbox}`);
   }
   assert.throws(() => headless_measure(link, 1), /resolution/);
+});
+
+test('GLB and 3MF of a volume: the GLB passes the Khronos glTF validator with no errors, the 3MF is an OPC zip', async () => {
+  const link = headless_link(MODEL);
+  const stl = Buffer.from(headless_mesh(link, 'stl', 24));
+  const triangles = stl.readUInt32LE(80);
+  const glb = new Uint8Array(headless_mesh(link, 'glb', 24));
+  const report = await validator.validateBytes(glb, { uri: 'bezsolid.glb', format: 'glb', maxIssues: 100 });
+  assert.equal(report.issues.numErrors, 0, JSON.stringify(report.issues.messages));
+  assert.equal(report.issues.numWarnings, 0, JSON.stringify(report.issues.messages));
+  assert.equal(report.info.totalTriangleCount, triangles);
+  assert.match(report.info.generator, /^bezsolid /);
+  const threeMf = Buffer.from(headless_mesh(link, '3mf', 24));
+  assert.equal(threeMf.toString('latin1', 0, 4), 'PK\x03\x04');
+  for (const name of ['[Content_Types].xml', '_rels/.rels', '3D/3dmodel.model']) {
+    assert.ok(threeMf.includes(Buffer.from(name)), name);
+  }
+  assert.throws(() => headless_mesh(link, 'gltf', 24), /mesh format/);
 });
 
 test('the surface for the worker and the contour SVG of a patch', () => {

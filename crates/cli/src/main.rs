@@ -1,7 +1,7 @@
 //! `bezsolid`: the command line of bezsolid (DESIGN §5).
 //!
 //! `bezsolid eval` evaluates a model's defining function, `contour` writes the zero contour of a 2D
-//! model as SVG, `mesh` the closed boundary mesh of a 3D model as STL, OBJ or PLY (a model is one
+//! model as SVG, `mesh` the closed boundary mesh of a 3D model as STL, OBJ, PLY, 3MF or GLB (a model is one
 //! patch or volume, or a tree of many solids), and `hf` either
 //! as HyperFun, and `link` prints the share link of a model; `esc` classifies points against
 //! solids bounded by PN triangles over triangle meshes, and their Booleans; `plasm` runs a PLaSM
@@ -47,15 +47,18 @@ commands (DESIGN §5):
                                    Y1,Z1 for one that may be unbounded); --stats prints
                                    `area: A` and `perimeter: P` of the region the contour
                                    bounds on stdout (exact for the contour; -o may be left out)
-  mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
-       [--threads T] [--stats]     closed boundary mesh of a volume solid, a piecewise volume
+  mesh MODEL [--res N] -o OUT.{stl,obj,ply,3mf,glb} [--accuracy A]
+       [--box X0,Y0,Z0,X1,Y1,Z1] [--threads T] [--stats]
+                                   closed boundary mesh of a volume solid, a piecewise volume
                                    or a 3D tree (N cells along the longest side, default 64;
                                    vertices refined to |f| <= A, default 1e-9; a tree that may
                                    be unbounded, such as a half-space, needs --box, and is cut
                                    by it; meshed on T threads, default every core: the same
                                    mesh as on one); --stats prints `volume: V`, `area: A` and
                                    `bbox: X0 Y0 Z0 X1 Y1 Z1` of the mesh on stdout (exact for
-                                   the mesh, by the divergence theorem; -o may be left out)
+                                   the mesh, by the divergence theorem; -o may be left out);
+                                   3MF for slicers in millimetres, Z up; GLB (glTF 2.0) for
+                                   viewers in metres, +Y up
   hf MODEL -o OUT.hf [--height H]  HyperFun export (the explicit Bernstein sum; a piecewise
                                    solid's cells chosen by `if`s; a tree with HyperFun's set
                                    operations, blends and primitives); a 2D model is a prism

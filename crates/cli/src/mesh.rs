@@ -1,4 +1,4 @@
-//! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
+//! `bezsolid mesh MODEL [--res N] -o OUT.{stl,obj,ply,3mf,glb} [--accuracy A] [--box X0,Y0,Z0,X1,Y1,Z1]
 //! [--threads T] [--stats]`: the closed boundary mesh of a volume solid, of a 3D tree of many solids (within
 //! its bounds, or within the box, cut by it), or of the result of a free-form model. A volume
 //! solid or a tree is meshed on `T` threads (default: every core), the same mesh as on one. With
@@ -9,7 +9,8 @@ use anyhow::{Context, Result, bail};
 
 use crate::args::Args;
 use bezsolid_core::esc::draw::MAX_RESOLUTION as ESC_MAX_RESOLUTION;
-use bezsolid_core::mesh::{Format, MAX_RESOLUTION};
+use bezsolid_core::mesh::MAX_RESOLUTION;
+use bezsolid_core::mesh::exchange::ExportFormat;
 use bezsolid_core::model::{ModelSolid, SolidSpec};
 use bezsolid_core::tree::{ModelTree, TreeMeshError};
 
@@ -46,9 +47,9 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         bail!("--threads {threads} is outside 1..={MAX_THREADS}");
     }
     let format = match out {
-        Some(out) => match Format::of_path(out) {
+        Some(out) => match ExportFormat::of_path(out) {
             Some(format) => Some((out, format)),
-            None => bail!("mesh: {out} should end in .stl, .obj or .ply"),
+            None => bail!("mesh: {out} should end in .stl, .obj or .ply, or in .3mf or .glb"),
         },
         None => None,
     };
@@ -91,7 +92,8 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         mesh
     };
     if let Some((out, format)) = format {
-        std::fs::write(out, format.write(&mesh)).with_context(|| format!("cannot write {out}"))?;
+        let bytes = format.write(&mesh, &title(model))?;
+        std::fs::write(out, bytes).with_context(|| format!("cannot write {out}"))?;
         eprintln!(
             "bezsolid: {} triangles, {} vertices written to {out}",
             mesh.triangle_count(),
@@ -102,6 +104,23 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         print_stats(&mesh, res);
     }
     Ok(())
+}
+
+/// The model's name in the files that keep one (3MF, GLB): the preset's, or the model file's name
+/// without its extensions; a link's is "bezsolid".
+fn title(model: &str) -> String {
+    if let Some(preset) = model.strip_prefix("preset:") {
+        return preset.to_string();
+    }
+    if crate::is_link(model) {
+        return "bezsolid".to_string();
+    }
+    let name = std::path::Path::new(model)
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("bezsolid");
+    let stem = name.split('.').next().unwrap_or(name);
+    if stem.is_empty() { name } else { stem }.to_string()
 }
 
 /// `--stats`: the mesh's volume, area and box on stdout, one `name: value` line each; what they

@@ -700,3 +700,74 @@ fn meshes_and_contours_are_measured_on_stdout() {
         stats["area"][0]
     );
 }
+
+/// `mesh -o OUT.3mf` and `-o OUT.glb`: the containers hold the mesh the OBJ holds (its triangle
+/// and vertex counts), the 3MF in millimetres with the preset's name, the GLB in metres with +Y
+/// up (its bounds the OBJ's, turned).
+#[test]
+fn meshes_are_written_as_3mf_and_glb() {
+    let obj = out_path("exchange.obj");
+    let write = |path: &std::path::Path| {
+        let out = bezsolid(&[
+            "mesh",
+            "preset:blob",
+            "--res",
+            "20",
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(path).unwrap()
+    };
+    let mesh = read_obj(&String::from_utf8(write(&obj)).unwrap());
+    let (lo, hi) = mesh.bounds().unwrap();
+
+    let glb = write(&out_path("exchange.glb"));
+    assert_eq!(&glb[..4], b"glTF");
+    let word = |at: usize| u32::from_le_bytes(glb[at..at + 4].try_into().unwrap()) as usize;
+    assert_eq!(word(8), glb.len());
+    let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + word(12)]).unwrap();
+    let primitive = &json["meshes"][0]["primitives"][0];
+    let accessor =
+        |name: &str| &json["accessors"][primitive["attributes"][name].as_u64().unwrap() as usize];
+    let indices = &json["accessors"][primitive["indices"].as_u64().unwrap() as usize];
+    assert_eq!(indices["count"], 3 * mesh.triangle_count());
+    assert_eq!(accessor("POSITION")["count"], mesh.positions.len());
+    let (min, max) = (&accessor("POSITION")["min"], &accessor("POSITION")["max"]);
+    let near = |v: &serde_json::Value, want: f64| (v.as_f64().unwrap() - want).abs() < 1e-6;
+    assert!(
+        near(&min[0], lo.x / 1e3) && near(&max[0], hi.x / 1e3),
+        "{min} {max}"
+    );
+    assert!(
+        near(&min[1], lo.z / 1e3) && near(&max[1], hi.z / 1e3),
+        "{min} {max}"
+    );
+    assert!(
+        near(&min[2], -hi.y / 1e3) && near(&max[2], -lo.y / 1e3),
+        "{min} {max}"
+    );
+
+    let three = write(&out_path("exchange.3mf"));
+    assert_eq!(&three[..4], b"PK\x03\x04");
+    let names = ["[Content_Types].xml", "_rels/.rels", "3D/3dmodel.model"];
+    for name in names {
+        assert!(
+            three.windows(name.len()).any(|w| w == name.as_bytes()),
+            "{name}"
+        );
+    }
+    let bad = bezsolid(&[
+        "mesh",
+        "preset:blob",
+        "-o",
+        out_path("x.step").to_str().unwrap(),
+    ]);
+    assert!(
+        String::from_utf8_lossy(&bad.stderr).contains(".stl, .obj or .ply, or in .3mf or .glb")
+    );
+}

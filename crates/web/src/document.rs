@@ -226,7 +226,8 @@ pub mod headless {
     use super::{Editor, MESH_ACCURACY, model_json, open, read_any, read_file, share_fragment};
     use crate::error::Error;
     use bezsolid_core::contour::solid_contour;
-    use bezsolid_core::mesh::{Format, Mesh, Share};
+    use bezsolid_core::mesh::exchange::ExportFormat;
+    use bezsolid_core::mesh::{Mesh, Share};
     use bezsolid_core::model::ModelSolid;
     use bezsolid_core::tree::{ModelTree, Tree, TreeMeshError};
     use bezsolid_core::{Axis, Solid2};
@@ -294,6 +295,9 @@ pub mod headless {
         }
     }
 
+    /// The name a mesh file gives its model (3MF's title, the GLB's mesh).
+    pub const TITLE: &str = "bezsolid";
+
     /// The largest resolution a headless mesh is made at.
     pub const MAX_RESOLUTION: usize = 512;
 
@@ -357,7 +361,11 @@ pub mod headless {
     /// # Errors
     ///
     /// What is wrong with the input, a patch model, or a resolution outside 2 to 512.
-    pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Made<Vec<u8>>, Error> {
+    pub fn mesh(
+        text: &str,
+        format: ExportFormat,
+        resolution: usize,
+    ) -> Result<Made<Vec<u8>>, Error> {
         mesh_in_steps(text, format, resolution, |_, _| {})
     }
 
@@ -368,13 +376,13 @@ pub mod headless {
     /// As [`mesh`].
     pub fn mesh_in_steps(
         text: &str,
-        format: Format,
+        format: ExportFormat,
         resolution: usize,
         progress: impl FnMut(usize, usize),
     ) -> Result<Made<Vec<u8>>, Error> {
         if let Some(t) = tree(text)? {
             return Ok(Made {
-                data: format.write(&tree_mesh(&t, resolution, false, progress)?),
+                data: format.write(&tree_mesh(&t, resolution, false, progress)?, TITLE)?,
                 approximate: 0,
             });
         }
@@ -383,7 +391,7 @@ pub mod headless {
             .polygonize_in_steps(resolution, MESH_ACCURACY, progress)
             .map_err(Error::from)?;
         Ok(Made {
-            data: format.write(&m),
+            data: format.write(&m, TITLE)?,
             approximate: v.exhausted(),
         })
     }
@@ -607,6 +615,7 @@ mod tests {
     use super::*;
     use bezsolid_core::Axis;
     use bezsolid_core::mesh::Format;
+    use bezsolid_core::mesh::exchange::ExportFormat;
     use glam::DVec2;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
@@ -664,17 +673,21 @@ mod tests {
         assert_eq!(headless::model(&link).unwrap(), json);
         assert_eq!(headless::model(&json).unwrap(), json);
         assert_eq!(headless::link(&json).unwrap(), link);
-        let stl = headless::mesh(&format!("http://x/{link}"), Format::Stl, 20).unwrap();
+        let stl = headless::mesh(&format!("http://x/{link}"), ExportFormat::Stl, 20).unwrap();
         let m = mesh(&e, 20).unwrap();
         assert_eq!(stl.data, Format::Stl.write(&m));
         assert_eq!(stl.approximate, 0, "a regular net is exact");
-        assert!(headless::mesh(&link, Format::Stl, 1).is_err());
-        assert!(headless::mesh(&link, Format::Stl, 100_000).is_err());
+        assert!(headless::mesh(&link, ExportFormat::Stl, 1).is_err());
+        assert!(headless::mesh(&link, ExportFormat::Stl, 100_000).is_err());
         assert!(
-            headless::mesh(&model_json(&Editor::new(Solid2::fig9())), Format::Stl, 20)
-                .unwrap_err()
-                .message()
-                .contains("patch")
+            headless::mesh(
+                &model_json(&Editor::new(Solid2::fig9())),
+                ExportFormat::Stl,
+                20
+            )
+            .unwrap_err()
+            .message()
+            .contains("patch")
         );
         let mut calls = Vec::new();
         let stack =
@@ -703,7 +716,7 @@ mod tests {
                 .data,
         )
         .unwrap();
-        let stl = headless::mesh(ball, Format::Stl, 48).unwrap().data;
+        let stl = headless::mesh(ball, ExportFormat::Stl, 48).unwrap().data;
         let mesh = Format::Stl.read(&stl).unwrap();
         assert_eq!(m["dimension"], 3);
         assert_eq!(m["resolution"], 48);
@@ -786,7 +799,7 @@ mod tests {
         let link = headless::link(tree).unwrap();
         assert_eq!(headless::model(&link).unwrap(), json);
         assert_eq!(headless::link(&json).unwrap(), link);
-        let stl = headless::mesh(&link, Format::Stl, 32).unwrap();
+        let stl = headless::mesh(&link, ExportFormat::Stl, 32).unwrap();
         let mesh = Format::Stl.read(&stl.data).unwrap();
         mesh.check_closed_manifold().unwrap();
         let surface = headless::surface(tree, 32).unwrap().data;
@@ -797,11 +810,11 @@ mod tests {
             {"kind": "rectangle", "min": [0, -0.2], "max": [2, 0.2]}]}}"#;
         assert!(headless::svg(plane).unwrap().data.contains("<svg"));
         assert!(headless::svg(tree).is_err());
-        assert!(headless::mesh(plane, Format::Stl, 32).is_err());
+        assert!(headless::mesh(plane, ExportFormat::Stl, 32).is_err());
         // What cannot be meshed says so.
         let half = r#"{"format": "bezsolid", "version": 1,
             "solid": {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0}}"#;
-        let e = headless::mesh(half, Format::Stl, 16).unwrap_err();
+        let e = headless::mesh(half, ExportFormat::Stl, 16).unwrap_err();
         assert!(e.message().contains("unbounded"), "{e}");
         // The 3D view shows it cut by a box around its bounded parts (a sphere on a half-space):
         // every vertex within the box, some on the half-space's plane.
@@ -820,7 +833,7 @@ mod tests {
         );
         let bad = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
             {"kind": "sphere", "center": [0, 0, 0], "radius": -1}]}}"#;
-        let e = headless::mesh(bad, Format::Stl, 16).unwrap_err();
+        let e = headless::mesh(bad, ExportFormat::Stl, 16).unwrap_err();
         assert!(e.message().contains("solid.of"), "{e}");
     }
 
@@ -887,7 +900,7 @@ mod tests {
 
     #[test]
     fn exports_of_nets_that_fold_everywhere_say_they_are_approximate() {
-        let made = headless::mesh(&shuffled_volume(), Format::Stl, 16).unwrap();
+        let made = headless::mesh(&shuffled_volume(), ExportFormat::Stl, 16).unwrap();
         assert!(made.data.len() >= 84);
         assert!(made.approximate > 0, "{}", made.approximate);
     }

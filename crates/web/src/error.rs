@@ -66,6 +66,7 @@ from_display!(
     MeshError,
     ReadError,
     UnknownFormat,
+    bezsolid_core::mesh::exchange::ExportError,
     EscError,
     bezsolid_core::hyperfun::TreeHfError,
     bezsolid_core::tree::TreeMeshError,

@@ -948,7 +948,7 @@ pub fn is_free_form(text: &str) -> bool {
 pub mod headless {
     use super::read_file;
     use crate::error::Error;
-    use bezsolid_core::mesh::Format;
+    use bezsolid_core::mesh::exchange::ExportFormat;
 
     /// The largest resolution of a headless surface or mesh.
     pub const MAX_RESOLUTION: usize = bezsolid_core::esc::draw::MAX_RESOLUTION;
@@ -979,7 +979,7 @@ pub mod headless {
     /// # Errors
     ///
     /// As [`surface`], or an empty result.
-    pub fn mesh(text: &str, format: Format, resolution: usize) -> Result<Vec<u8>, Error> {
+    pub fn mesh(text: &str, format: ExportFormat, resolution: usize) -> Result<Vec<u8>, Error> {
         mesh_in_steps(text, format, resolution, |_, _| {})
     }
 
@@ -991,11 +991,14 @@ pub mod headless {
     /// As [`mesh`].
     pub fn mesh_in_steps(
         text: &str,
-        format: Format,
+        format: ExportFormat,
         resolution: usize,
         progress: impl FnMut(usize, usize),
     ) -> Result<Vec<u8>, Error> {
-        Ok(format.write(&result_mesh(text, resolution, progress)?))
+        Ok(format.write(
+            &result_mesh(text, resolution, progress)?,
+            crate::document::headless::TITLE,
+        )?)
     }
 
     /// The closed mesh of the result's surface that [`mesh_in_steps`] writes.
@@ -1080,7 +1083,7 @@ pub(crate) fn octahedron(out: &mut Vec<MeshVertex>, c: DVec3, r: f64, color: Rgb
 #[cfg(test)]
 mod tests {
     use super::*;
-    use bezsolid_core::mesh::Format;
+    use bezsolid_core::mesh::exchange::ExportFormat;
     use glam::DVec2;
 
     #[test]
@@ -1146,11 +1149,11 @@ mod tests {
         assert_eq!(a, headless::surface(&link, 16).unwrap());
         assert!(a.len() > 18 * 100);
         // The export is the closed mesh of the same resolution.
-        let stl = headless::mesh(&link, Format::Stl, 16).unwrap();
+        let stl = headless::mesh(&link, ExportFormat::Stl, 16).unwrap();
         let closed = f.boolean().surface(16);
         closed.check_closed_manifold().unwrap();
         assert_eq!(stl.len(), 84 + 50 * closed.triangles.len());
-        assert!(headless::mesh(&link, Format::Stl, 1000).is_err());
+        assert!(headless::mesh(&link, ExportFormat::Stl, 1000).is_err());
         assert!(headless::surface(&link, 1000).is_err());
         assert!(headless::surface("#v1.garbage", 16).is_err());
     }

@@ -9,7 +9,8 @@
 use serde::{Deserialize, Serialize};
 
 use bezsolid_core::Axis;
-use bezsolid_core::mesh::{Format, Share};
+use bezsolid_core::mesh::Share;
+use bezsolid_core::mesh::exchange::ExportFormat;
 
 use crate::error::Error;
 
@@ -33,8 +34,8 @@ pub enum Job {
     Mesh {
         /// A model file or link.
         model: String,
-        /// `stl`, `obj` or `ply`.
-        format: Format,
+        /// `stl`, `obj`, `ply`, `3mf` or `glb`.
+        format: ExportFormat,
         /// Cells along the longest side.
         resolution: usize,
     },
@@ -77,8 +78,8 @@ pub enum Job {
     EscMesh {
         /// A free-form model file or link.
         model: String,
-        /// `stl`, `obj` or `ply`.
-        format: Format,
+        /// `stl`, `obj`, `ply`, `3mf` or `glb`.
+        format: ExportFormat,
         /// Cells along the longest side.
         resolution: usize,
     },
@@ -91,8 +92,8 @@ pub enum Job {
     PlasmMesh {
         /// The script (named `model` as the page sends it).
         model: String,
-        /// `obj`, `stl` or `ply`.
-        format: Format,
+        /// `obj`, `stl`, `ply`, `3mf` or `glb`.
+        format: ExportFormat,
     },
     /// The Bézier net of a script's surface: a patch model file.
     PlasmPatch {
@@ -427,14 +428,14 @@ mod tests {
         let done = job(12, &mut steps).unwrap();
         let (header, stl) = decode(&done);
         assert_eq!(header["payload"], "bytes");
-        let want = crate::freeform::headless::mesh(&model, Format::Stl, 12).unwrap();
+        let want = crate::freeform::headless::mesh(&model, ExportFormat::Stl, 12).unwrap();
         assert_eq!(stl, &want[..]);
         let total = steps.last().unwrap().1;
         assert!(total > 12, "{steps:?}");
         assert_eq!(steps, (1..=total).map(|d| (d, total)).collect::<Vec<_>>());
         for resolution in [1, 161] {
             let got = job(resolution, &mut Vec::new()).unwrap_err().to_string();
-            let want = crate::freeform::headless::mesh(&model, Format::Stl, resolution)
+            let want = crate::freeform::headless::mesh(&model, ExportFormat::Stl, resolution)
                 .unwrap_err()
                 .to_string();
             assert_eq!(got, want);
@@ -545,7 +546,7 @@ mod tests {
             run_bytes(br#"{"kind": "stack", "model": "{}", "axis": 7}"#, |_, _| {}).unwrap_err();
         assert!(err.message().contains("axes are 0 (u)"), "{err}");
         let err = run_bytes(
-            br#"{"kind": "plasm-mesh", "model": "", "format": "3mf"}"#,
+            br#"{"kind": "plasm-mesh", "model": "", "format": "step"}"#,
             |_, _| {},
         )
         .unwrap_err();
@@ -570,7 +571,7 @@ mod tests {
             },
             Job::EscMesh {
                 model: "m".into(),
-                format: Format::Ply,
+                format: ExportFormat::Ply,
                 resolution: 12,
             },
         ];

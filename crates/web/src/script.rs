@@ -2,7 +2,7 @@
 //! expressions give is drawn in the 3D view: surfaces shaded with their triangles' edges, curves
 //! as thin tubes, points as small spheres, one colour per result.
 
-use bezsolid_core::mesh::Format;
+use bezsolid_core::mesh::exchange::ExportFormat;
 use bezsolid_core::model::ModelFile;
 use bezsolid_plasm::mesh::{Geometry, embed};
 use bezsolid_plasm::{Complex, Interp, scripts};
@@ -195,12 +195,12 @@ pub fn draw(complexes: &[&Complex]) -> (Vec<f32>, [usize; 3], Option<String>) {
 }
 
 /// A mesh file of a script's results: `"obj"` (faces, lines and points) or the triangles as
-/// `"stl"` or `"ply"`.
+/// `"stl"`, `"ply"`, `"3mf"` or `"glb"`.
 ///
 /// # Errors
 ///
-/// The script's error, or a script that draws nothing (or no triangles, for STL and PLY).
-pub fn export(script: &str, format: Format) -> Result<Vec<u8>, Error> {
+/// The script's error, or a script that draws nothing (or no triangles, for all but OBJ).
+pub fn export(script: &str, format: ExportFormat) -> Result<Vec<u8>, Error> {
     let mut interp = Interp::new();
     let run = interp.run(script);
     if let Some(e) = run.error {
@@ -210,8 +210,15 @@ pub fn export(script: &str, format: Format) -> Result<Vec<u8>, Error> {
     if complexes.is_empty() {
         return Err("the script draws nothing: no top-level expression gives a complex".into());
     }
-    bezsolid_plasm::mesh::export(complexes, format)
-        .map_err(|_| "the script draws no triangles (only curves or points): export OBJ".into())
+    let no_triangles = || "the script draws no triangles (only curves or points): export OBJ";
+    if let Some(format) = format.plain() {
+        return bezsolid_plasm::mesh::export(complexes, format).map_err(|_| no_triangles().into());
+    }
+    let mesh = bezsolid_plasm::mesh::Geometry::of(complexes).mesh;
+    if mesh.triangles.is_empty() {
+        return Err(no_triangles().into());
+    }
+    Ok(format.write(&mesh, "bezsolid-script")?)
 }
 
 /// Whether a value is a surface made by `MAP` of a map of two parameters into at least three
@@ -539,22 +546,27 @@ mod tests {
     #[test]
     fn exports_parse_back() {
         let src = scripts::example("4.6").expect("4.6").source();
-        let obj = String::from_utf8(export(&src, Format::Obj).expect("obj")).expect("text");
+        let obj = String::from_utf8(export(&src, ExportFormat::Obj).expect("obj")).expect("text");
         assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 392);
-        let stl = export(&src, Format::Stl).expect("stl");
+        let stl = export(&src, ExportFormat::Stl).expect("stl");
         assert_eq!(
             u32::from_le_bytes(stl[80..84].try_into().expect("4 bytes")),
             392
         );
         let arc = scripts::example("3.3").expect("3.3").source();
-        assert!(export(&arc, Format::Stl).is_err_and(|e| e.message().contains("no triangles")));
         assert!(
-            String::from_utf8(export(&arc, Format::Obj).expect("obj"))
+            export(&arc, ExportFormat::Stl).is_err_and(|e| e.message().contains("no triangles"))
+        );
+        assert!(
+            String::from_utf8(export(&arc, ExportFormat::Obj).expect("obj"))
                 .is_ok_and(|t| t.contains("\nl 1 2\n"))
         );
-        assert!(export("1;", Format::Obj).is_err_and(|e| e.message().contains("draws nothing")));
         assert!(
-            export("1 +;", Format::Obj).is_err_and(|e| e.message().starts_with("line 1, column 3"))
+            export("1;", ExportFormat::Obj).is_err_and(|e| e.message().contains("draws nothing"))
+        );
+        assert!(
+            export("1 +;", ExportFormat::Obj)
+                .is_err_and(|e| e.message().starts_with("line 1, column 3"))
         );
     }
 
@@ -773,8 +785,10 @@ mod tests {
         // A mirrored map turns the domain's cells inside out; the file's faces still point out.
         let src =
             "MAP:<S1, S2, K:0 - S3>:(interval:<0,1>:2 * interval:<0,1>:2 * interval:<0,1>:2);";
-        for format in [Format::Stl, Format::Ply, Format::Obj] {
+        for format in [ExportFormat::Stl, ExportFormat::Ply, ExportFormat::Obj] {
             let raw = format
+                .plain()
+                .expect("a plain format")
                 .parse(&export(src, format).expect("a file"))
                 .expect("parses back");
             let mesh = bezsolid_core::mesh::Mesh {

@@ -15,6 +15,7 @@ use glam::DVec3;
 
 pub(crate) mod adaptive;
 mod bezier;
+pub mod exchange;
 mod manifold;
 pub mod obj;
 pub mod ply;

@@ -12,7 +12,7 @@
 
 use bezsolid_core::Axis;
 use bezsolid_core::esc::{Example, Op};
-use bezsolid_core::mesh::Format;
+use bezsolid_core::mesh::exchange::ExportFormat;
 use wasm_bindgen::prelude::*;
 
 use crate::editor::Mode;
@@ -80,10 +80,12 @@ page_names! {
     }
 
     /// A mesh file format.
-    MeshFormat => Format, "mesh format" {
-        Obj = "obj" => Format::Obj,
-        Stl = "stl" => Format::Stl,
-        Ply = "ply" => Format::Ply,
+    MeshFormat => ExportFormat, "mesh format" {
+        Obj = "obj" => ExportFormat::Obj,
+        Stl = "stl" => ExportFormat::Stl,
+        Ply = "ply" => ExportFormat::Ply,
+        ThreeMf = "3mf" => ExportFormat::ThreeMf,
+        Glb = "glb" => ExportFormat::Glb,
     }
 
     /// How the Free-form mode's solids combine: an operation over all of them, A's complement, or

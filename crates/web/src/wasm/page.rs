@@ -26,7 +26,6 @@ use crate::render3d::Renderer3;
 use crate::view2d::View2;
 use crate::view3d::{Handle, View3, Whole};
 use bezsolid_core::Solid2;
-use bezsolid_core::mesh::Format;
 use bezsolid_core::model::ModelFile;
 
 /// The modeler on one canvas: the contour view's state and the GPU that draws it.
@@ -968,11 +967,12 @@ impl Modeler {
             .set_surface(&self.editor, revision as u64, resolution as usize, data)
     }
 
-    /// A mesh file of the volume's surface at the resolution set: `"stl"`, `"obj"` or `"ply"`.
+    /// A mesh file of the volume's surface at the resolution set: `"stl"`, `"obj"` or `"ply"`
+    /// (3MF and GLB are written by the tools' module: `headless_mesh`).
     ///
     /// # Errors
     ///
-    /// For a patch model or another format.
+    /// For a patch model, or a container format (this module has no writer for them).
     pub fn mesh_file(&self, format: MeshFormat) -> Result<Vec<u8>, JsError> {
         if self.parts.is_some() {
             return Ok(document::headless::mesh(
@@ -982,9 +982,9 @@ impl Modeler {
             )?
             .data);
         }
-        let format = Format::try_from(format)?;
+        let format = bezsolid_core::mesh::exchange::ExportFormat::try_from(format)?;
         let mesh = document::mesh(&self.editor, self.view3.resolution())?;
-        Ok(format.write(&mesh))
+        Ok(format.write(&mesh, document::headless::TITLE)?)
     }
 
     /// Triangles of the exported mesh at the resolution set (what `mesh_file` writes).
@@ -994,9 +994,12 @@ impl Modeler {
     /// For a patch model.
     pub fn mesh_triangles(&self) -> Result<usize, JsError> {
         if self.parts.is_some() {
-            let stl =
-                document::headless::mesh(&self.model_json(), Format::Stl, self.view3.resolution())?
-                    .data;
+            let stl = document::headless::mesh(
+                &self.model_json(),
+                bezsolid_core::mesh::exchange::ExportFormat::Stl,
+                self.view3.resolution(),
+            )?
+            .data;
             // A binary STL: 80 bytes of header, a count, 50 bytes a triangle.
             return Ok(stl.len().saturating_sub(84) / 50);
         }
