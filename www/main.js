@@ -360,10 +360,14 @@ async function main() {
     // The first frame is drawn: how long after navigation (the benchmarks read it).
     document.body.dataset.firstFrameMs = performance.now().toFixed(1);
     document.body.dataset.ready = 'true';
-    // Then the workers fetch the tools' module, in the background, ready for the first long job.
+    // Then the workers fetch the tools' module, in the background, ready for the first long job;
+    // and the service worker keeps the page and its modules so that it opens offline next time.
     setTimeout(() => {
       runners.surface?.warm();
       runners.export?.warm();
+      navigator.serviceWorker?.register('./sw.js').catch((err) => {
+        console.warn(`bezsolid: no offline copy (${messageOf(err)})`);
+      });
     }, 0);
   });
 }

@@ -119,6 +119,38 @@ pub(crate) fn write_manifest(dir: &Path, modules: &[(String, String)]) -> Result
     Ok(())
 }
 
+/// `offline.json` in `dir` (the modules' folder, `www/pkg`): every file the page may need, as the
+/// service worker (`www/sw.js`) keeps them for opening with no network, relative to the page:
+/// the page itself (`./`), the files beside it (scripts, styles, the icon and the web app
+/// manifest; not the service worker, nor the pages of tests), the modules' glue and `assets.js`,
+/// and each module under its hashed name.
+pub(crate) fn write_offline_list(dir: &Path, modules: &[(String, String)]) -> Result<()> {
+    let site = dir.parent().context("the modules' folder has a parent")?;
+    let pkg = dir.file_name().and_then(|n| n.to_str()).unwrap_or("pkg");
+    let mut files = vec!["./".to_string()];
+    let mut beside: Vec<String> = std::fs::read_dir(site)?
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|name| {
+            let ext = name.rsplit_once('.').map_or("", |(_, e)| e);
+            matches!(ext, "html" | "js" | "css" | "svg" | "webmanifest") && name != "sw.js"
+        })
+        .collect();
+    beside.sort();
+    files.extend(beside);
+    files.push(format!("{pkg}/assets.js"));
+    for (module, hashed) in modules {
+        files.push(format!("{pkg}/{module}.js"));
+        files.push(format!("{pkg}/{hashed}"));
+    }
+    let list: Vec<String> = files.iter().map(|f| format!("    {f:?}")).collect();
+    let text = format!(
+        "{{\n  \"about\": \"Written by the xtask's web build: the files the service worker keeps for offline use.\",\n  \"files\": [\n{}\n  ]\n}}\n",
+        list.join(",\n")
+    );
+    std::fs::write(dir.join("offline.json"), text)?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -91,6 +91,7 @@ pub(crate) fn web(workspace: &Path, recipe: &Recipe) -> Result<Vec<(String, Size
         built.push((module.name.clone(), sizes));
     }
     crate::assets::write_manifest(&recipe.out_dir, &hashed)?;
+    crate::assets::write_offline_list(&recipe.out_dir, &hashed)?;
     Ok(built)
 }
 

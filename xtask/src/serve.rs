@@ -20,8 +20,8 @@ const MAX_HEAD: u64 = 16 * 1024;
 /// Scripts only from the page's origin, plus compiling WebAssembly (`'wasm-unsafe-eval'`, not
 /// `'unsafe-eval'`); `fetch` of the module is `connect-src`. No inline script or style, no frames.
 pub(crate) const CSP: &str = "default-src 'none'; script-src 'self' 'wasm-unsafe-eval'; \
-     style-src 'self'; img-src 'self'; connect-src 'self'; base-uri 'none'; form-action 'none'; \
-     frame-ancestors 'none'";
+     style-src 'self'; img-src 'self'; connect-src 'self'; manifest-src 'self'; \
+     worker-src 'self'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 
 /// Serves `root` on `listener` until the process ends, one thread per connection.
 pub(crate) fn serve(listener: TcpListener, root: PathBuf) {
@@ -88,6 +88,7 @@ fn content_type(path: &Path) -> &'static str {
         "css" => "text/css; charset=utf-8",
         "wasm" => "application/wasm",
         "json" => "application/json",
+        "webmanifest" => "application/manifest+json",
         "svg" => "image/svg+xml",
         "png" => "image/png",
         "ts" => "text/plain; charset=utf-8",
@@ -171,7 +172,7 @@ impl Wants {
 fn compressible(path: &Path) -> bool {
     matches!(
         path.extension().and_then(|e| e.to_str()),
-        Some("html" | "js" | "mjs" | "css" | "wasm" | "json" | "svg" | "ts")
+        Some("html" | "js" | "mjs" | "css" | "wasm" | "json" | "svg" | "ts" | "webmanifest")
     )
 }
 
