@@ -3,7 +3,7 @@
 
 #![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
 mod common;
-use common::{bezsolid, out_path};
+use common::{bezsolid, out_path, scratch};
 
 use bezsolid_core::mesh::Mesh;
 use glam::DVec3;
@@ -53,14 +53,12 @@ fn every_preset_meshes_to_a_closed_surface_of_its_genus() {
 
 #[test]
 fn threads_write_the_same_file_as_one_thread() {
-    let tree = out_path("threads-tree.bsolid.json");
-    std::fs::write(
-        &tree,
+    let tree = scratch(
+        "threads-tree.bsolid.json",
         r#"{"format":"bezsolid","version":1,"solid":{"kind":"union","of":[
             {"kind":"sphere","center":[0,0,0],"radius":1},
             {"kind":"box","min":[0.5,0.5,0.5],"max":[1.5,1.5,1.5]}]}}"#,
-    )
-    .unwrap();
+    );
     for (name, model) in [("blob", "preset:blob"), ("tree", tree.to_str().unwrap())] {
         let mut files = Vec::new();
         for threads in ["1", "2", "3"] {
@@ -279,16 +277,14 @@ fn mapped_models_mesh_and_contour() {
 /// and is cut by it, a 2D tree draws its contour.
 #[test]
 fn trees_mesh_and_contour() {
-    let tree = out_path("tree3.bsolid.json");
-    std::fs::write(
-        &tree,
+    let tree = scratch(
+        "tree3.bsolid.json",
         r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "blend_union", "a0": 0.3,
             "a1": 1, "a2": 1, "of": [
             {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
             {"kind": "transform", "rotate": [0, 0, 30], "translate": [1, 0, 0],
              "solid": {"kind": "box", "min": [-0.3, -1, -0.3], "max": [0.3, 1, 0.3]}}]}}"#,
-    )
-    .unwrap();
+    );
     let obj = out_path("tree3.obj");
     let run = |args: &[&str]| {
         let out = bezsolid(args);
@@ -340,12 +336,10 @@ fn trees_mesh_and_contour() {
     let mc = 125.0 * inside as f64 / f64::from(n);
     assert!((v - mc).abs() < 0.05 * mc, "mesh {v}, Monte Carlo {mc}");
 
-    let half = out_path("half.bsolid.json");
-    std::fs::write(
-        &half,
+    let half = scratch(
+        "half.bsolid.json",
         r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "halfspace", "normal": [0, 0, 1], "offset": 0.5}}"#,
-    )
-    .unwrap();
+    );
     let out = bezsolid(&["mesh", half.to_str().unwrap(), "-o", obj.to_str().unwrap()]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--box"));
@@ -377,14 +371,12 @@ fn trees_mesh_and_contour() {
         "{text}"
     );
 
-    let plane = out_path("tree2.bsolid.json");
-    std::fs::write(
-        &plane,
+    let plane = scratch(
+        "tree2.bsolid.json",
         r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "difference", "of": [
             {"kind": "circle", "center": [0, 0], "radius": 1},
             {"kind": "circle", "center": [0, 0], "radius": 0.5}]}}"#,
-    )
-    .unwrap();
+    );
     let svg = out_path("tree2.svg");
     run(&[
         "contour",
@@ -582,14 +574,12 @@ fn stats_lines(stdout: &[u8]) -> std::collections::HashMap<String, Vec<f64>> {
 /// formula at a fine resolution and exact for the mesh written beside it.
 #[test]
 fn meshes_and_contours_are_measured_on_stdout() {
-    let tree = out_path("stats-tree.bsolid.json");
-    std::fs::write(
-        &tree,
+    let tree = scratch(
+        "stats-tree.bsolid.json",
         r#"{"format":"bezsolid","version":1,"solid":{"kind":"difference","of":[
             {"kind":"sphere","center":[0,0,0],"radius":1},
             {"kind":"box","min":[0,0,0],"max":[2,2,2]}]}}"#,
-    )
-    .unwrap();
+    );
     let path = out_path("stats-tree.obj");
     let out = bezsolid(&[
         "mesh",
@@ -638,14 +628,12 @@ fn meshes_and_contours_are_measured_on_stdout() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("-o OUT.stl"));
 
-    let plane = out_path("stats-ring.bsolid.json");
-    std::fs::write(
-        &plane,
+    let plane = scratch(
+        "stats-ring.bsolid.json",
         r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "difference", "of": [
             {"kind": "circle", "center": [0, 0], "radius": 1},
             {"kind": "circle", "center": [0, 0], "radius": 0.5}]}}"#,
-    )
-    .unwrap();
+    );
     let out = bezsolid(&[
         "contour",
         plane.to_str().unwrap(),
