@@ -568,6 +568,17 @@ fn stats_lines(stdout: &[u8]) -> std::collections::HashMap<String, Vec<f64>> {
         .collect()
 }
 
+/// Runs `bezsolid` with `args`, which must succeed, and gives its `--stats` lines.
+fn stats_of(args: &[&str]) -> std::collections::HashMap<String, Vec<f64>> {
+    let out = bezsolid(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stats_lines(&out.stdout)
+}
+
 /// `mesh --stats` and `contour --stats` print what the mesh and the contour measure, on stdout,
 /// with or without a file written: a ball of radius 1 minus a box has the ball's volume less the
 /// box's part, a ring of radii 1 and 0.5 its area and both circles' length, each near the
@@ -581,7 +592,7 @@ fn meshes_and_contours_are_measured_on_stdout() {
             {"kind":"box","min":[0,0,0],"max":[2,2,2]}]}}"#,
     );
     let path = out_path("stats-tree.obj");
-    let out = bezsolid(&[
+    let stats = stats_of(&[
         "mesh",
         tree.to_str().unwrap(),
         "--res",
@@ -590,12 +601,6 @@ fn meshes_and_contours_are_measured_on_stdout() {
         "-o",
         path.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats = stats_lines(&out.stdout);
     let mesh = read_obj(&std::fs::read_to_string(&path).unwrap());
     let (volume, area) = (stats["volume"][0], stats["area"][0]);
     // The OBJ's coordinates are rounded: the file's mesh agrees to its digits.
@@ -615,13 +620,7 @@ fn meshes_and_contours_are_measured_on_stdout() {
         assert!((bbox[k] - want).abs() < 0.02, "{bbox:?}");
     }
     // Without -o: only the measurements.
-    let out = bezsolid(&["mesh", "preset:blob", "--res", "24", "--stats"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats = stats_lines(&out.stdout);
+    let stats = stats_of(&["mesh", "preset:blob", "--res", "24", "--stats"]);
     assert!(stats["volume"][0] > 0.0 && stats["area"][0] > 0.0);
     // And without either, the error it always gave.
     let out = bezsolid(&["mesh", "preset:blob"]);
@@ -634,26 +633,20 @@ fn meshes_and_contours_are_measured_on_stdout() {
             {"kind": "circle", "center": [0, 0], "radius": 1},
             {"kind": "circle", "center": [0, 0], "radius": 0.5}]}}"#,
     );
-    let out = bezsolid(&[
+    let stats = stats_of(&[
         "contour",
         plane.to_str().unwrap(),
         "--res",
         "256",
         "--stats",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats = stats_lines(&out.stdout);
     let pi = std::f64::consts::PI;
     let (area, perimeter) = (stats["area"][0], stats["perimeter"][0]);
     assert!((area - pi * 0.75).abs() < 1e-3 * pi, "{area}");
     assert!((perimeter - 3.0 * pi).abs() < 1e-3 * pi, "{perimeter}");
     // A patch solid: its area is the one its SVG's loops enclose.
     let svg = out_path("stats-fig9.svg");
-    let out = bezsolid(&[
+    let stats = stats_of(&[
         "contour",
         "preset:fig9",
         "--res",
@@ -662,12 +655,6 @@ fn meshes_and_contours_are_measured_on_stdout() {
         "-o",
         svg.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats = stats_lines(&out.stdout);
     let loops = svg_loops(&std::fs::read_to_string(&svg).unwrap());
     assert!(!loops.is_empty());
     let shoelace: f64 = loops
