@@ -1,7 +1,7 @@
 // The Bézier mode: the 2D contour view's input, the side panel (the selected point, the model, a
 // volume's slice and surface), the model's controls, and the work that follows a volume (its fine
 // surface and contour stack, made in workers while the view draws a coarse one).
-import { $, fmt, say, messageOf, setupMenu, enableItems } from './ui.js';
+import { $, fmt, say, messageOf, setupMenu, enableItems, forgetStale } from './ui.js';
 import { follower, lazyRunner } from './work.js';
 import { KEYS, storage } from './storage.js';
 import { pointers } from './touch.js';
@@ -380,6 +380,7 @@ export function setupBezier(app) {
 
   // The panel, from one snapshot of the editor, its last frame and its 3D view.
   const update = () => {
+    forgetStale('measure-out', modeler.revision());
     enableItems('#export-menu [data-script]', false);
     const p = app.panel();
     const sel = p.selected;

@@ -210,7 +210,8 @@ export function setupFiles(app) {
     },
   };
   // What the solid measures, on the mesh (or contour) the exports make: in the export worker, in
-  // the work list with a Cancel, said in the status bar until dismissed.
+  // the work list with a Cancel, shown beside the button until the model changes (the modes'
+  // updates clear it: `data-revision` is the model's revision it measured).
   const fixed = (v) => Number(v.toPrecision(6)).toString();
   const describeMeasure = (m) => (m.dimension === 3
     ? `Volume ${fixed(m.volume)}, surface area ${fixed(m.area)}, bounding box `
@@ -224,6 +225,11 @@ export function setupFiles(app) {
     const free = freeform();
     const model = free ? ff.model_json() : modeler.model_json();
     const resolution = free ? ff.resolution() : modeler.resolution();
+    const revision = String(free ? ff.revision() : modeler.revision());
+    const out = $(free ? 'ff-measure-out' : 'measure-out');
+    out.dataset.kind = '';
+    out.textContent = 'Measuring…';
+    delete out.dataset.revision;
     const worker = app.runners.export;
     let text;
     let approximate = 0;
@@ -245,15 +251,18 @@ export function setupFiles(app) {
         text = (await tools()).headless_measure(model, resolution);
       }
     } catch (err) {
+      out.textContent = '';
       if (err.cancelled) say('Measuring was cancelled.');
       else say(`Could not measure the solid: ${messageOf(err)}`, 'error');
       return;
     }
     const m = JSON.parse(text);
     document.body.dataset.measure = text;
-    say(describeMeasure(m) + (approximate
+    out.textContent = describeMeasure(m) + (approximate
       ? ` Approximate where the net folds over itself very many times: ${approximate} ${approximate === 1 ? 'evaluation' : 'evaluations'} ran out of their work budget.`
-      : ''), approximate ? 'warn' : 'result');
+      : '');
+    out.dataset.kind = approximate ? 'warn' : '';
+    out.dataset.revision = revision;
   };
   for (const button of document.querySelectorAll('button.measure')) {
     button.addEventListener('click', () => {

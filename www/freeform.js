@@ -3,7 +3,7 @@
 // 3D view; its panel, its controls, mesh import, dragging a solid in the 3D view, and the result's
 // fine surface made in a worker while the view draws a coarse one.
 import { tools } from './modules.js';
-import { $, say, enableItems } from './ui.js';
+import { $, say, enableItems, forgetStale } from './ui.js';
 import { follower, lazyRunner } from './work.js';
 
 // The solids' colours in the 3D view, in turn (as the Rust side draws them).
@@ -172,6 +172,7 @@ export function setupFreeForm(app) {
 
   // The panel: the solids, the operation and expression, the placement and what the view shows.
   const update = () => {
+    forgetStale('ff-measure-out', ff.revision());
     buildRows();
     const count = ff.operand_count();
     if (slot >= count) slot = count - 1;

@@ -9,9 +9,8 @@ const INFO_MS = 5000;
 let fade = 0;
 
 /**
- * Says `message` in the status bar over the views; `kind` is 'info' (fades after a while),
- * 'result' (looks like info, for something to read at leisure such as measurements), 'warn' or
- * 'error' (these three stay until dismissed or replaced).
+ * Says `message` in the status bar over the views; `kind` is 'info' (fades after a while), 'warn'
+ * or 'error' (stay until dismissed or replaced).
  */
 export function say(message, kind = 'info') {
   const bar = $('status-bar');
@@ -151,4 +150,14 @@ export function setupMenu(button, onPick) {
     if (isOpen() && !menu.contains(e.target) && !button.contains(e.target)) close(false);
   });
   return { close };
+}
+
+/** Clears the measurement shown in output `id` once the model is no longer the `revision` it was
+ * made of. */
+export function forgetStale(id, revision) {
+  const out = $(id);
+  if (out?.dataset.revision !== undefined && out.dataset.revision !== String(revision)) {
+    out.textContent = '';
+    delete out.dataset.revision;
+  }
 }

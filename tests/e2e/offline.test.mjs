@@ -47,7 +47,7 @@ test('after one visit the page opens, draws and works with no network', async ()
   await settle(page);
   // Work in the workers (their module from the kept copy): a measurement.
   await page.click('#measure');
-  await page.waitForFunction(() => /^Volume [\d.]+/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  await page.waitForFunction(() => /^Volume [\d.]+/.test(document.getElementById('measure-out').textContent), null, { timeout: 60_000 });
   writeFileSync(join(ARTIFACTS, 'offline.png'), await page.screenshot());
   await page.context().setOffline(false);
   // The one failed load is the probe's above; every other file came from the kept copy.

@@ -337,12 +337,12 @@ test('with several workers a surface and a contour stack are made in shares, and
 });
 
 
-test('Measure: the volume, area and box of the mesh the export makes, by keyboard, said until dismissed; a patch its area and perimeter; a free-form result', async () => {
+test('Measure: the volume, area and box of the mesh the export makes, by keyboard, shown beside the button until the model changes; a patch its area and perimeter; a free-form result', async () => {
   const { page, errors } = await open(browser);
   // A patch: the area and perimeter of the contour the SVG export draws.
   await page.focus('#measure');
   await page.keyboard.press('Enter');
-  await page.waitForFunction(() => /^Area [\d.]+, perimeter [\d.]+: measured on the contour at 256 cells per side/.test(document.getElementById('status').textContent));
+  await page.waitForFunction(() => /^Area [\d.]+, perimeter [\d.]+: measured on the contour at 256 cells per side/.test(document.getElementById('measure-out').textContent));
   const patch = JSON.parse(await page.evaluate(() => document.body.dataset.measure));
   assert.equal(patch.dimension, 2);
   assert.ok(patch.area > 0 && patch.perimeter > 0);
@@ -350,8 +350,10 @@ test('Measure: the volume, area and box of the mesh the export makes, by keyboar
   // A volume: what the STL export writes, read back here, is what was measured.
   await pick(page, 'preset', 'blob');
   await page.waitForSelector('body[data-kind="volume"]');
+  // A new model: the patch's measurement is gone.
+  assert.equal(await page.textContent('#measure-out'), '');
   await page.click('#measure');
-  await page.waitForFunction(() => /^Volume [\d.]+, surface area [\d.]+, bounding box/.test(document.getElementById('status').textContent));
+  await page.waitForFunction(() => /^Volume [\d.]+, surface area [\d.]+, bounding box/.test(document.getElementById('measure-out').textContent));
   const m = JSON.parse(await page.evaluate(() => document.body.dataset.measure));
   const [download] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', 'stl')]);
   const stl = readFileSync(await download.path());
@@ -363,11 +365,9 @@ test('Measure: the volume, area and box of the mesh the export makes, by keyboar
     volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
   }
   assert.ok(Math.abs(m.volume - volume) < 1e-4 * m.volume, `${m.volume} against ${volume}`);
-  // Measure again and the result stays (it does not fade as a passing note does).
-  await page.click('#measure');
-  await page.waitForFunction(() => /^Volume/.test(document.getElementById('status').textContent));
+  // The result stays while the model does (it does not fade as a passing note does).
   await page.waitForTimeout(5500);
-  assert.equal(await page.evaluate(() => document.getElementById('status-bar').hidden), false);
+  assert.match(await page.textContent('#measure-out'), /^Volume/);
   writeFileSync(join(ARTIFACTS, 'measure.png'), await page.screenshot());
   // A free-form result: its mesh measured with its own button.
   await page.check('input[name="workspace"][value="freeform"]');
@@ -375,7 +375,7 @@ test('Measure: the volume, area and box of the mesh the export makes, by keyboar
   const before = await page.evaluate(() => document.body.dataset.measure);
   await page.click('#ff-measure');
   await page.waitForFunction((old) => document.body.dataset.measure !== old
-    && /^Volume [\d.]+/.test(document.getElementById('status').textContent), before);
+    && /^Volume [\d.]+/.test(document.getElementById('ff-measure-out').textContent), before);
   const free = JSON.parse(await page.evaluate(() => document.body.dataset.measure));
   assert.ok(free.dimension === 3 && free.volume > 0 && free.triangles > 0);
   assert.deepEqual(errors, []);
