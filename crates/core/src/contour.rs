@@ -197,13 +197,7 @@ pub fn unclipped_piecewise_contour(
     let n = cells.map(|c| resolution.max(1) * c);
     let grid = Grid2::new(DVec2::splat(-m), DVec2::splat(1.0 + m), n[0] + 1, n[1] + 1);
     let xi = |p: DVec2| solid.eval([p.x, p.y]).z;
-    let (xs, ys) = (grid.xs(), grid.ys());
-    let values: Vec<f64> = ys
-        .iter()
-        .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
-        .map(xi)
-        .collect();
-    mapped_forward(contour(&grid, &values, xi, accuracy), |p| {
+    mapped_forward(contour_grid(&grid, xi, accuracy), |p| {
         solid.point([p.x, p.y])
     })
 }

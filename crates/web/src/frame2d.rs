@@ -694,12 +694,11 @@ fn forward_field(
         }
     }
     triangles.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let pen = Pen {
+    let mut pen = Pen {
         out: Vec::with_capacity(triangles.len() * 3),
         size: view.size(),
         dpr: view.dpr(),
     };
-    let mut pen = pen;
     for (_, k, tri) in &triangles {
         let sheet = &sheets[*k];
         for &i in tri {

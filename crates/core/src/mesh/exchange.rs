@@ -92,9 +92,9 @@ impl ExportFormat {
     /// make (a mesh past the format's size limits).
     pub fn write(self, mesh: &Mesh, title: &str) -> Result<Vec<u8>, ExportError> {
         match self {
-            Self::Stl | Self::Obj | Self::Ply => {
-                Ok(self.plain().map_or_else(Vec::new, |f| f.write(mesh)))
-            }
+            Self::Stl => Ok(Format::Stl.write(mesh)),
+            Self::Obj => Ok(Format::Obj.write(mesh)),
+            Self::Ply => Ok(Format::Ply.write(mesh)),
             #[cfg(feature = "exchange")]
             Self::ThreeMf => containers::write_3mf(mesh, title),
             #[cfg(feature = "exchange")]
