@@ -394,6 +394,22 @@ fn trees_mesh_and_contour() {
     assert!(loops >= 2, "two loops: {text}");
 }
 
+/// The signed area the closed `loops` enclose (the shoelace sum over each).
+fn enclosed_area(loops: &[Vec<[f64; 2]>]) -> f64 {
+    loops
+        .iter()
+        .map(|l| {
+            (0..l.len())
+                .map(|k| {
+                    let (a, b) = (l[k], l[(k + 1) % l.len()]);
+                    a[0] * b[1] - a[1] * b[0]
+                })
+                .sum::<f64>()
+                / 2.0
+        })
+        .sum()
+}
+
 /// The closed loops of a contours SVG, parsed back: `<path d="Mx,y Lx,y …Z">`.
 fn svg_loops(text: &str) -> Vec<Vec<[f64; 2]>> {
     text.split("d=\"")
@@ -437,18 +453,7 @@ fn sections_of_volumes_have_the_area_of_the_cut() {
     );
     let loops = svg_loops(&std::fs::read_to_string(&svg).unwrap());
     assert_eq!(loops.len(), 1);
-    let area: f64 = loops
-        .iter()
-        .map(|l| {
-            (0..l.len())
-                .map(|k| {
-                    let (a, b) = (l[k], l[(k + 1) % l.len()]);
-                    a[0] * b[1] - b[0] * a[1]
-                })
-                .sum::<f64>()
-                * 0.5
-        })
-        .sum();
+    let area = enclosed_area(&loops);
     // The blob: degree (2, 2, 2) over [−1, 1]³, ξ = 1 at the centre, −1 at the corners, 0.25
     // elsewhere; f = S_ξ & F_b(t_u) & F_b(t_v) & F_b(t_w).
     let b = |i: usize, t: f64| [(1.0 - t) * (1.0 - t), 2.0 * t * (1.0 - t), t * t][i];
@@ -657,18 +662,7 @@ fn meshes_and_contours_are_measured_on_stdout() {
     ]);
     let loops = svg_loops(&std::fs::read_to_string(&svg).unwrap());
     assert!(!loops.is_empty());
-    let shoelace: f64 = loops
-        .iter()
-        .map(|l| {
-            (0..l.len())
-                .map(|k| {
-                    let (a, b) = (l[k], l[(k + 1) % l.len()]);
-                    a[0] * b[1] - a[1] * b[0]
-                })
-                .sum::<f64>()
-                / 2.0
-        })
-        .sum();
+    let shoelace = enclosed_area(&loops);
     assert!(
         (stats["area"][0] - shoelace.abs()).abs() < 1e-3 * shoelace.abs(),
         "{} {shoelace}",
