@@ -135,6 +135,8 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
             "the tools' and the page's modules headless in node (tests/node)",
             Box::new(move || {
                 setup::node()?;
+                // The node tests use npm packages too (the glTF validator), from the committed lockfile.
+                setup::npm_ci(&ws.join("tests"))?;
                 run(Command::new("node")
                     .args(["--test", "--test-concurrency=1", "node/"])
                     .current_dir(ws.join("tests")))
