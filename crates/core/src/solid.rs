@@ -536,6 +536,16 @@ where
         axes: [&[f64]; D],
         mut progress: impl FnMut(usize, usize),
     ) -> Vec<f64> {
+        self.f_grid_reporting(axes, &mut progress)
+    }
+
+    /// [`Self::f_grid_in_steps`] compiled once, here, whatever the caller's `progress` (the
+    /// inverse map's work is not made again, unoptimised, in a caller's crate).
+    fn f_grid_reporting(
+        &self,
+        axes: [&[f64]; D],
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Vec<f64> {
         let count = axes.iter().map(|a| a.len()).product();
         let lens = axes.map(<[f64]>::len);
         if self.map.is_some() {

@@ -147,6 +147,11 @@ impl Boolean {
     /// the end (`done == total`).
     #[must_use]
     pub fn surface_in_steps(&self, res: usize, mut progress: impl FnMut(usize, usize)) -> Mesh {
+        self.surface_reporting(res, &mut progress)
+    }
+
+    /// [`Boolean::surface_in_steps`] compiled once, here, whatever the caller's `progress`.
+    fn surface_reporting(&self, res: usize, progress: &mut dyn FnMut(usize, usize)) -> Mesh {
         let res = res.clamp(2, MAX_RESOLUTION);
         let (lo, hi) = self.bounds();
         if !(lo.is_finite() && hi.is_finite()) || lo == hi {

@@ -113,13 +113,23 @@ impl Solid3 {
         accuracy: f64,
         mut progress: impl FnMut(usize, usize),
     ) -> Result<Mesh, MeshError> {
+        self.polygonize_reporting(resolution, accuracy, &mut progress)
+    }
+
+    /// [`Self::polygonize_in_steps`] compiled once, here, whatever the caller's `progress`.
+    fn polygonize_reporting(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Mesh, MeshError> {
         if !(accuracy.is_finite() && accuracy > 0.0) {
             return Err(MeshError::Accuracy);
         }
         let mesh = match self.inverse() {
             None => self.polygonize_regular(resolution, accuracy),
             Some(map) if map.injective() => self.polygonize_forward(resolution, accuracy),
-            Some(_) => self.polygonize_sampled(resolution, &mut progress),
+            Some(_) => self.polygonize_sampled(resolution, progress),
         }?;
         progress(1, 1);
         Ok(mesh)
@@ -235,7 +245,7 @@ impl Solid3 {
     fn polygonize_sampled(
         &self,
         resolution: usize,
-        progress: &mut impl FnMut(usize, usize),
+        progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Mesh, MeshError> {
         let grid = self.mesh_grid(resolution)?;
         let axis = |a: usize| -> Vec<f64> {

@@ -262,6 +262,11 @@ pub struct MeshStats {
 /// Boxes of at most this many cells per side are sampled whole rather than bounded again.
 const LEAF_CELLS: usize = 4;
 
+/// The rounds a parallel mesh is made in, each reporting its progress: more rounds report more
+/// often, and wait more often for the slowest task of a round.
+#[cfg(feature = "parallel")]
+const PARALLEL_ROUNDS: usize = 8;
+
 impl Tree<3> {
     /// The closed, outward-oriented triangle mesh of the solid's boundary at `resolution` cells
     /// along the longest side of its bounds (or of `region`, a box `[lo, hi]` to mesh within, cut
@@ -292,7 +297,9 @@ impl Tree<3> {
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
     ) -> Result<(Mesh, MeshStats), TreeMeshError> {
-        self.polygonize_in_steps(resolution, accuracy, region, |_, _| {})
+        let (pieces, stats) =
+            self.pieces_in_steps(resolution, accuracy, region, Share::WHOLE, None)?;
+        Ok((weld(pieces), stats))
     }
 
     /// [`Tree::polygonize_with_stats`], calling `progress(done, total)` as the grid's cells are
@@ -307,10 +314,15 @@ impl Tree<3> {
         resolution: usize,
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
-        progress: impl FnMut(usize, usize),
+        mut progress: impl FnMut(usize, usize),
     ) -> Result<(Mesh, MeshStats), TreeMeshError> {
-        let (pieces, stats) =
-            self.pieces_in_steps(resolution, accuracy, region, Share::WHOLE, progress)?;
+        let (pieces, stats) = self.pieces_in_steps(
+            resolution,
+            accuracy,
+            region,
+            Share::WHOLE,
+            Some(&mut progress),
+        )?;
         Ok((weld(pieces), stats))
     }
 
@@ -328,21 +340,30 @@ impl Tree<3> {
         region: Option<([f64; 3], [f64; 3])>,
         share: Share,
     ) -> Result<Piece, TreeMeshError> {
-        let (pieces, _) = self.pieces_in_steps(resolution, accuracy, region, share, |_, _| {})?;
+        let (pieces, _) = self.pieces_in_steps(resolution, accuracy, region, share, None)?;
         let (mesh, keys) = weld_keyed(pieces);
         Ok(Piece { mesh, keys })
     }
 
     /// The blocks of `share` of the grid, meshed in pieces of consecutive blocks to be welded in
-    /// order; `progress` as [`Tree::polygonize_in_steps`] says (over this share's cells).
+    /// order; `progress` as [`Tree::polygonize_in_steps`] says (over this share's cells). Not
+    /// generic in `progress`, so that it is compiled once, here, whatever the caller's; without
+    /// it, a parallel mesh is made in one round.
     fn pieces_in_steps(
         &self,
         resolution: usize,
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
         share: Share,
-        mut progress: impl FnMut(usize, usize),
+        mut progress: Option<&mut dyn FnMut(usize, usize)>,
     ) -> Result<(Vec<Keyed>, MeshStats), TreeMeshError> {
+        #[cfg(feature = "parallel")]
+        let reporting = progress.is_some();
+        let mut progress = |done, total| {
+            if let Some(report) = progress.as_mut() {
+                report(done, total);
+            }
+        };
         let Some(Region { lo, hi, clip }) =
             self::region(self.bounds(), region, resolution, accuracy)?
         else {
@@ -456,33 +477,34 @@ impl Tree<3> {
             };
             polygonize_blocks(&grid, part, sample, &mut roots, &marcher)
         };
+        // In rounds, each reported with the cells done so far: fiftieths on one thread; with the
+        // `parallel` feature, rounds of four tasks a thread, one task a piece.
         #[cfg(feature = "parallel")]
-        let pieces = {
-            use rayon::prelude::*;
-            let chunk = blocks
-                .len()
-                .div_ceil(4 * rayon::current_num_threads())
-                .max(1);
-            blocks.par_chunks(chunk).map(piece).collect()
-        };
+        let (rounds, tasks) = (
+            if reporting { PARALLEL_ROUNDS } else { 1 },
+            4 * rayon::current_num_threads(),
+        );
         #[cfg(not(feature = "parallel"))]
-        let pieces = {
-            // In fiftieths, with the cells done so far.
-            let chunk = blocks.len().div_ceil(50).max(1);
-            let mut done = stats.skipped;
-            let mut pieces = Vec::new();
-            for part in blocks.chunks(chunk) {
-                pieces.push(piece(part));
-                done += part
-                    .iter()
-                    .map(|b| b.size.iter().product::<usize>())
-                    .sum::<usize>();
-                if done < total {
-                    progress(done, total);
-                }
+        let (rounds, tasks) = (50, 1);
+        let chunk = blocks.len().div_ceil(rounds * tasks).max(1);
+        let mut done = stats.skipped;
+        let mut pieces = Vec::new();
+        for round in blocks.chunks(chunk * tasks) {
+            #[cfg(feature = "parallel")]
+            {
+                use rayon::prelude::*;
+                pieces.par_extend(round.par_chunks(chunk).map(piece));
             }
-            pieces
-        };
+            #[cfg(not(feature = "parallel"))]
+            pieces.push(piece(round));
+            done += round
+                .iter()
+                .map(|b| b.size.iter().product::<usize>())
+                .sum::<usize>();
+            if done < total {
+                progress(done, total);
+            }
+        }
         progress(total, total);
         Ok((pieces, stats))
     }
