@@ -1,126 +1,144 @@
-//! The arguments every command takes: one MODEL and `--name value` options (`-o` is `--output`).
-
-use std::str::FromStr;
+//! What the commands share in their arguments: the parser (clap, with the settings every command
+//! keeps), the words of its refusals (the same as the command line has always said them), the
+//! MODEL and required options, and the box option.
 
 use anyhow::{Context, Result, bail};
+use clap::error::{ContextKind, ContextValue, ErrorKind};
 
-/// A command's parsed arguments.
-pub(crate) struct Args<'a> {
-    cmd: &'static str,
-    model: Option<&'a str>,
-    values: Vec<(&'static str, &'a str)>,
-    flags: Vec<&'static str>,
+/// `cmd` with the settings the command line has always had, on it and on every subcommand: an
+/// option given twice takes its last value, and an option's value may begin with `-`
+/// (`--box -1,-1,-1,1,1,1`, `--height -1` refused by the command with its reason).
+pub(crate) fn settle(cmd: clap::Command) -> clap::Command {
+    cmd.args_override_self(true)
+        .mut_args(|arg| {
+            let takes_value = arg.get_action().takes_values();
+            if takes_value && !arg.is_positional() {
+                arg.allow_hyphen_values(true)
+            } else {
+                arg
+            }
+        })
+        .mut_subcommands(settle)
 }
 
-impl<'a> Args<'a> {
-    /// Parses `args` for command `cmd`, which takes the options named in `options` (each with a
-    /// value). Unknown options and a second positional argument are errors.
-    pub(crate) fn parse(
-        cmd: &'static str,
-        args: &'a [String],
-        options: &[&'static str],
-    ) -> Result<Self> {
-        Self::parse_with_flags(cmd, args, options, &[])
-    }
+/// A refusal of the parser: what to print after `bezsolid: ` on stderr, and the exit code.
+#[derive(Debug, PartialEq, Eq)]
+pub(crate) struct Refusal {
+    pub(crate) message: String,
+    pub(crate) code: u8,
+}
 
-    /// [`Args::parse`] for a command that also takes the options named in `flags`, which take
-    /// no value ([`Args::flag`]).
-    pub(crate) fn parse_with_flags(
-        cmd: &'static str,
-        args: &'a [String],
-        options: &[&'static str],
-        flags: &[&'static str],
-    ) -> Result<Self> {
-        let mut parsed = Self {
-            cmd,
-            model: None,
-            values: Vec::new(),
-            flags: Vec::new(),
-        };
-        let mut it = args.iter();
-        while let Some(a) = it.next() {
-            let name = if a == "-o" { "--output" } else { a.as_str() };
-            if let Some(&flag) = flags.iter().find(|&&f| f == name) {
-                parsed.flags.push(flag);
-            } else if let Some(&option) = options.iter().find(|&&o| o == name) {
-                let value = it.next().with_context(|| format!("{a} needs a value"))?;
-                parsed.values.push((option, value));
-            } else if a.starts_with('-') && a.len() > 1 {
-                bail!("{cmd}: unknown option {a}");
-            } else if parsed.model.is_none() {
-                parsed.model = Some(a);
-            } else {
-                bail!("{cmd}: unexpected argument {a}");
-            }
+/// The words of clap's refusal `e` of the arguments `raw` (after the program's name): an unknown
+/// option, a stray argument, an option without its value or with a value that is not a number say
+/// what they always said, with exit code 1; an unknown command says so with the usage, code 2.
+/// Anything else is clap's own first sentence, code 1.
+pub(crate) fn refusal(e: &clap::Error, raw: &[String], usage: &str) -> Refusal {
+    let cmd = command_path(raw);
+    let context = |kind| match e.get(kind) {
+        Some(ContextValue::String(s)) => Some(s.as_str()),
+        _ => None,
+    };
+    // "--res <N>" names the option `--res`.
+    let option = context(ContextKind::InvalidArg)
+        .map(|a| a.split([' ', '=']).next().unwrap_or(a))
+        .unwrap_or_default();
+    let message = match e.kind() {
+        ErrorKind::InvalidSubcommand if cmd == "esc" => format!(
+            "esc: unknown command `{}`; usage: {}",
+            context(ContextKind::InvalidSubcommand).unwrap_or_default(),
+            crate::esc::USAGE
+        ),
+        ErrorKind::InvalidSubcommand => {
+            return Refusal {
+                message: format!(
+                    "unknown command `{}`\n\n{usage}",
+                    context(ContextKind::InvalidSubcommand).unwrap_or_default()
+                ),
+                code: 2,
+            };
         }
-        Ok(parsed)
-    }
-
-    /// The MODEL argument; `usage` is shown when it is missing.
-    pub(crate) fn model(&self, usage: &str) -> Result<&'a str> {
-        self.model
-            .with_context(|| format!("{}: which model? usage: {usage}", self.cmd))
-    }
-
-    /// Whether the flag `name` was given.
-    pub(crate) fn flag(&self, name: &str) -> bool {
-        self.flags.contains(&name)
-    }
-
-    /// The value of option `name` (the last one given), if any.
-    pub(crate) fn value(&self, name: &str) -> Option<&'a str> {
-        self.values
-            .iter()
-            .rev()
-            .find(|(n, _)| *n == name)
-            .map(|&(_, v)| v)
-    }
-
-    /// The value of option `name`, which must be given; `what` says what it is for.
-    pub(crate) fn required(&self, name: &str, what: &str) -> Result<&'a str> {
-        self.value(name)
-            .with_context(|| format!("{}: {what} is required", self.cmd))
-    }
-
-    /// Option `name` parsed as a number, `default` when absent.
-    pub(crate) fn number<T: FromStr>(&self, name: &str, default: T) -> Result<T> {
-        match self.value(name) {
-            None => Ok(default),
-            Some(v) => v
-                .parse()
-                .ok()
-                .with_context(|| format!("{name} {v} is not a valid number here")),
+        ErrorKind::UnknownArgument if option.starts_with('-') && option.len() > 1 => {
+            format!("{cmd}: unknown option {option}")
         }
-    }
+        ErrorKind::UnknownArgument => format!("{cmd}: unexpected argument {option}"),
+        ErrorKind::InvalidValue if context(ContextKind::InvalidValue).is_none_or(str::is_empty) => {
+            // Said as it was typed: `-o needs a value`.
+            let typed = raw
+                .last()
+                .filter(|a| a.starts_with('-'))
+                .map_or(option, String::as_str);
+            format!("{typed} needs a value")
+        }
+        ErrorKind::ValueValidation => format!(
+            "{option} {} is not a valid number here",
+            context(ContextKind::InvalidValue).unwrap_or_default()
+        ),
+        _ => clap_sentence(e),
+    };
+    Refusal { message, code: 1 }
+}
 
-    /// The box of option `name`, `x0,y0[,z0],x1,y1[,z1]` (`D` coordinates per corner), if given.
-    pub(crate) fn bounds<const D: usize>(
-        &self,
-        name: &str,
-    ) -> Result<Option<([f64; D], [f64; D])>> {
-        let Some(text) = self.value(name) else {
-            return Ok(None);
-        };
-        let usage = || {
-            let corner = ["x", "y", "z"][..D].join(",");
-            format!(
-                "{name} takes {} numbers: {corner} of the low corner, then of the high",
-                2 * D
-            )
-        };
-        let numbers = text
-            .split(',')
-            .map(|v| v.trim().parse::<f64>())
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|_| anyhow::anyhow!("{}: {text:?}", usage()))?;
-        if numbers.len() != 2 * D {
-            bail!("{}: {text:?}", usage());
+/// The command the arguments name, as messages name it: `mesh`, or `esc classify`.
+fn command_path(raw: &[String]) -> String {
+    match raw {
+        [esc, sub, ..] if esc == "esc" && ["classify", "bool", "expr"].contains(&sub.as_str()) => {
+            format!("esc {sub}")
         }
-        let lo = core::array::from_fn(|i| numbers[i]);
-        let hi = core::array::from_fn(|i| numbers[D + i]);
-        if (0..D).any(|i| !(lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i])) {
-            bail!("{name}: every coordinate must be finite, the low corner's below the high one's");
-        }
-        Ok(Some((lo, hi)))
+        [cmd, ..] => cmd.clone(),
+        [] => String::new(),
     }
+}
+
+/// clap's message for `e` on one line, without its `error: ` and its usage.
+fn clap_sentence(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let text = text.trim_start_matches("error: ");
+    let text = text.split("\n\nUsage:").next().unwrap_or(text);
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+        .collect();
+    lines.join("; ")
+}
+
+/// The MODEL argument of command `cmd`; `usage` is shown when it is missing.
+pub(crate) fn model<'a>(cmd: &str, model: Option<&'a str>, usage: &str) -> Result<&'a str> {
+    model.with_context(|| format!("{cmd}: which model? usage: {usage}"))
+}
+
+/// The value of an option of command `cmd` that must be given; `what` says what it is for.
+pub(crate) fn required<T>(cmd: &str, value: Option<T>, what: &str) -> Result<T> {
+    value.with_context(|| format!("{cmd}: {what} is required"))
+}
+
+/// The box `text` of option `name`, `x0,y0[,z0],x1,y1[,z1]` (`D` coordinates per corner), if given.
+pub(crate) fn bounds<const D: usize>(
+    name: &str,
+    text: Option<&str>,
+) -> Result<Option<([f64; D], [f64; D])>> {
+    let Some(text) = text else {
+        return Ok(None);
+    };
+    let usage = || {
+        let corner = ["x", "y", "z"][..D].join(",");
+        format!(
+            "{name} takes {} numbers: {corner} of the low corner, then of the high",
+            2 * D
+        )
+    };
+    let numbers = text
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|_| anyhow::anyhow!("{}: {text:?}", usage()))?;
+    if numbers.len() != 2 * D {
+        bail!("{}: {text:?}", usage());
+    }
+    let lo = core::array::from_fn(|i| numbers[i]);
+    let hi = core::array::from_fn(|i| numbers[D + i]);
+    if (0..D).any(|i| !(lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i])) {
+        bail!("{name}: every coordinate must be finite, the low corner's below the high one's");
+    }
+    Ok(Some((lo, hi)))
 }

@@ -6,7 +6,7 @@
 
 use anyhow::{Context, Result, bail};
 
-use crate::args::Args;
+use crate::args;
 use bezsolid_core::contour::{Measure, Polyline, solid_contour};
 use bezsolid_core::mesh::svg::contours_svg;
 use bezsolid_core::model::ModelSolid;
@@ -16,25 +16,50 @@ use glam::DVec2;
 /// The largest `--res`: 4096² samples is already 16 M evaluations.
 const MAX_RES: usize = 4096;
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse_with_flags(
+/// `bezsolid contour`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct ContourArgs {
+    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    #[arg(value_name = "MODEL")]
+    model: Option<String>,
+    /// The SVG file. May be left out with --stats.
+    #[arg(short = 'o', long = "output", value_name = "OUT.svg")]
+    output: Option<String>,
+    /// Cells per side of the sampled square [default: 256; 2 to 4096].
+    #[arg(long, value_name = "N")]
+    res: Option<usize>,
+    /// Vertices are refined until |f| <= A [default: 1e-9].
+    #[arg(long, value_name = "A")]
+    accuracy: Option<f64>,
+    /// The box a tree is drawn within; needed by one that may be unbounded (a half-plane). With
+    /// --section, X0,Y0,Z0,X1,Y1,Z1.
+    #[arg(long = "box", value_name = "X0,Y0,X1,Y1")]
+    region: Option<String>,
+    /// The true section of a 3D model by the plane x=C, y=C or z=C, in the plane's coordinates.
+    #[arg(long, value_name = "x=C|y=C|z=C")]
+    section: Option<String>,
+    /// Print `area: A` and `perimeter: P` of the region the contour bounds on stdout.
+    #[arg(long)]
+    stats: bool,
+}
+
+pub(crate) fn run(args: &ContourArgs) -> Result<()> {
+    let model = args::model(
         "contour",
-        args,
-        &["--res", "--accuracy", "--output", "--box", "--section"],
-        &["--stats"],
+        args.model.as_deref(),
+        "bezsolid contour MODEL --res N -o OUT.svg",
     )?;
-    let model = args.model("bezsolid contour MODEL --res N -o OUT.svg")?;
-    let res: usize = args.number("--res", 256)?;
+    let res = args.res.unwrap_or(256);
     let out = Output {
-        path: match args.value("--output") {
+        path: match args.output.as_deref() {
             Some(out) => Some(out),
-            None if args.flag("--stats") => None,
-            None => Some(args.required("--output", "-o OUT.svg")?),
+            None if args.stats => None,
+            None => Some(args::required("contour", None::<&str>, "-o OUT.svg")?),
         },
-        stats: args.flag("--stats"),
+        stats: args.stats,
         res,
     };
-    let accuracy: f64 = args.number("--accuracy", 1e-9)?;
+    let accuracy = args.accuracy.unwrap_or(1e-9);
     if !(2..=MAX_RES).contains(&res) {
         bail!("--res {res} is outside 2..={MAX_RES}");
     }
@@ -42,11 +67,11 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         bail!("--accuracy must be a positive number");
     }
     let file = crate::load_file(model)?;
-    if let Some(plane) = args.value("--section") {
-        return section(&args, model, &file, plane, res, accuracy, &out);
+    if let Some(plane) = args.section.as_deref() {
+        return section(args, model, &file, plane, res, accuracy, &out);
     }
     if file.solid.is_tree() {
-        let region = args.bounds::<2>("--box")?;
+        let region = args::bounds::<2>("--box", args.region.as_deref())?;
         let ModelTree::Plane(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
             bail!("contour draws 2D models; for a 3D tree use `bezsolid mesh`");
         };
@@ -125,7 +150,7 @@ impl Output<'_> {
 /// `--section x=C`: the true section of a 3D model (a volume, a piecewise volume or a 3D tree) by
 /// the plane, drawn in the plane's coordinates (`y, z` across x, `x, z` across y, `x, y` across z).
 fn section(
-    args: &Args<'_>,
+    args: &ContourArgs,
     model: &str,
     file: &bezsolid_core::model::ModelFile,
     plane: &str,
@@ -141,7 +166,7 @@ fn section(
     let Some((axis, at)) = parsed else {
         bail!("--section {plane}: a plane is x=C, y=C or z=C with C a finite number");
     };
-    let region = args.bounds::<3>("--box")?;
+    let region = args::bounds::<3>("--box", args.region.as_deref())?;
     let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
         bail!("--section cuts 3D models; this is a 2D model: draw its contour without it");
     };

@@ -15,7 +15,7 @@ use bezsolid_core::mesh::{MAX_FILE_BYTES, read};
 use bezsolid_core::model::MAX_OPERANDS;
 use glam::DVec3;
 
-use crate::args::Args;
+use crate::args;
 use crate::eval::Points;
 use crate::output::Sink;
 
@@ -31,53 +31,139 @@ fn is_complement(word: &str) -> bool {
     matches!(word, "complement" | "not" | "!")
 }
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    match args.first().map(String::as_str) {
-        Some("classify") => classify(&args[1..]),
-        Some("bool") => boolean(&args[1..]),
-        Some("expr") => expression(&args[1..]),
-        Some(other) => bail!("esc: unknown command `{other}`; usage: {USAGE}"),
+/// `bezsolid esc`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct EscArgs {
+    #[command(subcommand)]
+    command: Option<EscCommand>,
+}
+
+#[derive(clap::Subcommand)]
+enum EscCommand {
+    /// Point-in-solid for the solid bounded by the PN triangles of a closed triangle mesh.
+    #[command(
+        after_help = "Example:\n  bezsolid esc classify example:torus --points points.csv -o inside.txt"
+    )]
+    Classify {
+        /// A mesh file (OBJ or STL), example:NAME, or a free-form model file or link.
+        #[arg(value_name = "MESH")]
+        mesh: Option<String>,
+        #[command(flatten)]
+        options: EscOptions,
+    },
+    /// The same for A OP B (OP one of union, intersection, difference), or `complement A`.
+    #[command(
+        after_help = "Examples:\n  bezsolid esc bool a.obj union example:torus --points points.csv\n  \
+                            bezsolid esc bool complement a.obj --points points.csv"
+    )]
+    Bool {
+        /// A OP B, or complement A.
+        #[arg(value_name = "A OP B")]
+        operands: Vec<String>,
+        #[command(flatten)]
+        options: EscOptions,
+    },
+    /// The same for an expression of many solids.
+    #[command(
+        long_about = "The same for an expression of many solids: names, | union, & \
+                      intersection, - difference, ! complement, brackets (! binds tightest, then \
+                      &, then | and - left to right).",
+        after_help = "Example:\n  bezsolid esc expr '!(A|B)-C' A=a.obj B=example:torus C=c.stl --points points.csv"
+    )]
+    Expr {
+        /// The expression.
+        #[arg(value_name = "EXPR")]
+        expr: Option<String>,
+        /// The solids, each NAME=SOLID (a mesh file, example:NAME, or a free-form model file or
+        /// link).
+        #[arg(value_name = "NAME=SOLID")]
+        solids: Vec<String>,
+        #[command(flatten)]
+        options: EscOptions,
+    },
+}
+
+/// The options every `esc` command takes.
+#[derive(clap::Args)]
+struct EscOptions {
+    /// The points, one `x,y,z` a line.
+    #[arg(long, value_name = "FILE.csv")]
+    points: Option<String>,
+    /// Where the values go [default: stdout].
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    output: Option<String>,
+    /// An edge whose faces turn by more than DEG degrees stays sharp; 180 rounds every edge
+    /// [default: 50].
+    #[arg(long, value_name = "DEG")]
+    crease: Option<f64>,
+}
+
+impl EscOptions {
+    /// `--crease DEG`: the angle between neighbouring faces past which an edge stays sharp.
+    fn crease(&self) -> Result<f64> {
+        let degrees = self
+            .crease
+            .unwrap_or(bezsolid_core::esc::DEFAULT_CREASE_ANGLE);
+        if !bezsolid_core::esc::pn::valid_crease_angle(degrees) {
+            bail!(bezsolid_core::esc::EscError::CreaseAngle { degrees });
+        }
+        Ok(degrees)
+    }
+
+    /// The points, which `cmd` needs.
+    fn points(&self, cmd: &str) -> Result<Points> {
+        Points::open(
+            args::required(cmd, self.points.as_deref(), "--points FILE.csv")?,
+            3,
+        )
+    }
+}
+
+pub(crate) fn run(args: &EscArgs) -> Result<()> {
+    match &args.command {
+        Some(EscCommand::Classify { mesh, options }) => classify(mesh.as_deref(), options),
+        Some(EscCommand::Bool { operands, options }) => boolean(operands, options),
+        Some(EscCommand::Expr {
+            expr,
+            solids,
+            options,
+        }) => expression(expr.as_deref(), solids, options),
         None => bail!("esc: which command? usage: {USAGE}"),
     }
 }
 
-fn classify(args: &[String]) -> Result<()> {
-    let args = Args::parse("esc classify", args, &["--points", "--output", "--crease"])?;
-    let mesh = args.model(USAGE)?;
-    let solid = load_solid(mesh, crease(&args)?)?;
-    let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
+fn classify(mesh: Option<&str>, options: &EscOptions) -> Result<()> {
+    let mesh = args::model("esc classify", mesh, USAGE)?;
+    let solid = load_solid(mesh, options.crease()?)?;
+    let points = options.points("esc classify")?;
     let mut stats = Stats::default();
-    write_values(points, args.value("--output"), |q| {
+    write_values(points, options.output.as_deref(), |q| {
         solid.value(q, &mut stats)
     })
 }
 
-fn boolean(args: &[String]) -> Result<()> {
-    // `complement A` or `A complement`, then the options.
-    let unary = match args {
-        [c, a, rest @ ..] if is_complement(c) => Some((a, rest)),
-        [a, c, rest @ ..]
-            if is_complement(c) && rest.first().is_none_or(|r| r.starts_with('-')) =>
-        {
-            Some((a, rest))
+fn boolean(operands: &[String], options: &EscOptions) -> Result<()> {
+    // `complement A` or `A complement`.
+    let unary = match operands {
+        [c, a] | [a, c] if is_complement(c) => Some(a),
+        [c, _, extra, ..] if is_complement(c) => {
+            bail!("esc bool: unexpected argument {extra}: a complement takes one solid")
         }
         _ => None,
     };
-    if let Some((a, rest)) = unary {
-        let args = Args::parse("esc bool", rest, &["--points", "--output", "--crease"])?;
-        if let Ok(extra) = args.model("") {
-            bail!("esc bool: unexpected argument {extra}: a complement takes one solid");
-        }
-        let solid = load_solid(a, crease(&args)?)?;
-        let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
+    if let Some(a) = unary {
+        let solid = load_solid(a, options.crease()?)?;
+        let points = options.points("esc bool")?;
         let mut stats = Stats::default();
-        return write_values(points, args.value("--output"), |q| {
+        return write_values(points, options.output.as_deref(), |q| {
             1 - i32::from(solid.value(q, &mut stats) == 1)
         });
     }
-    // A OP B, then the options.
-    let [a, op, b, rest @ ..] = args else {
-        bail!("esc bool: expected A OP B or complement A; usage: {USAGE}");
+    // A OP B.
+    let (a, op, b) = match operands {
+        [a, op, b] => (a, op, b),
+        [_, _, _, extra, ..] => bail!("esc bool: unexpected argument {extra}"),
+        _ => bail!("esc bool: expected A OP B or complement A; usage: {USAGE}"),
     };
     let op = Op::from_name(op).with_context(|| {
         format!(
@@ -85,34 +171,20 @@ fn boolean(args: &[String]) -> Result<()> {
              (or `complement A`)"
         )
     })?;
-    let args = Args::parse("esc bool", rest, &["--points", "--output", "--crease"])?;
-    if let Ok(extra) = args.model("") {
-        bail!("esc bool: unexpected argument {extra}");
-    }
-    let crease = crease(&args)?;
+    let crease = options.crease()?;
     let solids = [load_solid(a, crease)?, load_solid(b, crease)?];
-    let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
+    let points = options.points("esc bool")?;
     let expr = Expr::binary(op, Expr::Solid(0), Expr::Solid(1));
     let mut stats = Stats::default();
-    write_values(points, args.value("--output"), |q| {
+    write_values(points, options.output.as_deref(), |q| {
         expr.value(&mut |i| i32::from(solids[i].value(q, &mut stats) == 1))
     })
 }
 
-fn expression(args: &[String]) -> Result<()> {
-    let Some((text, rest)) = args.split_first() else {
+fn expression(text: Option<&str>, named: &[String], options: &EscOptions) -> Result<()> {
+    let Some(text) = text else {
         bail!("esc expr: which expression? usage: {USAGE}");
     };
-    // NAME=SOLID operands, then the options.
-    let split = rest
-        .iter()
-        .position(|a| a.starts_with('-') && a.len() > 1)
-        .unwrap_or(rest.len());
-    let (named, options) = rest.split_at(split);
-    let args = Args::parse("esc expr", options, &["--points", "--output", "--crease"])?;
-    if let Ok(extra) = args.model("") {
-        bail!("esc expr: unexpected argument {extra} after the options");
-    }
     if named.is_empty() {
         bail!("esc expr: no solids: give them as NAME=SOLID, e.g. A=a.obj B=example:torus");
     }
@@ -145,15 +217,15 @@ fn expression(args: &[String]) -> Result<()> {
             eprintln!("bezsolid: esc expr: {name} is not in the expression; it is not read");
         }
     }
-    let crease = crease(&args)?;
+    let crease = options.crease()?;
     let solids = paths
         .iter()
         .zip(&used)
         .map(|(path, &used)| used.then(|| load_solid(path, crease)).transpose())
         .collect::<Result<Vec<_>>>()?;
-    let points = Points::open(args.required("--points", "--points FILE.csv")?, 3)?;
+    let points = options.points("esc expr")?;
     let mut stats = Stats::default();
-    write_values(points, args.value("--output"), |q| {
+    write_values(points, options.output.as_deref(), |q| {
         expr.value(&mut |i| {
             solids[i]
                 .as_ref()
@@ -172,15 +244,6 @@ fn mark(expr: &Expr, used: &mut [bool]) {
             mark(b, used);
         }
     }
-}
-
-/// `--crease DEG`: the angle between neighbouring faces past which an edge stays sharp.
-fn crease(args: &Args) -> Result<f64> {
-    let degrees = args.number("--crease", bezsolid_core::esc::DEFAULT_CREASE_ANGLE)?;
-    if !bezsolid_core::esc::pn::valid_crease_angle(degrees) {
-        bail!(bezsolid_core::esc::EscError::CreaseAngle { degrees });
-    }
-    Ok(degrees)
 }
 
 /// A mesh file (OBJ, or STL binary or ASCII) or a built-in example (`example:NAME`), its edges

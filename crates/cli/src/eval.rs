@@ -4,9 +4,10 @@
 
 use anyhow::{Result, anyhow, bail};
 
-use crate::args::Args;
+use crate::args;
 use crate::input::{Lines, MAX_POINTS_BYTES};
 use crate::output::Sink;
+use crate::progress::Progress;
 use anyhow::Context as _;
 use bezsolid_core::inverse::Method;
 use bezsolid_core::tree::{ModelTree, Tree, TreeValue};
@@ -15,11 +16,33 @@ use glam::{DVec2, DVec3};
 /// The most points one call evaluates.
 const MAX_POINTS: usize = 10_000_000;
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("eval", args, &["--points", "--output", "--inverse"])?;
-    let model = args.model("bezsolid eval MODEL --points FILE.csv")?;
-    let points = args.required("--points", "--points FILE.csv")?;
-    let method = match args.value("--inverse") {
+/// `bezsolid eval`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct EvalArgs {
+    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    #[arg(value_name = "MODEL")]
+    model: Option<String>,
+    /// The points: one a line, `x,y` or `x,y,z` as the model is 2D or 3D; blank lines, `#`
+    /// comments and a header line are skipped.
+    #[arg(long, value_name = "FILE.csv")]
+    points: Option<String>,
+    /// Where the rows go [default: stdout].
+    #[arg(short = 'o', long = "output", value_name = "OUT.csv")]
+    output: Option<String>,
+    /// How moved points are inverted: paper (the paper's spline guess and Bézier clipping), clip
+    /// (Bézier clipping over the whole domain) or fast (seeded Newton) [default: fast].
+    #[arg(long, value_name = "METHOD")]
+    inverse: Option<String>,
+}
+
+pub(crate) fn run(args: &EvalArgs) -> Result<()> {
+    let model = args::model(
+        "eval",
+        args.model.as_deref(),
+        "bezsolid eval MODEL --points FILE.csv",
+    )?;
+    let points = args::required("eval", args.points.as_deref(), "--points FILE.csv")?;
+    let method = match args.inverse.as_deref() {
         None | Some("fast") => Method::Fast,
         Some("paper") => Method::Hybrid,
         Some("clip") => Method::Clipping,
@@ -44,7 +67,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         _ => 1 << 16,
     };
     let points = Points::open(points, dim)?;
-    let mut out = Sink::create(args.value("--output"))?;
+    let mut out = Sink::create(args.output.as_deref())?;
     match &tree {
         ModelTree::Plane(t) => {
             t.plan(expected);
@@ -152,6 +175,13 @@ impl Points {
     }
 }
 
+impl Points {
+    /// The bytes read so far, and the file's length where it is known.
+    pub(crate) fn progress(&self) -> (u64, Option<u64>) {
+        self.lines.progress()
+    }
+}
+
 impl Iterator for Points {
     type Item = Result<[f64; 3]>;
 
@@ -176,12 +206,19 @@ where
     bezsolid_core::Dim<D>: bezsolid_core::Dimension<D>,
 {
     let (mut count, mut exhausted) = (0usize, 0usize);
-    for p in points {
+    let mut progress = Progress::new("evaluating");
+    let mut points = points;
+    while let Some(p) = points.next() {
         let p = p?;
         let v = tree.evaluate_by(point(p), method);
         (count, exhausted) = (count + 1, exhausted + usize::from(v.exhausted));
         out.write(format_args!("{}", row(p, v)))?;
+        if count % 256 == 0 {
+            let (read, len) = points.progress();
+            progress.at(read, len);
+        }
     }
+    progress.finish();
     if exhausted > 0 {
         eprintln!(
             "bezsolid: warning: the net folds over itself so often that {exhausted} of {count} points \

@@ -5,14 +5,27 @@
 
 use anyhow::{Context, Result, bail};
 
-use crate::args::Args;
+use crate::args;
 use bezsolid_core::hyperfun::{extruded, solid2_hf, solid3_hf, tree_hf};
 use bezsolid_core::model::ModelSolid;
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("hf", args, &["--output", "--height"])?;
-    let model = args.model("bezsolid hf MODEL -o OUT.hf")?;
-    let out = args.required("--output", "-o OUT.hf")?;
+/// `bezsolid hf`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct HfArgs {
+    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    #[arg(value_name = "MODEL")]
+    model: Option<String>,
+    /// The HyperFun file.
+    #[arg(short = 'o', long = "output", value_name = "OUT.hf")]
+    output: Option<String>,
+    /// A 2D model extruded from z = 0 to z = H (without it, a prism along z).
+    #[arg(long, value_name = "H")]
+    height: Option<f64>,
+}
+
+pub(crate) fn run(args: &HfArgs) -> Result<()> {
+    let model = args::model("hf", args.model.as_deref(), "bezsolid hf MODEL -o OUT.hf")?;
+    let out = args::required("hf", args.output.as_deref(), "-o OUT.hf")?;
     let file = crate::load_file(model)?;
     let text = if file.solid.is_tree() {
         tree_hf(&file).with_context(|| crate::describe(model))?
@@ -22,12 +35,11 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             ModelSolid::Volume(s) => solid3_hf(&s),
         }?
     };
-    let text = match args.value("--height") {
+    let text = match args.height {
         None => text,
-        Some(h) => {
-            let height: f64 = args.number("--height", 1.0)?;
+        Some(height) => {
             if !(height.is_finite() && height > 0.0) {
-                bail!("--height {h}: the extrusion's height is a positive number");
+                bail!("--height {height}: the extrusion's height is a positive number");
             }
             match extruded(&text, height) {
                 Some(slab) => slab,

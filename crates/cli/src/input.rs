@@ -104,6 +104,10 @@ pub(crate) struct Lines {
     reader: BufReader<Capped<File>>,
     path: String,
     cap: u64,
+    /// The bytes of the lines given so far.
+    read: u64,
+    /// The file's length, when it is a regular file.
+    len: Option<u64>,
 }
 
 impl Lines {
@@ -123,10 +127,17 @@ impl Lines {
                 .take(room as u64)
                 .read_until(b'\n', line)
                 .map_err(|e| read_error(&self.path, e))?;
+            self.read += n as u64;
             if n == 0 || line.last() == Some(&b'\n') {
                 return Ok(!line.is_empty());
             }
         }
+    }
+
+    /// The bytes read so far, and the input's length where it is known (a regular file's, not a
+    /// pipe's).
+    pub(crate) fn progress(&self) -> (u64, Option<u64>) {
+        (self.read, self.len)
     }
 }
 
@@ -138,10 +149,17 @@ impl Lines {
 /// When the file cannot be opened.
 pub(crate) fn open(path: &str, cap: u64, what: &'static str) -> Result<Lines> {
     let file = File::open(path).map_err(|e| read_error(path, e))?;
+    let len = file
+        .metadata()
+        .ok()
+        .filter(std::fs::Metadata::is_file)
+        .map(|m| m.len());
     Ok(Lines {
         reader: BufReader::new(Capped::new(file, path, what, cap)),
         path: path.into(),
         cap,
+        read: 0,
+        len,
     })
 }
 

@@ -3,15 +3,33 @@
 use anyhow::{Context, Result, bail};
 use bezsolid_core::model::SolidSpec;
 
-use crate::args::Args;
+use crate::args;
 
 /// The page that `cargo xtask serve` serves.
 const DEFAULT_BASE: &str = "http://127.0.0.1:8080/";
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("link", args, &["--base"])?;
-    let model = args.model("bezsolid link MODEL [--base URL]")?;
-    let base = args.value("--base").unwrap_or(DEFAULT_BASE);
+/// `bezsolid link`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct LinkArgs {
+    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    #[arg(value_name = "MODEL")]
+    model: Option<String>,
+    #[arg(
+        long,
+        value_name = "URL",
+        help = "The page's address the link starts with [default: http://127.0.0.1:8080/, the \
+                page of `cargo xtask serve`]"
+    )]
+    base: Option<String>,
+}
+
+pub(crate) fn run(args: &LinkArgs) -> Result<()> {
+    let model = args::model(
+        "link",
+        args.model.as_deref(),
+        "bezsolid link MODEL [--base URL]",
+    )?;
+    let base = args.base.as_deref().unwrap_or(DEFAULT_BASE);
     if base.contains('#') {
         bail!("link: --base {base} already has a fragment ('#')");
     }

@@ -5,9 +5,12 @@
 //! patch or volume, or a tree of many solids), and `hf` either
 //! as HyperFun, and `link` prints the share link of a model; `esc` classifies points against
 //! solids bounded by PN triangles over triangle meshes, and their Booleans; `plasm` runs a PLaSM
-//! script and writes what it draws; `bench` is `cargo xtask bench` for now.
+//! script and writes what it draws; `completions` writes shell completions; `bench` is `cargo
+//! xtask bench` for now. Every command has `--help` with examples (clap); long meshes and
+//! evaluations show a progress bar when stderr is a terminal.
 //! Wherever a command takes a MODEL, a share link (the whole URL or its fragment) works too.
-//! Errors go to stderr with a non-zero exit; bad input never panics.
+//! Errors go to stderr with a non-zero exit, in the words they have always had; bad input never
+//! panics.
 
 mod args;
 mod contour;
@@ -19,6 +22,7 @@ mod link;
 mod mesh;
 mod output;
 mod plasm;
+mod progress;
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -26,115 +30,178 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use bezsolid_core::model::{MAX_SCRIPT_BYTES, ModelFile, ModelSolid};
 use bezsolid_core::presets::Preset;
+use clap::error::ErrorKind;
+use clap::{CommandFactory, FromArgMatches, Parser};
 
-const USAGE: &str = "usage: bezsolid <command> [options]
+/// The command line. Each command's options are in its module; its help and examples here.
+#[derive(Parser)]
+#[command(
+    name = "bezsolid",
+    version,
+    about = "Evaluate, draw and export solids defined by Bézier patches and volumes (extended space \
+             mapping), free-form solids over triangle meshes, and PLaSM scripts.",
+    after_help = MORE,
+    arg_required_else_help = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
 
-commands (DESIGN §5):
-  eval MODEL --points FILE.csv [-o OUT.csv] [--inverse paper|clip|fast]
-                                   f and the number of preimages per point: CSV x,y[,z],f,preimages
-                                   (FILE.csv: one point a line, at most 256 MiB and 10 million
-                                   points; rows are written as points are read, and a bad line
-                                   stops the output there; moved points are inverted by
-                                   the paper's spline guess and Bézier clipping, by clipping
-                                   over the whole domain, or by seeded Newton, the default)
-  contour MODEL [--res N] -o OUT.svg [--accuracy A] [--box X0,Y0,X1,Y1]
-          [--section x=C|y=C|z=C] [--stats]
-                                   zero contours of a patch solid, a piecewise patch or a 2D
-                                   tree (N cells per side, default 256; vertices refined to
-                                   |f| <= A, default 1e-9; a tree that may be unbounded needs
-                                   --box); with --section, the true section of a 3D model by
-                                   that plane, in the plane's coordinates (--box X0,Y0,Z0,X1,
-                                   Y1,Z1 for one that may be unbounded); --stats prints
-                                   `area: A` and `perimeter: P` of the region the contour
-                                   bounds on stdout (exact for the contour; -o may be left out)
-  mesh MODEL [--res N] -o OUT.{stl,obj,ply,3mf,glb} [--accuracy A]
-       [--box X0,Y0,Z0,X1,Y1,Z1] [--threads T] [--stats]
-                                   closed boundary mesh of a volume solid, a piecewise volume
-                                   or a 3D tree (N cells along the longest side, default 64;
-                                   vertices refined to |f| <= A, default 1e-9; a tree that may
-                                   be unbounded, such as a half-space, needs --box, and is cut
-                                   by it; meshed on T threads, default every core: the same
-                                   mesh as on one); --stats prints `volume: V`, `area: A` and
-                                   `bbox: X0 Y0 Z0 X1 Y1 Z1` of the mesh on stdout (exact for
-                                   the mesh, by the divergence theorem; -o may be left out);
-                                   3MF for slicers in millimetres, Z up; GLB (glTF 2.0) for
-                                   viewers in metres, +Y up
-  hf MODEL -o OUT.hf [--height H]  HyperFun export (the explicit Bernstein sum; a piecewise
-                                   solid's cells chosen by `if`s; a tree with HyperFun's set
-                                   operations, blends and primitives); a 2D model is a prism
-                                   along z, or with --height the extrusion 0 <= z <= H
-  link MODEL [--base URL]          print the share link: URL (default http://127.0.0.1:8080/,
-                                   the page of `cargo xtask serve`) + #v1.<model>
-  esc classify MESH --points FILE.csv [-o OUT]
-                                   point-in-solid for the solid bounded by the PN triangles of
-                                   a closed triangle mesh (OBJ or STL): one 0 or 1 per point
-  esc bool A OP B --points FILE.csv [-o OUT]
-                                   the same for A OP B, OP one of union, intersection,
-                                   difference; `esc bool complement A` for A's complement
-  esc expr \"EXPR\" NAME=SOLID... --points FILE.csv [-o OUT]
-                                   the same for an expression of many solids: names, | union,
-                                   & intersection, - difference, ! complement, brackets (!
-                                   binds tightest, then &, then | and - left to right), e.g.
-                                   esc expr \"!(A|B)-C\" A=a.obj B=example:torus C=c.stl
-                                   (esc commands take --crease DEG: an edge whose faces turn
-                                   by more than DEG degrees stays sharp; default 50, 180
-                                   rounds every edge)
-  plasm SCRIPT [-o OUT.{obj,stl,ply}]
-                                   run a PLaSM script (the third paper's language) and write
-                                   what its top-level expressions draw: OBJ with faces, lines
-                                   and points, or the triangles as STL or PLY; without -o, print
-                                   the value of each top-level expression
-  bench                            benchmarks                          (run `cargo xtask bench`)
+#[derive(clap::Subcommand)]
+enum Command {
+    /// The defining function f and the number of preimages at each point of a CSV file.
+    #[command(
+        long_about = "The defining function f and the number of preimages at each point: CSV \
+                      x,y[,z],f,preimages, one row per point of FILE.csv (one point a line, at \
+                      most 256 MiB and 10 million points). Rows are written as points are read, \
+                      and a bad line stops the output there. A model may be one patch or volume, \
+                      or a tree of many solids.",
+        after_help = "Examples:\n  bezsolid eval preset:fig9 --points points.csv -o values.csv\n  \
+                      bezsolid eval model.bsolid.json --points points.csv --inverse paper"
+    )]
+    Eval(eval::EvalArgs),
+    /// The zero contour of a 2D model as SVG, or the true section of a 3D model by a plane.
+    #[command(
+        long_about = "The zero contour of a patch solid, a piecewise patch or a 2D tree as SVG; \
+                      with --section, the true section of a 3D model by that plane, drawn in the \
+                      plane's coordinates. With --stats, the area and perimeter of the region the \
+                      contour bounds (exact for the contour).",
+        after_help = "Examples:\n  bezsolid contour preset:fig9 -o fig9.svg\n  \
+                      bezsolid contour preset:fish --res 512 --stats\n  \
+                      bezsolid contour preset:blob --section z=0.25 -o section.svg"
+    )]
+    Contour(contour::ContourArgs),
+    /// The closed boundary mesh of a 3D model as STL, OBJ, PLY, 3MF or GLB.
+    #[command(
+        long_about = "The closed boundary mesh of a volume solid, a piecewise volume, a 3D tree \
+                      or a free-form model's result, as STL, OBJ or PLY, as 3MF for slicers (in \
+                      millimetres, Z up) or as GLB (glTF 2.0) for viewers (in metres, +Y up). \
+                      With --stats, the mesh's volume, area and bounding box on stdout (exact \
+                      for the mesh, by the divergence theorem).",
+        after_help = "Examples:\n  bezsolid mesh preset:blob -o blob.stl\n  \
+                      bezsolid mesh preset:chair --res 128 -o chair.3mf\n  \
+                      bezsolid mesh 'http://127.0.0.1:8080/#v1.…' -o shared.glb\n  \
+                      bezsolid mesh preset:ring --stats"
+    )]
+    Mesh(mesh::MeshArgs),
+    /// HyperFun code of any model.
+    #[command(
+        long_about = "HyperFun code of any model: the explicit Bernstein sum (a space-mapped \
+                      solid with its inverse map), a piecewise solid's cells chosen by `if`s, a \
+                      tree with HyperFun's set operations, blends and primitives. A 2D model is a \
+                      prism along z, or with --height the extrusion 0 <= z <= H.",
+        after_help = "Examples:\n  bezsolid hf preset:blob -o blob.hf\n  \
+                      bezsolid hf preset:fig9 --height 0.2 -o fig9.hf"
+    )]
+    Hf(hf::HfArgs),
+    #[command(about = "The share link of a model: the page's address and #v1.<model>")]
+    #[command(after_help = "Examples:\n  bezsolid link preset:blob\n  \
+                            bezsolid link model.bsolid.json --base https://example.org/bezsolid/")]
+    Link(link::LinkArgs),
+    /// Point-in-solid and Booleans of free-form solids bounded by PN triangles over closed meshes.
+    #[command(
+        long_about = "Point-in-solid and Booleans of the solids bounded by the PN triangles of \
+                      closed triangle meshes (OBJ or STL), of built-in examples, or of free-form \
+                      model files and links: one 0 or 1 per point.",
+        after_help = "Examples:\n  bezsolid esc classify example:torus --points points.csv\n  \
+                      bezsolid esc bool example:icosphere difference example:torus --points points.csv\n  \
+                      bezsolid esc expr '!(A|B)-C' A=a.obj B=example:torus C=c.stl --points points.csv"
+    )]
+    Esc(esc::EscArgs),
+    /// Run a PLaSM script and write what it draws.
+    #[command(
+        long_about = "Run a PLaSM script (the third paper's language) and write what its \
+                      top-level expressions draw: OBJ with faces, lines and points, or the \
+                      triangles as STL or PLY; without -o, print the value of each top-level \
+                      expression.",
+        after_help = "Examples:\n  bezsolid plasm example:4.4 -o surface.obj\n  \
+                      bezsolid plasm script.psm"
+    )]
+    Plasm(plasm::PlasmArgs),
+    /// Shell completions for bezsolid, on stdout.
+    #[command(
+        after_help = "Examples:\n  bezsolid completions bash > ~/.local/share/bash-completion/completions/bezsolid\n  \
+                      bezsolid completions zsh > ~/.zfunc/_bezsolid\n  \
+                      bezsolid completions fish > ~/.config/fish/completions/bezsolid.fish"
+    )]
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Benchmarks: run `cargo xtask bench` in the repository.
+    #[command(hide = true)]
+    Bench,
+}
 
-MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many solids: primitives,
-Bézier solids, set operations, blends, morphs and transforms, DESIGN §5), a share link (the whole URL or its #v1. fragment; quote it
-in the shell) or a preset: preset:fig9, preset:blob, preset:ring, preset:fish, and the zoo's preset:chair,
-preset:vase, preset:knot, preset:shell, preset:koi, preset:tooth. MESH, A and B are mesh files or
-built-in examples: example:icosphere, example:torus, example:blob, or free-form model files or
-links (`mesh` writes the surface of a free-form model's result); SOLID likewise. SCRIPT is a script file (.psm),
-a model file or link holding one, or one of the paper's examples: example:3.1, example:3.3,
-example:4.1, example:4.4, example:4.6, example:4.7, example:4.8,
-example:4.7-bezier-grid.
+/// What the help says after the commands.
+const MORE: &str = "MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many \
+solids: primitives, Bézier solids, set operations, blends, morphs and transforms), a share link \
+(the whole URL or its #v1. fragment; quote it in the shell) or a preset: preset:fig9, \
+preset:blob, preset:ring, preset:fish, and the zoo's preset:chair, preset:vase, preset:knot, \
+preset:shell, preset:koi, preset:tooth. MESH, A and B are mesh files or built-in examples: \
+example:icosphere, example:torus, example:blob, or free-form model files or links (`mesh` writes \
+the surface of a free-form model's result); SOLID likewise. SCRIPT is a script file (.psm), a \
+model file or link holding one, or one of the paper's examples: example:3.1, example:3.3, \
+example:4.1, example:4.4, example:4.6, example:4.7, example:4.8, example:4.7-bezier-grid.
 
-Inputs are read up to a cap, whatever they are (files, pipes, devices): a model file 16 MiB, a
+Inputs are read up to a cap, whatever they are (files, pipes, devices): a model file 16 MiB, a \
 script file 256 KiB, a mesh file 128 MiB, a points file 256 MiB.
 
-options:
-  -h, --help       this text
-  -V, --version    the version
-";
+Run `bezsolid <command> --help` for a command's options and examples.";
+
+/// The command line's parser, with the settings every command keeps ([`args::settle`]).
+fn command() -> clap::Command {
+    args::settle(Cli::command())
+}
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match args.first().map(String::as_str) {
-        None => {
-            eprint!("{USAGE}");
-            ExitCode::from(2)
+    let raw: Vec<String> = std::env::args().skip(1).collect();
+    let matches = match command()
+        .try_get_matches_from(std::iter::once("bezsolid".into()).chain(raw.iter().cloned()))
+    {
+        Ok(matches) => matches,
+        Err(e) if !e.use_stderr() => {
+            // --help and --version, on stdout.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
         }
-        Some("-h" | "--help" | "help") => {
-            print!("{USAGE}");
+        Err(e) if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            let usage = command().render_help();
+            let refusal = args::refusal(&e, &raw, &usage.to_string());
+            eprintln!("bezsolid: {}", refusal.message);
+            return ExitCode::from(refusal.code);
+        }
+    };
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => {
+            eprintln!("bezsolid: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    match cli.command {
+        Command::Eval(a) => report(eval::run(&a)),
+        Command::Contour(a) => report(contour::run(&a)),
+        Command::Mesh(a) => report(mesh::run(&a)),
+        Command::Hf(a) => report(hf::run(&a)),
+        Command::Link(a) => report(link::run(&a)),
+        Command::Esc(a) => report(esc::run(&a)),
+        Command::Plasm(a) => report(plasm::run(&a)),
+        Command::Completions { shell } => {
+            clap_complete::generate(shell, &mut command(), "bezsolid", &mut std::io::stdout());
             ExitCode::SUCCESS
         }
-        Some("-V" | "--version") => {
-            println!("bezsolid {}", env!("CARGO_PKG_VERSION"));
-            ExitCode::SUCCESS
-        }
-        Some("eval") => report(eval::run(&args[1..])),
-        Some("contour") => report(contour::run(&args[1..])),
-        Some("mesh") => report(mesh::run(&args[1..])),
-        Some("hf") => report(hf::run(&args[1..])),
-        Some("link") => report(link::run(&args[1..])),
-        Some("esc") => report(esc::run(&args[1..])),
-        Some("plasm") => report(plasm::run(&args[1..])),
-        Some("bench") => {
+        Command::Bench => {
             eprintln!(
                 "bezsolid: `bench` is not in this build; run `cargo xtask bench` in the repository"
             );
             ExitCode::FAILURE
-        }
-        Some(other) => {
-            eprintln!("bezsolid: unknown command `{other}`\n\n{USAGE}");
-            ExitCode::from(2)
         }
     }
 }

@@ -7,7 +7,8 @@
 
 use anyhow::{Context, Result, bail};
 
-use crate::args::Args;
+use crate::args;
+use crate::progress::Progress;
 use bezsolid_core::esc::draw::MAX_RESOLUTION as ESC_MAX_RESOLUTION;
 use bezsolid_core::mesh::MAX_RESOLUTION;
 use bezsolid_core::mesh::exchange::ExportFormat;
@@ -25,24 +26,54 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool> {
 /// The most threads `--threads` may ask for.
 const MAX_THREADS: usize = 256;
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse_with_flags(
+/// `bezsolid mesh`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct MeshArgs {
+    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    #[arg(value_name = "MODEL")]
+    model: Option<String>,
+    /// The mesh file; its extension says the format: .stl, .obj, .ply, .3mf or .glb. May be left
+    /// out with --stats.
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    output: Option<String>,
+    /// Cells along the longest side of the model's box [default: 64; at most 512].
+    #[arg(long, value_name = "N")]
+    res: Option<usize>,
+    /// Vertices are refined until |f| <= A [default: 1e-9].
+    #[arg(long, value_name = "A")]
+    accuracy: Option<f64>,
+    /// The box a tree is meshed within, and cut by; needed by one that may be unbounded (a
+    /// half-space, a cylinder).
+    #[arg(long = "box", value_name = "X0,Y0,Z0,X1,Y1,Z1")]
+    region: Option<String>,
+    /// Threads to mesh on (the same mesh as on one) [default: every core].
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
+    /// Print `volume: V`, `area: A` and `bbox: X0 Y0 Z0 X1 Y1 Z1` of the mesh on stdout.
+    #[arg(long)]
+    stats: bool,
+}
+
+pub(crate) fn run(args: &MeshArgs) -> Result<()> {
+    let model = args::model(
         "mesh",
-        args,
-        &["--res", "--accuracy", "--output", "--box", "--threads"],
-        &["--stats"],
+        args.model.as_deref(),
+        "bezsolid mesh MODEL --res N -o OUT.stl",
     )?;
-    let model = args.model("bezsolid mesh MODEL --res N -o OUT.stl")?;
-    let stats = args.flag("--stats");
-    let out = match args.value("--output") {
+    let stats = args.stats;
+    let out = match args.output.as_deref() {
         Some(out) => Some(out),
         None if stats => None,
-        None => Some(args.required("--output", "-o OUT.stl, OUT.obj or OUT.ply")?),
+        None => Some(args::required(
+            "mesh",
+            None::<&str>,
+            "-o OUT.stl, OUT.obj or OUT.ply",
+        )?),
     };
-    let res: usize = args.number("--res", 64)?;
-    let accuracy: f64 = args.number("--accuracy", 1e-9)?;
+    let res = args.res.unwrap_or(64);
+    let accuracy = args.accuracy.unwrap_or(1e-9);
     let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
-    let threads: usize = args.number("--threads", cores)?;
+    let threads = args.threads.unwrap_or(cores);
     if !(1..=MAX_THREADS).contains(&threads) {
         bail!("--threads {threads} is outside 1..={MAX_THREADS}");
     }
@@ -57,6 +88,8 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
     }
     let file = crate::load_file(model)?;
+    let mut progress = Progress::new("meshing");
+    let mut step = |done: usize, total: usize| progress.steps(done, total);
     let mesh = if let SolidSpec::Esc { .. } = file.solid {
         // A free-form model: the surface of its result, vertices on the PN surfaces (exact, so
         // --accuracy does not apply).
@@ -64,33 +97,36 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
             bail!("--res {res} is outside 1..={ESC_MAX_RESOLUTION} for a free-form model");
         }
         let boolean = file.to_boolean().with_context(|| crate::describe(model))?;
-        let mesh = boolean.surface(res);
+        let mesh = boolean.surface_in_steps(res, &mut step);
         if mesh.triangles.is_empty() {
             bail!("mesh: the result is empty");
         }
         mesh
     } else if file.solid.is_tree() {
-        let region = args.bounds::<3>("--box")?;
+        let region = args::bounds::<3>("--box", args.region.as_deref())?;
         let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
             bail!("mesh polygonizes 3D models; for a 2D tree use `bezsolid contour`");
         };
-        match pool(threads)?.install(|| tree.polygonize(res, accuracy, region)) {
+        match pool(threads)?.install(|| tree.polygonize_in_steps(res, accuracy, region, &mut step))
+        {
             Err(TreeMeshError::Unbounded) => bail!(
                 "{}: the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
                  blend of a space-mapped solid): mesh it within --box X0,Y0,Z0,X1,Y1,Z1",
                 crate::describe(model)
             ),
-            other => other.with_context(|| crate::describe(model))?,
+            other => other.with_context(|| crate::describe(model))?.0,
         }
     } else {
         let solid = file.to_solid().with_context(|| crate::describe(model))?;
         let ModelSolid::Volume(solid) = solid else {
             bail!("mesh polygonizes volume (3D) models; for a patch use `bezsolid contour`");
         };
-        let mesh = pool(threads)?.install(|| solid.polygonize(res, accuracy))?;
+        let mesh =
+            pool(threads)?.install(|| solid.polygonize_in_steps(res, accuracy, &mut step))?;
         crate::warn_exhausted(solid.exhausted());
         mesh
     };
+    progress.finish();
     if let Some((out, format)) = format {
         let bytes = format.write(&mesh, &title(model))?;
         std::fs::write(out, bytes).with_context(|| format!("cannot write {out}"))?;

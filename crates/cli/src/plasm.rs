@@ -6,13 +6,23 @@ use bezsolid_core::mesh::Format;
 use bezsolid_plasm::mesh::export;
 use bezsolid_plasm::{Complex, Interp, scripts};
 
-use crate::args::Args;
+use crate::args;
 
 const USAGE: &str = "bezsolid plasm SCRIPT [-o OUT.obj]";
 
-pub(crate) fn run(args: &[String]) -> Result<()> {
-    let args = Args::parse("plasm", args, &["--output"])?;
-    let arg = args.model(USAGE)?;
+/// `bezsolid plasm`'s arguments.
+#[derive(clap::Args)]
+pub(crate) struct PlasmArgs {
+    /// The script: a .psm file, a model file or share link holding one, or example:ID.
+    #[arg(value_name = "SCRIPT")]
+    script: Option<String>,
+    /// Where the drawing goes: .obj (faces, lines and points), .stl or .ply (the triangles).
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    output: Option<String>,
+}
+
+pub(crate) fn run(args: &PlasmArgs) -> Result<()> {
+    let arg = args::model("plasm", args.script.as_deref(), USAGE)?;
     let script = load(arg)?;
     let mut interp = Interp::new();
     let run = interp.run(&script);
@@ -20,7 +30,7 @@ pub(crate) fn run(args: &[String]) -> Result<()> {
         eprintln!("bezsolid: warning: {w}");
     }
     let name = crate::describe(arg);
-    let out = args.value("--output");
+    let out = args.output.as_deref();
     // Values are printed as a console would: all of them, or with -o those that are not drawn.
     for s in &run.shown {
         if out.is_none() || s.value.as_pol().is_none() {
