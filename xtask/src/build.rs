@@ -1,5 +1,6 @@
 //! The web build: for each module of the recipe, cargo for wasm32 with its features,
-//! wasm-bindgen into the recipe's out-dir, then wasm-opt; then the modules' hashed names.
+//! wasm-bindgen into the recipe's out-dir, then wasm-opt; then the modules' hashed names. The
+//! package for node (`cargo xtask pack`) makes one module with the same steps.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -39,11 +40,7 @@ impl std::fmt::Display for Sizes {
 /// returns each module's name and sizes.
 pub(crate) fn web(workspace: &Path, recipe: &Recipe) -> Result<Vec<(String, Sizes)>> {
     setup::wasm_target()?;
-    let bindgen_dir = setup::wasm_bindgen(workspace)?;
-    let wasm_opt = recipe
-        .wasm_opt
-        .as_ref()
-        .and_then(|args| setup::wasm_opt(workspace).map(|bin| (bin, args)));
+    let bind = Bindgen::new(workspace, recipe)?;
     let mut built = Vec::new();
     let mut hashed = Vec::new();
     for module in &recipe.modules {
@@ -53,32 +50,12 @@ pub(crate) fn web(workspace: &Path, recipe: &Recipe) -> Result<Vec<(String, Size
             module.features.join(", ")
         );
         let artifact = cdylib(workspace, recipe, module)?;
-        run(Command::new(bindgen_dir.join("wasm-bindgen"))
-            .arg(&artifact)
-            .args([
-                "--target",
-                &recipe.bindgen_target,
-                "--out-name",
-                &module.name,
-                "--out-dir",
-            ])
-            .arg(&recipe.out_dir))?;
-        let wasm = recipe.out_dir.join(format!("{}_bg.wasm", module.name));
-        let bindgen = size(&wasm)?;
-        let mut optimised = None;
-        if let Some((bin, args)) = &wasm_opt {
-            let tmp = wasm.with_extension("opt.wasm");
-            match run(Command::new(bin).arg(&wasm).args(*args).arg("-o").arg(&tmp)) {
-                Ok(()) => {
-                    std::fs::rename(&tmp, &wasm)?;
-                    optimised = Some(size(&wasm)?);
-                }
-                Err(e) => {
-                    let _ = std::fs::remove_file(&tmp);
-                    eprintln!("warning: {e:#}; keeping the unoptimised module");
-                }
-            }
-        }
+        let (bindgen, optimised) = bind.run(
+            &artifact,
+            &recipe.bindgen_target,
+            &module.name,
+            &recipe.out_dir,
+        )?;
         let (name, travel) = crate::assets::publish(&recipe.out_dir, &module.name)?;
         let sizes = Sizes {
             bindgen,
@@ -95,6 +72,59 @@ pub(crate) fn web(workspace: &Path, recipe: &Recipe) -> Result<Vec<(String, Size
     Ok(built)
 }
 
+/// wasm-bindgen at Cargo.lock's version, then wasm-opt with the recipe's arguments where the
+/// recipe enables it and a working one can be had.
+pub(crate) struct Bindgen<'a> {
+    dir: PathBuf,
+    wasm_opt: Option<(PathBuf, &'a [String])>,
+}
+
+impl<'a> Bindgen<'a> {
+    /// Installs what is missing (setup's steps).
+    pub(crate) fn new(workspace: &Path, recipe: &'a Recipe) -> Result<Self> {
+        Ok(Self {
+            dir: setup::wasm_bindgen(workspace)?,
+            wasm_opt: recipe
+                .wasm_opt
+                .as_deref()
+                .and_then(|args| setup::wasm_opt(workspace).map(|bin| (bin, args))),
+        })
+    }
+
+    /// Writes the glue and the module `<name>_bg.wasm` of the cdylib `artifact` for `target` into
+    /// `out_dir`, then optimises the module (keeping it as it is, with a warning, when wasm-opt
+    /// fails); returns its size after wasm-bindgen and after wasm-opt.
+    pub(crate) fn run(
+        &self,
+        artifact: &Path,
+        target: &str,
+        name: &str,
+        out_dir: &Path,
+    ) -> Result<(u64, Option<u64>)> {
+        run(Command::new(self.dir.join("wasm-bindgen"))
+            .arg(artifact)
+            .args(["--target", target, "--out-name", name, "--out-dir"])
+            .arg(out_dir))?;
+        let wasm = out_dir.join(format!("{name}_bg.wasm"));
+        let bindgen = size(&wasm)?;
+        let mut optimised = None;
+        if let Some((bin, args)) = &self.wasm_opt {
+            let tmp = wasm.with_extension("opt.wasm");
+            match run(Command::new(bin).arg(&wasm).args(*args).arg("-o").arg(&tmp)) {
+                Ok(()) => {
+                    std::fs::rename(&tmp, &wasm)?;
+                    optimised = Some(size(&wasm)?);
+                }
+                Err(e) => {
+                    let _ = std::fs::remove_file(&tmp);
+                    eprintln!("warning: {e:#}; keeping the unoptimised module");
+                }
+            }
+        }
+        Ok((bindgen, optimised))
+    }
+}
+
 fn size(p: &Path) -> Result<u64> {
     std::fs::metadata(p)
         .map(|m| m.len())
@@ -103,7 +133,7 @@ fn size(p: &Path) -> Result<u64> {
 
 /// Builds the crate with `module`'s features alone and returns the path cargo reports for its
 /// `.wasm` (every build writes it again, fresh or not: read it before the next build).
-fn cdylib(workspace: &Path, recipe: &Recipe, module: &Module) -> Result<PathBuf> {
+pub(crate) fn cdylib(workspace: &Path, recipe: &Recipe, module: &Module) -> Result<PathBuf> {
     let mut cmd = cargo();
     cmd.current_dir(workspace)
         .args([

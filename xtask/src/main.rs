@@ -4,8 +4,12 @@
 //!   Cargo.lock, npm binaryen for wasm-opt), builds the page as `wasm-pack.toml` says and serves `www/`
 //!   on loopback.
 //! - `cargo xtask test [--update-screenshot]`: fmt, clippy, native tests, docs, the `no_std` build, the
-//!   wasm tests in node, the web build, the modules headless in node, and the browser suite in
-//!   headless chromium on both backends.
+//!   wasm tests in node, the web build, the package for node and the modules headless in node, and
+//!   the browser suite in headless chromium on both backends.
+//! - `cargo xtask pack [--out DIR]`: the tools' module as a package for node in `DIR` (default
+//!   `pkg/`): the module and its glue for node, the TypeScript declarations, `package.json` and a
+//!   README whose example turns a share link into an STL file; `npm install DIR` takes it. The test
+//!   run packs it too, and installs and runs it in node.
 //! - `cargo xtask fuzz [--seconds N] [TARGET…]`: the fuzz campaigns of `fuzz/` (installs the nightly
 //!   toolchain and cargo-fuzz when missing), N seconds per target, with a report per target.
 
@@ -13,6 +17,7 @@ mod assets;
 mod bench;
 mod build;
 mod fuzz;
+mod pack;
 mod recipe;
 mod serve;
 mod setup;
@@ -33,6 +38,8 @@ commands:
   bench [--quick | --page]     benchmarks, native (with peers) and wasm in node, and the page's
                                input-to-drawn in headless Chromium; writes BENCHMARKS.md
                                (--page: only the page's figures, in place)
+  pack [--out DIR]             the tools' module as a package for node (default DIR: pkg/),
+                               for `npm install DIR`
   fuzz [--seconds N] [TARGET...]
                                fuzz campaigns (nightly, cargo-fuzz), N seconds per target (default 60),
                                every target when none is named; see FUZZING.md
@@ -83,6 +90,21 @@ fn real_main() -> Result<()> {
             } else {
                 bench::all(&ws, quick)
             }
+        }
+        Some("pack") => {
+            let mut out = pack::default_out(&ws);
+            let mut it = args[1..].iter();
+            while let Some(a) = it.next() {
+                match a.as_str() {
+                    "--out" => {
+                        let dir = it.next().context("--out needs a folder")?;
+                        out = std::path::absolute(dir)
+                            .with_context(|| format!("--out {dir} is not a path"))?;
+                    }
+                    other => bail!("unknown option {other}\n\n{USAGE}"),
+                }
+            }
+            pack::pack(&ws, &out)
         }
         Some("fuzz") => {
             let mut seconds = fuzz::DEFAULT_SECONDS;

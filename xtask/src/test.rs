@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 
 use crate::recipe::Recipe;
 use crate::util::{cargo, human, run, timed};
-use crate::{build, serve, setup};
+use crate::{build, pack, serve, setup};
 
 /// Options of `cargo xtask test`.
 #[derive(Debug, Default)]
@@ -132,9 +132,11 @@ pub(crate) fn all(workspace: &Path, options: &Options) -> Result<()> {
             Box::new(|| build::web(workspace, &recipe).map(|_| ())),
         ),
         (
-            "the tools' and the page's modules headless in node (tests/node)",
+            "the package for node, and the tools' and the page's modules headless in node (tests/node)",
             Box::new(move || {
                 setup::node()?;
+                // The package the node tests install (the web build's cdylib again: cargo is fresh).
+                pack::pack(ws, &pack::default_out(ws))?;
                 // The node tests use npm packages too (the glTF validator), from the committed lockfile.
                 setup::npm_ci(&ws.join("tests"))?;
                 run(Command::new("node")

@@ -29,8 +29,8 @@ pub fn headless_link(text: &str) -> Result<String, JsError> {
     document::headless::link(text).map_err(JsError::from)
 }
 
-/// The surface of a volume model (a model file or a link) as `"stl"`, `"obj"` or `"ply"` bytes at
-/// `resolution` cells along the longest side; no page or GPU needed.
+/// The surface of a volume model (a model file or a link) as `"stl"`, `"obj"`, `"ply"`, `"3mf"` or
+/// `"glb"` bytes at `resolution` cells along the longest side; no page or GPU needed.
 ///
 /// # Errors
 ///
