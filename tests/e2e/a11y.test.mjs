@@ -108,8 +108,13 @@ for (const mode of ['bezier', 'freeform', 'script']) {
     const { page, errors } = await open(browser);
     if (mode !== 'bezier') await setMode(page, mode);
     // A model of many solids shows its outliner's tools.
-    if (mode === 'bezier') await page.click('button[data-add="box"]');
+    if (mode === 'bezier') {
+      await page.click('button[data-add="box"]');
+      // The panel shows the new model (its buttons enabled or not) on the frame after the edit.
+      await page.waitForFunction(() => document.getElementById('model-name').textContent.startsWith('Many solids'));
+    }
     await page.waitForFunction(() => !document.body.dataset.working, null, { timeout: 60_000 });
+    await settle(page);
     await page.evaluate(() => document.activeElement?.blur());
     const all = await controls(page);
     const reached = await walk(page);
