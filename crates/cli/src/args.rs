@@ -38,29 +38,30 @@ pub(crate) fn refusal(e: &clap::Error, raw: &[String], usage: &str) -> Refusal {
         Some(ContextValue::String(s)) => Some(s.as_str()),
         _ => None,
     };
-    // "--res <N>" names the option `--res`.
-    let option = context(ContextKind::InvalidArg)
-        .map(|a| a.split([' ', '=']).next().unwrap_or(a))
-        .unwrap_or_default();
+    // The argument as typed; for a value's error, clap's "--res <N>" names the option `--res`.
+    let typed = context(ContextKind::InvalidArg).unwrap_or_default();
+    let option = typed.split(' ').next().unwrap_or(typed);
+    let unknown_command = |word: &str| Refusal {
+        message: format!("unknown command `{word}`\n\n{usage}"),
+        code: 2,
+    };
     let message = match e.kind() {
-        ErrorKind::InvalidSubcommand if cmd == "esc" => format!(
+        // Before the command, as the command.
+        ErrorKind::InvalidSubcommand | ErrorKind::UnknownArgument if cmd.starts_with('-') => {
+            return unknown_command(&cmd);
+        }
+        ErrorKind::InvalidSubcommand | ErrorKind::UnknownArgument if cmd == "esc" => format!(
             "esc: unknown command `{}`; usage: {}",
-            context(ContextKind::InvalidSubcommand).unwrap_or_default(),
+            context(ContextKind::InvalidSubcommand).unwrap_or(typed),
             crate::esc::USAGE
         ),
         ErrorKind::InvalidSubcommand => {
-            return Refusal {
-                message: format!(
-                    "unknown command `{}`\n\n{usage}",
-                    context(ContextKind::InvalidSubcommand).unwrap_or_default()
-                ),
-                code: 2,
-            };
+            return unknown_command(context(ContextKind::InvalidSubcommand).unwrap_or_default());
         }
-        ErrorKind::UnknownArgument if option.starts_with('-') && option.len() > 1 => {
-            format!("{cmd}: unknown option {option}")
+        ErrorKind::UnknownArgument if typed.starts_with('-') && typed.len() > 1 => {
+            format!("{cmd}: unknown option {typed}")
         }
-        ErrorKind::UnknownArgument => format!("{cmd}: unexpected argument {option}"),
+        ErrorKind::UnknownArgument => format!("{cmd}: unexpected argument {typed}"),
         ErrorKind::InvalidValue if context(ContextKind::InvalidValue).is_none_or(str::is_empty) => {
             // Said as it was typed: `-o needs a value`.
             let typed = raw
@@ -73,7 +74,8 @@ pub(crate) fn refusal(e: &clap::Error, raw: &[String], usage: &str) -> Refusal {
             "{option} {} is not a valid number here",
             context(ContextKind::InvalidValue).unwrap_or_default()
         ),
-        _ => clap_sentence(e),
+        _ if cmd.is_empty() => clap_sentence(e),
+        _ => format!("{cmd}: {}", clap_sentence(e)),
     };
     Refusal { message, code: 1 }
 }
@@ -89,7 +91,7 @@ fn command_path(raw: &[String]) -> String {
     }
 }
 
-/// clap's message for `e` on one line, without its `error: ` and its usage.
+/// clap's message for `e` in one sentence, without its `error: `, its usage and its tips.
 fn clap_sentence(e: &clap::Error) -> String {
     let text = e.render().to_string();
     let text = text.trim_start_matches("error: ");
@@ -97,9 +99,11 @@ fn clap_sentence(e: &clap::Error) -> String {
     let lines: Vec<&str> = text
         .lines()
         .map(str::trim)
-        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+        .filter(|l| {
+            !l.is_empty() && !l.starts_with("For more information") && !l.starts_with("tip:")
+        })
         .collect();
-    lines.join("; ")
+    lines.join(" ")
 }
 
 /// The MODEL argument of command `cmd`; `usage` is shown when it is missing.

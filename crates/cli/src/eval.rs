@@ -206,7 +206,7 @@ where
     bezsolid_core::Dim<D>: bezsolid_core::Dimension<D>,
 {
     let (mut count, mut exhausted) = (0usize, 0usize);
-    let mut progress = Progress::new("evaluating");
+    let mut progress = Progress::new("evaluating", out.is_stdout());
     let mut points = points;
     while let Some(p) = points.next() {
         let p = p?;

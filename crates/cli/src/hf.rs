@@ -20,7 +20,7 @@ pub(crate) struct HfArgs {
     output: Option<String>,
     /// A 2D model extruded from z = 0 to z = H (without it, a prism along z).
     #[arg(long, value_name = "H")]
-    height: Option<f64>,
+    height: Option<String>,
 }
 
 pub(crate) fn run(args: &HfArgs) -> Result<()> {
@@ -35,11 +35,15 @@ pub(crate) fn run(args: &HfArgs) -> Result<()> {
             ModelSolid::Volume(s) => solid3_hf(&s),
         }?
     };
-    let text = match args.height {
+    let text = match args.height.as_deref() {
         None => text,
-        Some(height) => {
+        Some(h) => {
+            // Parsed here, so that refusals quote it as typed.
+            let Ok(height) = h.parse::<f64>() else {
+                bail!("--height {h} is not a valid number here");
+            };
             if !(height.is_finite() && height > 0.0) {
-                bail!("--height {height}: the extrusion's height is a positive number");
+                bail!("--height {h}: the extrusion's height is a positive number");
             }
             match extruded(&text, height) {
                 Some(slab) => slab,

@@ -194,8 +194,13 @@ fn main() -> ExitCode {
         Command::Esc(a) => report(esc::run(&a)),
         Command::Plasm(a) => report(plasm::run(&a)),
         Command::Completions { shell } => {
-            clap_complete::generate(shell, &mut command(), "bezsolid", &mut std::io::stdout());
-            ExitCode::SUCCESS
+            // Written whole, so that a closed pipe is an error here, not a panic in the generator.
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut command(), "bezsolid", &mut script);
+            report(
+                std::io::Write::write_all(&mut std::io::stdout().lock(), &script)
+                    .map_err(|e| anyhow::anyhow!("cannot write stdout: {e}")),
+            )
         }
         Command::Bench => {
             eprintln!(

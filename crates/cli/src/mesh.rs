@@ -88,9 +88,11 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
     }
     let file = crate::load_file(model)?;
-    let mut progress = Progress::new("meshing");
+    let mut progress = Progress::new("meshing", false);
+    let live = progress.live();
     let mut step = |done: usize, total: usize| progress.steps(done, total);
-    let mesh = if let SolidSpec::Esc { .. } = file.solid {
+    // The mesh, and how many evaluations ran out of their work budget.
+    let (mesh, exhausted) = if let SolidSpec::Esc { .. } = file.solid {
         // A free-form model: the surface of its result, vertices on the PN surfaces (exact, so
         // --accuracy does not apply).
         if res > ESC_MAX_RESOLUTION {
@@ -101,21 +103,30 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
         if mesh.triangles.is_empty() {
             bail!("mesh: the result is empty");
         }
-        mesh
+        (mesh, 0)
     } else if file.solid.is_tree() {
         let region = args::bounds::<3>("--box", args.region.as_deref())?;
         let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
             bail!("mesh polygonizes 3D models; for a 2D tree use `bezsolid contour`");
         };
-        match pool(threads)?.install(|| tree.polygonize_in_steps(res, accuracy, region, &mut step))
-        {
+        // Reported in rounds of cells when the bar may be drawn, else in one.
+        let mesh = pool(threads)?.install(|| {
+            if live {
+                tree.polygonize_in_steps(res, accuracy, region, &mut step)
+                    .map(|(mesh, _)| mesh)
+            } else {
+                tree.polygonize(res, accuracy, region)
+            }
+        });
+        let mesh = match mesh {
             Err(TreeMeshError::Unbounded) => bail!(
                 "{}: the model may be unbounded (a half-space, a cylinder, a morph past 0..1 or a \
                  blend of a space-mapped solid): mesh it within --box X0,Y0,Z0,X1,Y1,Z1",
                 crate::describe(model)
             ),
-            other => other.with_context(|| crate::describe(model))?.0,
-        }
+            other => other.with_context(|| crate::describe(model))?,
+        };
+        (mesh, 0)
     } else {
         let solid = file.to_solid().with_context(|| crate::describe(model))?;
         let ModelSolid::Volume(solid) = solid else {
@@ -123,10 +134,10 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
         };
         let mesh =
             pool(threads)?.install(|| solid.polygonize_in_steps(res, accuracy, &mut step))?;
-        crate::warn_exhausted(solid.exhausted());
-        mesh
+        (mesh, solid.exhausted())
     };
     progress.finish();
+    crate::warn_exhausted(exhausted);
     if let Some((out, format)) = format {
         let bytes = format.write(&mesh, &title(model))?;
         std::fs::write(out, bytes).with_context(|| format!("cannot write {out}"))?;

@@ -10,6 +10,7 @@ use anyhow::{Result, anyhow};
 pub(crate) struct Sink {
     out: BufWriter<Box<dyn Write>>,
     name: String,
+    stdout: bool,
 }
 
 impl Sink {
@@ -29,7 +30,13 @@ impl Sink {
         Ok(Self {
             out: BufWriter::with_capacity(1 << 16, out),
             name,
+            stdout: path.is_none(),
         })
+    }
+
+    /// Whether this is stdout.
+    pub(crate) fn is_stdout(&self) -> bool {
+        self.stdout
     }
 
     /// Writes `args`.

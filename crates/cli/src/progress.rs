@@ -23,9 +23,19 @@ pub(crate) struct Progress {
 }
 
 impl Progress {
-    /// The progress of `what` ("meshing"), to be drawn if stderr is a terminal.
-    pub(crate) fn new(what: &'static str) -> Self {
-        Self::with_terminal(what, std::io::stderr().is_terminal())
+    /// The progress of `what` ("meshing"), to be drawn if stderr is a terminal; not when the
+    /// command writes its rows on stdout (`rows_on_stdout`) and that is the terminal too, where
+    /// the bar would be drawn over them.
+    pub(crate) fn new(what: &'static str, rows_on_stdout: bool) -> Self {
+        let terminal =
+            std::io::stderr().is_terminal() && !(rows_on_stdout && std::io::stdout().is_terminal());
+        Self::with_terminal(what, terminal)
+    }
+
+    /// Whether the bar may be drawn: work that costs something to report its progress (a mesh
+    /// made in rounds) need not, when it is not.
+    pub(crate) fn live(&self) -> bool {
+        self.terminal
     }
 
     fn with_terminal(what: &'static str, terminal: bool) -> Self {
@@ -69,8 +79,15 @@ impl Progress {
         }
     }
 
-    /// The work is done: the bar is cleared.
+    /// The work is done: the bar is cleared (before anything else is printed on stderr). A
+    /// progress dropped on an error clears its bar too.
     pub(crate) fn finish(self) {
+        drop(self);
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
         self.bar.finish_and_clear();
     }
 }
@@ -82,6 +99,7 @@ mod tests {
     #[test]
     fn a_bar_is_drawn_on_a_terminal_after_a_while_and_never_elsewhere() {
         let mut piped = Progress::with_terminal("meshing", false);
+        assert!(!piped.live());
         let mut terminal = Progress::with_terminal("meshing", true);
         piped.steps(1, 10);
         terminal.steps(1, 10);

@@ -29,6 +29,10 @@ fn argument_errors_keep_their_words() {
             vec!["mesh", "preset:blob", "extra", "-o", "x.stl"],
             "mesh: unexpected argument extra",
         ),
+        (
+            vec!["mesh", "preset:blob", "A=b", "-o", "x.stl"],
+            "mesh: unexpected argument A=b",
+        ),
         (vec!["mesh", "preset:blob", "--res"], "--res needs a value"),
         (vec!["mesh", "preset:blob", "-o"], "-o needs a value"),
         (
@@ -103,6 +107,10 @@ fn argument_errors_keep_their_words() {
         (
             vec!["hf", "preset:fig9", "-o", hf, "--height", "abc"],
             "--height abc is not a valid number here",
+        ),
+        (
+            vec!["hf", "preset:fig9", "-o", hf, "--height", "-1.50"],
+            "--height -1.50: the extrusion's height is a positive number",
         ),
         (
             vec!["link"],
@@ -224,6 +232,7 @@ fn argument_errors_keep_their_words() {
             vec!["esc", "frobnicate"],
             "esc: unknown command `frobnicate`; ",
         ),
+        (vec!["esc", "-x"], "esc: unknown command `-x`; "),
         (
             vec!["esc", "classify", "--points", pts],
             "esc classify: which model? ",
@@ -243,15 +252,18 @@ fn argument_errors_keep_their_words() {
         );
         assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
     }
-    // An unknown command, and no command: the usage, with exit code 2.
-    let out = bezsolid(&["frobnicate"]);
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        err.starts_with("bezsolid: unknown command `frobnicate`\n\n"),
-        "{err}"
-    );
-    assert!(err.contains("Usage: bezsolid <COMMAND>"), "{err}");
+    // An unknown command (or an option where the command goes), and no command: the usage, with
+    // exit code 2.
+    for word in ["frobnicate", "--frob"] {
+        let out = bezsolid(&[word, "mesh"]);
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            err.starts_with(&format!("bezsolid: unknown command `{word}`\n\n")),
+            "{err}"
+        );
+        assert!(err.contains("Usage: bezsolid <COMMAND>"), "{err}");
+    }
     let out = bezsolid(&[]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
@@ -428,6 +440,13 @@ fn shell_completions_name_every_command_and_option() {
     assert!(
         said.contains("_bezsolid") && said.contains("bezsolid"),
         "{said}"
+    );
+    // Refused by clap itself: one sentence, after the command's name.
+    let out = bezsolid(&["completions"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        "bezsolid: completions: the following required arguments were not provided: <SHELL>\n"
     );
     let out = bezsolid(&["completions", "tcsh"]);
     assert_eq!(out.status.code(), Some(1));

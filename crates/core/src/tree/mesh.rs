@@ -477,8 +477,9 @@ impl Tree<3> {
             };
             polygonize_blocks(&grid, part, sample, &mut roots, &marcher)
         };
-        // In rounds, each reported with the cells done so far: fiftieths on one thread; with the
-        // `parallel` feature, rounds of four tasks a thread, one task a piece.
+        // In rounds, each reported with the cells done so far: fiftieths without the `parallel`
+        // feature; with it, rounds of four tasks a thread (one task a piece), several only when
+        // someone is told of the progress (each round waits for its slowest task).
         #[cfg(feature = "parallel")]
         let (rounds, tasks) = (
             if reporting { PARALLEL_ROUNDS } else { 1 },
@@ -827,6 +828,14 @@ mod tests {
             let a = one.install(|| tree.polygonize(36, 1e-10, None).unwrap());
             let b = three.install(|| tree.polygonize(36, 1e-10, None).unwrap());
             assert_eq!(a, b);
+            // Made in rounds to report its progress, the same mesh.
+            let mut reports = 0;
+            let (c, _) = three.install(|| {
+                tree.polygonize_in_steps(36, 1e-10, None, |_, _| reports += 1)
+                    .unwrap()
+            });
+            assert_eq!(a, c);
+            assert!(reports >= 1);
             triangles += a.triangle_count();
         }
         assert!(triangles > 1000);
