@@ -29,6 +29,10 @@ const README: &str = "crates/web/npm/README.md";
 /// however a program loads it.
 const TARGET: &str = "nodejs";
 
+/// The file that marks a folder as one pack wrote, and may clear (it is not in the package's
+/// `files`, so `npm install` leaves it behind).
+const MARK: &str = ".packed-by-cargo-xtask";
+
 /// The default folder, under the workspace (git-ignored).
 pub(crate) fn default_out(workspace: &Path) -> PathBuf {
     workspace.join("pkg")
@@ -78,21 +82,24 @@ fn write_package(workspace: &Path, out: &Path) -> Result<()> {
     }
     std::fs::copy(workspace.join(README), out.join("README.md"))
         .with_context(|| format!("copying {README}"))?;
-    let version = workspace_version(workspace)?;
+    let (version, license) = workspace_package(workspace)?;
     let mut files = Vec::new();
     for entry in std::fs::read_dir(out)? {
         let name = entry?.file_name().to_string_lossy().into_owned();
-        if name != "package.json" {
+        if name != "package.json" && name != MARK {
             files.push(name);
         }
     }
     files.sort();
-    std::fs::write(out.join("package.json"), manifest(&version, &files))?;
+    std::fs::write(
+        out.join("package.json"),
+        manifest(&version, &license, &files),
+    )?;
     Ok(())
 }
 
-/// `out` made and empty: a new folder, an empty one, or one an earlier pack wrote (its
-/// `package.json` names this package), removed first.
+/// `out` made and empty, and marked as pack's: a new folder, an empty one, or one an earlier pack
+/// wrote (it holds the mark), removed first.
 fn empty_folder(out: &Path) -> Result<()> {
     if out.exists() {
         let empty = std::fs::read_dir(out)
@@ -100,11 +107,7 @@ fn empty_folder(out: &Path) -> Result<()> {
             .next()
             .is_none();
         if !empty {
-            let ours = std::fs::read_to_string(out.join("package.json"))
-                .ok()
-                .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-                .is_some_and(|p| p["name"] == NAME);
-            if !ours {
+            if !out.join(MARK).is_file() {
                 bail!(
                     "{} holds files that are not a {NAME} package; choose another --out",
                     out.display()
@@ -113,29 +116,33 @@ fn empty_folder(out: &Path) -> Result<()> {
             std::fs::remove_dir_all(out).with_context(|| format!("clearing {}", out.display()))?;
         }
     }
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    std::fs::write(out.join(MARK), "").with_context(|| format!("marking {}", out.display()))
 }
 
 /// `[workspace.package] version` of the workspace's Cargo.toml.
-fn workspace_version(workspace: &Path) -> Result<String> {
+fn workspace_package(workspace: &Path) -> Result<(String, String)> {
     let path = workspace.join("Cargo.toml");
     let text =
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
     let table: toml::Table = text
         .parse()
         .with_context(|| format!("parsing {}", path.display()))?;
-    table
-        .get("workspace")
-        .and_then(|w| w.get("package"))
-        .and_then(|p| p.get("version"))
-        .and_then(toml::Value::as_str)
-        .map(str::to_owned)
-        .with_context(|| format!("{}: no [workspace.package] version", path.display()))
+    let field = |name: &str| {
+        table
+            .get("workspace")
+            .and_then(|w| w.get("package"))
+            .and_then(|p| p.get(name))
+            .and_then(toml::Value::as_str)
+            .map(str::to_owned)
+            .with_context(|| format!("{}: no [workspace.package] {name}", path.display()))
+    };
+    Ok((field("version")?, field("license")?))
 }
 
 /// The package's `package.json`, its keys in the order people read them (`exports` conditions
 /// are tried in order: `types` must come first).
-fn manifest(version: &str, files: &[String]) -> String {
+fn manifest(version: &str, license: &str, files: &[String]) -> String {
     let js = json!(format!("./{NAME}.js"));
     let types = json!(format!("./{NAME}.d.ts"));
     // serde_json's maps sort their keys, so the objects are written by hand, one key a line.
@@ -156,7 +163,7 @@ fn manifest(version: &str, files: &[String]) -> String {
         ("name", pretty(json!(NAME))),
         ("version", pretty(json!(version))),
         ("description", pretty(json!(description))),
-        ("license", pretty(json!("MIT OR Apache-2.0"))),
+        ("license", pretty(json!(license))),
         ("type", pretty(json!("commonjs"))),
         ("main", pretty(js)),
         ("types", pretty(types)),
@@ -178,10 +185,11 @@ mod tests {
     #[test]
     fn manifest_parses_with_types_first() {
         let files = ["README.md".to_owned(), "bezsolid.js".to_owned()];
-        let text = manifest("1.2.3", &files);
+        let text = manifest("1.2.3", "MIT OR Apache-2.0", &files);
         let p: Value = serde_json::from_str(&text).expect("package.json is JSON");
         assert_eq!(p["name"], "bezsolid");
         assert_eq!(p["version"], "1.2.3");
+        assert_eq!(p["license"], "MIT OR Apache-2.0");
         assert_eq!(p["main"], "./bezsolid.js");
         assert_eq!(p["exports"]["."]["require"], "./bezsolid.js");
         assert_eq!(p["files"], json!(files));
@@ -195,11 +203,12 @@ mod tests {
     }
 
     #[test]
-    fn version_of_the_workspace_reads() {
+    fn version_and_license_of_the_workspace_read() {
         let ws = Path::new(env!("CARGO_MANIFEST_DIR"))
             .parent()
             .expect("xtask sits in the workspace");
-        let v = workspace_version(ws).expect("a version");
+        let (v, license) = workspace_package(ws).expect("a version and a license");
         assert_eq!(v.split('.').count(), 3, "{v}");
+        assert!(license.contains("MIT"), "{license}");
     }
 }

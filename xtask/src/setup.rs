@@ -106,7 +106,7 @@ pub(crate) fn wasm_bindgen(workspace: &Path) -> Result<PathBuf> {
 /// A working `wasm-opt` from npm binaryen (xtask/npm's lockfile), or `None` with a warning.
 pub(crate) fn wasm_opt(workspace: &Path) -> Option<PathBuf> {
     if let Err(e) = node() {
-        eprintln!("warning: no node for npm binaryen ({e:#}); the page is served unoptimised");
+        eprintln!("warning: no node for npm binaryen ({e:#}); the modules are left unoptimised");
         return None;
     }
     let dir = workspace.join("xtask/npm");
@@ -115,7 +115,7 @@ pub(crate) fn wasm_opt(workspace: &Path) -> Option<PathBuf> {
     if !works(&bin) {
         eprintln!("- installing npm binaryen for wasm-opt (xtask/npm)");
         if let Err(e) = npm_ci(&dir) {
-            eprintln!("warning: no working wasm-opt ({e:#}); the page is served unoptimised");
+            eprintln!("warning: no working wasm-opt ({e:#}); the modules are left unoptimised");
             return None;
         }
     }
@@ -123,7 +123,7 @@ pub(crate) fn wasm_opt(workspace: &Path) -> Option<PathBuf> {
         Some(bin)
     } else {
         eprintln!(
-            "warning: {} does not run; the page is served unoptimised",
+            "warning: {} does not run; the modules are left unoptimised",
             bin.display()
         );
         None

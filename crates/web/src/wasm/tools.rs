@@ -161,7 +161,7 @@ pub fn headless_esc_surface(text: &str, resolution: u32) -> Result<Vec<f32>, JsE
     crate::freeform::headless::surface(text, resolution as usize).map_err(JsError::from)
 }
 
-/// A mesh file (`stl`, `obj`, `ply`) of a free-form model's result.
+/// A mesh file (`stl`, `obj`, `ply`, `3mf`, `glb`) of a free-form model's result.
 ///
 /// # Errors
 ///
@@ -211,7 +211,7 @@ pub fn headless_plasm(script: &str) -> PlasmRun {
     }
 }
 
-/// A mesh file (`obj`, `stl`, `ply`) of a script's results.
+/// A mesh file (`obj`, `stl`, `ply`, `3mf`, `glb`) of a script's results.
 ///
 /// # Errors
 ///
