@@ -1040,14 +1040,16 @@ impl View3 {
         let axis = editor.slice().map_or(Axis::W, |(a, _)| a);
         let revision = editor.revision();
         let cap = self.cap;
+        // A piecewise volume is its cells' polynomials, not its global net read as one.
+        let piecewise = editor.piecewise3().is_some();
         self.surface.update(
             self.surface_key(editor),
             resolution,
             COARSE_RESOLUTION.min(resolution),
             self.external && !moving,
             |r| match cap {
-                None => surface_vertices(volume, r),
-                Some(cap) => capped_vertices(editor, cap, r),
+                None if !piecewise => surface_vertices(volume, r),
+                cap => model_vertices(editor, cap, r),
             },
         );
         if !self
@@ -1289,8 +1291,18 @@ pub fn capped(spec: SolidSpec, (axis, at): (usize, f64)) -> SolidSpec {
 }
 
 /// The surface of `editor`'s volume cut at `cap` ([`capped`]), made as a model of many solids is.
-fn capped_vertices(editor: &Editor, cap: (usize, f64), resolution: usize) -> Vec<MeshVertex> {
-    let file = ModelFile::from_spec(capped(crate::document::model_file(editor).solid, cap));
+/// The surface of the editor's model as its file is meshed (a piecewise volume cell by cell),
+/// cut and closed by `cap` where there is one.
+fn model_vertices(
+    editor: &Editor,
+    cap: Option<(usize, f64)>,
+    resolution: usize,
+) -> Vec<MeshVertex> {
+    let solid = crate::document::model_file(editor).solid;
+    let file = ModelFile::from_spec(match cap {
+        Some(cap) => capped(solid, cap),
+        None => solid,
+    });
     serde_json::to_string(&file)
         .ok()
         .and_then(|json| crate::document::headless::surface(&json, resolution).ok())
@@ -1690,6 +1702,41 @@ mod tests {
         assert!((z - p.z * height).abs() < 1e-4, "{z} vs {}", p.z * height);
         let single = editor.solid().net().eval(t).z * height;
         assert!((z - single).abs() > 1e-2, "not the global net as one patch");
+    }
+
+    /// A piecewise volume's surface, drawn while the fine one is made elsewhere, lies on the
+    /// piecewise solid's boundary: its cells' polynomials, not its global net read as one.
+    #[test]
+    fn a_piecewise_volume_is_drawn_cell_by_cell() {
+        let (_, mut editor, mut view) = blob_elsewhere();
+        let mut parts = crate::parts::Parts::of_editor(&mut editor).unwrap();
+        parts.add_cell(0, &mut editor).unwrap();
+        let pieces = editor.piecewise3().unwrap();
+        let _ = view.scene(&editor);
+        let drawn = view.surface.drawn().unwrap();
+        assert_eq!(drawn.revision, view.surface_key(&editor));
+        assert!(drawn.vertices.len() > 300, "{}", drawn.vertices.len());
+        let worst = |f: &dyn Fn(DVec3) -> f64| {
+            drawn
+                .vertices
+                .iter()
+                .map(|v| f(DVec3::from_array(v.position.map(f64::from))).abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(
+            worst(&|p| pieces.f(p)) < 1e-5,
+            "{}",
+            worst(&|p| pieces.f(p))
+        );
+        // The global net read as one volume is another solid.
+        let single = editor.volume().unwrap().clone();
+        let as_one = surface_mesh(&single, COARSE_RESOLUTION).unwrap();
+        let off = as_one
+            .positions
+            .iter()
+            .map(|&p| pieces.f(p).abs())
+            .fold(0.0, f64::max);
+        assert!(off > 1e-3, "{off}");
     }
 
     /// The blob volume in a view whose fine surface is made elsewhere, its scene drawn once.
