@@ -79,7 +79,10 @@ page_names! {
         Space = "space" => Mode::Space,
     }
 
-    /// A mesh file format.
+    // A plain string, not a doc comment: wasm-bindgen copies a string enum's doc into the
+    // TypeScript declarations (the package for node ships them) as its literal's text, and a doc
+    // comment's literal is a raw string (`r"…"`).
+    #[doc = " A mesh file format: `stl` (binary), `obj`, `ply`, `3mf` or `glb`."]
     MeshFormat => ExportFormat, "mesh format" {
         Obj = "obj" => ExportFormat::Obj,
         Stl = "stl" => ExportFormat::Stl,
