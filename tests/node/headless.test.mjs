@@ -6,6 +6,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { createRequire } from 'node:module';
+import { MODEL, points } from './blob.mjs';
 
 // The Khronos glTF validator (npm gltf-validator, in the tests' lockfile).
 const validator = createRequire(import.meta.url)('gltf-validator');
@@ -16,15 +17,6 @@ await glue.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsoli
 const { headless_model, headless_link, headless_mesh, headless_svg, headless_surface, headless_approximate, headless_measure } = glue;
 const page = await import(new URL('bezsolid_page.js', pkg));
 await page.default({ module_or_path: readFileSync(fileURLToPath(new URL('bezsolid_page_bg.wasm', pkg))) });
-
-// A degree-(2, 2, 2) volume: a blob whose centre is raised (as the blob preset).
-const points = [];
-for (let i = 0; i < 3; i++) for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) {
-  const corner = i !== 1 && j !== 1 && k !== 1;
-  const centre = i === 1 && j === 1 && k === 1;
-  points.push([i - 1, j - 1, k - 1, centre ? 1 : corner ? -1 : 0.25]);
-}
-const MODEL = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'volume', degree: [2, 2, 2], points } });
 
 test('a model file and its link give the same model back', () => {
   const model = JSON.parse(headless_model(MODEL));

@@ -9,17 +9,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createRequire } from 'node:module';
+import { MODEL } from './blob.mjs';
 
 const pkg = fileURLToPath(new URL('../../pkg/', import.meta.url));
-
-// A degree-(2, 2, 2) volume: a blob whose centre is raised (as in headless.test.mjs).
-const points = [];
-for (let i = 0; i < 3; i++) for (let j = 0; j < 3; j++) for (let k = 0; k < 3; k++) {
-  const corner = i !== 1 && j !== 1 && k !== 1;
-  const centre = i === 1 && j === 1 && k === 1;
-  points.push([i - 1, j - 1, k - 1, centre ? 1 : corner ? -1 : 0.25]);
-}
-const MODEL = JSON.stringify({ format: 'bezsolid', version: 1, solid: { kind: 'volume', degree: [2, 2, 2], points } });
 
 let dir;
 let bezsolid;

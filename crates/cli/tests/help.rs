@@ -325,23 +325,24 @@ fn repeated_options_and_values_with_a_dash_parse_as_before() {
     );
 }
 
+/// The commands the help lists.
+const COMMANDS: [&str; 8] = [
+    "eval",
+    "contour",
+    "mesh",
+    "hf",
+    "link",
+    "esc",
+    "plasm",
+    "completions",
+];
+
 /// Every command's `--help` (and `-h`, and `help COMMAND`) says how it is used, with an example,
 /// on stdout.
 #[test]
 fn every_command_has_help_with_an_example() {
-    for cmd in [
-        "eval",
-        "contour",
-        "mesh",
-        "hf",
-        "link",
-        "esc",
-        "plasm",
-        "completions",
-        "esc classify",
-        "esc bool",
-        "esc expr",
-    ] {
+    let esc = ["esc classify", "esc bool", "esc expr"];
+    for cmd in COMMANDS.into_iter().chain(esc) {
         let words: Vec<&str> = cmd.split(' ').collect();
         let mut runs = vec![
             [words.as_slice(), &["--help"]].concat(),
@@ -366,16 +367,7 @@ fn every_command_has_help_with_an_example() {
     let out = bezsolid(&["--help"]);
     let help = String::from_utf8(out.stdout).unwrap();
     assert!(out.status.success());
-    for cmd in [
-        "eval",
-        "contour",
-        "mesh",
-        "hf",
-        "link",
-        "esc",
-        "plasm",
-        "completions",
-    ] {
+    for cmd in COMMANDS {
         assert!(
             help.contains(&format!("\n  {cmd} ")),
             "{cmd} missing from {help}"
