@@ -106,6 +106,21 @@ fn clap_sentence(e: &clap::Error) -> String {
     lines.join(" ")
 }
 
+/// The MODEL argument of the commands that take a model file, a share link or a preset.
+#[derive(clap::Args)]
+pub(crate) struct Model {
+    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    #[arg(value_name = "MODEL")]
+    model: Option<String>,
+}
+
+impl Model {
+    /// The model, which command `cmd` needs; `usage` is shown when it is missing.
+    pub(crate) fn get(&self, cmd: &str, usage: &str) -> Result<&str> {
+        model(cmd, self.model.as_deref(), usage)
+    }
+}
+
 /// The MODEL argument of command `cmd`; `usage` is shown when it is missing.
 pub(crate) fn model<'a>(cmd: &str, model: Option<&'a str>, usage: &str) -> Result<&'a str> {
     model.with_context(|| format!("{cmd}: which model? usage: {usage}"))

@@ -19,9 +19,8 @@ const MAX_RES: usize = 4096;
 /// `bezsolid contour`'s arguments.
 #[derive(clap::Args)]
 pub(crate) struct ContourArgs {
-    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
-    #[arg(value_name = "MODEL")]
-    model: Option<String>,
+    #[command(flatten)]
+    model: args::Model,
     /// The SVG file. May be left out with --stats.
     #[arg(short = 'o', long = "output", value_name = "OUT.svg")]
     output: Option<String>,
@@ -44,11 +43,9 @@ pub(crate) struct ContourArgs {
 }
 
 pub(crate) fn run(args: &ContourArgs) -> Result<()> {
-    let model = args::model(
-        "contour",
-        args.model.as_deref(),
-        "bezsolid contour MODEL --res N -o OUT.svg",
-    )?;
+    let model = args
+        .model
+        .get("contour", "bezsolid contour MODEL --res N -o OUT.svg")?;
     let res = args.res.unwrap_or(256);
     let out = Output {
         path: match args.output.as_deref() {

@@ -19,9 +19,8 @@ const MAX_POINTS: usize = 10_000_000;
 /// `bezsolid eval`'s arguments.
 #[derive(clap::Args)]
 pub(crate) struct EvalArgs {
-    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
-    #[arg(value_name = "MODEL")]
-    model: Option<String>,
+    #[command(flatten)]
+    model: args::Model,
     /// The points: one a line, `x,y` or `x,y,z` as the model is 2D or 3D; blank lines, `#`
     /// comments and a header line are skipped.
     #[arg(long, value_name = "FILE.csv")]
@@ -36,11 +35,9 @@ pub(crate) struct EvalArgs {
 }
 
 pub(crate) fn run(args: &EvalArgs) -> Result<()> {
-    let model = args::model(
-        "eval",
-        args.model.as_deref(),
-        "bezsolid eval MODEL --points FILE.csv",
-    )?;
+    let model = args
+        .model
+        .get("eval", "bezsolid eval MODEL --points FILE.csv")?;
     let points = args::required("eval", args.points.as_deref(), "--points FILE.csv")?;
     let method = match args.inverse.as_deref() {
         None | Some("fast") => Method::Fast,
@@ -197,7 +194,7 @@ impl Iterator for Points {
 fn evaluate<const D: usize>(
     tree: &Tree<D>,
     method: Method,
-    points: Points,
+    mut points: Points,
     out: &mut Sink,
     point: impl Fn([f64; 3]) -> bezsolid_core::Point<D>,
     row: impl Fn([f64; 3], TreeValue) -> String,
@@ -207,7 +204,6 @@ where
 {
     let (mut count, mut exhausted) = (0usize, 0usize);
     let mut progress = Progress::new("evaluating", out.is_stdout());
-    let mut points = points;
     while let Some(p) = points.next() {
         let p = p?;
         let v = tree.evaluate_by(point(p), method);

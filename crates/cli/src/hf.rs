@@ -12,9 +12,8 @@ use bezsolid_core::model::ModelSolid;
 /// `bezsolid hf`'s arguments.
 #[derive(clap::Args)]
 pub(crate) struct HfArgs {
-    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
-    #[arg(value_name = "MODEL")]
-    model: Option<String>,
+    #[command(flatten)]
+    model: args::Model,
     /// The HyperFun file.
     #[arg(short = 'o', long = "output", value_name = "OUT.hf")]
     output: Option<String>,
@@ -24,7 +23,7 @@ pub(crate) struct HfArgs {
 }
 
 pub(crate) fn run(args: &HfArgs) -> Result<()> {
-    let model = args::model("hf", args.model.as_deref(), "bezsolid hf MODEL -o OUT.hf")?;
+    let model = args.model.get("hf", "bezsolid hf MODEL -o OUT.hf")?;
     let out = args::required("hf", args.output.as_deref(), "-o OUT.hf")?;
     let file = crate::load_file(model)?;
     let text = if file.solid.is_tree() {

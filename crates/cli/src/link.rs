@@ -11,9 +11,8 @@ const DEFAULT_BASE: &str = "http://127.0.0.1:8080/";
 /// `bezsolid link`'s arguments.
 #[derive(clap::Args)]
 pub(crate) struct LinkArgs {
-    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
-    #[arg(value_name = "MODEL")]
-    model: Option<String>,
+    #[command(flatten)]
+    model: args::Model,
     #[arg(
         long,
         value_name = "URL",
@@ -24,11 +23,7 @@ pub(crate) struct LinkArgs {
 }
 
 pub(crate) fn run(args: &LinkArgs) -> Result<()> {
-    let model = args::model(
-        "link",
-        args.model.as_deref(),
-        "bezsolid link MODEL [--base URL]",
-    )?;
+    let model = args.model.get("link", "bezsolid link MODEL [--base URL]")?;
     let base = args.base.as_deref().unwrap_or(DEFAULT_BASE);
     if base.contains('#') {
         bail!("link: --base {base} already has a fragment ('#')");

@@ -29,9 +29,8 @@ const MAX_THREADS: usize = 256;
 /// `bezsolid mesh`'s arguments.
 #[derive(clap::Args)]
 pub(crate) struct MeshArgs {
-    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
-    #[arg(value_name = "MODEL")]
-    model: Option<String>,
+    #[command(flatten)]
+    model: args::Model,
     /// The mesh file; its extension says the format: .stl, .obj, .ply, .3mf or .glb. May be left
     /// out with --stats.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
@@ -55,11 +54,9 @@ pub(crate) struct MeshArgs {
 }
 
 pub(crate) fn run(args: &MeshArgs) -> Result<()> {
-    let model = args::model(
-        "mesh",
-        args.model.as_deref(),
-        "bezsolid mesh MODEL --res N -o OUT.stl",
-    )?;
+    let model = args
+        .model
+        .get("mesh", "bezsolid mesh MODEL --res N -o OUT.stl")?;
     let stats = args.stats;
     let out = match args.output.as_deref() {
         Some(out) => Some(out),

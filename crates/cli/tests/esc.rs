@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{bezsolid, out_path, scratch};
+use common::{bezsolid, out_path, scratch, succeed};
 
 /// A deterministic spread of points in `[-1.6, 1.6]³`.
 fn points() -> Vec<[f64; 3]> {
@@ -367,12 +367,7 @@ fn free_form_model_files_and_links_classify_and_mesh() {
     }
     assert!(compared > 300, "only {compared} points compared");
     // Its share link gives the same answers.
-    let out = bezsolid(&["link", model]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = succeed(&["link", model]);
     let link = String::from_utf8(out.stdout).unwrap();
     assert_eq!(
         run(&["esc", "classify", link.trim(), "--points", file]),
@@ -381,12 +376,7 @@ fn free_form_model_files_and_links_classify_and_mesh() {
     // The result's surface as STL: parsed back, closed, with every vertex outside the torus
     // and inside the sphere (to the grid's and the PN surface's tolerance).
     let stl = out_path("diff.stl");
-    let out = bezsolid(&["mesh", model, "--res", "32", "-o", stl.to_str().unwrap()]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeed(&["mesh", model, "--res", "32", "-o", stl.to_str().unwrap()]);
     let bytes = std::fs::read(&stl).unwrap();
     let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
     assert_eq!(bytes.len(), 84 + 50 * count);

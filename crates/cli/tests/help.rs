@@ -5,7 +5,7 @@
 mod common;
 use std::process::Command;
 
-use common::{bezsolid, out_path, scratch};
+use common::{bezsolid, out_path, scratch, succeed};
 
 const ESC_USAGE: &str = "usage: bezsolid esc classify MESH --points FILE.csv [-o OUT] | \
      bezsolid esc bool A OP B --points FILE.csv [-o OUT] (OP: union, intersection, difference) | ";
@@ -278,7 +278,7 @@ fn argument_errors_keep_their_words() {
 #[test]
 fn repeated_options_and_values_with_a_dash_parse_as_before() {
     let svg = out_path("twice.svg");
-    let out = bezsolid(&[
+    succeed(&[
         "contour",
         "preset:fig9",
         "--res",
@@ -288,17 +288,12 @@ fn repeated_options_and_values_with_a_dash_parse_as_before() {
         "-o",
         svg.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     // A tree cut by a box whose corner is negative.
     let tree = scratch(
         "sphere.bsolid.json",
         r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "sphere", "center": [0, 0, 0], "radius": 1}}"#,
     );
-    let out = bezsolid(&[
+    let out = succeed(&[
         "mesh",
         tree.to_str().unwrap(),
         "--box",
@@ -307,11 +302,6 @@ fn repeated_options_and_values_with_a_dash_parse_as_before() {
         "16",
         "--stats",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let stdout = String::from_utf8(out.stdout).unwrap();
     let bbox = stdout
         .lines()
@@ -389,6 +379,9 @@ fn every_command_has_help_with_an_example() {
     ] {
         assert!(help.contains(option), "{option}: {help}");
     }
+    // The limit the help states is the one the command keeps.
+    let most = format!("at most {}", bezsolid_core::mesh::MAX_RESOLUTION);
+    assert!(help.contains(&most), "{most}: {help}");
 }
 
 #[test]

@@ -3,7 +3,7 @@
 
 #![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
 mod common;
-use common::{bezsolid, out_path, scratch};
+use common::{bezsolid, out_path, scratch, succeed};
 
 use bezsolid_core::mesh::Mesh;
 use glam::DVec3;
@@ -29,7 +29,7 @@ fn read_obj(text: &str) -> Mesh {
 fn every_preset_meshes_to_a_closed_surface_of_its_genus() {
     for (preset, euler) in [("blob", 2), ("ring", 0), ("fish", 2)] {
         let path = out_path(&format!("{preset}.obj"));
-        let out = bezsolid(&[
+        succeed(&[
             "mesh",
             &format!("preset:{preset}"),
             "--res",
@@ -37,11 +37,6 @@ fn every_preset_meshes_to_a_closed_surface_of_its_genus() {
             "-o",
             path.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let mesh = read_obj(&std::fs::read_to_string(&path).unwrap());
         assert!(mesh.triangle_count() > 100);
         mesh.check_closed_manifold().unwrap();
@@ -63,7 +58,7 @@ fn threads_write_the_same_file_as_one_thread() {
         let mut files = Vec::new();
         for threads in ["1", "2", "3"] {
             let path = out_path(&format!("{name}-threads-{threads}.ply"));
-            let out = bezsolid(&[
+            succeed(&[
                 "mesh",
                 model,
                 "--res",
@@ -73,11 +68,6 @@ fn threads_write_the_same_file_as_one_thread() {
                 "-o",
                 path.to_str().unwrap(),
             ]);
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
             files.push(std::fs::read(&path).unwrap());
         }
         assert!(files[0].len() > 1000, "{name}");
@@ -94,7 +84,7 @@ fn stl_and_ply_hold_the_same_triangles_as_obj() {
     let stl = out_path("blob16.stl");
     let ply = out_path("blob16.PLY");
     for p in [&obj, &stl, &ply] {
-        let out = bezsolid(&[
+        succeed(&[
             "mesh",
             "preset:blob",
             "--res",
@@ -102,11 +92,6 @@ fn stl_and_ply_hold_the_same_triangles_as_obj() {
             "-o",
             p.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
     }
     let mesh = read_obj(&std::fs::read_to_string(&obj).unwrap());
     let stl = std::fs::read(&stl).unwrap();
@@ -173,17 +158,12 @@ fn mesh_refuses_bad_input_with_a_message() {
 fn hf_writes_a_hyperfun_model() {
     for preset in ["fig9", "fish"] {
         let path = out_path(&format!("{preset}.hf"));
-        let out = bezsolid(&[
+        succeed(&[
             "hf",
             &format!("preset:{preset}"),
             "-o",
             path.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.contains("my_model(x[3], a[1])"));
         assert!(text.trim_end().ends_with('}'));
@@ -219,7 +199,7 @@ fn mapped_models_mesh_and_contour() {
     let model_path = out_path("mapped.bsolid.json");
     std::fs::write(&model_path, &model).unwrap();
     let obj = out_path("mapped.obj");
-    let out = bezsolid(&[
+    succeed(&[
         "mesh",
         model_path.to_str().unwrap(),
         "--res",
@@ -227,11 +207,6 @@ fn mapped_models_mesh_and_contour() {
         "-o",
         obj.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let mesh = read_obj(&std::fs::read_to_string(&obj).unwrap());
     mesh.check_closed_manifold().unwrap();
     assert_eq!(mesh.euler_characteristic(), 2);
@@ -256,7 +231,7 @@ fn mapped_models_mesh_and_contour() {
     let patch_path = out_path("mapped-patch.bsolid.json");
     std::fs::write(&patch_path, patch).unwrap();
     let svg = out_path("mapped.svg");
-    let out = bezsolid(&[
+    succeed(&[
         "contour",
         patch_path.to_str().unwrap(),
         "--res",
@@ -264,11 +239,6 @@ fn mapped_models_mesh_and_contour() {
         "-o",
         svg.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let text = std::fs::read_to_string(&svg).unwrap();
     assert_eq!(text.matches("<path").count(), 1, "one loop: {text}");
 }
@@ -436,7 +406,7 @@ fn svg_loops(text: &str) -> Vec<Vec<[f64; 2]>> {
 #[test]
 fn sections_of_volumes_have_the_area_of_the_cut() {
     let svg = out_path("blob-section.svg");
-    let out = bezsolid(&[
+    succeed(&[
         "contour",
         "preset:blob",
         "--section",
@@ -446,11 +416,6 @@ fn sections_of_volumes_have_the_area_of_the_cut() {
         "-o",
         svg.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let loops = svg_loops(&std::fs::read_to_string(&svg).unwrap());
     assert_eq!(loops.len(), 1);
     let area = enclosed_area(&loops);
@@ -526,7 +491,7 @@ fn sections_of_volumes_have_the_area_of_the_cut() {
 #[test]
 fn hf_extrudes_2d_models_to_a_slab() {
     let out_file = out_path("fig9-slab.hf");
-    let out = bezsolid(&[
+    succeed(&[
         "hf",
         "preset:fig9",
         "--height",
@@ -534,11 +499,6 @@ fn hf_extrudes_2d_models_to_a_slab() {
         "-o",
         out_file.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let text = std::fs::read_to_string(&out_file).unwrap();
     assert!(text.contains("& (x[3] * (0.25 - x[3]));"), "{text}");
     assert!(text.contains("from z = 0 to z = 0.25"), "{text}");
@@ -677,7 +637,7 @@ fn meshes_and_contours_are_measured_on_stdout() {
 fn meshes_are_written_as_3mf_and_glb() {
     let obj = out_path("exchange.obj");
     let write = |path: &std::path::Path| {
-        let out = bezsolid(&[
+        succeed(&[
             "mesh",
             "preset:blob",
             "--res",
@@ -685,11 +645,6 @@ fn meshes_are_written_as_3mf_and_glb() {
             "-o",
             path.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         std::fs::read(path).unwrap()
     };
     let mesh = read_obj(&String::from_utf8(write(&obj)).unwrap());

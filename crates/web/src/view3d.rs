@@ -1041,7 +1041,7 @@ impl View3 {
         let revision = editor.revision();
         let cap = self.cap;
         // A piecewise volume is its cells' polynomials, not its global net read as one.
-        let piecewise = editor.piecewise3().is_some();
+        let piecewise = editor.cells().is_some();
         self.surface.update(
             self.surface_key(editor),
             resolution,

@@ -16,6 +16,18 @@ pub(crate) fn bezsolid(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// Runs the `bezsolid` binary with `args`, which must succeed (else the test fails with its
+/// stderr).
+pub(crate) fn succeed(args: &[&str]) -> Output {
+    let out = bezsolid(args);
+    assert!(
+        out.status.success(),
+        "bezsolid {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// The path of `name` in this test binary's scratch folder (created).
 pub(crate) fn out_path(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
