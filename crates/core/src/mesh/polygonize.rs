@@ -772,6 +772,45 @@ pub(crate) fn weld(pieces: Vec<Keyed>) -> Mesh {
     weld_keyed(pieces).0
 }
 
+/// [`weld_keyed`] of pieces kept elsewhere (a cache of a mesh's blocks): the same mesh.
+pub(crate) fn weld_kept<'a>(pieces: impl IntoIterator<Item = &'a Keyed>) -> Keyed {
+    let (mut mesh, mut kept) = (Mesh::default(), Vec::new());
+    let mut map = EdgeMap::new();
+    for (piece, keys) in pieces {
+        append(&mut mesh, &mut kept, &mut map, piece, keys);
+    }
+    (mesh, kept)
+}
+
+/// Adds `piece` (its vertices keyed by `keys`) to `mesh` (its vertices keyed by `kept`, the
+/// shared ones found by `map`): a vertex whose key is there already is that one.
+fn append(mesh: &mut Mesh, kept: &mut Vec<u64>, map: &mut EdgeMap, piece: &Mesh, keys: &[u64]) {
+    let mut remap = Vec::with_capacity(piece.positions.len());
+    for i in 0..piece.positions.len() {
+        let k = keys.get(i).copied().unwrap_or(NO_EDGE);
+        let mut fresh = || {
+            let id = mesh.positions.len() as u32;
+            mesh.positions.push(piece.positions[i]);
+            mesh.normals
+                .push(piece.normals.get(i).copied().unwrap_or(DVec3::ZERO));
+            kept.push(k);
+            id
+        };
+        remap.push(if k == NO_EDGE {
+            fresh()
+        } else {
+            map.get_or_insert(k, fresh)
+        });
+    }
+    mesh.triangles.extend(
+        piece
+            .triangles
+            .iter()
+            .filter(|t| t.iter().all(|&v| (v as usize) < remap.len()))
+            .map(|t| t.map(|v| remap[v as usize])),
+    );
+}
+
 /// [`weld`], with the key of each vertex of the mesh it makes.
 pub(crate) fn weld_keyed(pieces: Vec<Keyed>) -> Keyed {
     let mut pieces = pieces.into_iter();
@@ -798,30 +837,7 @@ pub(crate) fn weld_keyed(pieces: Vec<Keyed>) -> Keyed {
         }
     }
     for (piece, keys) in pieces {
-        let mut remap = Vec::with_capacity(piece.positions.len());
-        for i in 0..piece.positions.len() {
-            let k = keys.get(i).copied().unwrap_or(NO_EDGE);
-            let mut fresh = || {
-                let id = mesh.positions.len() as u32;
-                mesh.positions.push(piece.positions[i]);
-                mesh.normals
-                    .push(piece.normals.get(i).copied().unwrap_or(DVec3::ZERO));
-                kept.push(k);
-                id
-            };
-            remap.push(if k == NO_EDGE {
-                fresh()
-            } else {
-                map.get_or_insert(k, fresh)
-            });
-        }
-        mesh.triangles.extend(
-            piece
-                .triangles
-                .iter()
-                .filter(|t| t.iter().all(|&v| (v as usize) < remap.len()))
-                .map(|t| t.map(|v| remap[v as usize])),
-        );
+        append(&mut mesh, &mut kept, &mut map, &piece, &keys);
     }
     (mesh, kept)
 }

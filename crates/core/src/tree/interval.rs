@@ -109,15 +109,41 @@ where
     /// A range holding `f` at every point of the box `[lo, hi]`.
     #[must_use]
     pub fn interval(&self, lo: [f64; D], hi: [f64; D]) -> Interval {
-        let mut stack: Vec<Interval> = Vec::with_capacity(self.stack);
+        let mut leaves = Vec::with_capacity(self.leaves.len());
+        self.leaf_ranges(lo, hi, &mut leaves);
+        self.range_of(&leaves)
+    }
+
+    /// Each leaf's range over the box `[lo, hi]`, by leaf, in `out`.
+    pub(crate) fn leaf_ranges(&self, lo: [f64; D], hi: [f64; D], out: &mut Vec<Interval>) {
         let mut scratch = Vec::new();
+        out.clear();
+        out.extend((0..self.leaves.len()).map(|i| self.leaf_range(i, lo, hi, &mut scratch)));
+    }
+
+    /// Leaf `i`'s range over the box `[lo, hi]` (`scratch`: room for a Bézier leaf's net).
+    pub(crate) fn leaf_range(
+        &self,
+        i: usize,
+        lo: [f64; D],
+        hi: [f64; D],
+        scratch: &mut Vec<f64>,
+    ) -> Interval {
+        match self.leaves.get(i) {
+            Some(leaf) => {
+                let (llo, lhi) = mapped_box(leaf, lo, hi);
+                leaf_interval(&leaf.shape, llo, lhi, scratch)
+            }
+            None => Interval::ANY,
+        }
+    }
+
+    /// The range of `f` over a box from its leaves' ranges there ([`Tree::leaf_ranges`]).
+    pub(crate) fn range_of(&self, leaves: &[Interval]) -> Interval {
+        let mut stack: Vec<Interval> = Vec::with_capacity(self.stack);
         for step in &self.steps {
             match *step {
-                Step::Leaf(i) => {
-                    let leaf = &self.leaves[i];
-                    let (llo, lhi) = mapped_box(leaf, lo, hi);
-                    stack.push(leaf_interval(&leaf.shape, llo, lhi, &mut scratch));
-                }
+                Step::Leaf(i) => stack.push(leaves.get(i).copied().unwrap_or(Interval::ANY)),
                 step => {
                     let first = stack.len().saturating_sub(step.arity());
                     let range = combine(step, &stack[first..]);
@@ -413,20 +439,28 @@ impl<const D: usize> Tree<D>
 where
     Dim<D>: Dimension<D>,
 {
-    /// The tree's program over the box `[lo, hi]` without the operands of unions, intersections and
-    /// differences that cannot decide a sign there: a union's operand negative all over the box
+    /// [`Tree::pruned_of`] over the box `[lo, hi]`.
+    #[cfg(test)]
+    pub(crate) fn pruned(&self, lo: [f64; D], hi: [f64; D]) -> Option<Vec<Step>> {
+        let mut leaves = Vec::with_capacity(self.leaves.len());
+        self.leaf_ranges(lo, hi, &mut leaves);
+        self.pruned_of(&leaves)
+    }
+
+    /// The tree's program over a box, from its leaves' ranges there ([`Tree::leaf_ranges`]),
+    /// without the operands of unions, intersections and differences that cannot decide a sign
+    /// there: a union's operand negative all over the box
     /// (an intersection's positive; a difference's subtracted one negative). An R-function has the
     /// sign of `max` (`min` for `&`): `f1 | f2` with `f2 < 0` has the sign of `f1` everywhere, is
     /// zero where `f1` is, and its gradient there is `∇f1`. So where every operation between the
     /// left-out operand and the root is an R-function (or a transform), the pruned program has the
     /// tree's signs, zero set and normals in the box; operations under a blend or a morph, whose
     /// values count and not only their signs, are left whole. `None` when nothing is left out.
-    pub(crate) fn pruned(&self, lo: [f64; D], hi: [f64; D]) -> Option<Vec<Step>> {
+    pub(crate) fn pruned_of(&self, leaves: &[Interval]) -> Option<Vec<Step>> {
         // Per value on the stack: its range and the steps that made it.
         let mut stack: Vec<(Interval, usize)> = Vec::with_capacity(self.stack);
         let mut removed = alloc::vec![false; self.steps.len()];
         let mut counts: Vec<Option<usize>> = alloc::vec![None; self.steps.len()];
-        let mut scratch = Vec::new();
         let mut any = false;
         // Operations under a blend or a morph keep their operands: there the tree's f is not near
         // zero where theirs is, so a pruned operand would move the surface by a first-order amount.
@@ -449,11 +483,7 @@ where
         };
         for (at, step) in self.steps.iter().enumerate() {
             let (range, start) = match *step {
-                Step::Leaf(i) => {
-                    let leaf = &self.leaves[i];
-                    let (llo, lhi) = mapped_box(leaf, lo, hi);
-                    (leaf_interval(&leaf.shape, llo, lhi, &mut scratch), at)
-                }
+                Step::Leaf(i) => (leaves.get(i).copied().unwrap_or(Interval::ANY), at),
                 step => {
                     let first = stack.len().saturating_sub(step.arity());
                     let operands = &stack[first..];

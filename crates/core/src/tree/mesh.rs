@@ -7,12 +7,13 @@
 //! given box the field is `f & box` (the R-function intersection with the box's own function),
 //! which is negative outside the box, so the mesh is closed there too, cut by the box's faces.
 
+use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 use core::fmt;
 
 use glam::{DVec2, DVec3};
 
-use super::{Shape, Step, Tree};
+use super::{Interval, Shape, Step, Tree};
 use crate::contour::{Grid2, Polyline, contour};
 use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
@@ -147,12 +148,12 @@ where
 
 /// `f` (and its gradient) of the tree, cut by `clip` where a box was given.
 #[derive(Clone)]
-struct Field<'a, const D: usize>
+pub(super) struct Field<'a, const D: usize>
 where
     Dim<D>: Dimension<D>,
 {
     tree: &'a Tree<D>,
-    clip: Option<Shape<D>>,
+    pub(super) clip: Option<Shape<D>>,
     stack: Vec<f64>,
 }
 
@@ -209,6 +210,9 @@ struct Roots<'a> {
     /// The pruned programs of the blocks, and the one of the block the walk is in.
     programs: &'a [Vec<Step>],
     program: Option<usize>,
+    /// Whether the walk has read the whole tree (an ambiguous face's corners, a root a block's
+    /// pruned program left past the accuracy).
+    whole: bool,
 }
 
 impl BlockRoots for Roots<'_> {
@@ -218,6 +222,7 @@ impl BlockRoots for Roots<'_> {
 
     /// The whole tree's value: what the blocks on both sides of a face agree on.
     fn canonical(&mut self, s: [usize; 3], _value: f64) -> f64 {
+        self.whole = true;
         self.field.f(self.grid.point(s[0], s[1], s[2]).to_array())
     }
 }
@@ -241,6 +246,7 @@ impl EdgeRoots for Roots<'_> {
             self.accuracy,
         );
         if program.is_some() && field.f(a.lerp(b, t).to_array()).abs() > self.accuracy {
+            self.whole = true;
             t = illinois(|t| field.f(a.lerp(b, t).to_array()), f0, f1, self.accuracy);
         }
         let p = a.lerp(b, t);
@@ -364,119 +370,19 @@ impl Tree<3> {
                 report(done, total);
             }
         };
-        let Some(Region { lo, hi, clip }) =
-            self::region(self.bounds(), region, resolution, accuracy)?
-        else {
+        let Some(plan) = self.blocks_plan(resolution, accuracy, region)? else {
             progress(1, 1);
             return Ok((Vec::new(), MeshStats::default()));
         };
-        let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
-        let size = hi - lo;
-        let cell = size.max_element() / resolution as f64;
-        let cells = (size / cell)
-            .ceil()
-            .max(DVec3::ONE)
-            .min(DVec3::splat(resolution as f64));
-        let step = size / cells;
-        let grid = SampleGrid {
-            origin: lo - step * (0.5 - GRID_SHIFT),
-            step,
-            dims: cells.to_array().map(|c| c as usize + 2),
-        };
-        let field = Field {
-            tree: self,
-            clip,
-            stack: Vec::with_capacity(self.stack),
-        };
-        let [nx, ny, nz] = grid.dims;
-        let mut stats = MeshStats {
-            cells: (nx - 1) * (ny - 1) * (nz - 1),
-            ..MeshStats::default()
-        };
-        let total = stats.cells;
-        // Boxes of cells, bounded by intervals: one sign, no surface (skipped); else split in
-        // eight, down to boxes sampled whole as blocks, each with its pruned program.
-        let mut programs: Vec<Vec<Step>> = Vec::new();
-        let mut blocks: Vec<Block> = Vec::new();
-        let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
-        // The magnitude of f in the region: a sample on a block's face within `tau` of zero by a
-        // pruned program takes the whole tree's value, so that both blocks beside the face see
-        // one sign (a pruned program has the tree's signs; rounding, far below `tau`, does not).
-        let whole = self.interval(
-            grid.point(0, 0, 0).to_array(),
-            grid.point(nx - 1, ny - 1, nz - 1).to_array(),
-        );
-        let scale = whole.lo.abs().max(whole.hi.abs());
-        let tau = if scale.is_finite() {
-            accuracy.max(1e-10 * scale)
-        } else {
-            accuracy
-        };
-        while let Some((lo, hi)) = todo.pop() {
-            let (plo, phi) = (
-                grid.point(lo[0], lo[1], lo[2]),
-                grid.point(hi[0], hi[1], hi[2]),
-            );
-            let mut range = self.interval(plo.to_array(), phi.to_array());
-            if let Some(b) = &field.clip {
-                let (blo, bhi) = (plo.to_array(), phi.to_array());
-                range = range.intersect_box(b, blo, bhi);
-            }
-            let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
-            if range.hi < 0.0 || range.lo > 0.0 {
-                stats.skipped += size.iter().product::<usize>();
-            } else if size.iter().all(|&s| s <= LEAF_CELLS) {
-                // The box's own program, without the operands that cannot decide a sign in it:
-                // the tree's signs, zero set and normals there, for the cost of what is near.
-                let tag = match self.pruned(plo.to_array(), phi.to_array()) {
-                    Some(program) => {
-                        programs.push(program);
-                        (programs.len() - 1) as u32
-                    }
-                    None => u32::MAX,
-                };
-                stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
-                blocks.push(Block { lo, size, tag });
-            } else {
-                let mid = [0, 1, 2].map(|k| lo[k] + size[k] / 2);
-                todo.extend(octants(lo, mid, hi).map(|(_, child)| child));
-            }
-        }
+        let (stats, total) = (plan.stats, plan.stats.cells);
         if stats.skipped < total {
             progress(stats.skipped, total);
         }
-        let blocks = share.of_blocks(&blocks);
+        let blocks = share.of_blocks(&plan.blocks);
         // Each piece of consecutive blocks on its own field and roots, welded in order: the mesh
         // one walk over all the blocks gives (on one thread or many).
         let marcher = Marcher::new();
-        let piece = |part: &[Block]| {
-            let mut sampler = field.clone();
-            let sample = |block: &Block, out: &mut Vec<f64>| {
-                let program = (block.tag != u32::MAX)
-                    .then(|| programs.get(block.tag as usize).map(Vec::as_slice))
-                    .flatten();
-                for c in block.lo[2]..=block.lo[2] + block.size[2] {
-                    for b in block.lo[1]..=block.lo[1] + block.size[1] {
-                        for a in block.lo[0]..=block.lo[0] + block.size[0] {
-                            let p = grid.point(a, b, c).to_array();
-                            let mut v = sampler.f_by(program, p);
-                            if program.is_some() && v.abs() < tau && block.on_face([a, b, c]) {
-                                v = sampler.f(p);
-                            }
-                            out.push(v);
-                        }
-                    }
-                }
-            };
-            let mut roots = Roots {
-                field: field.clone(),
-                grid,
-                accuracy,
-                programs: &programs,
-                program: None,
-            };
-            polygonize_blocks(&grid, part, sample, &mut roots, &marcher)
-        };
+        let piece = |part: &[Block]| plan.mesh(part, &marcher).0;
         // In rounds, each reported with the cells done so far: fiftieths without the `parallel`
         // feature; with it, rounds of four tasks a thread (one task a piece), several only when
         // someone is told of the progress (each round waits for its slowest task).
@@ -508,6 +414,242 @@ impl Tree<3> {
         }
         progress(total, total);
         Ok((pieces, stats))
+    }
+
+    /// The grid of the mesh at `resolution` and its blocks: boxes of cells bounded by intervals,
+    /// one sign (no surface) skipped, else split in eight down to boxes sampled whole, each with
+    /// its pruned program. `None` for an empty solid.
+    pub(super) fn blocks_plan(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<Option<Plan<'_>>, TreeMeshError> {
+        Ok(self
+            .mesh_grid(resolution, accuracy, region)?
+            .map(|(grid, clip)| self.walk(grid, clip, accuracy, None)))
+    }
+
+    /// The grid of the mesh at `resolution` (about half a cell past the region on every side)
+    /// and the box to cut by where one was given; `None` for an empty solid.
+    pub(super) fn mesh_grid(
+        &self,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<Option<(SampleGrid, Option<Shape<3>>)>, TreeMeshError> {
+        let Some(Region { lo, hi, clip }) =
+            self::region(self.bounds(), region, resolution, accuracy)?
+        else {
+            return Ok(None);
+        };
+        let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
+        let size = hi - lo;
+        let cell = size.max_element() / resolution as f64;
+        let cells = (size / cell)
+            .ceil()
+            .max(DVec3::ONE)
+            .min(DVec3::splat(resolution as f64));
+        let step = size / cells;
+        let grid = SampleGrid {
+            origin: lo - step * (0.5 - GRID_SHIFT),
+            step,
+            dims: cells.to_array().map(|c| c as usize + 2),
+        };
+        Ok(Some((grid, clip)))
+    }
+
+    /// The blocks of `grid` ([`Tree::blocks_plan`]), the leaves' ranges over its boxes taken
+    /// from `memo` where it holds them, and kept there for the next walk.
+    pub(super) fn walk(
+        &self,
+        grid: SampleGrid,
+        clip: Option<Shape<3>>,
+        accuracy: f64,
+        mut memo: Option<&mut RangeMemo>,
+    ) -> Plan<'_> {
+        let field = Field {
+            tree: self,
+            clip,
+            stack: Vec::with_capacity(self.stack),
+        };
+        let [nx, ny, nz] = grid.dims;
+        let mut stats = MeshStats {
+            cells: (nx - 1) * (ny - 1) * (nz - 1),
+            ..MeshStats::default()
+        };
+        // Boxes of cells, bounded by intervals: one sign, no surface (skipped); else split in
+        // eight, down to boxes sampled whole as blocks, each with its pruned program.
+        let mut programs: Vec<Vec<Step>> = Vec::new();
+        let mut blocks: Vec<Block> = Vec::new();
+        let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
+        // The magnitude of f in the region: a sample on a block's face within `tau` of zero by a
+        // pruned program takes the whole tree's value, so that both blocks beside the face see
+        // one sign (a pruned program has the tree's signs; rounding, far below `tau`, does not).
+        let whole = self.interval(
+            grid.point(0, 0, 0).to_array(),
+            grid.point(nx - 1, ny - 1, nz - 1).to_array(),
+        );
+        let scale = whole.lo.abs().max(whole.hi.abs());
+        let tau = if scale.is_finite() {
+            accuracy.max(1e-10 * scale)
+        } else {
+            accuracy
+        };
+        let (mut leaves, mut scratch) = (Vec::with_capacity(self.leaves.len()), Vec::new());
+        while let Some((lo, hi)) = todo.pop() {
+            let (plo, phi) = (
+                grid.point(lo[0], lo[1], lo[2]),
+                grid.point(hi[0], hi[1], hi[2]),
+            );
+            match memo.as_deref_mut() {
+                Some(memo) => memo.ranges(self, (lo, hi), plo, phi, &mut leaves, &mut scratch),
+                None => self.leaf_ranges(plo.to_array(), phi.to_array(), &mut leaves),
+            }
+            let mut range = self.range_of(&leaves);
+            if let Some(b) = &field.clip {
+                let (blo, bhi) = (plo.to_array(), phi.to_array());
+                range = range.intersect_box(b, blo, bhi);
+            }
+            let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
+            if range.hi < 0.0 || range.lo > 0.0 {
+                stats.skipped += size.iter().product::<usize>();
+            } else if size.iter().all(|&s| s <= LEAF_CELLS) {
+                // The box's own program, without the operands that cannot decide a sign in it:
+                // the tree's signs, zero set and normals there, for the cost of what is near.
+                let tag = match self.pruned_of(&leaves) {
+                    Some(program) => {
+                        programs.push(program);
+                        (programs.len() - 1) as u32
+                    }
+                    None => u32::MAX,
+                };
+                stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
+                blocks.push(Block { lo, size, tag });
+            } else {
+                let mid = [0, 1, 2].map(|k| lo[k] + size[k] / 2);
+                todo.extend(octants(lo, mid, hi).map(|(_, child)| child));
+            }
+        }
+        Plan {
+            grid,
+            field,
+            accuracy,
+            tau,
+            programs,
+            blocks,
+            stats,
+        }
+    }
+}
+
+/// The leaves' ranges over the boxes of a walk, kept for the next walk over the same grid: a leaf
+/// unchanged since has the same ranges.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RangeMemo {
+    /// By leaf of the tree walked: whether `kept` holds its ranges.
+    pub(super) same: Vec<bool>,
+    /// The ranges by leaf over each box (its first and last sample) of the last walk.
+    pub(super) kept: BTreeMap<([usize; 3], [usize; 3]), Vec<Interval>>,
+    /// This walk's.
+    pub(super) made: BTreeMap<([usize; 3], [usize; 3]), Vec<Interval>>,
+}
+
+impl RangeMemo {
+    /// The ranges of `tree`'s leaves over the box `key` (`[plo, phi]` in space), in `out`.
+    fn ranges(
+        &mut self,
+        tree: &Tree<3>,
+        key: ([usize; 3], [usize; 3]),
+        plo: DVec3,
+        phi: DVec3,
+        out: &mut Vec<Interval>,
+        scratch: &mut Vec<f64>,
+    ) {
+        let (lo, hi) = (plo.to_array(), phi.to_array());
+        let kept = self.kept.remove(&key);
+        out.clear();
+        out.extend((0..tree.leaves.len()).map(|i| {
+            let known = kept.as_ref().and_then(|k| k.get(i));
+            match known {
+                Some(&range) if self.same.get(i) == Some(&true) => range,
+                _ => tree.leaf_range(i, lo, hi, scratch),
+            }
+        }));
+        self.made.insert(key, out.clone());
+    }
+}
+
+/// The grid of a tree's mesh, its blocks and their pruned programs ([`Tree::blocks_plan`]).
+pub(super) struct Plan<'a> {
+    pub(super) grid: SampleGrid,
+    pub(super) field: Field<'a, 3>,
+    pub(super) accuracy: f64,
+    /// Below this, a pruned program's value on a block's face gives way to the whole tree's.
+    pub(super) tau: f64,
+    /// The pruned programs, by [`Block::tag`] (`u32::MAX`: the whole tree).
+    pub(super) programs: Vec<Vec<Step>>,
+    pub(super) blocks: Vec<Block>,
+    pub(super) stats: MeshStats,
+}
+
+/// What meshing a run of blocks read besides their own programs.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Reads {
+    /// The least `|f|` a pruned program gave on a block's face (∞ where there is none).
+    pub(super) near: f64,
+    /// Whether the whole tree was read in a block with a pruned program: a face sample within
+    /// `tau` of zero, an ambiguous face's corners, a root checked past the accuracy.
+    pub(super) whole: bool,
+}
+
+impl Plan<'_> {
+    /// The pruned program of `block` (`None`: the whole tree's).
+    pub(super) fn program(&self, block: &Block) -> Option<&[Step]> {
+        (block.tag != u32::MAX)
+            .then(|| self.programs.get(block.tag as usize).map(Vec::as_slice))
+            .flatten()
+    }
+
+    /// The mesh of consecutive blocks `part`, to be welded in order with the others', and what
+    /// it read.
+    pub(super) fn mesh(&self, part: &[Block], marcher: &Marcher) -> (Keyed, Reads) {
+        let mut sampler = self.field.clone();
+        let (grid, tau) = (self.grid, self.tau);
+        let mut reads = Reads {
+            near: f64::INFINITY,
+            whole: false,
+        };
+        let sample = |block: &Block, out: &mut Vec<f64>| {
+            let program = self.program(block);
+            for c in block.lo[2]..=block.lo[2] + block.size[2] {
+                for b in block.lo[1]..=block.lo[1] + block.size[1] {
+                    for a in block.lo[0]..=block.lo[0] + block.size[0] {
+                        let p = grid.point(a, b, c).to_array();
+                        let mut v = sampler.f_by(program, p);
+                        if program.is_some() && block.on_face([a, b, c]) {
+                            reads.near = reads.near.min(v.abs());
+                            if v.abs() < tau {
+                                reads.whole = true;
+                                v = sampler.f(p);
+                            }
+                        }
+                        out.push(v);
+                    }
+                }
+            }
+        };
+        let mut roots = Roots {
+            field: self.field.clone(),
+            grid,
+            accuracy: self.accuracy,
+            programs: &self.programs,
+            program: None,
+            whole: false,
+        };
+        let keyed = polygonize_blocks(&grid, part, sample, &mut roots, marcher);
+        reads.whole |= roots.whole;
+        (keyed, reads)
     }
 }
 

@@ -45,9 +45,11 @@ use crate::tensor::Tensor;
 mod bounds;
 mod interval;
 mod mesh;
+mod remesh;
 
 pub use interval::Interval;
 pub use mesh::{MAX_RESOLUTION, MeshStats, TreeMeshError, plane_axes};
+pub use remesh::{MeshCache, Remeshed};
 
 /// The deepest a tree may be: a node and its children count 2.
 pub const MAX_DEPTH: usize = 32;
@@ -131,7 +133,7 @@ impl<const D: usize> Affine<D> {
 }
 
 /// What a leaf is, in its own coordinates.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 enum Shape<const D: usize>
 where
     Dim<D>: Dimension<D>,
@@ -320,7 +322,7 @@ where
 /// A regular Bézier leaf's `ξ` net and box: `f = S_ξ(t) & F_s(t)` with `t` the point scaled to
 /// the box, computed as the solid computes it (the same sums in the same order), without its
 /// `x, y, z` components.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct Regular<const D: usize> {
     xi: Tensor<f64, D>,
     min: [f64; D],
@@ -351,7 +353,7 @@ impl<const D: usize> Regular<D> {
 
 /// A regular piecewise leaf's cells' `ξ` nets (in the net's order, the last axis fastest) and its
 /// box: what its interval bounds read.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct RegularCells<const D: usize> {
     xi: Vec<Tensor<f64, D>>,
     cells: [usize; D],
@@ -391,7 +393,7 @@ impl<const D: usize> RegularCells<D> {
 }
 
 /// A leaf and the map from space into its coordinates.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct Leaf<const D: usize>
 where
     Dim<D>: Dimension<D>,
