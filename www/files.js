@@ -168,7 +168,11 @@ export function setupFiles(app) {
     model: () => download('bezsolid.bsolid.json', new Blob([modeler.model_json()], { type: 'application/json' })),
     // The exact contour: on a folded net, the inverse map at every sample (seconds).
     svg: () => exportJob('bezsolid-contours.svg', 'image/svg+xml', 'Exporting SVG', { kind: 'svg', model: modeler.patch_json() }, () => modeler.svg()),
-    hf: () => download('bezsolid.hf', new Blob([modeler.hyperfun()], { type: 'text/plain' })),
+    // Written by the tools' module (its HyperFun writers are not in the page's).
+    hf: () => {
+      const model = modeler.model_json();
+      exportJob('bezsolid.hf', 'text/plain', 'Exporting HyperFun', { kind: 'hf', model }, async () => (await tools()).headless_hyperfun(model));
+    },
     ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
       const model = modeler.model_json();
       const resolution = modeler.resolution();

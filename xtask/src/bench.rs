@@ -764,6 +764,26 @@ fn tree_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
                 "| cells skipped by the interval bounds ({n}³) | {} |",
                 ours.note
             );
+            let edit = "bezsolid after an edit";
+            if let Some(edited) = find(native, case, n, edit) {
+                let wasm = match (find(wasm, case, n, "bezsolid ("), find(wasm, case, n, edit)) {
+                    (Some(fresh), Some(edited)) => format!(
+                        "; wasm {:.1} ms against {:.0} ms ({:.1}×)",
+                        edited.ms,
+                        fresh.ms,
+                        fresh.ms / edited.ms
+                    ),
+                    _ => String::new(),
+                };
+                let _ = writeln!(
+                    s,
+                    "| cheap edits: one solid of the 20 edited, meshed again ({n}³) | {:.1} ms against {:.0} ms made afresh ({:.1}×), {}{wasm} |",
+                    edited.ms,
+                    ours.ms,
+                    ours.ms / edited.ms,
+                    edited.note
+                );
+            }
             if let Some(all) = native
                 .iter()
                 .find(|r| r.case == case && r.n == n && r.who.ends_with(" threads)"))

@@ -4,8 +4,9 @@
 //! surface may be; the share of cells skipped is in the note.
 
 use bezsolid_core::Solid3;
+use bezsolid_core::mesh::Share;
 use bezsolid_core::model::{CoordAxis, ModelFile, SolidSpec as S};
-use bezsolid_core::tree::{ModelTree, Tree};
+use bezsolid_core::tree::{MeshCache, ModelTree, Tree};
 use glam::DVec3;
 
 use crate::{Clock, Row, time};
@@ -13,14 +14,28 @@ use crate::{Clock, Row, time};
 /// The benchmark's tree (its model file).
 #[must_use]
 pub fn bench_tree() -> ModelFile {
+    bench_tree_with(0.0)
+}
+
+/// The benchmark's tree with one inner control value of its third volume raised by `bump`: an
+/// edit of one solid.
+#[must_use]
+pub fn bench_tree_with(bump: f64) -> ModelFile {
     // Pair k sits at (x, y) on a 5 × 2 grid, 1.6 apart.
     let at = |k: usize| DVec3::new((k % 5) as f64 * 1.6, (k / 5) as f64 * 1.6, 0.0);
-    let volume = |k: usize| {
-        let lo = at(k) - DVec3::splat(0.6);
+    let volume = |n: usize| {
+        let lo = at(n) - DVec3::splat(0.6);
         let v = Solid3::regular([3, 3, 3], lo, lo + DVec3::splat(1.2), |[i, j, k]| {
             // A ball of degree 3, rippled so that no net is like another.
             let d = |a: usize| (a as f64 - 1.5).abs();
-            0.35 - 0.18 * (d(i) + d(j) + d(k)) + 0.02 * ((i * 3 + j * 5 + k * 7 + k) % 4) as f64
+            let raised = if n == 2 && [i, j, k] == [1, 2, 1] {
+                bump
+            } else {
+                0.0
+            };
+            0.35 - 0.18 * (d(i) + d(j) + d(k))
+                + 0.02 * ((i * 3 + j * 5 + k * 7 + k) % 4) as f64
+                + raised
         })
         .unwrap_or_else(|_| unreachable!("a valid net"));
         ModelFile::from_solid3(&v).solid
@@ -62,7 +77,13 @@ pub fn bench_tree() -> ModelFile {
 /// The benchmark's tree, compiled.
 #[must_use]
 pub fn tree() -> Tree<3> {
-    match bench_tree().to_tree() {
+    tree_with(0.0)
+}
+
+/// [`bench_tree_with`], compiled.
+#[must_use]
+pub fn tree_with(bump: f64) -> Tree<3> {
+    match bench_tree_with(bump).to_tree() {
         Ok(ModelTree::Space(t)) => t,
         _ => unreachable!("a valid 3D tree"),
     }
@@ -121,6 +142,35 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
                 100.0 * stats.skipped as f64 / stats.cells.max(1) as f64,
                 stats.cells,
                 stats.evaluated
+            ),
+        });
+        // An edit of one solid: each run meshes the tree with one control value of one volume
+        // other than the run before, keeping the blocks of the last mesh the edit cannot change.
+        let edits = [tree_with(0.0), tree_with(0.05)];
+        let mut cache = MeshCache::new();
+        let mut which = 0;
+        let mut remesh = |which: usize| {
+            edits[which]
+                .polygonize_share_cached(n, 1e-9, None, Share::WHOLE, &mut cache)
+                .unwrap_or_else(|_| unreachable!("valid arguments"))
+        };
+        let _ = remesh(1);
+        let (ms, runs, (triangles, made)) = time(clock, budget, || {
+            which ^= 1;
+            let (piece, made) = remesh(which);
+            (piece.mesh.triangle_count(), made)
+        });
+        rows.push(Row {
+            case: "tree of 20 solids: polygonize".into(),
+            who: "bezsolid after an edit of one solid (blocks the edit cannot change kept)".into(),
+            n,
+            ms,
+            runs,
+            extra: triangles as f64,
+            note: format!(
+                "{:.1} % of {} blocks kept",
+                100.0 * made.kept as f64 / made.blocks.max(1) as f64,
+                made.blocks
             ),
         });
     }

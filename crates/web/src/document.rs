@@ -3,7 +3,6 @@
 //! Plain Rust over the core, tested natively; the page only moves the strings and bytes.
 
 use bezsolid_core::contour::solid_contour;
-use bezsolid_core::hyperfun::{solid2_hf, solid3_hf};
 use bezsolid_core::link;
 use bezsolid_core::mesh::Mesh;
 use bezsolid_core::mesh::svg::contours_svg;
@@ -194,19 +193,6 @@ pub fn svg(solid: &Solid2) -> String {
     )
 }
 
-/// The HyperFun model of the editor's model.
-///
-/// # Errors
-///
-/// For a space-mapped model past the export's cap ([`bezsolid_core::hyperfun::MAX_NUMBERS`]).
-pub fn hyperfun(editor: &Editor) -> Result<String, Error> {
-    match editor.volume() {
-        Some(v) => solid3_hf(v),
-        None => solid2_hf(editor.solid()),
-    }
-    .map_err(Error::from)
-}
-
 /// A model from text that is either a model file (JSON) or a share link (a URL or a fragment).
 ///
 /// # Errors
@@ -229,7 +215,7 @@ pub mod headless {
     use bezsolid_core::mesh::exchange::ExportFormat;
     use bezsolid_core::mesh::{Mesh, Share};
     use bezsolid_core::model::ModelSolid;
-    use bezsolid_core::tree::{ModelTree, Tree, TreeMeshError};
+    use bezsolid_core::tree::{MeshCache, ModelTree, Tree, TreeMeshError};
     use bezsolid_core::{Axis, Solid2};
 
     /// The tree of a model of many solids, or `None` for a model of one solid.
@@ -416,8 +402,15 @@ pub mod headless {
         })
     }
 
+    std::thread_local! {
+        /// The pieces of the last tree surface this thread made a share of, block by block.
+        static SURFACES: core::cell::RefCell<MeshCache> = core::cell::RefCell::new(MeshCache::new());
+    }
+
     /// The share `share` of the surface [`surface`] makes, for a page that makes it in several
-    /// workers: the shares' floats, one after another, are that surface's floats.
+    /// workers: the shares' floats, one after another, are that surface's floats. A model of
+    /// many solids is meshed again only where it changed since this thread's last share of it
+    /// ([`bezsolid_core::tree::MeshCache`]).
     ///
     /// # Errors
     ///
@@ -427,21 +420,48 @@ pub mod headless {
         resolution: usize,
         share: Share,
     ) -> Result<Made<Vec<f32>>, Error> {
+        surface_share_kept(text, resolution, share).map(|(made, _)| made)
+    }
+
+    /// `[kept, blocks]`: the blocks of a share of a surface taken from the last mesh, of all.
+    pub type KeptBlocks = [usize; 2];
+
+    /// [`surface_share`], with `[kept, blocks]` for a model of many solids: the blocks of the
+    /// share taken from this thread's last mesh of the model, of all it meshed.
+    ///
+    /// # Errors
+    ///
+    /// As [`surface`].
+    pub fn surface_share_kept(
+        text: &str,
+        resolution: usize,
+        share: Share,
+    ) -> Result<(Made<Vec<f32>>, Option<KeptBlocks>), Error> {
         if let Some(t) = tree(text)? {
             let (space, region) = tree_space(&t, resolution, true)?;
-            let piece = space
-                .polygonize_share(resolution, MESH_ACCURACY, region, share)
+            // The blocks an edit since the last share of this thread cannot have changed are
+            // taken from the cache (a worker is given the same share each time).
+            let (piece, made) = SURFACES
+                .with_borrow_mut(|cache| {
+                    space.polygonize_share_cached(resolution, MESH_ACCURACY, region, share, cache)
+                })
                 .map_err(unbounded)?;
-            return Ok(Made {
-                data: crate::view3d::mesh_floats(&piece.mesh),
-                approximate: 0,
-            });
+            return Ok((
+                Made {
+                    data: crate::view3d::mesh_floats(&piece.mesh),
+                    approximate: 0,
+                },
+                Some([made.kept, made.blocks]),
+            ));
         }
         let v = volume(text, resolution)?;
-        Ok(Made {
-            data: crate::view3d::surface_share_floats(&v, resolution, share),
-            approximate: v.exhausted(),
-        })
+        Ok((
+            Made {
+                data: crate::view3d::surface_share_floats(&v, resolution, share),
+                approximate: v.exhausted(),
+            },
+            None,
+        ))
     }
 
     /// The contour stack of a volume model across `axis` (0 = u, 1 = v, 2 = w), as
@@ -563,6 +583,26 @@ pub mod headless {
         }
     }
 
+    /// The HyperFun model of a model file or link: a model of many solids as its tree, one
+    /// solid (space-mapped ones with their inverse map) as the exported solid.
+    ///
+    /// # Errors
+    ///
+    /// What is wrong with the input, or a space-mapped model past the export's cap
+    /// ([`bezsolid_core::hyperfun::MAX_NUMBERS`]).
+    pub fn hyperfun(text: &str) -> Result<String, Error> {
+        use bezsolid_core::hyperfun::{solid2_hf, solid3_hf, tree_hf};
+        let file = read_file(text)?;
+        if file.solid.is_tree() {
+            return tree_hf(&file).map_err(|e| Error::new(format!("HyperFun: {e}")));
+        }
+        match file.to_solid()? {
+            ModelSolid::Patch(s) => solid2_hf(&s),
+            ModelSolid::Volume(s) => solid3_hf(&s),
+        }
+        .map_err(Error::from)
+    }
+
     /// The zero contours of a patch model as SVG.
     ///
     /// # Errors
@@ -657,7 +697,11 @@ mod tests {
         assert!(m.check_closed_manifold().is_ok());
         let stl = Format::Stl.write(&m);
         assert_eq!(stl.len(), 84 + 50 * m.triangles.len());
-        assert!(hyperfun(&e).unwrap().contains("my_model("));
+        assert!(
+            headless::hyperfun(&model_json(&e))
+                .unwrap()
+                .contains("my_model(")
+        );
         assert!(mesh(&Editor::new(Solid2::fig9()), 24).is_err());
     }
 
@@ -913,13 +957,24 @@ mod tests {
         let made = headless::svg(&patch_json(&e)).unwrap();
         assert_eq!(made.data, svg, "the worker's SVG is the same");
         assert_eq!(made.approximate, 0);
-        // A space mapping's HyperFun carries its inverse map.
-        let mapped = hyperfun(&e).unwrap();
+        // A space mapping's HyperFun carries its inverse map; its model file and its link give
+        // the same.
+        let mapped = headless::hyperfun(&model_json(&e)).unwrap();
         assert!(mapped.contains("space-mapped") && mapped.contains("endloop;"));
+        assert_eq!(
+            headless::hyperfun(&share_fragment(&e).unwrap()).unwrap(),
+            mapped
+        );
         assert!(
-            hyperfun(&Editor::new(Solid2::fig9()))
+            headless::hyperfun(&model_json(&Editor::new(Solid2::fig9())))
                 .unwrap()
                 .contains("my_model(")
         );
+        // A model of many solids: its tree.
+        let tree = r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "union", "of": [
+            {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+            {"kind": "box", "min": [0.5, -0.3, -0.3], "max": [1.4, 0.3, 0.3]}]}}"#;
+        assert!(headless::hyperfun(tree).unwrap().contains("my_model("));
+        assert!(headless::hyperfun("{").is_err());
     }
 }

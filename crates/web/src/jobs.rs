@@ -66,6 +66,11 @@ pub enum Job {
         /// A model file or link.
         model: String,
     },
+    /// The HyperFun model of a model (a model of many solids as its tree).
+    Hf {
+        /// A model file or link.
+        model: String,
+    },
     /// The surface of a free-form model's result: six `f32` per vertex.
     EscSurface {
         /// A free-form model file or link.
@@ -151,6 +156,9 @@ pub struct Done {
     pub approximate: Option<usize>,
     /// For a script's run: its report, JSON.
     pub report: Option<String>,
+    /// For a share of a model of many solids' surface: `[kept, blocks]`, the blocks of the share
+    /// this worker took from its last mesh of the model, of all it meshed.
+    pub kept: Option<[usize; 2]>,
 }
 
 /// The data of a result, by element type.
@@ -172,6 +180,8 @@ struct Header<'a> {
     approximate: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     report: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    kept: Option<[usize; 2]>,
 }
 
 /// Runs `job`; `progress(done, total)` is called on the way by the jobs that come in steps.
@@ -185,11 +195,13 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
         payload,
         approximate: Some(approximate),
         report: None,
+        kept: None,
     };
     let plain = |payload| Done {
         payload,
         approximate: None,
         report: None,
+        kept: None,
     };
     Ok(match job {
         Job::Surface {
@@ -197,8 +209,11 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             resolution,
             share,
         } => {
-            let m = bezier::surface_share(model, *resolution, share_of(*share)?)?;
-            counted(Payload::F32(m.data), m.approximate)
+            let (m, kept) = bezier::surface_share_kept(model, *resolution, share_of(*share)?)?;
+            Done {
+                kept,
+                ..counted(Payload::F32(m.data), m.approximate)
+            }
         }
         Job::Mesh {
             model,
@@ -220,6 +235,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
             let m = bezier::svg(model)?;
             counted(Payload::Bytes(m.data.into_bytes()), m.approximate)
         }
+        Job::Hf { model } => plain(Payload::Bytes(bezier::hyperfun(model)?.into_bytes())),
         Job::EscSurface { model, resolution } => plain(Payload::F32(
             crate::freeform::headless::surface(model, *resolution)?,
         )),
@@ -239,6 +255,7 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
                 payload: Payload::F32(drawing.floats),
                 approximate: None,
                 report: Some(drawing.report),
+                kept: None,
             }
         }
         Job::PlasmMesh { model, format } => {
@@ -265,6 +282,7 @@ pub fn encode(done: &Done) -> Vec<u8> {
         payload: kind,
         approximate: done.approximate,
         report: done.report.as_deref(),
+        kept: done.kept,
     })
     .unwrap_or_default();
     let start = (4 + header.len()).next_multiple_of(8);
@@ -439,6 +457,44 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert_eq!(got, want);
+        }
+    }
+
+    /// A worker asked again for its share after an edit of one solid of a model of many solids
+    /// remakes only the blocks near that solid (its header says how many it kept), and gives
+    /// what a worker new to the model gives.
+    #[test]
+    fn a_share_after_an_edit_is_the_share_made_afresh() {
+        // The box's height changes inside the sphere's bounds: the grid stays.
+        let model = |height: f64| {
+            serde_json::json!({"format": "bezsolid", "version": 1, "solid": {"kind": "union",
+                "of": [
+                    {"kind": "sphere", "center": [0, 0, 0], "radius": 1},
+                    {"kind": "box", "min": [1.5, -0.3, -0.3], "max": [2.4, height, 0.3]}]}})
+            .to_string()
+        };
+        let share = |text: &str| {
+            let job = serde_json::json!({"kind": "surface", "model": text, "resolution": 32,
+                "share": [1, 2]});
+            run_bytes(job.to_string().as_bytes(), |_, _| {}).unwrap()
+        };
+        let kept = |bytes: &[u8]| -> [usize; 2] {
+            serde_json::from_value(decode(bytes).0["kept"].clone()).unwrap()
+        };
+        for (k, height) in [0.3, 0.25, 0.28, 0.25, 0.25].into_iter().enumerate() {
+            let text = model(height);
+            let here = share(&text);
+            // Another thread has no cache of the model.
+            let afresh = std::thread::scope(|s| s.spawn(|| share(&text)).join().unwrap());
+            let ([kept, blocks], [none, all]) = (kept(&here), kept(&afresh));
+            assert_eq!((none, all), (0, blocks));
+            assert_eq!(decode(&here).1, decode(&afresh).1, "height {height}");
+            assert!(decode(&here).1.len() > 1000);
+            match k {
+                0 => assert_eq!(kept, 0),
+                4 => assert_eq!(kept, blocks, "the same model again"),
+                _ => assert!(kept * 2 > blocks && kept < blocks, "{kept} of {blocks}"),
+            }
         }
     }
 

@@ -856,19 +856,6 @@ impl Modeler {
         document::headless::svg(&json).map_or_else(|_| String::new(), |m| m.data)
     }
 
-    /// The HyperFun model (a space-mapped solid with its inverse map written in HyperFun).
-    ///
-    /// # Errors
-    ///
-    /// For a model whose space-mapped solids pass the export's cap.
-    pub fn hyperfun(&self) -> Result<String, JsError> {
-        match &self.parts {
-            Some(parts) => Ok(bezsolid_core::hyperfun::tree_hf(&parts.file(&self.editor))
-                .map_err(|e| error("HyperFun", e))?),
-            None => document::hyperfun(&self.editor).map_err(JsError::from),
-        }
-    }
-
     /// The |ξ| that colours full blue or red in the 3D view: the largest |ξ| of the control points.
     #[must_use]
     pub fn xi_extent(&self) -> f64 {

@@ -109,6 +109,16 @@ pub fn headless_svg(text: &str) -> Result<String, JsError> {
     made(document::headless::svg(text))
 }
 
+/// The HyperFun model of a model file or link (a model of many solids as its tree).
+///
+/// # Errors
+///
+/// What is wrong with the input, or a space-mapped model past the export's cap.
+#[wasm_bindgen]
+pub fn headless_hyperfun(text: &str) -> Result<String, JsError> {
+    Ok(document::headless::hyperfun(text)?)
+}
+
 /// The worker's one entry ([`crate::jobs`]): a job as JSON bytes in, its result as one buffer out.
 /// `progress` is called with `(done, total)` by the jobs that come in steps.
 ///
