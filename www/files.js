@@ -7,8 +7,6 @@ import { $, say, messageOf, download, capture, setupMenu } from './ui.js';
 const MESH_FILE = /\.(obj|stl|ply)$/i;
 const MESH_FORMATS = ['stl', 'obj', 'ply', '3mf', 'glb'];
 const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream', '3mf': 'model/3mf', glb: 'model/gltf-binary' };
-// Written by the tools' module only (the page's module has no zip or glTF writer).
-const CONTAINERS = new Set(['3mf', 'glb']);
 
 /** Sets up links, files and exports on `app` (see main.js); returns what the page asks of them. */
 export function setupFiles(app) {
@@ -167,8 +165,12 @@ export function setupFiles(app) {
   const bezierExports = {
     model: () => download('bezsolid.bsolid.json', new Blob([modeler.model_json()], { type: 'application/json' })),
     // The exact contour: on a folded net, the inverse map at every sample (seconds).
-    svg: () => exportJob('bezsolid-contours.svg', 'image/svg+xml', 'Exporting SVG', { kind: 'svg', model: modeler.patch_json() }, () => modeler.svg()),
-    // Written by the tools' module (its HyperFun writers are not in the page's).
+    // Exports are written by the tools' module (in the export worker, or here without one): the
+    // page's module has no writers, so that the first download is small.
+    svg: () => {
+      const model = modeler.patch_json();
+      exportJob('bezsolid-contours.svg', 'image/svg+xml', 'Exporting SVG', { kind: 'svg', model }, async () => (await tools()).headless_svg(model));
+    },
     hf: () => {
       const model = modeler.model_json();
       exportJob('bezsolid.hf', 'text/plain', 'Exporting HyperFun', { kind: 'hf', model }, async () => (await tools()).headless_hyperfun(model));
@@ -176,9 +178,7 @@ export function setupFiles(app) {
     ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
       const model = modeler.model_json();
       const resolution = modeler.resolution();
-      exportMesh(`bezsolid.${format}`, 'mesh', format, model, resolution, async () => (CONTAINERS.has(format)
-        ? (await tools()).headless_mesh(model, format, resolution)
-        : modeler.mesh_file(format)));
+      exportMesh(`bezsolid.${format}`, 'mesh', format, model, resolution, async () => (await tools()).headless_mesh(model, format, resolution));
     }])),
     // The canvas is read in the same task as the frame is drawn, before the browser clears it.
     png: () => {

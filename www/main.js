@@ -13,7 +13,7 @@
 // verbs (`redraw`, `changed`, `attempt`, `resize`, `resize3`, `panel`). A part's own face is set on
 // `app` as it is made (`app.bezier`, `app.freeform`, `app.script`, `app.files`); parts call each
 // other through `app` when events come, never while they are set up.
-import { pageModule, webglModule } from './modules.js';
+import { pageModule, tools, webglModule } from './modules.js';
 import { $, say, messageOf, setupPickers, setupStatus } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { runner, team, workList } from './work.js';
@@ -36,16 +36,29 @@ function freshCanvas(old) {
 
 // The page's module is chosen for the backend before it is fetched; if WebGPU then fails to start,
 // the WebGL2 build is fetched and the whole page uses it (objects of two modules never mix).
-async function bringUp(canvas, requested) {
+// The 3D view's GPU comes up beside the 2D view's (each view has its own device): its promise
+// settles to `{ viewer }` or `{ err }`, so that a failure waits, handled, until it is read.
+async function bringUp(canvas, canvas3, requested) {
   const module = await pageModule(requested);
+  const view3 = (m, backend) => m.glue.start_3d(canvas3, backend).then((viewer) => {
+    performance.mark('bezsolid:viewer');
+    return { viewer };
+  }, (err) => ({ err }));
+  const three = view3(module, requested);
   try {
-    return { module, canvas, modeler: await module.glue.start(canvas, requested) };
+    return { module, canvas, canvas3, three, modeler: await module.glue.start(canvas, requested) };
   } catch (err) {
     if (requested === 'webgl2') throw err;
     console.warn(`bezsolid: ${requested} failed (${messageOf(err)}); falling back to WebGL2`);
     const gl = await webglModule();
     const fresh = freshCanvas(canvas);
-    return { module: gl, canvas: fresh, modeler: await gl.glue.start(fresh, 'webgl2'), fellBack: true };
+    // The 3D view too, on a fresh canvas, from the WebGL2 build.
+    (await three).viewer?.free();
+    canvas3 = freshCanvas(canvas3);
+    return {
+      module: gl, canvas: fresh, canvas3, three: view3(gl, 'webgl2'),
+      modeler: await gl.glue.start(fresh, 'webgl2'), fellBack: true,
+    };
   }
 }
 
@@ -69,10 +82,10 @@ async function main() {
   }
   // Marks for tests/latency.mjs: the script runs, the 2D view's GPU is up, the 3D view's.
   performance.mark('bezsolid:start');
-  const { module, canvas, modeler, fellBack } = await bringUp($('view'), requested);
+  const { module, canvas, canvas3, three, modeler, fellBack } = await bringUp($('view'), $('view3d'), requested);
   performance.mark('bezsolid:modeler');
   const { glue, wasm } = module;
-  const { start_3d, FreeFormView, ScriptViewer, gpu_objects } = glue;
+  const { FreeFormView, ScriptViewer, gpu_objects } = glue;
   const badge = $('backend');
   badge.textContent = modeler.backend();
   badge.dataset.backend = modeler.backend();
@@ -90,13 +103,12 @@ async function main() {
 
   // The 3D view has its own device (a WebGL2 device draws on one canvas only); it is optional: the
   // 2D editor works on without it.
-  const canvas3 = $('view3d');
   let viewer = null;
-  try {
-    viewer = await start_3d(canvas3, modeler.backend() === 'WebGPU' ? 'webgpu' : 'webgl2');
-    performance.mark('bezsolid:viewer');
+  const { viewer: started, err } = await three;
+  if (started) {
+    viewer = started;
     $('loading-3d').hidden = true;
-  } catch (err) {
+  } else {
     $('loading-3d').textContent = `The 3D view could not start: ${messageOf(err)}`;
     console.warn(`bezsolid: no 3D view (${messageOf(err)})`);
   }
@@ -348,6 +360,8 @@ async function main() {
     setWorkspace: app.setWorkspace,
     runScript: app.script.run,
     gpuObjects: () => [...gpu_objects()],
+    // The tools' module on the page (what writes the exports), fetched on first use.
+    tools,
     wasmMemory: () => wasm.memory.buffer.byteLength,
   };
   $('loading').hidden = true;

@@ -234,8 +234,8 @@ test('a volume drawn with its stack and surface from the worker is the picture t
 
 test('the SVG of a folded patch is made in the worker with a Cancel; a regular one is the SVG made before', async () => {
   const { page, errors } = await open(browser);
-  // A regular patch: the worker's SVG is the page's own.
-  const same = await page.evaluate(() => window.bezsolid.modeler.svg());
+  // A regular patch: the worker's SVG is the one the tools' module makes on the page.
+  const same = await page.evaluate(async () => (await window.bezsolid.tools()).headless_svg(window.bezsolid.modeler.patch_json()));
   const [download] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', 'svg')]);
   const path = join(ARTIFACTS, 'work-contours.svg');
   await download.saveAs(path);

@@ -4,8 +4,8 @@
 //! [`crate::view2d`], [`crate::view3d`], …).
 
 use super::{
-    Backend, DragMode, FreeFormDisplay, FreeFormExample, MeshFormat, Operation, ParamAxis,
-    PartKind, PartOperation,
+    Backend, DragMode, FreeFormDisplay, FreeFormExample, Operation, ParamAxis, PartKind,
+    PartOperation,
 };
 use glam::{DVec2, DVec3};
 use wasm_bindgen::prelude::*;
@@ -844,18 +844,6 @@ impl Modeler {
         self.open_file(file)
     }
 
-    /// The zero contours of the patch (or of the volume's selected slice) as SVG.
-    #[must_use]
-    pub fn svg(&self) -> String {
-        let json = match self.parts.as_ref().filter(|p| p.outline().dimension() == 2) {
-            Some(parts) => serde_json::to_string(&parts.file(&self.editor)).unwrap_or_default(),
-            // A piecewise slice: the tree of one leaf it is.
-            None if self.editor.cells().is_some() => document::patch_json(&self.editor),
-            None => return document::svg(self.editor.solid()),
-        };
-        document::headless::svg(&json).map_or_else(|_| String::new(), |m| m.data)
-    }
-
     /// The |ξ| that colours full blue or red in the 3D view: the largest |ξ| of the control points.
     #[must_use]
     pub fn xi_extent(&self) -> f64 {
@@ -952,47 +940,6 @@ impl Modeler {
     pub fn set_surface(&mut self, revision: f64, resolution: u32, data: &[f32]) -> bool {
         self.view3
             .set_surface(&self.editor, revision as u64, resolution as usize, data)
-    }
-
-    /// A mesh file of the volume's surface at the resolution set: `"stl"`, `"obj"` or `"ply"`
-    /// (3MF and GLB are written by the tools' module: `headless_mesh`).
-    ///
-    /// # Errors
-    ///
-    /// For a patch model, or a container format (this module has no writer for them).
-    pub fn mesh_file(&self, format: MeshFormat) -> Result<Vec<u8>, JsError> {
-        if self.parts.is_some() {
-            return Ok(document::headless::mesh(
-                &self.model_json(),
-                format.try_into()?,
-                self.view3.resolution(),
-            )?
-            .data);
-        }
-        let format = bezsolid_core::mesh::exchange::ExportFormat::try_from(format)?;
-        let mesh = document::mesh(&self.editor, self.view3.resolution())?;
-        Ok(format.write(&mesh, document::headless::TITLE)?)
-    }
-
-    /// Triangles of the exported mesh at the resolution set (what `mesh_file` writes).
-    ///
-    /// # Errors
-    ///
-    /// For a patch model.
-    pub fn mesh_triangles(&self) -> Result<usize, JsError> {
-        if self.parts.is_some() {
-            let stl = document::headless::mesh(
-                &self.model_json(),
-                bezsolid_core::mesh::exchange::ExportFormat::Stl,
-                self.view3.resolution(),
-            )?
-            .data;
-            // A binary STL: 80 bytes of header, a count, 50 bytes a triangle.
-            return Ok(stl.len().saturating_sub(84) / 50);
-        }
-        document::mesh(&self.editor, self.view3.resolution())
-            .map(|m| m.triangles.len())
-            .map_err(JsError::from)
     }
 
     /// Sizes the 3D view: CSS pixels and the device pixel ratio; returns the canvas size in device
