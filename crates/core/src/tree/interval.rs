@@ -192,7 +192,11 @@ fn combine(step: Step, operands: &[Interval]) -> Interval {
 }
 
 /// The box `[lo, hi]` in a leaf's coordinates: around the images of its corners.
-fn mapped_box<const D: usize>(leaf: &Leaf<D>, lo: [f64; D], hi: [f64; D]) -> ([f64; D], [f64; D])
+pub(super) fn mapped_box<const D: usize>(
+    leaf: &Leaf<D>,
+    lo: [f64; D],
+    hi: [f64; D],
+) -> ([f64; D], [f64; D])
 where
     Dim<D>: Dimension<D>,
 {

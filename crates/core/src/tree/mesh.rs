@@ -547,8 +547,8 @@ impl Tree<3> {
 /// unchanged since has the same ranges.
 #[derive(Clone, Debug, Default)]
 pub(super) struct RangeMemo {
-    /// By leaf of the tree walked: whether `kept` holds its ranges.
-    pub(super) same: Vec<bool>,
+    /// By leaf of the tree walked: how it changed since the ranges in `kept` were made.
+    pub(super) changes: Vec<super::remesh::Change>,
     /// The ranges by leaf over each box (its first and last sample) of the last walk.
     pub(super) kept: BTreeMap<([usize; 3], [usize; 3]), Vec<Interval>>,
     /// This walk's.
@@ -571,8 +571,12 @@ impl RangeMemo {
         out.clear();
         out.extend((0..tree.leaves.len()).map(|i| {
             let known = kept.as_ref().and_then(|k| k.get(i));
+            let same = match (self.changes.get(i), tree.leaves.get(i)) {
+                (Some(change), Some(leaf)) => change.same_over(leaf, lo, hi),
+                _ => false,
+            };
             match known {
-                Some(&range) if self.same.get(i) == Some(&true) => range,
+                Some(&range) if same => range,
                 _ => tree.leaf_range(i, lo, hi, scratch),
             }
         }));

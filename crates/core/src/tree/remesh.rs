@@ -17,8 +17,10 @@ use crate::mesh::{Piece, SampleGrid, Share};
 /// decide a sign in it. Its samples, the roots on its edges and their normals are that program's
 /// values on those leaves alone, save where the whole tree is read (a face sample within a hair of
 /// zero, the corners of an ambiguous face, a root the program leaves past the accuracy). So a block
-/// whose program is the same after an edit, every leaf it reads unchanged, and that read nothing
-/// of the whole tree, meshes as it did: its piece is kept. The leaves' interval ranges over the
+/// whose program is the same after an edit, every leaf it reads unchanged over the block, and that
+/// read nothing of the whole tree, meshes as it did: its piece is kept. A regular piecewise solid
+/// reads only the cells a point lies in, so an edit of one of its cells leaves it unchanged over
+/// the blocks outside that cell. The leaves' interval ranges over the
 /// boxes of the grid's octree are kept too, and only an edited leaf's are bounded again. An edit
 /// of one solid of a model remakes the blocks near that solid; the rest of the surface is welded
 /// from the pieces kept.
@@ -63,6 +65,103 @@ pub struct Remeshed {
     pub kept: usize,
 }
 
+/// How a leaf of the tree being meshed differs from the cache's leaf of the same index.
+#[derive(Clone, Debug)]
+pub(super) enum Change {
+    /// The same leaf.
+    Same,
+    /// Another leaf, or one changed everywhere.
+    Changed,
+    /// A regular piecewise leaf with some cells changed, by cell (the last axis fastest): the same
+    /// leaf elsewhere, for `f` and the interval bounds read only the cells a point or box is in.
+    Cells {
+        cells: [usize; 3],
+        min: [f64; 3],
+        max: [f64; 3],
+        changed: Vec<bool>,
+    },
+}
+
+impl Change {
+    /// How `new` differs from `old`.
+    fn of(old: Option<&Leaf<3>>, new: &Leaf<3>) -> Self {
+        let Some(old) = old else {
+            return Self::Changed;
+        };
+        if old == new {
+            return Self::Same;
+        }
+        match (&old.shape, &new.shape) {
+            (Shape::Piecewise(a, Some(ra)), Shape::Piecewise(b, Some(rb)))
+                if old.map == new.map
+                    && a.cells() == b.cells()
+                    && a.domain() == b.domain()
+                    && (ra.cells, ra.min, ra.max) == (rb.cells, rb.min, rb.max)
+                    && ra.xi.len() == rb.xi.len() =>
+            {
+                let cells = a.cells();
+                let changed = (0..ra.xi.len())
+                    .map(|k| {
+                        let cell = crate::tensor::multi_index(cells, k);
+                        ra.xi[k] != rb.xi[k] || a.part(cell) != b.part(cell)
+                    })
+                    .collect();
+                Self::Cells {
+                    cells,
+                    min: ra.min,
+                    max: ra.max,
+                    changed,
+                }
+            }
+            _ => Self::Changed,
+        }
+    }
+
+    /// Whether the leaf (`leaf`, the tree's) is the cache's over the box `[lo, hi]` of space:
+    /// for a piecewise leaf, no cell it reads there changed (the cells the box is in).
+    pub(super) fn same_over(&self, leaf: &Leaf<3>, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        match self {
+            Self::Same => true,
+            Self::Changed => false,
+            Self::Cells {
+                cells,
+                min,
+                max,
+                changed,
+            } => {
+                let (llo, lhi) = super::interval::mapped_box(leaf, lo, hi);
+                // As the solid picks its cell (points past the box fall to the first or last).
+                let cell = |a: usize, x: f64| {
+                    let n = cells[a];
+                    let s = (x - min[a]) / (max[a] - min[a]) * n as f64;
+                    if s >= n as f64 {
+                        n - 1
+                    } else if s >= 0.0 {
+                        s as usize
+                    } else {
+                        0
+                    }
+                };
+                // A hair past the box, for a point that rounds onto a face between two cells
+                // one way here and the other way where it is evaluated.
+                let hair = |a: usize| 1e-9 * (max[a] - min[a]);
+                let first: [usize; 3] = core::array::from_fn(|a| cell(a, llo[a] - hair(a)));
+                let last: [usize; 3] = core::array::from_fn(|a| cell(a, lhi[a] + hair(a)));
+                (first[0]..=last[0]).all(|i| {
+                    (first[1]..=last[1]).all(|j| {
+                        (first[2]..=last[2]).all(|k| {
+                            !changed
+                                .get((i * cells[1] + j) * cells[2] + k)
+                                .copied()
+                                .unwrap_or(true)
+                        })
+                    })
+                })
+            }
+        }
+    }
+}
+
 impl MeshCache {
     /// An empty cache.
     #[must_use]
@@ -70,22 +169,31 @@ impl MeshCache {
         Self::default()
     }
 
-    /// Whether the piece kept for a block of `program` in `tree` is the one meshing it again would
-    /// make, with the face samples' threshold `tau`.
-    fn holds(&self, kept: &Kept, program: Option<&[Step]>, tree: &Tree<3>, tau: f64) -> bool {
+    /// Whether the piece kept for the block spanning `block` (in space), of `program` in
+    /// `tree`, is the one meshing it again would make (`changes`: the leaves' changes; `tau`: the
+    /// face samples' threshold).
+    fn holds(
+        &self,
+        kept: &Kept,
+        block: ([f64; 3], [f64; 3]),
+        program: Option<&[Step]>,
+        tree: &Tree<3>,
+        changes: &[Change],
+        tau: f64,
+    ) -> bool {
         if kept.program.as_deref() != program {
             return false;
         }
-        let same_leaf = |i: usize| match (self.leaves.get(i), tree.leaves.get(i)) {
-            (Some(a), Some(b)) => a == b,
+        let same = |i: usize| match (changes.get(i), tree.leaves.get(i)) {
+            (Some(change), Some(leaf)) => change.same_over(leaf, block.0, block.1),
             _ => false,
         };
         match program {
-            // The whole tree: kept only if nothing of it changed.
+            // The whole tree: every leaf the same over the block.
             None => {
                 self.steps == tree.steps
                     && self.leaves.len() == tree.leaves.len()
-                    && (0..tree.leaves.len()).all(same_leaf)
+                    && (0..tree.leaves.len()).all(same)
             }
             // Its own leaves, and nothing of the whole tree: a face sample that now falls within
             // `tau` of zero would take the whole tree's value.
@@ -93,7 +201,7 @@ impl MeshCache {
                 !kept.reads.whole
                     && kept.reads.near >= tau
                     && steps.iter().all(|s| match *s {
-                        Step::Leaf(i) => same_leaf(i),
+                        Step::Leaf(i) => same(i),
                         _ => true,
                     })
             }
@@ -140,10 +248,14 @@ impl Tree<3> {
             cache.ranges.kept.clear();
         }
         // The leaves' ranges over the boxes of the walk: kept for the leaves that did not change.
+        let changes: Vec<Change> = self
+            .leaves
+            .iter()
+            .enumerate()
+            .map(|(i, leaf)| Change::of(cache.leaves.get(i), leaf))
+            .collect();
         let mut memo = RangeMemo {
-            same: (0..self.leaves.len())
-                .map(|i| cache.leaves.get(i) == self.leaves.get(i))
-                .collect(),
+            changes: changes.clone(),
             kept: core::mem::take(&mut cache.ranges.kept),
             made: BTreeMap::new(),
         };
@@ -153,10 +265,12 @@ impl Tree<3> {
         // The blocks to mesh again: not in the cache, or changed.
         let stale: Vec<usize> = (0..blocks.len())
             .filter(|&i| {
-                !cache
-                    .blocks
-                    .get(&key(&blocks[i]))
-                    .is_some_and(|kept| cache.holds(kept, plan.program(&blocks[i]), self, plan.tau))
+                let b = &blocks[i];
+                let corner = |s: [usize; 3]| plan.grid.point(s[0], s[1], s[2]).to_array();
+                let span = (corner(b.lo), corner([0, 1, 2].map(|a| b.lo[a] + b.size[a])));
+                !cache.blocks.get(&key(b)).is_some_and(|kept| {
+                    cache.holds(kept, span, plan.program(b), self, &changes, plan.tau)
+                })
             })
             .collect();
         let made = made(&plan, blocks, &stale);
@@ -317,6 +431,70 @@ mod tests {
             .unwrap();
         assert_eq!(made.kept, 0);
         assert_same(&piece.mesh, &fresh(&first, 40, Share::WHOLE).mesh);
+    }
+
+    /// A tube of three cubic cells along x, one inner control value of cell `edited` raised by
+    /// `bump`, beside a sphere.
+    fn tube(edited: usize, bump: f64) -> Tree<3> {
+        use crate::piecewise::Piecewise;
+        let (cells, degree) = ([3, 1, 1], [3, 3, 3]);
+        let dims = [10, 4, 4];
+        let mut points = Vec::new();
+        for i in 0..dims[0] {
+            for j in 0..dims[1] {
+                for k in 0..dims[2] {
+                    let d = |a: usize| (a as f64 - 1.5).abs();
+                    let raised = if [i, j, k] == [edited * 3 + 1, 1, 2] {
+                        bump
+                    } else {
+                        0.0
+                    };
+                    let xi = 0.5 - 0.2 * (d(j) + d(k)) + 0.03 * (i % 4) as f64 + raised;
+                    points.push(glam::DVec4::new(
+                        i as f64 / 3.0,
+                        j as f64 / 3.0,
+                        k as f64 / 3.0,
+                        xi,
+                    ));
+                }
+            }
+        }
+        let solid = Piecewise::new(cells, degree, points).unwrap();
+        let spec = S::Union {
+            of: vec![
+                S::from_piecewise(&solid),
+                S::Sphere {
+                    center: [1.5, 0.5, 2.0],
+                    radius: 0.4,
+                },
+            ],
+        };
+        match ModelFile::from_spec(spec).to_tree().unwrap() {
+            ModelTree::Space(t) => t,
+            ModelTree::Plane(_) => unreachable!("a 3D model"),
+        }
+    }
+
+    #[test]
+    fn an_edit_of_one_cell_remakes_the_blocks_near_that_cell() {
+        let mut cache = MeshCache::new();
+        let first = tube(0, 0.0);
+        let _ = first
+            .polygonize_share_cached(48, 1e-9, None, Share::WHOLE, &mut cache)
+            .unwrap();
+        // Each state differs from the one before in one cell.
+        for (edited, bump) in [(0, 0.1), (0, 0.0), (2, 0.08), (2, 0.0), (1, -0.05)] {
+            let tree = tube(edited, bump);
+            let (piece, made) = tree
+                .polygonize_share_cached(48, 1e-9, None, Share::WHOLE, &mut cache)
+                .unwrap();
+            assert_same(&piece.mesh, &fresh(&tree, 48, Share::WHOLE).mesh);
+            // The blocks in one cell of three remade.
+            assert!(
+                made.kept * 2 > made.blocks && made.kept < made.blocks,
+                "cell {edited}: {made:?}"
+            );
+        }
     }
 
     #[test]
