@@ -20,10 +20,14 @@ export function setupBezier(app) {
     revision: () => modeler.surface_revision(),
     // What the view shows: a model of many solids less its hidden parts.
     job: ([, resolution]) => ({ kind: 'surface', model: modeler.view_json() ?? modeler.model_json(), resolution }),
-    accept: ([revision, resolution], { data, shares }) => {
+    accept: ([revision, resolution], { data, shares, kept }) => {
       const taken = modeler.set_surface(revision, resolution, data);
-      // In how many workers' shares the surface drawn was made (tests read it).
-      if (taken) document.body.dataset.surfaceShares = String(shares ?? 1);
+      // In how many workers' shares the surface drawn was made, and for a model of many solids
+      // how many of its blocks were kept from the mesh before (tests read them; the panel says).
+      if (taken) {
+        document.body.dataset.surfaceShares = String(shares ?? 1);
+        document.body.dataset.surfaceKept = kept ? kept.join(',') : '';
+      }
       return taken;
     },
     onAccepted: () => app.redraw(VIEW3),
@@ -379,6 +383,11 @@ export function setupBezier(app) {
   }
 
   // The panel, from one snapshot of the editor, its last frame and its 3D view.
+  // What the workers kept of the last surface of a model of many solids, for the panel.
+  const keptNote = () => {
+    const [kept, blocks] = (document.body.dataset.surfaceKept || '').split(',').map(Number);
+    return kept > 0 ? `; ${kept.toLocaleString('en')} of its ${blocks.toLocaleString('en')} blocks kept from the surface before the last edit` : '';
+  };
   const update = () => {
     forgetStale('measure-out', modeler.revision());
     enableItems('#export-menu [data-script]', false);
@@ -447,7 +456,7 @@ export function setupBezier(app) {
       const [t, resolution] = p.surface ?? [0, 0];
       const stack = p.stack;
       $('surface-info').textContent = parts
-        ? `Surface of the whole model: ${t.toLocaleString('en')} triangles at ${resolution}${p.cap ? `, cut at ${'xyz'[p.cap[0]]} = ${fmt(p.cap[1])}` : ''}${p.surface_current ? '' : ' (of the model before the last edit, until the new one comes)'}`
+        ? `Surface of the whole model: ${t.toLocaleString('en')} triangles at ${resolution}${p.cap ? `, cut at ${'xyz'[p.cap[0]]} = ${fmt(p.cap[1])}` : ''}${p.surface_current ? keptNote() : ' (of the model before the last edit, until the new one comes)'}`
         : `Surface: ${t.toLocaleString('en')} triangles at ${resolution}${p.cap ? `, cut at ${'xyz'[p.cap[0]]} = ${fmt(p.cap[1])}` : ''}; `
         + (!stack ? 'contour stack: not made yet' : `contour stack: ${stack[0].toLocaleString('en')} segments${stack[1] ? '' : ' (of the model before the last edit, until the new one comes)'}`);
       document.body.dataset.stack = stack ? `${stack[0]},${stack[1] ? 1 : 0}` : '';

@@ -179,7 +179,10 @@ export function team(size) {
           at += r.data.length;
         }
         const approximate = replies.reduce((n, r) => n + (r.approximate ?? 0), 0);
-        return { ...replies[0], data, approximate, ms: Math.max(...replies.map((r) => r.ms)), shares: size };
+        // A surface of many solids: the blocks the workers kept from their last meshes, of all.
+        const kept = replies.every((r) => r.kept)
+          ? replies.reduce(([k, n], r) => [k + r.kept[0], n + r.kept[1]], [0, 0]) : undefined;
+        return { ...replies[0], data, approximate, kept, ms: Math.max(...replies.map((r) => r.ms)), shares: size };
       }, (err) => {
         cancel();
         throw err;

@@ -497,3 +497,29 @@ test('a model of many solids: the true section and the 3D cut are of the whole m
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('an edit of one part meshes the whole model again only near that part; the panel says how much was kept', async () => {
+  const { page, errors } = await open(browser);
+  await page.click('#new-volume');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await page.click('[data-add="sphere"]');
+  await settle(page);
+  await page.click('#outline-tree [data-path="0"]');
+  await page.waitForSelector('body[data-kind="volume"]');
+  await surfaceAt(page, 64);
+  const before = await page.evaluate(() => window.bezsolid.modeler.model_json());
+  // A point of the volume raised by the keyboard: the workers mesh again the blocks near the
+  // volume, and keep the sphere's.
+  await page.focus('#view');
+  await page.keyboard.press('Tab');
+  await page.keyboard.press('PageUp');
+  await settle(page);
+  assert.notEqual(await page.evaluate(() => window.bezsolid.modeler.model_json()), before);
+  await surfaceAt(page, 64);
+  const [kept, blocks] = (await page.evaluate(() => document.body.dataset.surfaceKept)).split(',').map(Number);
+  assert.ok(kept > 0 && kept < blocks, `${kept} of ${blocks} blocks kept`);
+  assert.match(await page.textContent('#surface-info'), /Surface of the whole model: [\d,]+ triangles at 64; [\d,]+ of its [\d,]+ blocks kept from the surface before the last edit$/);
+  writeFileSync(join(ARTIFACTS, 'parts-kept.png'), await page.screenshot());
+  assert.deepEqual(errors, []);
+  await page.close();
+});
