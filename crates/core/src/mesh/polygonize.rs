@@ -500,6 +500,11 @@ pub(crate) trait BlockRoots: EdgeRoots {
         let _ = s;
         value
     }
+
+    /// The walk leaves `block`, the mesh made so far `mesh`.
+    fn leave(&mut self, block: &Block, mesh: &Mesh) {
+        let _ = (block, mesh);
+    }
 }
 
 /// The key of the grid edge from sample `lower` along `axis`: unique over the grid, so pieces of a
@@ -598,6 +603,7 @@ pub(crate) fn polygonize_blocks<R: BlockRoots>(
         roots.enter(block);
         let [sx, sy, sz] = block.samples();
         if values.len() != sx * sy * sz {
+            roots.leave(block, &mesh);
             continue;
         }
         if own.len() < 3 * values.len() {
@@ -653,9 +659,63 @@ pub(crate) fn polygonize_blocks<R: BlockRoots>(
                 marcher.cube(mask, corners, cube, grid, &mut mesh, roots, vertex);
             },
         );
+        roots.leave(block, &mesh);
     }
     keys.resize(mesh.positions.len(), NO_EDGE);
     (mesh, keys)
+}
+
+/// The mesh of a run of blocks ([`polygonize_blocks`]) split into each block's piece: block `b`
+/// made the vertices and triangles below `ends[b]` (vertices, triangles) and above the block
+/// before's. Each piece holds the vertices its block made, in order, after those of earlier blocks
+/// its triangles use (on the faces between them, keyed by their grid edge); [`weld_kept`] of the
+/// pieces in order is the run's mesh.
+pub(crate) fn split_run((mesh, keys): &Keyed, ends: &[(usize, usize)]) -> Vec<Keyed> {
+    let mut pieces = Vec::with_capacity(ends.len());
+    // Where each vertex of the run is in the piece being made (u32::MAX: not in it).
+    let mut local = vec![u32::MAX; mesh.positions.len()];
+    let (mut v0, mut t0) = (0, 0);
+    for &(v1, t1) in ends {
+        let (v1, t1) = (
+            v1.min(mesh.positions.len()).max(v0),
+            t1.min(mesh.triangles.len()).max(t0),
+        );
+        let mut piece = Mesh::default();
+        let mut piece_keys = Vec::new();
+        let mut take = |piece: &mut Mesh, piece_keys: &mut Vec<u64>, i: usize| {
+            local[i] = piece.positions.len() as u32;
+            piece.positions.push(mesh.positions[i]);
+            piece
+                .normals
+                .push(mesh.normals.get(i).copied().unwrap_or(DVec3::ZERO));
+            piece_keys.push(keys.get(i).copied().unwrap_or(NO_EDGE));
+        };
+        // The earlier blocks' vertices the triangles use, in the run's order, then its own.
+        let mut earlier: Vec<usize> = mesh.triangles[t0..t1]
+            .iter()
+            .flatten()
+            .map(|&v| v as usize)
+            .filter(|&v| v < v0)
+            .collect();
+        earlier.sort_unstable();
+        earlier.dedup();
+        for &i in &earlier {
+            take(&mut piece, &mut piece_keys, i);
+        }
+        for i in v0..v1 {
+            take(&mut piece, &mut piece_keys, i);
+        }
+        piece.triangles = mesh.triangles[t0..t1]
+            .iter()
+            .map(|t| t.map(|v| local.get(v as usize).copied().unwrap_or(u32::MAX)))
+            .collect();
+        for i in earlier.into_iter().chain(v0..v1) {
+            local[i] = u32::MAX;
+        }
+        pieces.push((piece, piece_keys));
+        (v0, t0) = (v1, t1);
+    }
+    pieces
 }
 
 /// One share of a mesh made in parts, on separate threads, workers or machines: share `index` of

@@ -20,7 +20,7 @@ use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
 use crate::mesh::adaptive::octants;
 use crate::mesh::polygonize::{
-    Block, BlockRoots, Keyed, Marcher, polygonize_blocks, weld, weld_keyed,
+    Block, BlockRoots, Keyed, Marcher, polygonize_blocks, split_run, weld, weld_keyed,
 };
 use crate::mesh::{EdgeRoots, SampleGrid};
 use crate::mesh::{Piece, Share};
@@ -210,14 +210,22 @@ struct Roots<'a> {
     /// The pruned programs of the blocks, and the one of the block the walk is in.
     programs: &'a [Vec<Step>],
     program: Option<usize>,
-    /// Whether the walk has read the whole tree (an ambiguous face's corners, a root a block's
-    /// pruned program left past the accuracy).
+    /// Whether the walk has read the whole tree in the block it is in (an ambiguous face's
+    /// corners, a root the block's pruned program left past the accuracy).
     whole: bool,
+    /// Per block left: the vertices and triangles made so far, and whether it read the whole tree.
+    marks: Vec<(usize, usize, bool)>,
 }
 
 impl BlockRoots for Roots<'_> {
     fn enter(&mut self, block: &Block) {
         self.program = (block.tag != u32::MAX).then_some(block.tag as usize);
+        self.whole = false;
+    }
+
+    fn leave(&mut self, _block: &Block, mesh: &Mesh) {
+        self.marks
+            .push((mesh.positions.len(), mesh.triangles.len(), self.whole));
     }
 
     /// The whole tree's value: what the blocks on both sides of a face agree on.
@@ -382,7 +390,7 @@ impl Tree<3> {
         // Each piece of consecutive blocks on its own field and roots, welded in order: the mesh
         // one walk over all the blocks gives (on one thread or many).
         let marcher = Marcher::new();
-        let piece = |part: &[Block]| plan.mesh(part, &marcher).0;
+        let piece = |part: &[Block]| plan.mesh(part, &marcher);
         // In rounds, each reported with the cells done so far: fiftieths without the `parallel`
         // feature; with it, rounds of four tasks a thread (one task a piece), several only when
         // someone is told of the progress (each round waits for its slowest task).
@@ -543,6 +551,10 @@ impl Tree<3> {
     }
 }
 
+/// The most leaf ranges a [`RangeMemo`] keeps (16 bytes each): past it, the ranges of the boxes
+/// walked last are bounded again next time.
+const MEMO_RANGES: usize = 1 << 20;
+
 /// The leaves' ranges over the boxes of a walk, kept for the next walk over the same grid: a leaf
 /// unchanged since has the same ranges.
 #[derive(Clone, Debug, Default)]
@@ -580,7 +592,11 @@ impl RangeMemo {
                 _ => tree.leaf_range(i, lo, hi, scratch),
             }
         }));
-        self.made.insert(key, out.clone());
+        // Kept within a bound (the cache of a worker that meshes a model of many leaves at a
+        // fine resolution would otherwise hold a range for every leaf over every box).
+        if (self.made.len() + 1) * out.len() <= MEMO_RANGES {
+            self.made.insert(key, out.clone());
+        }
     }
 }
 
@@ -615,26 +631,56 @@ impl Plan<'_> {
             .flatten()
     }
 
-    /// The mesh of consecutive blocks `part`, to be welded in order with the others', and what
-    /// it read.
-    pub(super) fn mesh(&self, part: &[Block], marcher: &Marcher) -> (Keyed, Reads) {
+    /// The mesh of consecutive blocks `part`, to be welded in order with the others'.
+    pub(super) fn mesh(&self, part: &[Block], marcher: &Marcher) -> Keyed {
+        self.mesh_marked(part, marcher).0
+    }
+
+    /// The pieces of consecutive blocks `part`, one a block, each with what it read: welded in
+    /// order, the mesh of `part`.
+    pub(super) fn mesh_each(&self, part: &[Block], marcher: &Marcher) -> Vec<(Keyed, Reads)> {
+        let (run, reads, marks) = self.mesh_marked(part, marcher);
+        let ends: Vec<(usize, usize)> = marks.iter().map(|&(v, t, _)| (v, t)).collect();
+        split_run(&run, &ends)
+            .into_iter()
+            .zip(reads.into_iter().zip(marks))
+            .map(|(piece, (reads, (_, _, whole)))| {
+                (
+                    piece,
+                    Reads {
+                        whole: reads.whole || whole,
+                        ..reads
+                    },
+                )
+            })
+            .collect()
+    }
+
+    /// The mesh of consecutive blocks `part`, what each block read, and each block's marks (the
+    /// vertices and triangles made up to its end, whether its roots read the whole tree).
+    fn mesh_marked(
+        &self,
+        part: &[Block],
+        marcher: &Marcher,
+    ) -> (Keyed, Vec<Reads>, Vec<(usize, usize, bool)>) {
         let mut sampler = self.field.clone();
         let (grid, tau) = (self.grid, self.tau);
-        let mut reads = Reads {
-            near: f64::INFINITY,
-            whole: false,
-        };
+        let mut reads = Vec::with_capacity(part.len());
         let sample = |block: &Block, out: &mut Vec<f64>| {
             let program = self.program(block);
+            let mut read = Reads {
+                near: f64::INFINITY,
+                whole: false,
+            };
             for c in block.lo[2]..=block.lo[2] + block.size[2] {
                 for b in block.lo[1]..=block.lo[1] + block.size[1] {
                     for a in block.lo[0]..=block.lo[0] + block.size[0] {
                         let p = grid.point(a, b, c).to_array();
                         let mut v = sampler.f_by(program, p);
                         if program.is_some() && block.on_face([a, b, c]) {
-                            reads.near = reads.near.min(v.abs());
+                            read.near = read.near.min(v.abs());
                             if v.abs() < tau {
-                                reads.whole = true;
+                                read.whole = true;
                                 v = sampler.f(p);
                             }
                         }
@@ -642,6 +688,7 @@ impl Plan<'_> {
                     }
                 }
             }
+            reads.push(read);
         };
         let mut roots = Roots {
             field: self.field.clone(),
@@ -650,10 +697,10 @@ impl Plan<'_> {
             programs: &self.programs,
             program: None,
             whole: false,
+            marks: Vec::with_capacity(part.len()),
         };
         let keyed = polygonize_blocks(&grid, part, sample, &mut roots, marcher);
-        reads.whole |= roots.whole;
-        (keyed, reads)
+        (keyed, reads, roots.marks)
     }
 }
 

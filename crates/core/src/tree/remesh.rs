@@ -10,15 +10,20 @@ use crate::mesh::polygonize::{Block, Keyed, Marcher, weld_kept};
 use crate::mesh::{Piece, SampleGrid, Share};
 
 /// A tree's mesh kept block by block, for [`Tree::polygonize_share_cached`]: what an edit leaves
-/// unchanged is not made again. One cache follows one share of one mesh (the resolution and the
-/// region may change: a cache that does not fit starts again).
+/// unchanged is not made again. One cache follows one share of one mesh. The grid must stay: an
+/// edit that changes the model's bounds (the grid spans them), another resolution, region or
+/// share starts the cache again.
 ///
 /// The mesher samples a block of the grid by the block's pruned program: the operands that can
 /// decide a sign in it. Its samples, the roots on its edges and their normals are that program's
 /// values on those leaves alone, save where the whole tree is read (a face sample within a hair of
 /// zero, the corners of an ambiguous face, a root the program leaves past the accuracy). So a block
 /// whose program is the same after an edit, every leaf it reads unchanged over the block, and that
-/// read nothing of the whole tree, meshes as it did: its piece is kept. A regular piecewise solid
+/// read nothing of the whole tree, meshes as it did: its piece is kept. (Each root the program
+/// finds is checked on the whole tree, and one past the accuracy is searched again on it; an edit
+/// of an operand the program left out changes that check's value by next to nothing, and were it to
+/// tip a kept root past the accuracy, the fresh root and the kept one would both lie on `f = 0`
+/// to within the accuracy, on the same edge.) A regular piecewise solid
 /// reads only the cells a point lies in, so an edit of one of its cells leaves it unchanged over
 /// the blocks outside that cell. The leaves' interval ranges over the
 /// boxes of the grid's octree are kept too, and only an edited leaf's are bounded again. An edit
@@ -143,8 +148,9 @@ impl Change {
                     }
                 };
                 // A hair past the box, for a point that rounds onto a face between two cells
-                // one way here and the other way where it is evaluated.
-                let hair = |a: usize| 1e-9 * (max[a] - min[a]);
+                // one way here and the other way where it is evaluated (a few units in the last
+                // place of the coordinates, far from the origin too).
+                let hair = |a: usize| 1e-9 * (max[a] - min[a]).max(min[a].abs()).max(max[a].abs());
                 let first: [usize; 3] = core::array::from_fn(|a| cell(a, llo[a] - hair(a)));
                 let last: [usize; 3] = core::array::from_fn(|a| cell(a, lhi[a] + hair(a)));
                 (first[0]..=last[0]).all(|i| {
@@ -317,18 +323,38 @@ impl Tree<3> {
     }
 }
 
-/// The pieces of `blocks[i]` for each `i` in `stale`, in that order, each meshed alone (on every
+/// The pieces of `blocks[i]` for each `i` in `stale` (ascending), in that order: each run of
+/// consecutive stale blocks meshed in one walk and split into its blocks' pieces (runs on every
 /// thread with the `parallel` feature).
 fn made(plan: &Plan<'_>, blocks: &[Block], stale: &[usize]) -> Vec<(Keyed, Reads)> {
     let marcher = Marcher::new();
-    let one = |&i: &usize| plan.mesh(core::slice::from_ref(&blocks[i]), &marcher);
+    // Runs of consecutive blocks, none longer than a share of the work for each thread.
+    #[cfg(feature = "parallel")]
+    let longest = stale
+        .len()
+        .div_ceil(4 * rayon::current_num_threads())
+        .max(1);
+    #[cfg(not(feature = "parallel"))]
+    let longest = stale.len().max(1);
+    let mut runs: Vec<core::ops::Range<usize>> = Vec::new();
+    for &i in stale {
+        match runs.last_mut() {
+            Some(run) if run.end == i && run.len() < longest => run.end += 1,
+            _ => runs.push(i..i + 1),
+        }
+    }
+    let one = |run: &core::ops::Range<usize>| {
+        blocks
+            .get(run.clone())
+            .map_or_else(Vec::new, |part| plan.mesh_each(part, &marcher))
+    };
     #[cfg(feature = "parallel")]
     {
         use rayon::prelude::*;
-        stale.par_iter().map(one).collect()
+        runs.par_iter().flat_map_iter(one).collect()
     }
     #[cfg(not(feature = "parallel"))]
-    stale.iter().map(one).collect()
+    runs.iter().flat_map(one).collect()
 }
 
 #[cfg(test)]
