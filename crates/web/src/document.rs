@@ -409,8 +409,8 @@ pub mod headless {
 
     /// The share `share` of the surface [`surface`] makes, for a page that makes it in several
     /// workers: the shares' floats, one after another, are that surface's floats. A model of
-    /// many solids is meshed again only where it changed since this thread's last share of it
-    /// ([`bezsolid_core::tree::MeshCache`]).
+    /// many solids whose bounds an edit left as they were is meshed again only near what changed
+    /// since this thread's last share of it ([`bezsolid_core::tree::MeshCache`]).
     ///
     /// # Errors
     ///
@@ -454,6 +454,8 @@ pub mod headless {
                 Some([made.kept, made.blocks]),
             ));
         }
+        // A model of one solid: the cache of the last tree is let go.
+        SURFACES.with_borrow_mut(|cache| *cache = MeshCache::new());
         let v = volume(text, resolution)?;
         Ok((
             Made {
