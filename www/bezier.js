@@ -386,7 +386,7 @@ export function setupBezier(app) {
   // What the workers kept of the last surface of a model of many solids, for the panel.
   const keptNote = () => {
     const [kept, blocks] = (document.body.dataset.surfaceKept || '').split(',').map(Number);
-    return kept > 0 ? `; ${kept.toLocaleString('en')} of its ${blocks.toLocaleString('en')} blocks kept from the surface before the last edit` : '';
+    return kept > 0 ? `; ${kept.toLocaleString('en')} of its ${blocks.toLocaleString('en')} blocks reused from the workers' previous mesh` : '';
   };
   const update = () => {
     forgetStale('measure-out', modeler.revision());

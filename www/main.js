@@ -40,11 +40,14 @@ function freshCanvas(old) {
 // settles to `{ viewer }` or `{ err }`, so that a failure waits, handled, until it is read.
 async function bringUp(canvas, canvas3, requested) {
   const module = await pageModule(requested);
-  const view3 = (m, backend) => m.glue.start_3d(canvas3, backend).then((viewer) => {
+  // The backend the 2D view comes up on: the WebGPU build draws with WebGPU alone, and the WebGL2
+  // build is chosen where the browser gave no adapter.
+  const backend = requested !== 'auto' ? requested : (module.name === 'bezsolid_page' ? 'webgpu' : 'webgl2');
+  const view3 = (m, on) => m.glue.start_3d(canvas3, on).then((viewer) => {
     performance.mark('bezsolid:viewer');
     return { viewer };
   }, (err) => ({ err }));
-  const three = view3(module, requested);
+  const three = view3(module, backend);
   try {
     return { module, canvas, canvas3, three, modeler: await module.glue.start(canvas, requested) };
   } catch (err) {

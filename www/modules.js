@@ -11,7 +11,7 @@ import { WASM } from './pkg/assets.js';
 const loads = new Map();
 
 /** The glue of module `name` (`bezsolid_page`, `bezsolid_page_gl`, `bezsolid_web`), initialised
- * once: `{ glue, wasm }` (`wasm`: its exports, with the memory). */
+ * once: `{ glue, wasm, name }` (`wasm`: its exports, with the memory). */
 function load(name) {
   if (!loads.has(name)) {
     // The module is fetched and compiled while its glue loads.
@@ -22,7 +22,7 @@ function load(name) {
       ]);
       const wasm = await glue.default({ module_or_path: module });
       performance.mark(`bezsolid:init ${name}`); // read by tests/latency.mjs
-      return { glue, wasm };
+      return { glue, wasm, name };
     })());
   }
   return loads.get(name);

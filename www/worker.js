@@ -3,7 +3,9 @@
 // are the Rust crate's (`jobs.rs`, `run_job`): this file carries them. One job at a time (work.js
 // sends the next when this one answers); the page cancels a job by terminating the worker.
 // Replies: { id, progress: [done, total] } on the way, then { id, data, ms, ... } (with
-// `approximate` or `report` where the job gives them) or { id, error }.
+// `approximate`, `report` or `kept` where the job gives them) or { id, error }. A worker keeps its
+// last mesh of a model of many solids (`kept`: the blocks it took from it): it is given the same
+// share each time.
 import init, { run_job } from './pkg/bezsolid_web.js';
 import { WASM } from './pkg/assets.js';
 

@@ -518,7 +518,7 @@ test('an edit of one part meshes the whole model again only near that part; the 
   await surfaceAt(page, 64);
   const [kept, blocks] = (await page.evaluate(() => document.body.dataset.surfaceKept)).split(',').map(Number);
   assert.ok(kept > 0 && kept < blocks, `${kept} of ${blocks} blocks kept`);
-  assert.match(await page.textContent('#surface-info'), /Surface of the whole model: [\d,]+ triangles at 64; [\d,]+ of its [\d,]+ blocks kept from the surface before the last edit$/);
+  assert.match(await page.textContent('#surface-info'), /Surface of the whole model: [\d,]+ triangles at 64; [\d,]+ of its [\d,]+ blocks reused from the workers' previous mesh$/);
   writeFileSync(join(ARTIFACTS, 'parts-kept.png'), await page.screenshot());
   assert.deepEqual(errors, []);
   await page.close();
