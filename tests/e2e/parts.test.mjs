@@ -518,7 +518,11 @@ test('an edit of one part meshes the whole model again only near that part; the 
   await surfaceAt(page, 64);
   const [kept, blocks] = (await page.evaluate(() => document.body.dataset.surfaceKept)).split(',').map(Number);
   assert.ok(kept > 0 && kept < blocks, `${kept} of ${blocks} blocks kept`);
-  assert.match(await page.textContent('#surface-info'), /Surface of the whole model: [\d,]+ triangles at 64; [\d,]+ of its [\d,]+ blocks reused from the workers' previous mesh$/);
+  // The panel's text follows the surface on the next drawing of the panel.
+  const note = /Surface of the whole model: [\d,]+ triangles at 64; [\d,]+ of its [\d,]+ blocks reused from the workers' previous mesh$/;
+  await page.waitForFunction((source) => new RegExp(source).test(document.getElementById('surface-info').textContent), note.source, { timeout: 10_000 })
+    .catch(() => {});
+  assert.match(await page.textContent('#surface-info'), note);
   writeFileSync(join(ARTIFACTS, 'parts-kept.png'), await page.screenshot());
   assert.deepEqual(errors, []);
   await page.close();
