@@ -73,6 +73,7 @@ mod dim;
 pub mod esc;
 pub mod hyperfun;
 pub mod inverse;
+mod lanes;
 #[cfg(feature = "link")]
 pub mod link;
 mod math;

@@ -27,6 +27,23 @@ pub trait ControlPoint:
     /// The componentwise maximum.
     #[must_use]
     fn max_components(self, other: Self) -> Self;
+
+    /// Appends `Σ_i coeffs[i] · rows[i · stride + k]` for every `k < count` to `out`, each summed
+    /// from zero in the order of `i`: a line of a net weighed against the basis rows of `count`
+    /// samples stored transposed (one row per coefficient, `stride` values apart). What
+    /// [`Tensor::eval_grid`] spends its time in; `f64` sums neighbouring samples in SIMD lanes, to
+    /// the same bits.
+    ///
+    /// # Panics
+    /// Where `rows` holds fewer than `(coeffs.len() − 1) · stride + count` values.
+    fn weigh(coeffs: &[Self], rows: &[f64], stride: usize, count: usize, out: &mut Vec<Self>) {
+        out.extend((0..count).map(|k| {
+            coeffs
+                .iter()
+                .enumerate()
+                .fold(Self::ZERO, |acc, (i, &c)| acc + c * rows[i * stride + k])
+        }));
+    }
 }
 
 impl ControlPoint for f64 {
@@ -36,6 +53,9 @@ impl ControlPoint for f64 {
     }
     fn max_components(self, other: Self) -> Self {
         self.max(other)
+    }
+    fn weigh(coeffs: &[Self], rows: &[f64], stride: usize, count: usize, out: &mut Vec<Self>) {
+        crate::lanes::weigh(coeffs, rows, stride, count, out);
     }
 }
 
@@ -310,13 +330,19 @@ impl<P: ControlPoint, const D: usize> Tensor<P, D> {
     #[must_use]
     pub fn eval_grid(&self, ts: [&[f64]; D]) -> Vec<P> {
         let dims = self.dims();
+        // The first axis's rows transposed, a row per basis function: its samples are summed side
+        // by side (`ControlPoint::weigh`).
         let tables: [Vec<f64>; D] = core::array::from_fn(|a| {
             let n = self.degree[a];
             let mut table = vec![0.0; ts[a].len() * (n + 1)];
             for (row, &t) in table.chunks_exact_mut(n + 1).zip(ts[a]) {
                 basis(n, t, row);
             }
-            table
+            if a == 0 {
+                crate::lanes::transpose(&table, n + 1)
+            } else {
+                table
+            }
         });
         // One scratch net per contraction: after the last axis, after the last two, …
         let mut scratch: Vec<Vec<P>> = (1..D)
@@ -623,7 +649,8 @@ fn casteljau<P: ControlPoint>(points: &[P], dims: &[usize], t: &[f64]) -> P {
 
 /// The grid evaluation behind [`Tensor::eval_grid`]: for each sample of the last axis (its basis
 /// row in `tables`), the net contracted along it into `scratch[0]`, then that net's grid over the
-/// axes before, appended to `out`.
+/// axes before, appended to `out`. The first axis's table is transposed (a row per basis
+/// function): its samples are weighed side by side.
 fn grid<P: ControlPoint>(
     points: &[P],
     dims: &[usize],
@@ -634,7 +661,8 @@ fn grid<P: ControlPoint>(
     let last = dims.len() - 1;
     let n = dims[last];
     if last == 0 {
-        out.extend(tables[0].chunks_exact(n).map(|w| dot(points, w)));
+        let samples = tables[0].len() / n;
+        P::weigh(points, &tables[0], samples, samples, out);
         return;
     }
     let Some((net, rest)) = scratch.split_first_mut() else {

@@ -401,7 +401,8 @@ fn inner(t: f64) -> bool {
 struct BlockSamples<'a> {
     params: &'a [Vec<f64>; 3],
     degree: [usize; 3],
-    /// Basis rows at each sample's `u` and `v`.
+    /// Basis rows at each sample's `u` (transposed: a row per basis function, a value per
+    /// sample, so a row of samples is weighed side by side) and at each sample's `v`.
     rows: [Vec<f64>; 2],
     /// The net contracted along `w` at each sample's `w`: `(n + 1)(m + 1)` values each.
     planes: Vec<f64>,
@@ -427,7 +428,7 @@ impl<'a> BlockSamples<'a> {
         Self {
             params,
             degree,
-            rows: [table(0), table(1)],
+            rows: [crate::lanes::transpose(&table(0), degree[0] + 1), table(1)],
             planes,
         }
     }
@@ -439,19 +440,22 @@ impl<'a> BlockSamples<'a> {
         let ((a0, na), (b0, nb), (c0, nc)) = (span(0), span(1), span(2));
         let mut line = [0.0; MAX_DEGREE + 1];
         let planes = self.planes.chunks_exact(dn * dm).zip(ws);
+        // The first and last `u` of the block outside `(0, 1)`, where the clipping applies.
+        let u_outside = [a0, a0 + na - 1].map(|a| !inner(us[a]));
         for (plane, &w) in planes.skip(c0).take(nc) {
             for (v_row, &v) in self.rows[1].chunks_exact(dm).zip(vs).skip(b0).take(nb) {
                 for (slot, l) in line.iter_mut().zip(plane.chunks_exact(dm)) {
                     *slot = dot(l, v_row);
                 }
-                let row_inside = inner(v) && inner(w);
-                for (u_row, &u) in self.rows[0].chunks_exact(dn).zip(us).skip(a0).take(na) {
-                    let value = dot(&line[..dn], u_row);
-                    out.push(if row_inside && inner(u) {
-                        value
-                    } else {
-                        clip3(value, u, v, w)
-                    });
+                let start = out.len();
+                crate::lanes::weigh(&line[..dn], &self.rows[0][a0..], us.len(), na, out);
+                let row = &mut out[start..];
+                if !(inner(v) && inner(w)) || u_outside.contains(&true) {
+                    for (value, &u) in row.iter_mut().zip(&us[a0..]) {
+                        if !(inner(u) && inner(v) && inner(w)) {
+                            *value = clip3(*value, u, v, w);
+                        }
+                    }
                 }
             }
         }
