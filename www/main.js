@@ -392,6 +392,7 @@ async function main() {
 window.addEventListener('unhandledrejection', (e) => say(`Error: ${e.reason?.message ?? e.reason}`, 'error'));
 main().catch((err) => {
   $('loading').textContent = 'The modeler could not start.';
+  $('loading-3d').textContent = 'The 3D view could not start.';
   say(`The modeler could not start: ${messageOf(err)}`, 'error');
   console.error(err);
 });

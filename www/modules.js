@@ -10,12 +10,28 @@ import { WASM } from './pkg/assets.js';
 
 const loads = new Map();
 
+// The smallest module with a WebAssembly SIMD instruction (`i32.const 0; i8x16.splat` in a
+// function returning a v128): it validates only where the modules, built with SIMD, can run.
+const SIMD_PROBE = new Uint8Array([
+  0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00, // the magic and version 1
+  0x01, 0x05, 0x01, 0x60, 0x00, 0x01, 0x7b, // types: () -> v128
+  0x03, 0x02, 0x01, 0x00, // one function of that type
+  0x0a, 0x08, 0x01, 0x06, 0x00, 0x41, 0x00, 0xfd, 0x0f, 0x0b, // its body
+]);
+
+/** Whether this browser runs WebAssembly SIMD (Chrome and Edge 91+, Firefox 89+, Safari 16.4+). */
+export const hasSimd = () => typeof WebAssembly === 'object' && WebAssembly.validate(SIMD_PROBE);
+
 /** The glue of module `name` (`bezsolid_page`, `bezsolid_page_gl`, `bezsolid_web`), initialised
  * once: `{ glue, wasm, name }` (`wasm`: its exports, with the memory). */
 function load(name) {
   if (!loads.has(name)) {
     // The module is fetched and compiled while its glue loads.
     loads.set(name, (async () => {
+      if (!hasSimd()) {
+        throw new Error('this browser lacks WebAssembly SIMD, which the modeler is built with '
+          + '(Chrome and Edge 91 or later, Firefox 89 or later, Safari 16.4 or later have it)');
+      }
       const [glue, module] = await Promise.all([
         import(`./pkg/${name}.js`),
         WebAssembly.compileStreaming(fetch(WASM[name])),

@@ -5,7 +5,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, open, settle, ARTIFACTS } from './harness.mjs';
+import { launch, open, settle, ARTIFACTS, URL } from './harness.mjs';
 
 let browser;
 before(async () => { browser = await launch(); });
@@ -76,5 +76,30 @@ test('Open… and the mesh imports are buttons a keyboard reaches and presses', 
     await page.waitForFunction((id) => window.picked === id, input, { timeout: 5000 });
   }
   assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('a browser without WebAssembly SIMD is told why the modeler cannot start, before any module is fetched', async () => {
+  const page = await browser.newPage({ viewport: { width: 1200, height: 760 } });
+  // This browser as one without SIMD: a module with a SIMD instruction does not validate.
+  await page.addInitScript(() => {
+    const validate = WebAssembly.validate;
+    WebAssembly.validate = (bytes) => {
+      const b = new Uint8Array(bytes.buffer ?? bytes);
+      for (let i = 0; i + 1 < b.length; i += 1) if (b[i] === 0xfd) return false;
+      return validate(bytes);
+    };
+  });
+  const fetched = [];
+  page.on('request', (r) => { if (/\.wasm$/.test(r.url())) fetched.push(r.url()); });
+  await page.goto(URL);
+  await page.waitForFunction(() => /could not start/.test(document.getElementById('loading').textContent));
+  await page.waitForSelector('#status-bar:not([hidden])');
+  assert.match(await page.textContent('#status'), /The modeler could not start: this browser lacks WebAssembly SIMD.*Safari 16\.4/);
+  assert.equal(await page.getAttribute('#status-bar', 'data-kind'), 'error');
+  assert.equal(await page.textContent('#loading-3d'), 'The 3D view could not start.');
+  assert.notEqual(await page.getAttribute('body', 'data-ready'), 'true');
+  assert.deepEqual(fetched, [], 'no module is fetched');
+  writeFileSync(join(ARTIFACTS, 'no-simd.png'), await page.screenshot());
   await page.close();
 });

@@ -188,7 +188,44 @@ pub(crate) fn all(workspace: &Path, quick: bool) -> Result<()> {
         "wasm workers",
     )?);
 
-    let mut text = report(&native, &wasm, quick);
+    // The grid evaluation again, from the same code built without SIMD (its own target directory:
+    // other flags would rebuild the other's artifacts each time).
+    run(cargo()
+        .current_dir(workspace)
+        .env("RUSTFLAGS", "-C target-feature=-simd128")
+        .args([
+            "build",
+            "--release",
+            "--target",
+            setup::WASM_TARGET,
+            "-p",
+            "bezsolid-bench",
+            "--lib",
+            "--target-dir",
+            "target/no-simd",
+        ]))?;
+    let scalar_dir = workspace.join("target/bench-wasm-no-simd");
+    run(Command::new(bindgen.join("wasm-bindgen"))
+        .arg(workspace.join("target/no-simd/wasm32-unknown-unknown/release/bezsolid_bench.wasm"))
+        .args(["--target", "nodejs", "--out-dir"])
+        .arg(&scalar_dir))?;
+    let script = format!(
+        "process.stdout.write(require({:?}).run_eval({quick}))",
+        scalar_dir.join("bezsolid_bench.js")
+    );
+    let scalar = rows(
+        &stdout_of(Command::new("node").args(["-e", &script]))?,
+        "wasm without SIMD",
+    )?;
+
+    let mut text = report(
+        &Measured {
+            native: &native,
+            wasm: &wasm,
+            scalar: &scalar,
+        },
+        quick,
+    );
     let page = page_latency(workspace).unwrap_or_else(|e| {
         format!(
             "{PAGE_HEADING}
@@ -478,7 +515,20 @@ fn free_form_targets(s: &mut String, native: &[Row], wasm: &[Row]) {
     );
 }
 
-fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
+/// The rows of the report: native, wasm (the modules as served, with SIMD), and wasm without SIMD
+/// (grid evaluation alone, the same code built without it).
+struct Measured<'a> {
+    native: &'a [Row],
+    wasm: &'a [Row],
+    scalar: &'a [Row],
+}
+
+fn report(measured: &Measured<'_>, quick: bool) -> String {
+    let Measured {
+        native,
+        wasm,
+        scalar,
+    } = *measured;
     let mut s = String::new();
     let _ = writeln!(s, "# Benchmarks\n");
     let _ = writeln!(
@@ -518,6 +568,23 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
                 s,
                 "| grid evaluation ≥ 200 M points/s native (128³) | {rate:.0} M points/s |"
             );
+        }
+        for n in [64, 128, 256] {
+            if let (Some(with), Some(without)) = (
+                find(wasm, eval, n, "bezsolid"),
+                find(scalar, eval, n, "bezsolid"),
+            ) {
+                let _ = writeln!(
+                    s,
+                    "| SIMD: grid evaluation in wasm ≥ 1.5× the same module built without SIMD ({n}³) | {:.2}× ({with:.2} ms, {without:.2} ms without){} |",
+                    without / with,
+                    if without / with >= 1.5 {
+                        ""
+                    } else {
+                        " (not met)"
+                    }
+                );
+            }
         }
         let adaptive = "bezsolid (adaptive";
         if let (Some(n), Some(w)) = (
@@ -699,12 +766,12 @@ fn report(native: &[Row], wasm: &[Row], quick: bool) -> String {
             .iter()
             .filter(|r| r.case == case && !r.note.is_empty())
         {
-            let _ = writeln!(s, "- {} (native): {}", r.who, r.note);
+            let _ = writeln!(s, "- {} (native, n = {}): {}", r.who, r.n, r.note);
             if let Some(w) = wasm
                 .iter()
-                .find(|w| w.case == case && w.who == r.who && w.note != r.note)
+                .find(|w| w.case == case && w.who == r.who && w.n == r.n && w.note != r.note)
             {
-                let _ = writeln!(s, "- {} (wasm): {}", w.who, w.note);
+                let _ = writeln!(s, "- {} (wasm, n = {}): {}", w.who, w.n, w.note);
             }
         }
         if native.iter().any(|r| r.case == case && !r.note.is_empty()) {

@@ -278,6 +278,12 @@ pub mod wasm {
         floats.len() / 18
     }
 
+    /// Only grid evaluation (`cargo xtask bench` runs it in a module built without SIMD too).
+    #[wasm_bindgen]
+    pub fn run_eval(quick: bool) -> String {
+        with_clock(|clock| super::eval_suite(clock, quick))
+    }
+
     /// Only grid evaluation and meshing (for working on them).
     #[wasm_bindgen]
     pub fn run_mesh(quick: bool) -> String {
