@@ -607,8 +607,9 @@ impl<'a> SolidRoots<'a> {
 /// A root in `[0, 1]` of the Bézier curve `c[..=degree]` taken along `[t0, t1]`, whose values at
 /// the ends are `ends` (the samples there) of opposite signs: Newton's method from the linear
 /// estimate, kept in the bracket (a step that leaves it bisects), until `|value| ≤ accuracy`.
-/// Along one grid edge the curve is nearly a line, so two or three steps do. `None` where the
-/// ends do not bracket a root or the steps run out.
+/// Along one grid edge the curve is nearly a line, so two or three steps do. The root's `t` with
+/// the curve's value and slope there (of the last step); `None` where the ends do not bracket a
+/// root or the steps run out.
 fn newton_on_edge(
     c: &[f64; MAX_DEGREE + 1],
     degree: usize,
@@ -616,7 +617,7 @@ fn newton_on_edge(
     t1: f64,
     (p0, p1): (f64, f64),
     accuracy: f64,
-) -> Option<f64> {
+) -> Option<(f64, (f64, f64))> {
     let at = |t: f64| bezier1_with_slope(c, degree, t0 + (t1 - t0) * t);
     if (p0 > 0.0) == (p1 > 0.0) {
         return None;
@@ -626,7 +627,7 @@ fn newton_on_edge(
     for _ in 0..crate::math::ROOT_STEPS {
         let (v, slope) = at(t);
         if v.abs() <= accuracy {
-            return Some(t);
+            return Some((t, (v, slope)));
         }
         if (v > 0.0) == (p0 > 0.0) {
             lo = t;
@@ -667,6 +668,29 @@ fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
     for k in 1..=degree {
         for i in 0..=degree - k {
             p[i] += (p[i + 1] - p[i]) * t;
+        }
+    }
+    p[0]
+}
+
+/// Two Bézier curves of one degree at `t`, by de Casteljau in one pass: the same values as two
+/// calls of [`bezier1`].
+fn bezier1_pair(
+    a: &[f64; MAX_DEGREE + 1],
+    b: &[f64; MAX_DEGREE + 1],
+    degree: usize,
+    t: f64,
+) -> [f64; 2] {
+    let mut p = [[0.0; 2]; MAX_DEGREE + 1];
+    for (slot, (&x, &y)) in p.iter_mut().zip(a.iter().zip(b)).take(degree + 1) {
+        *slot = [x, y];
+    }
+    for k in 1..=degree {
+        for i in 0..=degree - k {
+            let next = p[i + 1];
+            for (v, n) in p[i].iter_mut().zip(next) {
+                *v += (n - *v) * t;
+            }
         }
     }
     p[0]
@@ -713,30 +737,30 @@ impl EdgeRoots for &SolidRoots<'_> {
             && strip(t0).min(strip(t1)) >= self.accuracy;
         let quick = if interior {
             newton_on_edge(&coef, degree, t0, t1, (f0, f1), 0.5 * self.accuracy)
-                .filter(|&t| far_from_faces || g(t).abs() <= self.accuracy)
+                .filter(|&(t, _)| far_from_faces || g(t).abs() <= self.accuracy)
         } else {
             None
         };
-        let t = match quick {
-            Some(t) => t,
+        // The root, and S_ξ with its slope there (Newton's last step has them).
+        let (t, (value, slope)) = match quick {
+            Some(found) => found,
             None => {
                 let (g0, g1) = (g(0.0), g(1.0));
-                if (g0 > 0.0) != (g1 > 0.0) {
+                let t = if (g0 > 0.0) != (g1 > 0.0) {
                     illinois(g, g0, g1, self.accuracy)
                 } else {
                     linear_root(f0, f1)
-                }
+                };
+                (t, bezier1_with_slope(&coef, degree, t0 + (t1 - t0) * t))
             }
         };
         let s = t0 + (t1 - t0) * t;
         let mut at = uvw;
         at[axis] = s;
-        let (value, slope) = bezier1_with_slope(&coef, degree, s);
         let mut grad = [0.0; 3];
         grad[axis] = slope;
         let (p, q) = other_axes(axis);
-        grad[p] = bezier1(&dp, degree, s);
-        grad[q] = bezier1(&dq, degree, s);
+        [grad[p], grad[q]] = bezier1_pair(&dp, &dq, degree, s);
         let (_, g) = clip_with_gradient(value, grad, at);
         (t, -(DVec3::from_array(g) * self.scale).normalize_or_zero())
     }
