@@ -42,6 +42,32 @@ pub(crate) fn split_net(
     left: &mut Vec<f64>,
     right: &mut Vec<f64>,
 ) {
+    // A net of one degree on every axis (the common case) has its own code, with the degree a
+    // constant; others take the general one.
+    let [n, m, l] = degree;
+    if n == m && m == l {
+        match n {
+            1 => return split_in::<2>(net, [1; 3], axis, t, left, right),
+            2 => return split_in::<3>(net, [2; 3], axis, t, left, right),
+            3 => return split_in::<4>(net, [3; 3], axis, t, left, right),
+            4 => return split_in::<5>(net, [4; 3], axis, t, left, right),
+            5 => return split_in::<6>(net, [5; 3], axis, t, left, right),
+            _ => {}
+        }
+    }
+    split_in::<{ MAX_DEGREE + 1 }>(net, degree, axis, t, left, right);
+}
+
+/// [`split_net`] for degrees below `L`.
+#[inline(always)]
+fn split_in<const L: usize>(
+    net: &[f64],
+    degree: [usize; 3],
+    axis: usize,
+    t: f64,
+    left: &mut Vec<f64>,
+    right: &mut Vec<f64>,
+) {
     let dims = degree.map(|d| d + 1);
     let strides = [dims[1] * dims[2], dims[2], 1];
     left.clear();
@@ -50,7 +76,7 @@ pub(crate) fn split_net(
     right.extend_from_slice(net);
     let (len, stride, d) = (dims[axis], strides[axis], degree[axis]);
     let outer: usize = dims[..axis].iter().product();
-    let mut p = [0.0; MAX_DEGREE + 1];
+    let mut p = [0.0; L];
     for o in 0..outer {
         for inner in 0..stride {
             let start = o * len * stride + inner;
@@ -95,14 +121,21 @@ pub(crate) fn octants(
 /// The least and greatest of `net`'s coefficients, which bound its polynomial; anything NaN
 /// bounds nothing.
 fn range(net: &[f64]) -> (f64, f64) {
-    let mut out = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in net {
         if v.is_nan() {
             return (f64::NEG_INFINITY, f64::INFINITY);
         }
-        out = (out.0.min(v), out.1.max(v));
+        // Comparisons, not `f64::min`: no NaN comes here, and wasm has no instruction for the
+        // library's NaN rule (each would be a call).
+        if v < lo {
+            lo = v;
+        }
+        if v > hi {
+            hi = v;
+        }
     }
-    out
+    (lo, hi)
 }
 
 /// The blocks of cells of a grid whose samples are at parameters `params` (per axis, increasing;

@@ -434,24 +434,45 @@ impl<'a> BlockSamples<'a> {
     }
 
     fn fill(&self, block: &Block, out: &mut Vec<f64>) {
-        let [dn, dm, _] = self.degree.map(|d| d + 1);
+        // A net of one degree on every axis (the common case) has its own code, with the point
+        // counts constants; others take the general one.
+        let [dn, dm, dl] = self.degree.map(|d| d + 1);
+        if dn == dm && dm == dl {
+            match dn {
+                2 => return self.fill_in::<2>(block, [2; 2], out),
+                3 => return self.fill_in::<3>(block, [3; 2], out),
+                4 => return self.fill_in::<4>(block, [4; 2], out),
+                5 => return self.fill_in::<5>(block, [5; 2], out),
+                6 => return self.fill_in::<6>(block, [6; 2], out),
+                _ => {}
+            }
+        }
+        self.fill_in::<{ MAX_DEGREE + 1 }>(block, [dn, dm], out);
+    }
+
+    /// [`Self::fill`] for a net of `dn × dm × …` points, at most `L` along `u`.
+    #[inline(always)]
+    fn fill_in<const L: usize>(&self, block: &Block, [dn, dm]: [usize; 2], out: &mut Vec<f64>) {
         let [us, vs, ws] = self.params;
-        let span = |k: usize| (block.lo[k], block.size[k] + 1);
-        let ((a0, na), (b0, nb), (c0, nc)) = (span(0), span(1), span(2));
-        let mut line = [0.0; MAX_DEGREE + 1];
-        let planes = self.planes.chunks_exact(dn * dm).zip(ws);
+        let span = |k: usize| block.lo[k]..block.lo[k] + block.size[k] + 1;
+        let (a_span, b_span, c_span) = (span(0), span(1), span(2));
+        let (a0, na) = (a_span.start, a_span.len());
+        let mut line = [0.0; L];
         // The first and last `u` of the block outside `(0, 1)`, where the clipping applies.
-        let u_outside = [a0, a0 + na - 1].map(|a| !inner(us[a]));
-        for (plane, &w) in planes.skip(c0).take(nc) {
-            for (v_row, &v) in self.rows[1].chunks_exact(dm).zip(vs).skip(b0).take(nb) {
-                for (slot, l) in line.iter_mut().zip(plane.chunks_exact(dm)) {
+        let u_outside = !inner(us[a0]) || !inner(us[a0 + na - 1]);
+        for c in c_span {
+            let plane = &self.planes[c * dn * dm..(c + 1) * dn * dm];
+            let w = ws[c];
+            for b in b_span.clone() {
+                let v_row = &self.rows[1][b * dm..(b + 1) * dm];
+                let v = vs[b];
+                for (slot, l) in line.iter_mut().zip(plane.chunks_exact(dm)).take(dn) {
                     *slot = dot(l, v_row);
                 }
                 let start = out.len();
                 crate::lanes::weigh(&line[..dn], &self.rows[0][a0..], us.len(), na, out);
-                let row = &mut out[start..];
-                if !(inner(v) && inner(w)) || u_outside.contains(&true) {
-                    for (value, &u) in row.iter_mut().zip(&us[a0..]) {
+                if u_outside || !(inner(v) && inner(w)) {
+                    for (value, &u) in out[start..].iter_mut().zip(&us[a0..]) {
                         if !(inner(u) && inner(v) && inner(w)) {
                             *value = clip3(*value, u, v, w);
                         }
@@ -548,14 +569,22 @@ impl<'a> SolidRoots<'a> {
     /// Along `axis` through sample `lower`: the coefficients of `S_ξ` as a curve in that parameter, and
     /// of its derivatives along the two other axes (in increasing axis order), from the contracted
     /// planes: `(degree + 1)²` multiply-adds each.
-    fn line<'s>(&'s self, axis: usize, lower: [usize; 3]) -> [[f64; MAX_DEGREE + 1]; 3] {
-        let [n, m, l] = self.xi.degree();
-        let (dn, dm, dl) = (n + 1, m + 1, l + 1);
+    ///
+    /// `pts` are the net's points per axis and `L` at least the most of them: the vertex of a net
+    /// of one degree on every axis passes constants, and the sums unroll.
+    #[inline(always)]
+    fn line<'s, const L: usize>(
+        &'s self,
+        axis: usize,
+        lower: [usize; 3],
+        pts: [usize; 3],
+    ) -> [[f64; L]; 3] {
+        let [dn, dm, dl] = pts;
         let [a, b, c] = lower;
         let row = |table: &'s [Vec<f64>; 3], ax: usize, at: usize, len: usize| -> &'s [f64] {
             &table[ax][at * len..(at + 1) * len]
         };
-        let mut out = [[0.0; MAX_DEGREE + 1]; 3];
+        let mut out = [[0.0; L]; 3];
         match axis {
             0 | 1 => {
                 // The (i, j) plane at this sample's w.
@@ -610,8 +639,9 @@ impl<'a> SolidRoots<'a> {
 /// Along one grid edge the curve is nearly a line, so two or three steps do. The root's `t` with
 /// the curve's value and slope there (of the last step); `None` where the ends do not bracket a
 /// root or the steps run out.
-fn newton_on_edge(
-    c: &[f64; MAX_DEGREE + 1],
+#[inline(always)]
+fn newton_on_edge<const L: usize>(
+    c: &[f64; L],
     degree: usize,
     t0: f64,
     t1: f64,
@@ -649,8 +679,9 @@ fn newton_on_edge(
 
 /// A Bézier curve with coefficients `c[..=degree]` at `t` and its derivative there, by de
 /// Casteljau (the derivative is `degree` times the difference of the last level's two points).
-fn bezier1_with_slope(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> (f64, f64) {
-    let mut p = [0.0; MAX_DEGREE + 1];
+#[inline(always)]
+fn bezier1_with_slope<const L: usize>(c: &[f64; L], degree: usize, t: f64) -> (f64, f64) {
+    let mut p = [0.0; L];
     p[..=degree].copy_from_slice(&c[..=degree]);
     for k in 1..degree {
         for i in 0..=degree - k {
@@ -662,8 +693,9 @@ fn bezier1_with_slope(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> (f64,
 }
 
 /// A Bézier curve with coefficients `c[..=degree]` at `t`, by de Casteljau.
-fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
-    let mut p = [0.0; MAX_DEGREE + 1];
+#[inline(always)]
+fn bezier1<const L: usize>(c: &[f64; L], degree: usize, t: f64) -> f64 {
+    let mut p = [0.0; L];
     p[..=degree].copy_from_slice(&c[..=degree]);
     for k in 1..=degree {
         for i in 0..=degree - k {
@@ -675,13 +707,9 @@ fn bezier1(c: &[f64; MAX_DEGREE + 1], degree: usize, t: f64) -> f64 {
 
 /// Two Bézier curves of one degree at `t`, by de Casteljau in one pass: the same values as two
 /// calls of [`bezier1`].
-fn bezier1_pair(
-    a: &[f64; MAX_DEGREE + 1],
-    b: &[f64; MAX_DEGREE + 1],
-    degree: usize,
-    t: f64,
-) -> [f64; 2] {
-    let mut p = [[0.0; 2]; MAX_DEGREE + 1];
+#[inline(always)]
+fn bezier1_pair<const L: usize>(a: &[f64; L], b: &[f64; L], degree: usize, t: f64) -> [f64; 2] {
+    let mut p = [[0.0; 2]; L];
     for (slot, (&x, &y)) in p.iter_mut().zip(a.iter().zip(b)).take(degree + 1) {
         *slot = [x, y];
     }
@@ -701,9 +729,39 @@ impl BlockRoots for &SolidRoots<'_> {}
 
 impl EdgeRoots for &SolidRoots<'_> {
     fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
-        let [coef, dp, dq] = self.line(axis, lower);
+        // A net of one degree on every axis (the common case) has its own code, with the point
+        // count a constant; others take the general one.
         let [n, m, l] = self.xi.degree();
-        let degree = [n, m, l][axis];
+        if n == m && m == l {
+            match n {
+                1 => return self.vertex_in::<2>(axis, lower, (f0, f1), [2; 3]),
+                2 => return self.vertex_in::<3>(axis, lower, (f0, f1), [3; 3]),
+                3 => return self.vertex_in::<4>(axis, lower, (f0, f1), [4; 3]),
+                4 => return self.vertex_in::<5>(axis, lower, (f0, f1), [5; 3]),
+                5 => return self.vertex_in::<6>(axis, lower, (f0, f1), [6; 3]),
+                _ => {}
+            }
+        }
+        self.vertex_in::<{ MAX_DEGREE + 1 }>(axis, lower, (f0, f1), [n + 1, m + 1, l + 1])
+    }
+
+    fn centre(&mut self, mean: DVec3, lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
+        self.centre_of(mean, lo, hi)
+    }
+}
+
+impl SolidRoots<'_> {
+    /// [`EdgeRoots::vertex`] for a net of `pts` points per axis, at most `L` on any.
+    #[inline(always)]
+    fn vertex_in<const L: usize>(
+        &self,
+        axis: usize,
+        lower: [usize; 3],
+        (f0, f1): (f64, f64),
+        pts: [usize; 3],
+    ) -> (f64, DVec3) {
+        let [coef, dp, dq] = self.line::<L>(axis, lower, pts);
+        let degree = pts[axis] - 1;
         let (t0, t1) = (
             self.params[axis][lower[axis]],
             self.params[axis][lower[axis] + 1],
@@ -765,7 +823,8 @@ impl EdgeRoots for &SolidRoots<'_> {
         (t, -(DVec3::from_array(g) * self.scale).normalize_or_zero())
     }
 
-    fn centre(&mut self, mean: DVec3, lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
+    /// [`EdgeRoots::centre`].
+    fn centre_of(&self, mean: DVec3, lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
         // Newton steps along the gradient, kept in the cube.
         let mut p = mean;
         let mut grad = DVec3::ZERO;
