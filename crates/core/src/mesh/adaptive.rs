@@ -238,6 +238,33 @@ mod tests {
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
+    /// The split of a net of one degree on every axis (its degree a constant) is the general
+    /// code's, bit for bit.
+    #[test]
+    fn the_split_for_one_degree_is_the_general_split() {
+        let mut rng = Rng::new(11);
+        for d in 1..=6 {
+            let net = Volume::from_fn([d; 3], |_| rng.range(-1.0, 1.0)).unwrap();
+            for axis in 0..3 {
+                let t = rng.range(0.1, 0.9);
+                let (mut left, mut right) = (Vec::new(), Vec::new());
+                split_net(net.points(), [d; 3], axis, t, &mut left, &mut right);
+                let (mut left2, mut right2) = (Vec::new(), Vec::new());
+                split_in::<{ MAX_DEGREE + 1 }>(
+                    net.points(),
+                    [d; 3],
+                    axis,
+                    t,
+                    &mut left2,
+                    &mut right2,
+                );
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&left), bits(&left2), "degree {d}, axis {axis}");
+                assert_eq!(bits(&right), bits(&right2), "degree {d}, axis {axis}");
+            }
+        }
+    }
+
     #[test]
     fn split_nets_are_the_same_polynomial_and_bound_it() {
         let mut rng = Rng::new(7);

@@ -1176,6 +1176,59 @@ mod tests {
         }
     }
 
+    /// The code for a net of one degree on every axis (its point counts constants) computes what
+    /// the general code does, bit for bit: the samples of every block, and the root and normal on
+    /// every edge the surface crosses.
+    #[test]
+    fn the_code_for_one_degree_is_the_general_code() {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for degree in 2..=6 {
+            let solid = rippled(degree, 0.05, degree as u64, DVec3::ZERO, DVec3::ONE);
+            let grid = solid.mesh_grid(20).unwrap();
+            let roots = SolidRoots::new(&solid, &grid, 1e-9);
+            let pts = [degree + 1; 3];
+            let samples = BlockSamples::new(&roots.xi, &roots.params);
+            let (blocks, _) = adaptive::blocks(roots.xi.points(), roots.xi.degree(), &roots.params);
+            assert!(!blocks.is_empty());
+            for block in &blocks {
+                let (mut fixed, mut general) = (Vec::new(), Vec::new());
+                samples.fill(block, &mut fixed);
+                samples.fill_in::<{ MAX_DEGREE + 1 }>(block, [pts[0], pts[1]], &mut general);
+                assert_eq!(bits(&fixed), bits(&general), "degree {degree}, {block:?}");
+            }
+            let [us, vs, ws] = &roots.params;
+            let values = roots.xi.eval_grid([us, vs, ws]);
+            let dims = [us.len(), vs.len(), ws.len()];
+            let at = |p: [usize; 3]| values[(p[2] * dims[1] + p[1]) * dims[0] + p[0]];
+            let mut crossings = 0;
+            for axis in 0..3 {
+                for c in 0..dims[2] {
+                    for b in 0..dims[1] {
+                        for a in 0..dims[0] {
+                            let lower = [a, b, c];
+                            let mut upper = lower;
+                            upper[axis] += 1;
+                            if upper[axis] == dims[axis] {
+                                continue;
+                            }
+                            let (f0, f1) = (at(lower), at(upper));
+                            if (f0 > 0.0) == (f1 > 0.0) {
+                                continue;
+                            }
+                            crossings += 1;
+                            let (t, n) = (&roots).vertex(axis, lower, f0, f1);
+                            let (t2, n2) =
+                                roots.vertex_in::<{ MAX_DEGREE + 1 }>(axis, lower, (f0, f1), pts);
+                            assert_eq!(t.to_bits(), t2.to_bits(), "degree {degree}");
+                            assert_eq!(bits(&n.to_array()), bits(&n2.to_array()));
+                        }
+                    }
+                }
+            }
+            assert!(crossings > 100, "degree {degree}: {crossings} crossings");
+        }
+    }
+
     #[test]
     fn pieces_welded_in_order_are_the_mesh_of_one_walk() {
         let solid = rippled(4, 0.05, 4, DVec3::ZERO, DVec3::ONE);
