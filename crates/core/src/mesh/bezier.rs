@@ -314,8 +314,10 @@ impl Solid3 {
         #[cfg(feature = "parallel")]
         let pieces = {
             use rayon::prelude::*;
-            let pieces = 4 * rayon::current_num_threads();
-            let chunk = blocks.len().div_ceil(pieces).max(1);
+            let chunk = blocks
+                .len()
+                .div_ceil(super::polygonize::pieces_for_pool())
+                .max(1);
             blocks
                 .par_chunks(chunk)
                 .map(|part| polygonize_blocks(&grid, part, sample, &mut &roots, &marcher))

@@ -902,6 +902,16 @@ pub(crate) fn weld_keyed(pieces: Vec<Keyed>) -> Keyed {
     (mesh, kept)
 }
 
+/// Into how many pieces work on many blocks is cut for rayon's pool: four a thread, to balance
+/// the load; one on a pool of one thread (pieces there only cost their welding).
+#[cfg(feature = "parallel")]
+pub(crate) fn pieces_for_pool() -> usize {
+    match rayon::current_num_threads() {
+        0 | 1 => 1,
+        threads => 4 * threads,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

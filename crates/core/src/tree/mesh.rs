@@ -392,12 +392,13 @@ impl Tree<3> {
         let marcher = Marcher::new();
         let piece = |part: &[Block]| plan.mesh(part, &marcher);
         // In rounds, each reported with the cells done so far: fiftieths without the `parallel`
-        // feature; with it, rounds of four tasks a thread (one task a piece), several only when
-        // someone is told of the progress (each round waits for its slowest task).
+        // feature; with it, rounds of four tasks a thread (one task a piece; one on a pool of one
+        // thread), several only when someone is told of the progress (each round waits for its
+        // slowest task).
         #[cfg(feature = "parallel")]
         let (rounds, tasks) = (
             if reporting { PARALLEL_ROUNDS } else { 1 },
-            4 * rayon::current_num_threads(),
+            crate::mesh::polygonize::pieces_for_pool(),
         );
         #[cfg(not(feature = "parallel"))]
         let (rounds, tasks) = (50, 1);

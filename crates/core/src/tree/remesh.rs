@@ -332,7 +332,7 @@ fn made(plan: &Plan<'_>, blocks: &[Block], stale: &[usize]) -> Vec<(Keyed, Reads
     #[cfg(feature = "parallel")]
     let longest = stale
         .len()
-        .div_ceil(4 * rayon::current_num_threads())
+        .div_ceil(crate::mesh::polygonize::pieces_for_pool())
         .max(1);
     #[cfg(not(feature = "parallel"))]
     let longest = stale.len().max(1);
