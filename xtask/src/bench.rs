@@ -154,20 +154,7 @@ pub(crate) fn all(workspace: &Path, quick: bool) -> Result<()> {
     setup::wasm_target()?;
     setup::node()?;
     let bindgen = setup::wasm_bindgen(workspace)?;
-    run(cargo().current_dir(workspace).args([
-        "build",
-        "--release",
-        "--target",
-        setup::WASM_TARGET,
-        "-p",
-        "bezsolid-bench",
-        "--lib",
-    ]))?;
-    let out_dir = workspace.join("target/bench-wasm");
-    run(Command::new(bindgen.join("wasm-bindgen"))
-        .arg(workspace.join("target/wasm32-unknown-unknown/release/bezsolid_bench.wasm"))
-        .args(["--target", "nodejs", "--out-dir"])
-        .arg(&out_dir))?;
+    let out_dir = bench_module(workspace, &bindgen, "target", "target/bench-wasm", None)?;
     let script = format!(
         "process.stdout.write(require({:?}).run({quick}))",
         out_dir.join("bezsolid_bench.js")
@@ -190,25 +177,13 @@ pub(crate) fn all(workspace: &Path, quick: bool) -> Result<()> {
 
     // The grid evaluation again, from the same code built without SIMD (its own target directory:
     // other flags would rebuild the other's artifacts each time).
-    run(cargo()
-        .current_dir(workspace)
-        .env("RUSTFLAGS", "-C target-feature=-simd128")
-        .args([
-            "build",
-            "--release",
-            "--target",
-            setup::WASM_TARGET,
-            "-p",
-            "bezsolid-bench",
-            "--lib",
-            "--target-dir",
-            "target/no-simd",
-        ]))?;
-    let scalar_dir = workspace.join("target/bench-wasm-no-simd");
-    run(Command::new(bindgen.join("wasm-bindgen"))
-        .arg(workspace.join("target/no-simd/wasm32-unknown-unknown/release/bezsolid_bench.wasm"))
-        .args(["--target", "nodejs", "--out-dir"])
-        .arg(&scalar_dir))?;
+    let scalar_dir = bench_module(
+        workspace,
+        &bindgen,
+        "target/no-simd",
+        "target/bench-wasm-no-simd",
+        Some("-C target-feature=-simd128"),
+    )?;
     let script = format!(
         "process.stdout.write(require({:?}).run_eval({quick}))",
         scalar_dir.join("bezsolid_bench.js")
@@ -248,6 +223,44 @@ Not measured on this machine: {e:#}
         eprintln!("wrote BENCHMARKS.md");
     }
     Ok(())
+}
+
+/// The benchmarks' wasm module built into `target_dir` (with `rustflags` in place of the
+/// configured ones where given) and made a node package in `out_dir`, which it returns.
+fn bench_module(
+    workspace: &Path,
+    bindgen: &Path,
+    target_dir: &str,
+    out_dir: &str,
+    rustflags: Option<&str>,
+) -> Result<std::path::PathBuf> {
+    let mut build = cargo();
+    build.current_dir(workspace).args([
+        "build",
+        "--release",
+        "--target",
+        setup::WASM_TARGET,
+        "-p",
+        "bezsolid-bench",
+        "--lib",
+        "--target-dir",
+        target_dir,
+    ]);
+    if let Some(flags) = rustflags {
+        build.env("RUSTFLAGS", flags);
+    }
+    run(&mut build)?;
+    let out_dir = workspace.join(out_dir);
+    run(Command::new(bindgen.join("wasm-bindgen"))
+        .arg(
+            workspace
+                .join(target_dir)
+                .join(setup::WASM_TARGET)
+                .join("release/bezsolid_bench.wasm"),
+        )
+        .args(["--target", "nodejs", "--out-dir"])
+        .arg(&out_dir))?;
+    Ok(out_dir)
 }
 
 fn machine() -> String {
