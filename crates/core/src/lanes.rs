@@ -1,9 +1,9 @@
 //! The kernel of the grid evaluations: a net's line of coefficients weighed against the basis rows
 //! of many samples at once, samples side by side in SIMD lanes.
 //!
-//! A sample's value is `Σ_i c_i · b_i(t)`, summed from zero in the order of `i` — the order
-//! [`Tensor::eval`](crate::Tensor::eval) and every other path sum in, so the values are the same to
-//! the bit whichever path made them. Across samples nothing is shared, so the sums of neighbouring
+//! A sample's value is `Σ_i c_i · b_i(t)`, summed from zero in the order of `i` — the order a
+//! sample is summed in one at a time, so [`Tensor::eval_grid`](crate::Tensor::eval_grid) and the
+//! adaptive mesher's blocks agree to the bit. Across samples nothing is shared, so the sums of neighbouring
 //! samples run in the lanes of one vector: `f64x2` of wasm `simd128` where the build enables it
 //! (the page's and the tools' modules do), and the compiler's vectors natively (SSE2 on x86-64,
 //! NEON on aarch64) from the same blocked loop. No fused multiply-add: a fused sum rounds once
@@ -20,8 +20,8 @@ const BLOCK: usize = 4;
 
 /// Appends `out[k] = Σ_i coeffs[i] · rows[i · stride + k]` for every `k < count` to `out`, summed
 /// from zero in the order of `i`: the basis rows are stored transposed, one row per coefficient with
-/// a value per sample, `stride` values apart. Each value is written once (no zeros first: a grid's
-/// values are most of its time in memory traffic).
+/// a value per sample, `stride` values apart. `out` grows by `count` zeros, which the sums then
+/// overwrite block by block.
 ///
 /// # Panics
 /// Where `rows` is shorter than `(coeffs.len() − 1) · stride + count` (a caller's bug: the tables
