@@ -119,6 +119,21 @@ fn powi(x: f64, e: usize) -> f64 {
     r
 }
 
+/// The longest array of points [`casteljau_level`] steps whole.
+pub(crate) const STEP_WHOLE: usize = 8;
+
+/// One level of de Casteljau's scheme: `p[i] ← p[i] + (p[i + 1] − p[i])·t` for `i ≤ last`, the
+/// level's points. A short `p` (the nets of one degree on every axis, up to degree 7) is stepped
+/// whole, a loop of constant length that unrolls: the entries above `last` are never read by
+/// those below, so the level's points are made by the same operations either way.
+#[inline(always)]
+pub(crate) fn casteljau_level<const L: usize>(p: &mut [f64; L], t: f64, last: usize) {
+    let end = if L <= STEP_WHOLE { L - 1 } else { last + 1 };
+    for i in 0..end {
+        p[i] += (p[i + 1] - p[i]) * t;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

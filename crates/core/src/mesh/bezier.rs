@@ -16,7 +16,7 @@ use super::polygonize::{
     Block, BlockRoots, EdgeRoots, Keyed, LinearRoots, Marcher, Piece, SampleGrid, Share,
     linear_root, polygonize, polygonize_blocks, weld, weld_keyed,
 };
-use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative};
+use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative, casteljau_level};
 use crate::inverse::{Forward, solve_jac};
 use crate::math::illinois;
 use crate::rfunc::{clip_with_gradient, clip3};
@@ -683,12 +683,9 @@ fn newton_on_edge<const L: usize>(
 /// Casteljau (the derivative is `degree` times the difference of the last level's two points).
 #[inline(always)]
 fn bezier1_with_slope<const L: usize>(c: &[f64; L], degree: usize, t: f64) -> (f64, f64) {
-    let mut p = [0.0; L];
-    p[..=degree].copy_from_slice(&c[..=degree]);
+    let mut p = *c;
     for k in 1..degree {
-        for i in 0..=degree - k {
-            p[i] += (p[i + 1] - p[i]) * t;
-        }
+        casteljau_level(&mut p, t, degree - k);
     }
     let slope = degree as f64 * (p[1] - p[0]);
     (p[0] + (p[1] - p[0]) * t, slope)
@@ -697,12 +694,9 @@ fn bezier1_with_slope<const L: usize>(c: &[f64; L], degree: usize, t: f64) -> (f
 /// A Bézier curve with coefficients `c[..=degree]` at `t`, by de Casteljau.
 #[inline(always)]
 fn bezier1<const L: usize>(c: &[f64; L], degree: usize, t: f64) -> f64 {
-    let mut p = [0.0; L];
-    p[..=degree].copy_from_slice(&c[..=degree]);
+    let mut p = *c;
     for k in 1..=degree {
-        for i in 0..=degree - k {
-            p[i] += (p[i + 1] - p[i]) * t;
-        }
+        casteljau_level(&mut p, t, degree - k);
     }
     p[0]
 }
@@ -711,12 +705,15 @@ fn bezier1<const L: usize>(c: &[f64; L], degree: usize, t: f64) -> f64 {
 /// calls of [`bezier1`].
 #[inline(always)]
 fn bezier1_pair<const L: usize>(a: &[f64; L], b: &[f64; L], degree: usize, t: f64) -> [f64; 2] {
-    let mut p = [[0.0; 2]; L];
-    for (slot, (&x, &y)) in p.iter_mut().zip(a.iter().zip(b)).take(degree + 1) {
-        *slot = [x, y];
-    }
+    let mut p: [[f64; 2]; L] = core::array::from_fn(|i| [a[i], b[i]]);
     for k in 1..=degree {
-        for i in 0..=degree - k {
+        // As `casteljau_level`, two curves side by side.
+        let end = if L <= crate::bernstein::STEP_WHOLE {
+            L - 1
+        } else {
+            degree - k + 1
+        };
+        for i in 0..end {
             let next = p[i + 1];
             for (v, n) in p[i].iter_mut().zip(next) {
                 *v += (n - *v) * t;
@@ -763,7 +760,14 @@ impl SolidRoots<'_> {
         pts: [usize; 3],
     ) -> (f64, DVec3) {
         let [coef, dp, dq] = self.line::<L>(axis, lower, pts);
-        let degree = pts[axis] - 1;
+        // Of one degree on every axis, the degree is `pts[0] − 1`, a constant where the caller
+        // passed constants (`pts[axis]` with `axis` unknown is a load, and the loops would not
+        // unroll).
+        let degree = if pts[1] == pts[0] && pts[2] == pts[0] {
+            pts[0] - 1
+        } else {
+            pts[axis] - 1
+        };
         let (t0, t1) = (
             self.params[axis][lower[axis]],
             self.params[axis][lower[axis] + 1],
@@ -821,8 +825,28 @@ impl SolidRoots<'_> {
         grad[axis] = slope;
         let (p, q) = other_axes(axis);
         [grad[p], grad[q]] = bezier1_pair(&dp, &dq, degree, s);
-        let (_, g) = clip_with_gradient(value, grad, at);
-        (t, -(DVec3::from_array(g) * self.scale).normalize_or_zero())
+        // f = S_ξ & F_s has the gradient f_S·∇S_ξ + f_F·∇F_s, where f_S = 1 − S/h ≥ ½ and
+        // f_F = 1 − F/h ≤ S²/(2F²) (h = √(S² + F²), F > 0, |S| ≤ F/2). With F ≥ 0.34·m (m the
+        // least strip) and |∇F_s| < 7 (each partial of `&` at most 2, each strip's slope at most
+        // 1), the second term turns the normal by less than 61·σ·S²/(m²·|∇S_ξ ⊙ scale|), σ the
+        // largest scale. Where that is below 1e-17 the normal of ∇S_ξ is the normal of ∇f to
+        // rounding, and the clipping's square roots and divisions are skipped (a root of Newton's
+        // method usually has S within a few ulps of zero).
+        let world = DVec3::from_array(grad) * self.scale;
+        let m = at
+            .iter()
+            .map(|&x| x * (1.0 - x))
+            .fold(f64::INFINITY, f64::min);
+        let turn = 61.0 * self.scale.max_element() * value * value;
+        let g = if m > 0.0
+            && 4.0 * value.abs() <= m
+            && turn * turn <= 1e-34 * (m * m) * (m * m) * world.length_squared()
+        {
+            world
+        } else {
+            DVec3::from_array(clip_with_gradient(value, grad, at).1) * self.scale
+        };
+        (t, -g.normalize_or_zero())
     }
 
     /// [`EdgeRoots::centre`].
