@@ -1247,6 +1247,16 @@ mod tests {
                                 roots.vertex_in::<{ MAX_DEGREE + 1 }>(axis, lower, (f0, f1), pts);
                             assert_eq!(t.to_bits(), t2.to_bits(), "degree {degree}");
                             assert_eq!(bits(&n.to_array()), bits(&n2.to_array()));
+                            // The normal is that of the clipped f's gradient (the clipping's
+                            // term is dropped only where it cannot turn it).
+                            let mut p = grid.point(a, b, c);
+                            p[axis] += t * grid.step[axis];
+                            let (_, g) = solid.f_with_gradient(p);
+                            let exact = -g.normalize();
+                            assert!(
+                                (n - exact).length() < 1e-9,
+                                "degree {degree}: {n} against {exact}"
+                            );
                         }
                     }
                 }
