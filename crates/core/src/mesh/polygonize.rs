@@ -349,29 +349,89 @@ fn edge_vertex<R: EdgeRoots>(
     id
 }
 
+/// What a cube's face loops make, worked out once per loop map: its crossed edges (whose
+/// vertices are made in the order of the edges) and its loops in the order they are met from edge
+/// 0, each a ring of edges with the corner its fan starts from, or none (a centre vertex).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Plan {
+    /// Bit `e`: edge `e` is crossed.
+    edges: u16,
+    /// Each loop: where its ring starts in `rings`, its length, its fan's start ([`NO_FAN`]: the
+    /// loop gets a centre vertex).
+    loops: [[u8; 3]; 12],
+    count: u8,
+    /// The rings one after another.
+    rings: [u8; 12],
+}
+
+/// [`Plan::loops`]: a loop no fan fits.
+const NO_FAN: u8 = 255;
+
+impl Plan {
+    /// The plan of the loop map `next` ([`cube_loops`]).
+    fn of(next: &[u8; 12]) -> Self {
+        let mut plan = Self {
+            edges: 0,
+            loops: [[0; 3]; 12],
+            count: 0,
+            rings: [0; 12],
+        };
+        for (e, &n) in next.iter().enumerate() {
+            if n != 255 {
+                plan.edges |= 1 << e;
+            }
+        }
+        let (mut done, mut used) = (0u16, 0usize);
+        for start in 0..12 {
+            if next[start] == 255 || done & (1 << start) != 0 {
+                continue;
+            }
+            let first = used;
+            let mut at = start;
+            // Each edge joins one ring at most (`done`), so the rings fit in twelve.
+            while done & (1 << at) == 0 {
+                done |= 1 << at;
+                plan.rings[used] = at as u8;
+                used += 1;
+                at = next[at] as usize;
+                if at >= 12 {
+                    break;
+                }
+            }
+            let fan = fan_start(&plan.rings[first..used]).map_or(NO_FAN, |s| s as u8);
+            plan.loops[usize::from(plan.count)] = [first as u8, (used - first) as u8, fan];
+            plan.count += 1;
+        }
+        plan
+    }
+}
+
 /// The half of the polygonizer that sees one cube: its face loops (from a table of the 256 sign
 /// patterns, or from the values where a face is ambiguous) filled with disks. The walk over the
 /// whole grid ([`polygonize`]) and the walk over blocks of cells ([`polygonize_blocks`]) share it,
 /// so a cube gives the same triangles whichever walk meets it.
 pub(crate) struct Marcher {
-    table: [[u8; 12]; 256],
+    /// The plan of every corner pattern without an ambiguous face (those depend on the pattern
+    /// alone).
+    plans: [Plan; 256],
     ambiguous: [bool; 256],
 }
 
 impl Marcher {
     pub(crate) fn new() -> Self {
         // The face loops of every corner pattern without an ambiguous face depend on the pattern alone.
-        let mut table = [[255u8; 12]; 256];
         let mut ambiguous = [false; 256];
-        for (mask, (next, amb)) in table.iter_mut().zip(&mut ambiguous).enumerate() {
+        let plans = core::array::from_fn(|mask| {
             let v: [f64; 8] = core::array::from_fn(|k| if mask >> k & 1 == 1 { 1.0 } else { -1.0 });
-            *amb = FACES.iter().any(|face| {
+            ambiguous[mask] = FACES.iter().any(|face| {
                 let s = face.map(|c| mask >> c & 1);
                 s[0] == s[2] && s[1] == s[3] && s[0] != s[1]
             });
-            cube_loops(&v, next);
-        }
-        Self { table, ambiguous }
+            let mut next = [255u8; 12];
+            cube_loops(&v, &mut next);
+            Plan::of(&next)
+        });
+        Self { plans, ambiguous }
     }
 
     /// The triangles of the cube whose lowest sample is `cube`, whose corner `k` is inside where bit
@@ -391,45 +451,32 @@ impl Marcher {
         roots: &mut R,
         mut vertex: impl FnMut(&mut Mesh, &mut R, usize, [usize; 3]) -> u32,
     ) {
-        let mut loops = [255u8; 12];
-        let next = if self.ambiguous[mask as usize] {
+        let own;
+        let plan = if self.ambiguous[mask as usize] {
+            let mut loops = [255u8; 12];
             cube_loops(&values(), &mut loops);
-            &loops
+            own = Plan::of(&loops);
+            &own
         } else {
-            &self.table[mask as usize]
+            &self.plans[mask as usize]
         };
         let mut ids = [u32::MAX; 12];
-        for (e, id) in ids.iter_mut().enumerate() {
-            if next[e] == 255 {
-                continue;
-            }
+        let mut edges = plan.edges;
+        while edges != 0 {
+            let e = edges.trailing_zeros() as usize;
+            edges &= edges - 1;
             let axis = e / 4;
             let (bb, dd) = ((axis + 1) % 3, (axis + 2) % 3);
             let mut lower = cube;
             lower[bb] += e & 1;
             lower[dd] += (e >> 1) & 1;
-            *id = vertex(mesh, roots, axis, lower);
+            ids[e] = vertex(mesh, roots, axis, lower);
         }
         // Each loop as a disk: a fan where one fits, a centre vertex where none does.
-        let mut done = 0u16;
-        for start in 0..12 {
-            if next[start] == 255 || done & (1 << start) != 0 {
-                continue;
-            }
-            let mut ring = [0u8; 12];
-            let mut k = 0;
-            let mut at = start;
-            while k < 12 && done & (1 << at) == 0 {
-                done |= 1 << at;
-                ring[k] = at as u8;
-                k += 1;
-                at = next[at] as usize;
-                if at >= 12 {
-                    break;
-                }
-            }
-            let ring = &ring[..k];
-            match fan_start(ring) {
+        for &[first, k, fan] in &plan.loops[..usize::from(plan.count)] {
+            let (first, k) = (usize::from(first), usize::from(k));
+            let ring = &plan.rings[first..first + k];
+            match (fan != NO_FAN).then_some(usize::from(fan)) {
                 Some(s) => {
                     for j in 1..k - 1 {
                         mesh.triangles.push([
@@ -918,6 +965,41 @@ mod tests {
     use crate::testutil::Rng;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    /// A sign pattern without an ambiguous face makes one plan whatever the values: the table's
+    /// plan is the plan of the loops of any values with that pattern; every crossed edge is in
+    /// exactly one ring.
+    #[test]
+    fn the_plan_of_a_pattern_is_the_plan_of_its_values() {
+        let marcher = Marcher::new();
+        let mut rng = Rng::new(3);
+        for mask in 0..256usize {
+            let plan = marcher.plans[mask];
+            let ringed = plan.loops[..usize::from(plan.count)]
+                .iter()
+                .flat_map(|&[first, k, _]| {
+                    plan.rings[usize::from(first)..usize::from(first) + usize::from(k)].iter()
+                })
+                .fold(0u16, |seen, &e| {
+                    assert_eq!(seen & 1 << e, 0, "mask {mask}: edge {e} twice");
+                    seen | 1 << e
+                });
+            assert_eq!(ringed, plan.edges, "mask {mask}");
+            assert_eq!(plan.edges == 0, mask == 0 || mask == 255);
+            if marcher.ambiguous[mask] {
+                continue;
+            }
+            for _ in 0..20 {
+                let v: [f64; 8] = core::array::from_fn(|k| {
+                    let size = rng.range(1e-6, 2.0);
+                    if mask >> k & 1 == 1 { size } else { -size }
+                });
+                let mut next = [255u8; 12];
+                cube_loops(&v, &mut next);
+                assert_eq!(Plan::of(&next), plan, "mask {mask}, values {v:?}");
+            }
+        }
+    }
 
     fn sample(dims: [usize; 3], f: impl Fn(DVec3) -> f64) -> (SampleGrid, Vec<f64>) {
         let step = DVec3::splat(1.0)
