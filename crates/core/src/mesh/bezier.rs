@@ -14,7 +14,7 @@ use super::Mesh;
 use super::adaptive::{self, AdaptiveStats};
 use super::polygonize::{
     Block, BlockRoots, EdgeRoots, Keyed, LinearRoots, Marcher, Piece, SampleGrid, Share,
-    linear_root, polygonize, polygonize_blocks, weld, weld_keyed,
+    linear_root, make_and_weld, polygonize, polygonize_blocks,
 };
 use crate::bernstein::{MAX_DEGREE, basis, basis_and_derivative, casteljau_level};
 use crate::inverse::{Forward, solve_jac};
@@ -280,8 +280,8 @@ impl Solid3 {
         resolution: usize,
         accuracy: f64,
     ) -> Result<(Mesh, AdaptiveStats), MeshError> {
-        let (pieces, stats) = self.adaptive_pieces(resolution, accuracy, Share::WHOLE)?;
-        Ok((weld(pieces), stats))
+        let ((mesh, _), stats) = self.adaptive_mesh(resolution, accuracy, Share::WHOLE)?;
+        Ok((mesh, stats))
     }
 
     /// The piece of `share` of the regular solid's mesh.
@@ -291,19 +291,19 @@ impl Solid3 {
         accuracy: f64,
         share: Share,
     ) -> Result<Piece, MeshError> {
-        let (pieces, _) = self.adaptive_pieces(resolution, accuracy, share)?;
-        let (mesh, keys) = weld_keyed(pieces);
+        let ((mesh, keys), _) = self.adaptive_mesh(resolution, accuracy, share)?;
         Ok(Piece { mesh, keys })
     }
 
     /// The blocks of `share` of the regular solid's grid, meshed in pieces of consecutive blocks
-    /// (one per task with the `parallel` feature) to be welded in order.
-    fn adaptive_pieces(
+    /// welded in order ([`make_and_weld`]: on every thread of the pool with the `parallel`
+    /// feature).
+    fn adaptive_mesh(
         &self,
         resolution: usize,
         accuracy: f64,
         share: Share,
-    ) -> Result<(Vec<Keyed>, AdaptiveStats), MeshError> {
+    ) -> Result<(Keyed, AdaptiveStats), MeshError> {
         let grid = self.mesh_grid(resolution)?;
         let roots = SolidRoots::new(self, &grid, accuracy);
         let samples = BlockSamples::new(&roots.xi, &roots.params);
@@ -312,26 +312,16 @@ impl Solid3 {
         let marcher = Marcher::new();
         let sample = |block: &Block, out: &mut Vec<f64>| samples.fill(block, out);
         #[cfg(feature = "parallel")]
-        let pieces = {
-            use rayon::prelude::*;
-            let chunk = blocks
-                .len()
-                .div_ceil(super::polygonize::pieces_for_pool())
-                .max(1);
-            blocks
-                .par_chunks(chunk)
-                .map(|part| polygonize_blocks(&grid, part, sample, &mut &roots, &marcher))
-                .collect()
-        };
+        let pieces = super::polygonize::pieces_taken_in_turn();
         #[cfg(not(feature = "parallel"))]
-        let pieces = vec![polygonize_blocks(
-            &grid,
-            blocks,
-            sample,
-            &mut &roots,
-            &marcher,
-        )];
-        Ok((pieces, stats))
+        let pieces = 1;
+        let parts: Vec<&[Block]> = blocks
+            .chunks(blocks.len().div_ceil(pieces).max(1))
+            .collect();
+        let mesh = make_and_weld(parts.len(), |k| {
+            polygonize_blocks(&grid, parts[k], sample, &mut &roots, &marcher)
+        });
+        Ok((mesh, stats))
     }
 
     /// [`Solid3::polygonize`] of a solid without a space mapping, with what the adaptive meshing
@@ -1262,6 +1252,28 @@ mod tests {
                 }
             }
             assert!(crossings > 100, "degree {degree}: {crossings} crossings");
+        }
+    }
+
+    /// On a pool of several threads the pieces are made and welded as they come, in whatever
+    /// order the threads finish them: the mesh is the one thread's, bit for bit.
+    #[cfg(feature = "parallel")]
+    #[test]
+    fn the_mesh_made_on_many_threads_is_the_mesh_of_one() {
+        let solid = rippled(4, 0.05, 4, DVec3::ZERO, DVec3::ONE);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| solid.polygonize(48, 1e-9).unwrap())
+        };
+        let one = on(1);
+        assert!(one.triangle_count() > 1000);
+        for threads in [2, 3, 5] {
+            for _ in 0..3 {
+                assert_eq!(on(threads), one, "{threads} threads");
+            }
         }
     }
 
