@@ -318,9 +318,11 @@ impl Solid3 {
         let parts: Vec<&[Block]> = blocks
             .chunks(blocks.len().div_ceil(pieces).max(1))
             .collect();
-        let mesh = make_and_weld(parts.len(), |k| {
-            polygonize_blocks(&grid, parts[k], sample, &mut &roots, &marcher)
-        });
+        let mesh = make_and_weld(
+            parts.len(),
+            |k| polygonize_blocks(&grid, parts[k], sample, &mut &roots, &marcher),
+            |_| {},
+        );
         Ok((mesh, stats))
     }
 

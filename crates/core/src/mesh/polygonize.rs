@@ -875,6 +875,7 @@ pub(crate) type Keyed = (Mesh, Vec<u64>);
 /// Meshes of disjoint sets of cells, each with the grid edge of every vertex (from
 /// [`polygonize_blocks`]), joined into one: a vertex on an edge two pieces share is kept once, the
 /// first piece's. Pieces in the order of their blocks give the mesh of all the blocks in one walk.
+#[cfg(test)]
 pub(crate) fn weld(pieces: Vec<Keyed>) -> Mesh {
     weld_keyed(pieces).0
 }
@@ -1020,25 +1021,35 @@ impl Welder {
     }
 }
 
-/// The pieces `make(0)`, `make(1)`, … `make(count − 1)` welded in order ([`weld_keyed`]). With
-/// the `parallel` feature, on rayon's pool: every thread takes the next piece not yet taken, and
-/// the calling thread, between its pieces, welds those that are in, in order, so that the weld
-/// runs beside the meshing rather than after it.
-pub(crate) fn make_and_weld(count: usize, make: impl Fn(usize) -> Keyed + Sync) -> Keyed {
+/// The pieces `make(0)`, `make(1)`, … `make(count − 1)` welded in order ([`weld_keyed`]),
+/// `welded(k)` called on the calling thread as piece `k` is welded on. With the `parallel`
+/// feature, on rayon's pool: every thread takes the next piece not yet taken, and the calling
+/// thread, between its pieces, welds those that are in, in order, so that the weld runs beside
+/// the meshing rather than after it.
+pub(crate) fn make_and_weld(
+    count: usize,
+    make: impl Fn(usize) -> Keyed + Sync,
+    mut welded: impl FnMut(usize),
+) -> Keyed {
     #[cfg(feature = "parallel")]
     if count > 1 && rayon::current_num_threads() > 1 {
-        return make_and_weld_on_pool(count, make);
+        return make_and_weld_on_pool(count, make, welded);
     }
     let mut welder = Welder::expecting(count);
     for k in 0..count {
         welder.add(make(k));
+        welded(k);
     }
     welder.finish()
 }
 
 /// [`make_and_weld`] on rayon's pool.
 #[cfg(feature = "parallel")]
-fn make_and_weld_on_pool(count: usize, make: impl Fn(usize) -> Keyed + Sync) -> Keyed {
+fn make_and_weld_on_pool(
+    count: usize,
+    make: impl Fn(usize) -> Keyed + Sync,
+    mut welded: impl FnMut(usize),
+) -> Keyed {
     use core::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
     /// A piece not made yet, made, or lost (its task panicked: the scope passes the panic on).
@@ -1074,20 +1085,21 @@ fn make_and_weld_on_pool(count: usize, make: impl Fn(usize) -> Keyed + Sync) -> 
         true
     };
     let mut welder = Welder::expecting(count);
-    rayon::scope(|scope| {
+    rayon::in_place_scope(|scope| {
         for _ in 1..rayon::current_num_threads().min(count) {
             scope.spawn(|_| while take() {});
         }
-        let mut welded = 0;
-        while welded < count {
-            let taken = match slots[welded].lock() {
+        let mut done = 0;
+        while done < count {
+            let taken = match slots[done].lock() {
                 Ok(mut slot) => core::mem::replace(&mut *slot, Slot::Waiting),
                 Err(_) => Slot::Lost,
             };
             match taken {
                 Slot::Made(piece) => {
                     welder.add(piece);
-                    welded += 1;
+                    welded(done);
+                    done += 1;
                 }
                 Slot::Lost => break,
                 // Make a piece meanwhile; with none left, let the others finish theirs.

@@ -20,7 +20,7 @@ use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
 use crate::mesh::adaptive::octants;
 use crate::mesh::polygonize::{
-    Block, BlockRoots, Keyed, Marcher, polygonize_blocks, split_run, weld, weld_keyed,
+    Block, BlockRoots, Keyed, Marcher, make_and_weld, polygonize_blocks, split_run,
 };
 use crate::mesh::{EdgeRoots, SampleGrid};
 use crate::mesh::{Piece, Share};
@@ -276,10 +276,12 @@ pub struct MeshStats {
 /// Boxes of at most this many cells per side are sampled whole rather than bounded again.
 const LEAF_CELLS: usize = 4;
 
-/// The rounds a parallel mesh is made in, each reporting its progress: more rounds report more
-/// often, and wait more often for the slowest task of a round.
-#[cfg(feature = "parallel")]
-const PARALLEL_ROUNDS: usize = 8;
+/// What bounding one box of cells gave ([`Tree::bound_box`]).
+enum Bounded {
+    Skipped,
+    Block(Block, Option<Vec<Step>>),
+    Split([usize; 3]),
+}
 
 impl Tree<3> {
     /// The closed, outward-oriented triangle mesh of the solid's boundary at `resolution` cells
@@ -311,9 +313,9 @@ impl Tree<3> {
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
     ) -> Result<(Mesh, MeshStats), TreeMeshError> {
-        let (pieces, stats) =
-            self.pieces_in_steps(resolution, accuracy, region, Share::WHOLE, None)?;
-        Ok((weld(pieces), stats))
+        let ((mesh, _), stats) =
+            self.mesh_in_steps(resolution, accuracy, region, Share::WHOLE, None)?;
+        Ok((mesh, stats))
     }
 
     /// [`Tree::polygonize_with_stats`], calling `progress(done, total)` as the grid's cells are
@@ -330,14 +332,14 @@ impl Tree<3> {
         region: Option<([f64; 3], [f64; 3])>,
         mut progress: impl FnMut(usize, usize),
     ) -> Result<(Mesh, MeshStats), TreeMeshError> {
-        let (pieces, stats) = self.pieces_in_steps(
+        let ((mesh, _), stats) = self.mesh_in_steps(
             resolution,
             accuracy,
             region,
             Share::WHOLE,
             Some(&mut progress),
         )?;
-        Ok((weld(pieces), stats))
+        Ok((mesh, stats))
     }
 
     /// [`Tree::polygonize`] made in parts: the piece of `share` ([`Piece::weld`] of all the
@@ -354,24 +356,23 @@ impl Tree<3> {
         region: Option<([f64; 3], [f64; 3])>,
         share: Share,
     ) -> Result<Piece, TreeMeshError> {
-        let (pieces, _) = self.pieces_in_steps(resolution, accuracy, region, share, None)?;
-        let (mesh, keys) = weld_keyed(pieces);
+        let ((mesh, keys), _) = self.mesh_in_steps(resolution, accuracy, region, share, None)?;
         Ok(Piece { mesh, keys })
     }
 
-    /// The blocks of `share` of the grid, meshed in pieces of consecutive blocks to be welded in
-    /// order; `progress` as [`Tree::polygonize_in_steps`] says (over this share's cells). Not
-    /// generic in `progress`, so that it is compiled once, here, whatever the caller's; without
-    /// it, a parallel mesh is made in one round.
-    fn pieces_in_steps(
+    /// The blocks of `share` of the grid, meshed in pieces of consecutive blocks welded in order
+    /// ([`make_and_weld`]: on every thread of the pool with the `parallel` feature); `progress`
+    /// as [`Tree::polygonize_in_steps`] says (over this share's cells), told as the pieces are
+    /// welded. Not generic in `progress`, so that it is compiled once, here, whatever the
+    /// caller's.
+    fn mesh_in_steps(
         &self,
         resolution: usize,
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
         share: Share,
         mut progress: Option<&mut dyn FnMut(usize, usize)>,
-    ) -> Result<(Vec<Keyed>, MeshStats), TreeMeshError> {
-        #[cfg(feature = "parallel")]
+    ) -> Result<(Keyed, MeshStats), TreeMeshError> {
         let reporting = progress.is_some();
         let mut progress = |done, total| {
             if let Some(report) = progress.as_mut() {
@@ -380,7 +381,7 @@ impl Tree<3> {
         };
         let Some(plan) = self.blocks_plan(resolution, accuracy, region)? else {
             progress(1, 1);
-            return Ok((Vec::new(), MeshStats::default()));
+            return Ok(((Mesh::default(), Vec::new()), MeshStats::default()));
         };
         let (stats, total) = (plan.stats, plan.stats.cells);
         if stats.skipped < total {
@@ -388,41 +389,33 @@ impl Tree<3> {
         }
         let blocks = share.of_blocks(&plan.blocks);
         // Each piece of consecutive blocks on its own field and roots, welded in order: the mesh
-        // one walk over all the blocks gives (on one thread or many).
+        // one walk over all the blocks gives (on one thread or many). Fiftieths at least where
+        // someone is told of the progress; else one piece on one thread (a piece costs its weld).
         let marcher = Marcher::new();
-        let piece = |part: &[Block]| plan.mesh(part, &marcher);
-        // In rounds, each reported with the cells done so far: fiftieths without the `parallel`
-        // feature; with it, rounds of four tasks a thread (one task a piece; one on a pool of one
-        // thread), several only when someone is told of the progress (each round waits for its
-        // slowest task).
         #[cfg(feature = "parallel")]
-        let (rounds, tasks) = (
-            if reporting { PARALLEL_ROUNDS } else { 1 },
-            crate::mesh::polygonize::pieces_for_pool(),
-        );
+        let pieces = crate::mesh::polygonize::pieces_taken_in_turn();
         #[cfg(not(feature = "parallel"))]
-        let (rounds, tasks) = (50, 1);
-        let chunk = blocks.len().div_ceil(rounds * tasks).max(1);
+        let pieces = 1;
+        let pieces = if reporting { pieces.max(50) } else { pieces };
+        let parts: Vec<&[Block]> = blocks
+            .chunks(blocks.len().div_ceil(pieces).max(1))
+            .collect();
         let mut done = stats.skipped;
-        let mut pieces = Vec::new();
-        for round in blocks.chunks(chunk * tasks) {
-            #[cfg(feature = "parallel")]
-            {
-                use rayon::prelude::*;
-                pieces.par_extend(round.par_chunks(chunk).map(piece));
-            }
-            #[cfg(not(feature = "parallel"))]
-            pieces.push(piece(round));
-            done += round
-                .iter()
-                .map(|b| b.size.iter().product::<usize>())
-                .sum::<usize>();
-            if done < total {
-                progress(done, total);
-            }
-        }
+        let mesh = make_and_weld(
+            parts.len(),
+            |k| plan.mesh(parts[k], &marcher),
+            |k| {
+                done += parts[k]
+                    .iter()
+                    .map(|b| b.size.iter().product::<usize>())
+                    .sum::<usize>();
+                if done < total {
+                    progress(done, total);
+                }
+            },
+        );
         progress(total, total);
-        Ok((pieces, stats))
+        Ok((mesh, stats))
     }
 
     /// The grid of the mesh at `resolution` and its blocks: boxes of cells bounded by intervals,
@@ -475,7 +468,7 @@ impl Tree<3> {
         grid: SampleGrid,
         clip: Option<Shape<3>>,
         accuracy: f64,
-        mut memo: Option<&mut RangeMemo>,
+        memo: Option<&mut RangeMemo>,
     ) -> Plan<'_> {
         let field = Field {
             tree: self,
@@ -487,11 +480,6 @@ impl Tree<3> {
             cells: (nx - 1) * (ny - 1) * (nz - 1),
             ..MeshStats::default()
         };
-        // Boxes of cells, bounded by intervals: one sign, no surface (skipped); else split in
-        // eight, down to boxes sampled whole as blocks, each with its pruned program.
-        let mut programs: Vec<Vec<Step>> = Vec::new();
-        let mut blocks: Vec<Block> = Vec::new();
-        let mut todo = alloc::vec![([0usize; 3], [nx - 1, ny - 1, nz - 1])];
         // The magnitude of f in the region: a sample on a block's face within `tau` of zero by a
         // pruned program takes the whole tree's value, so that both blocks beside the face see
         // one sign (a pruned program has the tree's signs; rounding, far below `tau`, does not).
@@ -505,41 +493,15 @@ impl Tree<3> {
         } else {
             accuracy
         };
-        let (mut leaves, mut scratch) = (Vec::with_capacity(self.leaves.len()), Vec::new());
-        while let Some((lo, hi)) = todo.pop() {
-            let (plo, phi) = (
-                grid.point(lo[0], lo[1], lo[2]),
-                grid.point(hi[0], hi[1], hi[2]),
-            );
-            match memo.as_deref_mut() {
-                Some(memo) => memo.ranges(self, (lo, hi), plo, phi, &mut leaves, &mut scratch),
-                None => self.leaf_ranges(plo.to_array(), phi.to_array(), &mut leaves),
-            }
-            let mut range = self.range_of(&leaves);
-            if let Some(b) = &field.clip {
-                let (blo, bhi) = (plo.to_array(), phi.to_array());
-                range = range.intersect_box(b, blo, bhi);
-            }
-            let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
-            if range.hi < 0.0 || range.lo > 0.0 {
-                stats.skipped += size.iter().product::<usize>();
-            } else if size.iter().all(|&s| s <= LEAF_CELLS) {
-                // The box's own program, without the operands that cannot decide a sign in it:
-                // the tree's signs, zero set and normals there, for the cost of what is near.
-                let tag = match self.pruned_of(&leaves) {
-                    Some(program) => {
-                        programs.push(program);
-                        (programs.len() - 1) as u32
-                    }
-                    None => u32::MAX,
-                };
-                stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
-                blocks.push(Block { lo, size, tag });
-            } else {
-                let mid = [0, 1, 2].map(|k| lo[k] + size[k] / 2);
-                todo.extend(octants(lo, mid, hi).map(|(_, child)| child));
-            }
-        }
+        let root = ([0usize; 3], [nx - 1, ny - 1, nz - 1]);
+        let (programs, blocks) = match memo {
+            // Kept ranges are looked up and made in the walk's order: one thread.
+            Some(memo) => self.walk_from(&grid, field.clip.as_ref(), root, Some(memo), &mut stats),
+            #[cfg(feature = "parallel")]
+            None => self.walk_on_pool(&grid, field.clip.as_ref(), root, &mut stats),
+            #[cfg(not(feature = "parallel"))]
+            None => self.walk_from(&grid, field.clip.as_ref(), root, None, &mut stats),
+        };
         Plan {
             grid,
             field,
@@ -548,6 +510,153 @@ impl Tree<3> {
             programs,
             blocks,
             stats,
+        }
+    }
+
+    /// Boxes of cells from `root` down, bounded by intervals: one sign, no surface (skipped);
+    /// else split in eight, down to boxes sampled whole as blocks, each with its pruned program
+    /// (a block's tag: its program's index in the programs returned). Depth first, the high
+    /// corner first; the counts added to `stats`.
+    fn walk_from(
+        &self,
+        grid: &SampleGrid,
+        clip: Option<&Shape<3>>,
+        root: ([usize; 3], [usize; 3]),
+        mut memo: Option<&mut RangeMemo>,
+        stats: &mut MeshStats,
+    ) -> (Vec<Vec<Step>>, Vec<Block>) {
+        let mut programs: Vec<Vec<Step>> = Vec::new();
+        let mut blocks: Vec<Block> = Vec::new();
+        let mut todo = alloc::vec![root];
+        let mut scratch = (Vec::with_capacity(self.leaves.len()), Vec::new());
+        while let Some((lo, hi)) = todo.pop() {
+            match self.bound_box(
+                grid,
+                clip,
+                (lo, hi),
+                memo.as_deref_mut(),
+                &mut scratch,
+                stats,
+            ) {
+                Bounded::Skipped => {}
+                Bounded::Block(mut block, program) => {
+                    block.tag = match program {
+                        Some(program) => {
+                            programs.push(program);
+                            (programs.len() - 1) as u32
+                        }
+                        None => u32::MAX,
+                    };
+                    blocks.push(block);
+                }
+                Bounded::Split(mid) => todo.extend(octants(lo, mid, hi).map(|(_, child)| child)),
+            }
+        }
+        (programs, blocks)
+    }
+
+    /// [`Tree::walk_from`] with the boxes of the second level walked on rayon's pool: the same
+    /// blocks in the same order, the same programs.
+    #[cfg(feature = "parallel")]
+    fn walk_on_pool(
+        &self,
+        grid: &SampleGrid,
+        clip: Option<&Shape<3>>,
+        root: ([usize; 3], [usize; 3]),
+        stats: &mut MeshStats,
+    ) -> (Vec<Vec<Step>>, Vec<Block>) {
+        use rayon::prelude::*;
+        /// A box still to walk, or a block found on the way down.
+        enum Found {
+            Box([usize; 3], [usize; 3]),
+            Block(Block, Option<Vec<Step>>),
+        }
+        let mut scratch = (Vec::with_capacity(self.leaves.len()), Vec::new());
+        let mut frontier = alloc::vec![Found::Box(root.0, root.1)];
+        for _ in 0..2 {
+            let mut next = Vec::new();
+            for found in frontier {
+                let Found::Box(lo, hi) = found else {
+                    next.push(found);
+                    continue;
+                };
+                match self.bound_box(grid, clip, (lo, hi), None, &mut scratch, stats) {
+                    Bounded::Skipped => {}
+                    Bounded::Block(block, program) => next.push(Found::Block(block, program)),
+                    // The walk takes the children from the high corner down.
+                    Bounded::Split(mid) => next.extend(
+                        octants(lo, mid, hi)
+                            .rev()
+                            .map(|(_, (a, b))| Found::Box(a, b)),
+                    ),
+                }
+            }
+            frontier = next;
+        }
+        let walked: Vec<(Vec<Vec<Step>>, Vec<Block>, MeshStats)> = frontier
+            .into_par_iter()
+            .map(|found| match found {
+                Found::Box(lo, hi) => {
+                    let mut part = MeshStats::default();
+                    let (programs, blocks) = self.walk_from(grid, clip, (lo, hi), None, &mut part);
+                    (programs, blocks, part)
+                }
+                Found::Block(block, program) => {
+                    let programs = program.into_iter().collect();
+                    (programs, alloc::vec![block], MeshStats::default())
+                }
+            })
+            .collect();
+        let (mut programs, mut blocks) = (Vec::new(), Vec::new());
+        for (part_programs, part_blocks, part) in walked {
+            let base = programs.len() as u32;
+            blocks.extend(part_blocks.into_iter().map(|mut block| {
+                if block.tag != u32::MAX {
+                    block.tag += base;
+                }
+                block
+            }));
+            programs.extend(part_programs);
+            stats.skipped += part.skipped;
+            stats.evaluated += part.evaluated;
+        }
+        (programs, blocks)
+    }
+
+    /// The box of cells `[lo, hi]` bounded: one sign (skipped, its cells counted), a block to
+    /// sample with its pruned program (its tag not set yet), or the cut to split it at.
+    fn bound_box(
+        &self,
+        grid: &SampleGrid,
+        clip: Option<&Shape<3>>,
+        (lo, hi): ([usize; 3], [usize; 3]),
+        memo: Option<&mut RangeMemo>,
+        (leaves, scratch): &mut (Vec<Interval>, Vec<f64>),
+        stats: &mut MeshStats,
+    ) -> Bounded {
+        let (plo, phi) = (
+            grid.point(lo[0], lo[1], lo[2]),
+            grid.point(hi[0], hi[1], hi[2]),
+        );
+        match memo {
+            Some(memo) => memo.ranges(self, (lo, hi), plo, phi, leaves, scratch),
+            None => self.leaf_ranges(plo.to_array(), phi.to_array(), leaves),
+        }
+        let mut range = self.range_of(leaves);
+        if let Some(b) = clip {
+            range = range.intersect_box(b, plo.to_array(), phi.to_array());
+        }
+        let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
+        if range.hi < 0.0 || range.lo > 0.0 {
+            stats.skipped += size.iter().product::<usize>();
+            Bounded::Skipped
+        } else if size.iter().all(|&s| s <= LEAF_CELLS) {
+            // The box's own program, without the operands that cannot decide a sign in it:
+            // the tree's signs, zero set and normals there, for the cost of what is near.
+            stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
+            Bounded::Block(Block { lo, size, tag: 0 }, self.pruned_of(leaves))
+        } else {
+            Bounded::Split([0, 1, 2].map(|k| lo[k] + size[k] / 2))
         }
     }
 }
@@ -1033,6 +1142,46 @@ mod tests {
             triangles += a.triangle_count();
         }
         assert!(triangles > 1000);
+    }
+
+    /// The boxes of the second level walked on a pool of threads give the one walk's blocks, in
+    /// its order, with the same programs and counts; and the mesh is the one thread's.
+    #[cfg(feature = "parallel")]
+    #[test]
+    fn the_walk_on_many_threads_is_the_walk_on_one() {
+        let mut rng = Rng::new(23);
+        let mut walked_blocks = 0;
+        for _ in 0..6 {
+            let tree = space(random_tree(&mut rng, 3));
+            let Some((grid, clip)) = tree.mesh_grid(40, 1e-10, None).unwrap() else {
+                continue;
+            };
+            let [nx, ny, nz] = grid.dims;
+            let root = ([0; 3], [nx - 1, ny - 1, nz - 1]);
+            let mut one = MeshStats::default();
+            let (programs, blocks) = tree.walk_from(&grid, clip.as_ref(), root, None, &mut one);
+            walked_blocks += blocks.len();
+            let one_mesh = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap()
+                .install(|| tree.polygonize(40, 1e-10, None).unwrap());
+            for threads in [2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut many = MeshStats::default();
+                let walked =
+                    pool.install(|| tree.walk_on_pool(&grid, clip.as_ref(), root, &mut many));
+                assert_eq!(walked.1, blocks, "{threads} threads: blocks");
+                assert_eq!(walked.0, programs, "{threads} threads: programs");
+                assert_eq!(many, one, "{threads} threads: counts");
+                let mesh = pool.install(|| tree.polygonize(40, 1e-10, None).unwrap());
+                assert_eq!(mesh, one_mesh, "{threads} threads: mesh");
+            }
+        }
+        assert!(walked_blocks > 100, "{walked_blocks} blocks");
     }
 
     /// A tree's mesh made in shares: welded in order, the pieces are the whole mesh; one after
