@@ -48,6 +48,8 @@ use crate::model::{EscOperand, MeshSpec, ModelError, ModelFile, ModelSolid, Soli
 /// The version tag this build writes, with its separator.
 pub const PREFIX: &str = "v1.";
 /// The longest fragment read or written, in characters (without the `#`).
+/// Base64 padding never takes a link that fits past it: padded base64 is a multiple of 4
+/// characters long, so the 8189 after `v1.` hold at most 8188 with their `=`.
 pub const MAX_LINK_CHARS: usize = 8 * 1024;
 /// The most bytes a link may inflate to.
 pub const MAX_INFLATED_BYTES: usize = 64 * 1024;
@@ -212,6 +214,9 @@ pub enum LinkError {
     Version(String),
     /// The data is not base64url.
     Base64,
+    /// The data has `=` where base64 padding cannot be: in the middle, more than two, or a count
+    /// that does not bring the length to a multiple of 4.
+    Padding,
     /// The data does not inflate: the link is damaged or cut off.
     Inflate,
     /// The data inflates past [`MAX_INFLATED_BYTES`].
@@ -246,6 +251,10 @@ impl fmt::Display for LinkError {
             Self::Base64 => write!(
                 f,
                 "the link is damaged: it has characters that a link cannot contain"
+            ),
+            Self::Padding => write!(
+                f,
+                "the link is damaged: its '=' padding does not fit its length (a link ends in at most two '=', or none)"
             ),
             Self::Inflate => write!(f, "the link is damaged or cut off: its data is incomplete"),
             Self::TooLarge => write!(
@@ -410,6 +419,11 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
             _ => LinkError::NotALink,
         });
     };
+    // Padding carries no data: a link copied through a padding base64 tool is the same link.
+    let data = unpadded(data);
+    if data.contains('=') {
+        return Err(LinkError::Padding);
+    }
     // A stray character is damage; a length or last symbol that no encoder makes is a cut.
     let packed = URL_SAFE_NO_PAD.decode(data).map_err(|e| match e {
         base64::DecodeError::InvalidByte(..) => LinkError::Base64,
@@ -474,6 +488,18 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
         version: crate::model::VERSION,
         solid,
     })
+}
+
+/// `data` without the base64 padding that a padding encoder appends: one or two `=` that bring
+/// its length to a multiple of 4 (RFC 4648 §4). Anything else is returned whole.
+fn unpadded(data: &str) -> &str {
+    let bare = data.trim_end_matches('=');
+    let pad = data.len() - bare.len();
+    if (1..=2).contains(&pad) && (bare.len() + pad).is_multiple_of(4) {
+        bare
+    } else {
+        data
+    }
 }
 
 /// The data of one raw deflate stream that is the whole of `packed`, at most [`MAX_INFLATED_BYTES`].
@@ -824,6 +850,37 @@ mod tests {
         for (link, expected) in cases {
             assert_eq!(decode(&link), Err(expected.clone()), "{link}");
             assert!(!expected.to_string().is_empty());
+        }
+    }
+
+    #[test]
+    fn links_with_base64_padding_open_as_without_it() {
+        let solids = [Preset::ALL[0].solid(), ModelSolid::Patch(awkward_patch())];
+        let mut pads = 0;
+        for solid in &solids {
+            let link = encode(&file(solid)).unwrap();
+            let data = &link[4..];
+            // What a padding base64 encoder writes for the same bytes.
+            let padded = format!("{link}{}", "=".repeat((4 - data.len() % 4) % 4));
+            pads += padded.len() - link.len();
+            assert_eq!(decode(&padded).as_ref(), Ok(solid), "{padded}");
+            assert_eq!(
+                decode(&format!("https://x.invalid/{padded}\n")).as_ref(),
+                Ok(solid)
+            );
+        }
+        assert!(pads > 0, "no link of the test needed padding");
+        // '=' where no padding encoder puts it says so, not "cut off".
+        let link = encode(&file(&solids[0])).unwrap();
+        let cut = 4 + (link.len() - 4) / 4 * 4;
+        for bad in [
+            format!("{link}==="),
+            format!("{}={}", &link[..cut], &link[cut..]),
+            format!("{}=", &link[..cut]),
+        ] {
+            let e = decode(&bad).unwrap_err();
+            assert_eq!(e, LinkError::Padding, "{bad}");
+            assert!(e.to_string().contains("'=' padding"), "{e}");
         }
     }
 
