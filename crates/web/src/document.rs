@@ -141,7 +141,7 @@ pub fn read_model(text: &str) -> Result<ModelSolid, Error> {
 /// Too large, not JSON, not a model, or a damaged link.
 pub fn read_file(text: &str) -> Result<ModelFile, Error> {
     if !text.trim_start().starts_with('{') {
-        return link::decode_file(text.trim()).map_err(Error::from);
+        return link::decode_file(text).map_err(Error::from);
     }
     if text.len() > MAX_MODEL_BYTES {
         return Err(Error::new(format!(
@@ -202,7 +202,7 @@ pub fn read_any(text: &str) -> Result<ModelSolid, Error> {
     if text.trim_start().starts_with('{') {
         read_model(text)
     } else {
-        open_link(text.trim())
+        open_link(text)
     }
 }
 
@@ -907,6 +907,20 @@ mod tests {
                 .message()
                 .contains("at most")
         );
+        // Spaces past a link's cap are too long, not an empty link, however they are read.
+        let spaces = " ".repeat(1 << 20);
+        for e in [
+            read_any(&spaces).unwrap_err(),
+            open_link(&spaces).unwrap_err(),
+            read_file(&spaces).unwrap_err(),
+            crate::freeform::read_file(&spaces).unwrap_err(),
+        ] {
+            assert!(
+                e.message().contains("a link holds at most"),
+                "{}",
+                e.message()
+            );
+        }
         assert!(preset("whale").is_err());
     }
 

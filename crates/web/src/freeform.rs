@@ -921,7 +921,7 @@ pub fn read_file(text: &str) -> Result<ModelFile, Error> {
         serde_json::from_str(text)
             .map_err(|e| Error::new(format!("not a bezsolid model file: {e}")))
     } else {
-        bezsolid_core::link::decode_file(text.trim()).map_err(Error::from)
+        bezsolid_core::link::decode_file(text).map_err(Error::from)
     }
 }
 

@@ -47,10 +47,13 @@ use crate::model::{EscOperand, MeshSpec, ModelError, ModelFile, ModelSolid, Soli
 
 /// The version tag this build writes, with its separator.
 pub const PREFIX: &str = "v1.";
-/// The longest fragment read or written, in characters (without the `#`).
+/// The longest fragment read or written, in characters (without the `#` and the spaces around it).
 /// Base64 padding never takes a link that fits past it: padded base64 is a multiple of 4
 /// characters long, so the 8189 after `v1.` hold at most 8188 with their `=`.
 pub const MAX_LINK_CHARS: usize = 8 * 1024;
+/// How far past [`MAX_LINK_CHARS`] the text after `#` may run with spaces and line ends around
+/// a link that fits: a link pasted with a line end opens, a megabyte of spaces is too long.
+const LINK_SLACK: usize = 16;
 /// The most bytes a link may inflate to.
 pub const MAX_INFLATED_BYTES: usize = 64 * 1024;
 /// The deflate level used for links (miniz's best).
@@ -390,13 +393,18 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
 ///
 /// Any [`LinkError`] but [`LinkError::Model`].
 pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
-    let fragment = match link.split_once('#') {
+    let raw = match link.split_once('#') {
         Some((_, f)) => f,
         // A web address without a fragment carries no model.
         None if link.contains("://") => "",
         None => link,
+    };
+    // The cap holds for the text as given, before it is trimmed: a megabyte of spaces is too
+    // long, not empty.
+    if raw.len() > MAX_LINK_CHARS + LINK_SLACK {
+        return Err(LinkError::TooLong { len: raw.len() });
     }
-    .trim();
+    let fragment = raw.trim();
     if fragment.is_empty() {
         return Err(LinkError::Empty);
     }
@@ -882,6 +890,34 @@ mod tests {
             assert_eq!(e, LinkError::Padding, "{bad}");
             assert!(e.to_string().contains("'=' padding"), "{e}");
         }
+        // Links of the longest lengths are read past the cap with their padding and a line end
+        // (zeros do not inflate, but they are not too long).
+        for (data, pad) in [(MAX_LINK_CHARS - 4, ""), (MAX_LINK_CHARS - 6, "==")] {
+            let longest = format!("#v1.{}", "A".repeat(data));
+            assert_eq!(decode_file(&longest).unwrap_err(), LinkError::Inflate);
+            let padded = format!("{longest}{pad}\r\n");
+            assert!(padded.len() > MAX_LINK_CHARS + 1);
+            assert_eq!(decode_file(&padded).unwrap_err(), LinkError::Inflate);
+        }
+    }
+
+    #[test]
+    fn links_of_nothing_but_spaces_past_the_cap_are_too_long() {
+        let spaces = " ".repeat(100 << 20);
+        for text in [
+            spaces.clone(),
+            format!("#{spaces}"),
+            format!("https://x.invalid/#{spaces}"),
+        ] {
+            let e = decode(&text).unwrap_err();
+            assert!(
+                matches!(e, LinkError::TooLong { len } if len == spaces.len()),
+                "{e:?}"
+            );
+            assert!(e.to_string().contains("at most 8192"), "{e}");
+        }
+        // A few spaces are still no model.
+        assert_eq!(decode("#   \n"), Err(LinkError::Empty));
     }
 
     fn pack(wire: &Wire, extra: &[u8]) -> String {

@@ -840,7 +840,7 @@ impl Modeler {
     ///
     /// What is wrong with the link.
     pub fn open_link(&mut self, link: &str) -> Result<(), JsError> {
-        let file = bezsolid_core::link::decode_file(link.trim()).map_err(Error::from)?;
+        let file = bezsolid_core::link::decode_file(link).map_err(Error::from)?;
         self.open_file(file)
     }
 
