@@ -32,17 +32,23 @@ pub(crate) fn sqrt(x: f64) -> f64 {
 }
 
 /// The box `[lo, hi]` widened, around its middle, along every side too thin to hold distinct
-/// samples: each side is at least a millionth of the largest coordinate magnitude or side (and at
-/// least 1e-300), so that a grid over it has cells wider than rounding and a margin outside it. A
-/// net whose points share a coordinate (to within rounding) has such a side.
+/// samples: each side is at least a millionth of the longest side, and at least `2⁻³⁶` of the
+/// largest coordinate magnitude (a grid of 512 cells over it has cells of a hundred units in the
+/// last place or more) and 1e-300, so that a grid over it has cells wider than rounding and a
+/// margin outside it. A net whose points share a coordinate (to within rounding) has such a side.
+/// The box is placed by the model's own extent: a unit sphere at 1e8 keeps its box of side 2 (a
+/// millionth of the coordinate, 100, made it a speck in one cell).
 pub(crate) fn sampling_box<const D: usize>(
     mut lo: [f64; D],
     mut hi: [f64; D],
 ) -> ([f64; D], [f64; D]) {
-    let size = (0..D)
-        .map(|a| lo[a].abs().max(hi[a].abs()).max(hi[a] - lo[a]))
+    let side = (0..D).map(|a| hi[a] - lo[a]).fold(0.0f64, f64::max);
+    let magnitude = (0..D)
+        .map(|a| lo[a].abs().max(hi[a].abs()))
         .fold(0.0f64, f64::max);
-    let least = (size * 1e-6).max(1e-300);
+    let least = (side * 1e-6)
+        .max(magnitude * 1.455_191_522_836_685_2e-11)
+        .max(1e-300);
     for a in 0..D {
         if hi[a] - lo[a] < least {
             let middle = 0.5 * lo[a] + 0.5 * hi[a];

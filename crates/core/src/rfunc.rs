@@ -3,7 +3,8 @@
 //! The R0 system: `f1 & f2 = f1 + f2 − √(f1² + f2²)` is positive exactly where both arguments are,
 //! `f1 | f2 = f1 + f2 + √(f1² + f2²)` where either is, and `−f` is the complement. Functional clipping
 //! `√(f1² + f2²)` is computed as `hypot`, which does not overflow for large values, and the sum
-//! `f1 + f2 ∓ √(…)` is rewritten as `2·f1·f2 / (f1 + f2 ± √(…))` where it would cancel. Functional clipping
+//! `f1 + f2 ∓ √(…)` is rewritten as `2·f1·f2 / (f1 + f2 ± √(…))` where it would cancel. Both are
+//! finite for finite or infinite arguments of any magnitude (they saturate at `±f64::MAX`). Functional clipping
 //! intersects the patch's function with the parameter square so that it is negative outside it:
 //! `S_clip(u, v) = S_ξ(u, v) & F_s(u, v)`, `F_s(u, v) = F_b(u) & F_b(v)`, `F_b(t) = t(1 − t)`.
 
@@ -13,13 +14,63 @@ use crate::math::hypot;
 #[must_use]
 #[inline]
 pub fn intersect(f1: f64, f2: f64) -> f64 {
+    if f1.abs().max(f2.abs()) > LARGE {
+        return saturating(f1, f2, false);
+    }
     let (s, h) = (f1 + f2, hypot(f1, f2));
     if s > 0.0 {
         // s − h cancels when one argument dwarfs the other; (s − h)(s + h) = 2·f1·f2 does not.
-        2.0 * f1 * (f2 / (s + h))
+        let v = 2.0 * f1 * (f2 / (s + h));
+        if v == 0.0 && f1 != 0.0 && f2 != 0.0 {
+            // The quotient underflowed (1e-300 against 1e200): the larger over the sum first.
+            tiny(f1, f2, s + h)
+        } else {
+            v
+        }
     } else {
         s - h
     }
+}
+
+/// `2·f1·f2 / sum` where `f2 / sum` underflowed: the larger argument over `sum` (about 1 or 2)
+/// times the smaller one, which keeps the smaller one's sign and magnitude.
+#[cold]
+fn tiny(f1: f64, f2: f64, sum: f64) -> f64 {
+    let (big, small) = if f1.abs() >= f2.abs() {
+        (f1, f2)
+    } else {
+        (f2, f1)
+    };
+    2.0 * (big / sum) * small
+}
+
+/// Past this magnitude an R-function's sum or root may overflow: its arguments are scaled down
+/// first ([`saturating`]).
+const LARGE: f64 = f64::MAX / 8.0;
+
+/// `op(f1, f2)` for arguments of any magnitude, infinities included: both are taken within
+/// `±f64::MAX` and scaled by `2⁻⁸` (exact: the R-functions are positively homogeneous,
+/// `op(k·a, k·b) = k·op(a, b)` for `k > 0`, and a power of two scales every step of the sums
+/// without rounding), and the value is scaled back within `±f64::MAX`. So `&` and `|` of huge,
+/// maximal or infinite values stay finite and keep the order and the signs of the R-functions;
+/// only NaN gives NaN.
+#[cold]
+fn saturating(f1: f64, f2: f64, union: bool) -> f64 {
+    const DOWN: f64 = 1.0 / 256.0;
+    let (a, b) = (
+        f1.clamp(-f64::MAX, f64::MAX) * DOWN,
+        f2.clamp(-f64::MAX, f64::MAX) * DOWN,
+    );
+    let (s, h) = (a + b, hypot(a, b));
+    // As `intersect` and `union` compute it, with the larger argument over the sum first (the
+    // smaller one's quotient by the sum would lose its digits below the normal range).
+    let v = match (union, s > 0.0, s < 0.0) {
+        (false, true, _) => tiny(a, b, s + h),
+        (false, false, _) => s - h,
+        (true, _, true) => tiny(a, b, s - h),
+        (true, _, false) => s + h,
+    };
+    (v * 256.0).clamp(-f64::MAX, f64::MAX)
 }
 
 /// [`intersect`] with its partial derivatives `(f1 & f2, ∂/∂f1, ∂/∂f2)`: `∂/∂f1 = 1 − f1/√(f1² + f2²)`.
@@ -40,10 +91,18 @@ pub fn intersect_with_partials(f1: f64, f2: f64) -> (f64, f64, f64) {
 #[must_use]
 #[inline]
 pub fn union(f1: f64, f2: f64) -> f64 {
+    if f1.abs().max(f2.abs()) > LARGE {
+        return saturating(f1, f2, true);
+    }
     let (s, h) = (f1 + f2, hypot(f1, f2));
     if s < 0.0 {
         // The mirror of `intersect`: no cancellation between s and h.
-        2.0 * f1 * (f2 / (s - h))
+        let v = 2.0 * f1 * (f2 / (s - h));
+        if v == 0.0 && f1 != 0.0 && f2 != 0.0 {
+            tiny(f1, f2, s - h)
+        } else {
+            v
+        }
     } else {
         s + h
     }
@@ -270,6 +329,74 @@ mod tests {
             assert!((intersect(a, b) - (a + b - h)).abs() < 1e-12);
             assert!((union(a, b) - (a + b + h)).abs() < 1e-12);
         }
+    }
+
+    /// `&` and `|` of infinite, maximal and huge values: finite, with the R-functions' signs, and
+    /// ordered (increasing in each argument), so that a tree of far or huge solids never gives
+    /// NaN (a union of two solids at 2e154 did: `−inf | −inf`).
+    #[test]
+    fn rfunc_saturate_at_the_ends_of_the_doubles() {
+        // Increasing to rounding (the cancellation-free form rounds differently from one
+        // argument to the next), and exactly at the saturated ends.
+        let values = [
+            f64::NEG_INFINITY,
+            -f64::MAX,
+            -1e300,
+            -1e200,
+            -1.0,
+            -1e-300,
+            0.0,
+            1e-300,
+            1.0,
+            1e200,
+            1e300,
+            f64::MAX,
+            f64::INFINITY,
+        ];
+        for (and, op) in [(true, intersect as fn(f64, f64) -> f64), (false, union)] {
+            for (i, &a) in values.iter().enumerate() {
+                for (j, &b) in values.iter().enumerate() {
+                    let v = op(a, b);
+                    assert!(v.is_finite(), "{a} op {b} = {v}");
+                    let want = if and {
+                        a > 0.0 && b > 0.0
+                    } else {
+                        a > 0.0 || b > 0.0
+                    };
+                    assert_eq!(v > 0.0, want, "{a} op {b} = {v}");
+                    assert_eq!(
+                        v < 0.0,
+                        if and {
+                            a < 0.0 || b < 0.0
+                        } else {
+                            a < 0.0 && b < 0.0
+                        },
+                        "{a} op {b} = {v}"
+                    );
+                    if let Some(&c) = values.get(j + 1) {
+                        assert!(
+                            op(a, c) >= v,
+                            "not increasing: {a} op {b} = {v} > {a} op {c}"
+                        );
+                    }
+                    if let Some(&c) = values.get(i + 1) {
+                        assert!(
+                            op(c, b) >= v,
+                            "not increasing: {a} op {b} = {v} > {c} op {b}"
+                        );
+                    }
+                }
+            }
+        }
+        // `x & x = (2 − √2)·x` at the largest double as below it; `−∞ | −∞` as the least double's.
+        let ratio = intersect(f64::MAX, f64::MAX) / f64::MAX;
+        assert!(
+            (ratio - (2.0 - core::f64::consts::SQRT_2)).abs() < 1e-15,
+            "{ratio}"
+        );
+        let low = union(f64::NEG_INFINITY, f64::NEG_INFINITY);
+        assert_eq!(low, union(-f64::MAX, -f64::MAX));
+        assert!((low / -f64::MAX - (2.0 - core::f64::consts::SQRT_2)).abs() < 1e-15);
     }
 
     /// Paper Fig. 4: after clipping the function is negative outside the unit square and keeps the

@@ -9,7 +9,8 @@
 //! - `f1 & f2 ≤ min(f1, f2)`, so an intersection's children (and a difference's first) keep `L`;
 //! - for `f1, f2 ≤ 0`, `f1 | f2 ≤ (2 − √2)·max(f1, f2)`, so a union's children get `L / (2 − √2)`
 //!   (once per fold: `((f1 | f2) | f3)`'s first two get it twice);
-//! - a blend adds at most `max(a0, 0)`, so its R-function must pass `L − max(a0, 0)`;
+//! - a blend's displacement `a0 / (1 + (f1/a1)² + (f2/a2)²)` fades as its operands fall: they
+//!   must pass the level where the R-function's fall outweighs it (`blend_level`);
 //! - a morph with `0 ≤ t ≤ 1` is at most the larger operand; with `t` outside it is unbounded.
 //!
 //! Leaves at level `L`: a ball of radius `√(r² − L)`, a box whose half-sides `h` grow to
@@ -116,6 +117,43 @@ where
     }
 }
 
+/// The middles of the boxes of the leaves of `spec` that are bounded on their own, moved into
+/// space as [`parts_hull`] moves them, in `out`: points to look for the inside of a solid at,
+/// where a grid finds none.
+pub(super) fn leaf_middles<'a, const D: usize>(
+    spec: &SolidSpec,
+    forward: &Affine<D>,
+    leaves: &mut impl Iterator<Item = &'a Leaf<D>>,
+    out: &mut alloc::vec::Vec<[f64; D]>,
+) where
+    Dim<D>: Dimension<D>,
+{
+    match spec {
+        SolidSpec::Transform {
+            solid,
+            translate,
+            rotate,
+            scale,
+        } => {
+            let m = transform_forward::<D>(translate, rotate, scale);
+            leaf_middles(solid, &forward.after(&m), leaves, out);
+        }
+        spec if !spec.children().is_empty() => {
+            for child in spec.children() {
+                leaf_middles(child, forward, leaves, out);
+            }
+        }
+        _ => {
+            let Some(leaf) = leaves.next() else {
+                return;
+            };
+            if let Some(b) = leaf_bounds(&leaf.shape, 0.0).filter(|b| !b.is_empty()) {
+                out.push(forward.apply(core::array::from_fn(|i| 0.5 * b.lo[i] + 0.5 * b.hi[i])));
+            }
+        }
+    }
+}
+
 /// `1 / (2 − √2)`: how much further a union's operands must pass a negative level.
 const UNION_LEVEL: f64 = 1.707_106_781_186_547_5;
 
@@ -168,12 +206,10 @@ where
             }
             first
         }
-        SolidSpec::BlendUnion { of, a0, .. } | SolidSpec::BlendIntersection { of, a0, .. } => {
-            let mut level = level - a0.max(0.0);
+        SolidSpec::BlendUnion { of, a0, a1, a2 }
+        | SolidSpec::BlendIntersection { of, a0, a1, a2 } => {
             let union = matches!(spec, SolidSpec::BlendUnion { .. });
-            if union {
-                level *= UNION_LEVEL;
-            }
+            let level = blend_level(level, *a0, a1.abs().max(a2.abs()), union);
             let mut parts = of.iter().map(|c| bounds(c, level, forward, leaves));
             let (a, b) = (parts.next().flatten(), parts.next().flatten());
             match (union, a, b) {
@@ -210,6 +246,39 @@ where
             leaf_bounds(&leaf.shape, level).map(|b| b.mapped(forward))
         }
     }
+}
+
+/// The level a blend's operands must pass for the blend to pass `level` (≤ 0), with `a` the
+/// larger of `|a1|` and `|a2|`.
+///
+/// Where both operands are at most `−g` (the union's case; for the intersection, where one is),
+/// the R-function is at most `−c·g` (`c = 2 − √2` for `|`, 1 for `&`) and the displacement
+/// `a0 / (1 + (f1/a1)² + (f2/a2)²)` at most `a0 / (1 + g²/a²)`, for the operand nearest zero
+/// (the union) or farthest (the intersection) gives `g`. Their sum falls below `level` past the
+/// root `g*` of `c·g = |level| + a0 / (1 + g²/a²)` (its left side grows with `g`, its right side
+/// shrinks), so `−g*` is the operands' level. Where `a0 ≤ 0` the displacement only lowers `f`. The
+/// root is bisected to its upper end: `a0 = 1e4` with unit `a1, a2` bounds a blend of unit spheres
+/// at `g* ≈ 26`, not at `a0 / c ≈ 17 000` as the displacement's largest value alone would.
+fn blend_level(level: f64, a0: f64, a: f64, union: bool) -> f64 {
+    let c = if union { 1.0 / UNION_LEVEL } else { 1.0 };
+    let need = -level;
+    if a0 <= 0.0 {
+        return level / c;
+    }
+    let gap = |g: f64| c * g - need - a0 / (1.0 + (g / a) * (g / a));
+    let (mut lo, mut hi) = (0.0, (need + a0) / c);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if gap(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    -hi
 }
 
 /// A leaf's bounds at `level` in its own coordinates.

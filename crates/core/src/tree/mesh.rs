@@ -44,6 +44,16 @@ pub enum TreeMeshError {
     },
     /// The accuracy is not a positive finite number.
     Accuracy,
+    /// The mesh or contour came out empty while the solid has an inside point: its parts are
+    /// finer than the grid's cells (never an empty success).
+    Lost {
+        /// An inside point (its first `D` coordinates).
+        at: [f64; 3],
+        /// `f` there.
+        f: f64,
+        /// The resolution the grid was made at.
+        resolution: usize,
+    },
     /// A section's plane misses the box the model fills (or the box given).
     Plane {
         /// The axis across which the plane lies (0 for x).
@@ -69,6 +79,15 @@ impl fmt::Display for TreeMeshError {
                 write!(f, "resolution {got} is outside 1..={MAX_RESOLUTION}")
             }
             Self::Accuracy => f.write_str("the accuracy must be a positive finite number"),
+            Self::Lost { at, f: value, resolution } => {
+                write!(
+                    f,
+                    "the solid is inside at ({}, {}, {}) (f = {value:e}), but its boundary at \
+                     resolution {resolution} came out empty: its parts are finer than the grid's \
+                     cells; raise the resolution or give a smaller box",
+                    at[0], at[1], at[2]
+                )
+            }
             Self::Plane { axis, at, lo, hi } => {
                 let name = ["x", "y", "z"].get(*axis).copied().unwrap_or("?");
                 write!(
@@ -415,7 +434,27 @@ impl Tree<3> {
             },
         );
         progress(total, total);
+        if share.count() == 1 && mesh.0.triangles.is_empty() {
+            self.lost(resolution, region)?;
+        }
         Ok((mesh, stats))
+    }
+
+    /// An error where the solid has an inside point (within `region`, where given): its boundary
+    /// came out empty, so the grid lost it.
+    fn lost(
+        &self,
+        resolution: usize,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<(), TreeMeshError> {
+        match self.inside_point(region) {
+            Some((p, f)) => Err(TreeMeshError::Lost {
+                at: p.to_array(),
+                f,
+                resolution,
+            }),
+            None => Ok(()),
+        }
     }
 
     /// The grid of the mesh at `resolution` and its blocks: boxes of cells bounded by intervals,
@@ -1250,6 +1289,52 @@ mod tests {
                     "{p}: {g} vs {fd}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn strong_blends_are_bounded_by_their_formula_and_meshed_whole() {
+        // Two unit spheres blended with a0 of 1e4 and 1e5: the mesh stopped at x = 4.26 (a box of
+        // ±130 from the displacement's largest value, 44 triangles at 64), or had none.
+        let mut rng = Rng::new(17);
+        for (a0, reach) in [(1e4, 4.5), (1e5, 6.5)] {
+            let tree = space(S::BlendUnion {
+                of: alloc::vec![
+                    S::Sphere {
+                        center: [-1.0, 0.0, 0.0],
+                        radius: 1.0
+                    },
+                    S::Sphere {
+                        center: [1.0, 0.0, 0.0],
+                        radius: 1.0
+                    },
+                ],
+                a0,
+                a1: 1.0,
+                a2: 1.0,
+            });
+            assert!(tree.f(glam::DVec3::new(reach, 0.0, 0.0)) > 0.0);
+            let (lo, hi) = tree.bounds().unwrap();
+            // Within twice the solid's reach, and holding every inside point of a wider box.
+            assert!(hi[0] < 2.0 * reach && lo[0] > -2.0 * reach, "{lo:?} .. {hi:?}");
+            let wide = 3.0 * reach;
+            let n = 100_000;
+            let mut inside = 0;
+            for _ in 0..n {
+                let p = point(&mut rng, wide);
+                if tree.f(glam::DVec3::from_array(p)) > 0.0 {
+                    inside += 1;
+                    assert!(
+                        (0..3).all(|i| lo[i] <= p[i] && p[i] <= hi[i]),
+                        "{p:?} is inside but outside the bounds {lo:?} .. {hi:?}"
+                    );
+                }
+            }
+            let mc = (2.0 * wide).powi(3) * inside as f64 / n as f64;
+            let mesh = tree.polygonize(64, 1e-10, None).unwrap();
+            mesh.check_closed_manifold().unwrap();
+            let v = mesh.volume();
+            assert!((v - mc).abs() <= 0.05 * mc, "a0 = {a0}: mesh {v} vs Monte Carlo {mc}");
         }
     }
 

@@ -41,8 +41,11 @@ use crate::model::{CoordAxis, ModelError, ModelFile, Rotation, SolidSpec};
 use crate::rfunc::{intersect, union};
 use crate::solid::Solid;
 use crate::tensor::Tensor;
+use check::{bounded, finite, finite_array, non_zero, positive};
 
 mod bounds;
+mod check;
+mod far;
 mod interval;
 mod mesh;
 mod remesh;
@@ -449,6 +452,9 @@ where
     bounds: Option<bounds::Aabb<D>>,
     /// See [`Tree::parts_box`].
     parts: Option<bounds::Aabb<D>>,
+    /// The middles of the boxes of the leaves bounded on their own, in space: where to look for
+    /// an inside point ([`Tree::inside_point`]).
+    middles: Vec<[f64; D]>,
 }
 
 /// `f` and the preimages of one point.
@@ -509,9 +515,7 @@ where
         let mut preimages = 0;
         let mut exhausted = false;
         let f = run(steps, stack, |i| {
-            let leaf = &self.leaves[i];
-            let q = leaf.map.map_or(p, |m| m.apply(p));
-            let (f, n, out) = leaf.shape.eval_by(q, method);
+            let (f, n, out) = self.leaves[i].value(p, method);
             preimages += n;
             exhausted |= out;
             f
@@ -577,16 +581,28 @@ fn run(steps: &[Step], stack: &mut Vec<f64>, mut leaf: impl FnMut(usize) -> f64)
                 let f1 = stack.pop().unwrap_or(f64::NAN);
                 let base = if u { union(f1, f2) } else { intersect(f1, f2) };
                 let (r1, r2) = (f1 / a1, f2 / a2);
-                stack.push(base + a0 / (1.0 + r1 * r1 + r2 * r2));
+                stack.push(far::saturate(base + a0 / (1.0 + r1 * r1 + r2 * r2)));
             }
             Step::Morph(t) => {
                 let f2 = stack.pop().unwrap_or(f64::NAN);
                 let f1 = stack.pop().unwrap_or(f64::NAN);
-                stack.push((1.0 - t) * f1 + t * f2);
+                stack.push(morph(t, f1, f2));
             }
         }
     }
     stack.pop().unwrap_or(f64::NAN)
+}
+
+/// `(1 − t) f1 + t f2`, saturated: where the terms overflow (`|t|` up to `1e12` against values
+/// up to `f64::MAX`) it is taken in units of `2⁶⁴`.
+fn morph(t: f64, f1: f64, f2: f64) -> f64 {
+    let v = (1.0 - t) * f1 + t * f2;
+    if v.is_finite() {
+        return v;
+    }
+    const DOWN: f64 = 1.0 / 18_446_744_073_709_551_616.0;
+    let small = (1.0 - t) * (f1 * DOWN) + t * (f2 * DOWN);
+    far::saturate(small * 18_446_744_073_709_551_616.0)
 }
 
 impl<const D: usize> Leaf<D>
@@ -603,13 +619,24 @@ where
                 let mapped: [Vec<f64>; D] = core::array::from_fn(|c| {
                     axes[c].iter().map(|&x| scale[c] * x + shift[c]).collect()
                 });
-                return solid.f_grid(core::array::from_fn(|c| mapped[c].as_slice()));
+                let mut values = solid.f_grid(core::array::from_fn(|c| mapped[c].as_slice()));
+                if values.iter().any(|v| !v.is_finite()) {
+                    for (v, at) in values
+                        .iter_mut()
+                        .zip(crate::solid::odometer(axes.map(<[f64]>::len)))
+                    {
+                        if !v.is_finite() {
+                            *v = self.far(core::array::from_fn(|c| axes[c][at[c]]));
+                        }
+                    }
+                }
+                return values;
             }
         }
         crate::solid::odometer(axes.map(<[f64]>::len))
             .map(|at| {
                 let p = core::array::from_fn(|c| axes[c][at[c]]);
-                self.shape.eval(self.map.map_or(p, |m| m.apply(p))).0
+                self.value(p, Method::Fast).0
             })
             .collect()
     }
@@ -652,6 +679,11 @@ where
                     let leaf = &self.leaves[i];
                     let q = leaf.map.map_or(p, |m| m.apply(p));
                     let (f, gq) = leaf.shape.gradient(q);
+                    if !(f.is_finite() && gq.iter().all(|g| g.is_finite())) {
+                        // Past the ends of the doubles: the value saturated, its slope lost.
+                        stack.push((leaf.far(p), [0.0; D]));
+                        continue;
+                    }
                     let g = match &leaf.map {
                         None => gq,
                         Some(m) => {
@@ -695,7 +727,7 @@ where
                     };
                     let (r1, r2) = (f1 / a1, f2 / a2);
                     let den = 1.0 + r1 * r1 + r2 * r2;
-                    let f = base + a0 / den;
+                    let f = far::saturate(base + a0 / den);
                     let e1 = d1 - a0 * 2.0 * r1 / a1 / (den * den);
                     let e2 = d2 - a0 * 2.0 * r2 / a2 / (den * den);
                     stack.push((f, core::array::from_fn(|c| e1 * g1[c] + e2 * g2[c])));
@@ -704,13 +736,23 @@ where
                     let (f2, g2) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
                     let (f1, g1) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
                     stack.push((
-                        (1.0 - t) * f1 + t * f2,
+                        morph(t, f1, f2),
                         core::array::from_fn(|c| (1.0 - t) * g1[c] + t * g2[c]),
                     ));
                 }
             }
         }
-        stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]))
+        let (f, g) = stack.pop().unwrap_or((f64::NAN, [f64::NAN; D]));
+        // Past the ends of the doubles (a leaf's slope times a huge factor) there is no useful
+        // direction.
+        (
+            f,
+            if g.iter().all(|g| g.is_finite()) {
+                g
+            } else {
+                [0.0; D]
+            },
+        )
     }
 
     /// A box `[lo, hi]` outside of which `f ≤ 0`, by the rules of DESIGN §5 (union: the hull,
@@ -731,6 +773,23 @@ where
     #[must_use]
     pub fn parts_box(&self) -> Option<([f64; D], [f64; D])> {
         self.parts.map(|b| (b.lo, b.hi))
+    }
+
+    /// A point inside the solid (`f > 0`) within the box `[lo, hi]` (anywhere where `None`), if
+    /// one of the places looked at is: the middles of the bounds and of every leaf's own box. A
+    /// witness that a mesh or contour that came out empty has lost the solid.
+    #[must_use]
+    pub fn inside_point(&self, within: Option<([f64; D], [f64; D])>) -> Option<(Point<D>, f64)> {
+        let middle = self
+            .bounds
+            .filter(|b| (0..D).all(|i| b.lo[i] <= b.hi[i]))
+            .map(|b| core::array::from_fn(|i| 0.5 * b.lo[i] + 0.5 * b.hi[i]));
+        middle
+            .into_iter()
+            .chain(self.middles.iter().copied())
+            .filter(|p| within.is_none_or(|(lo, hi)| (0..D).all(|i| lo[i] <= p[i] && p[i] <= hi[i])))
+            .map(|p| (Dim::<D>::point(p), self.f(Dim::<D>::point(p))))
+            .find(|&(_, f)| f > 0.0)
     }
 
     /// How many leaves the tree has.
@@ -917,6 +976,9 @@ where
     nodes: usize,
     depth: usize,
     stack: usize,
+    /// The least and greatest factor by which the transforms above the node being built scale
+    /// lengths.
+    scales: (f64, f64),
 }
 
 impl<const D: usize> Builder<D>
@@ -930,16 +992,25 @@ where
             nodes: 0,
             depth: 0,
             stack: 0,
+            scales: (1.0, 1.0),
         };
         b.node(root, "solid", None, 1)?;
         let bounds = bounds::bounds(root, 0.0, &Affine::IDENTITY, &mut b.leaves.iter());
         let parts = bounds::parts_hull(root, &Affine::IDENTITY, &mut b.leaves.iter());
+        let mut middles = Vec::new();
+        bounds::leaf_middles(
+            root,
+            &Affine::IDENTITY,
+            &mut b.leaves.iter(),
+            &mut middles,
+        );
         Ok(Tree {
             leaves: b.leaves,
             steps: b.steps,
             stack: b.stack,
             bounds,
             parts,
+            middles,
         })
     }
 
@@ -1049,7 +1120,7 @@ where
             }
             SolidSpec::BlendUnion { of, a0, a1, a2 }
             | SolidSpec::BlendIntersection { of, a0, a1, a2 } => {
-                finite(*a0, &field("a0"))?;
+                bounded(*a0, &field("a0"))?;
                 non_zero(*a1, &field("a1"))?;
                 non_zero(*a2, &field("a2"))?;
                 let union = matches!(spec, SolidSpec::BlendUnion { .. });
@@ -1062,7 +1133,7 @@ where
                 self.operation(of, path, map, height, 0, |_| step)?;
             }
             SolidSpec::Morph { of, t } => {
-                finite(*t, &field("t"))?;
+                bounded(*t, &field("t"))?;
                 let t = *t;
                 self.operation(of, path, map, height, 0, |_| Step::Morph(t))?;
             }
@@ -1073,8 +1144,13 @@ where
                 scale,
             } => {
                 let inverse = transform_inverse::<D>(path, translate, rotate, scale)?;
+                let outer = self.scales;
+                if let Some(scale) = scale {
+                    self.scales = check::scale_range(outer, scale, &field("scale"))?;
+                }
                 let map = Some(map.map_or(inverse, |outer| inverse.after(&outer)));
                 self.node(solid, &field("solid"), map, height)?;
+                self.scales = outer;
             }
             SolidSpec::Part { solid, name, .. } => {
                 if name.len() > crate::model::MAX_NAME_BYTES {
@@ -1143,7 +1219,7 @@ where
                 "the normal is zero",
             )));
         }
-        finite(offset, &format!("{path}.offset"))?;
+        bounded(offset, &format!("{path}.offset"))?;
         self.leaf(Shape::Half { normal, offset }, map);
         Ok(())
     }
@@ -1243,52 +1319,6 @@ where
         })
         .collect::<Result<Vec<_>, _>>()?;
     Piecewise::new(cells, degree, controls)
-}
-
-fn finite(v: f64, path: &str) -> Result<(), ModelError> {
-    if v.is_finite() {
-        Ok(())
-    } else {
-        Err(ModelError::Tree(error(
-            path,
-            format!("{v} is not a finite number"),
-        )))
-    }
-}
-
-fn positive(v: f64, path: &str) -> Result<(), ModelError> {
-    finite(v, path)?;
-    if v > 0.0 {
-        Ok(())
-    } else {
-        Err(ModelError::Tree(error(
-            path,
-            format!("must be positive (it is {v})"),
-        )))
-    }
-}
-
-fn non_zero(v: f64, path: &str) -> Result<(), ModelError> {
-    finite(v, path)?;
-    if v == 0.0 {
-        Err(ModelError::Tree(error(path, "must not be zero")))
-    } else {
-        Ok(())
-    }
-}
-
-/// `values` as `D` finite numbers.
-fn finite_array<const D: usize>(values: &[f64], path: &str) -> Result<[f64; D], ModelError> {
-    let array: [f64; D] = values.try_into().map_err(|_| {
-        ModelError::Tree(error(
-            path,
-            format!("{} numbers where a {D}D tree takes {D}", values.len()),
-        ))
-    })?;
-    for (i, v) in array.iter().enumerate() {
-        finite(*v, &format!("{path}[{i}]"))?;
-    }
-    Ok(array)
 }
 
 /// `M⁻¹` of the transform `M = T · Rz · Ry · Rx · S` (in 2D `T · R · S`).
@@ -1797,6 +1827,69 @@ mod tests {
             assert_close!(two.f(p), or(or(v.f, c), v.f), 1e-12);
             assert_eq!(two.evaluate(p).preimages, 2 * v.preimages);
         }
+    }
+
+    #[test]
+    fn numbers_that_f64_cannot_evaluate_are_refused_by_their_path() {
+        let scaled = |solid: S, scale: f64| S::Transform {
+            solid: Box::new(solid),
+            translate: None,
+            rotate: None,
+            scale: Some(vec![scale; 3]),
+        };
+        // A sphere of radius 1e200 cut by a unit sphere gave NaN at the origin.
+        let e = refused(S::Intersection {
+            of: vec![sphere([0.0; 3], 1.0), sphere([0.0; 3], 1e200)],
+        });
+        assert_eq!(
+            alloc::format!("{e}"),
+            "solid.of[1].radius: 1e200 is too large: at most 1e12 in magnitude"
+        );
+        // Two unit spheres at 2e154 gave NaN everywhere.
+        let e = refused(S::Union {
+            of: vec![
+                sphere([2e154, 0.0, 0.0], 1.0),
+                sphere([2e154, 3.0, 0.0], 1.0),
+            ],
+        });
+        assert_eq!(e.path, "solid.of[0].center[0]");
+        let e = refused(S::Box {
+            min: [-1e300; 3],
+            max: [1e300; 3],
+        });
+        assert_eq!(e.path, "solid.min[0]");
+        // A scale of 1e-300 gave −inf; 1e160 a NaN volume.
+        let e = refused(scaled(sphere([0.0; 3], 1.0), 1e-300));
+        assert_eq!(e.path, "solid.scale[0]");
+        assert!(e.message.contains("too small"), "{e}");
+        assert_eq!(
+            refused(scaled(sphere([0.0; 3], 1.0), 1e160)).path,
+            "solid.scale[0]"
+        );
+        // Scales that are each fine but multiply past the range, named where they pass it.
+        let e = refused(scaled(scaled(scaled(sphere([0.0; 3], 1.0), 1e5), 1e5), 1e5));
+        assert_eq!(e.path, "solid.solid.solid.scale", "{e}");
+        assert!(e.message.contains("1e15 overall"), "{e}");
+        // Blends and morphs with their parameters past the range.
+        let two = || vec![sphere([0.0; 3], 1.0), sphere([1.0, 0.0, 0.0], 1.0)];
+        let e = refused(S::BlendUnion {
+            of: two(),
+            a0: 1e13,
+            a1: 1.0,
+            a2: 1.0,
+        });
+        assert_eq!(e.path, "solid.a0");
+        let e = refused(S::BlendUnion {
+            of: two(),
+            a0: 1.0,
+            a1: 1e-13,
+            a2: 1.0,
+        });
+        assert_eq!(e.path, "solid.a1");
+        assert_eq!(refused(S::Morph { of: two(), t: 1e13 }).path, "solid.t");
+        // At the edges, accepted.
+        space(scaled(scaled(sphere([1e12, 0.0, 0.0], 1e12), 1e6), 1e6));
+        space(scaled(sphere([0.0; 3], 1e-12), 1e-12));
     }
 
     #[test]
