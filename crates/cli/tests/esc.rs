@@ -393,3 +393,81 @@ fn free_form_model_files_and_links_classify_and_mesh() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("free-form"));
 }
+
+/// The cube `[-1, 1]³` and, inside it, an octahedron of half-diagonal `reach` (its corners poke
+/// through the cube's faces when `reach > 1`): vertices and 0-based triangles.
+#[allow(clippy::type_complexity)]
+fn cube_and_octahedron(reach: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut positions: Vec<[f64; 3]> = (0..8)
+        .map(|v: u32| [0, 1, 2].map(|k| if v >> k & 1 == 1 { 1.0 } else { -1.0 }))
+        .collect();
+    let mut triangles = Vec::new();
+    for [a, b, c, d] in [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ] {
+        triangles.extend([[a, b, c], [a, c, d]]);
+    }
+    for k in 0..3 {
+        let mut p = [0.0; 3];
+        p[k] = reach;
+        positions.push(p);
+        p[k] = -reach;
+        positions.push(p);
+    }
+    for octant in 0..8u32 {
+        let [x, y, z] = [0, 1, 2].map(|k| 8 + 2 * k + (octant >> k & 1));
+        triangles.push(if octant.count_ones() % 2 == 0 {
+            [x, y, z]
+        } else {
+            [x, z, y]
+        });
+    }
+    (positions, triangles)
+}
+
+#[test]
+fn an_inner_shell_crossing_its_outer_shell_is_refused() {
+    let file = scratch("cross.csv", "0,0,0\n0.9,0.9,0.9\n");
+    let file = file.to_str().unwrap();
+    for (reach, crosses) in [(1.3, true), (0.9, false)] {
+        let (positions, triangles) = cube_and_octahedron(reach);
+        let mut obj = String::new();
+        for [x, y, z] in &positions {
+            obj.push_str(&format!("v {x} {y} {z}\n"));
+        }
+        for [a, b, c] in &triangles {
+            obj.push_str(&format!("f {} {} {}\n", a + 1, b + 1, c + 1));
+        }
+        let obj = scratch(&format!("cube-octahedron-{reach}.obj"), &obj);
+        let model = scratch(
+            &format!("cube-octahedron-{reach}.bsolid.json"),
+            &format!(
+                r#"{{ "format": "bezsolid", "version": 1,
+                     "solid": {{ "kind": "esc",
+                                "operands": [ {{ "mesh": {{ "positions": {positions:?},
+                                                           "triangles": {triangles:?} }} }} ] }} }}"#
+            ),
+        );
+        for input in [obj.to_str().unwrap(), model.to_str().unwrap()] {
+            let args = ["esc", "classify", input, "--points", file];
+            if crosses {
+                let out = bezsolid(&args);
+                assert_eq!(out.status.code(), Some(1), "{input}");
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(
+                    err.contains("pieces 1 and 2") && err.contains("cross each other"),
+                    "{input}: {err}"
+                );
+                assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+            } else {
+                // The octahedron is a cavity: its centre is outside, the cube's corner region inside.
+                assert_eq!(run(&args), vec![0, 1], "{input}");
+            }
+        }
+    }
+}

@@ -50,6 +50,20 @@ pub fn orient_sign(a: DVec3, b: DVec3, c: DVec3, q: DVec3) -> i8 {
     }
 }
 
+/// The exact sign of `orient2d(a, b, c)`: `1` when `a, b, c` turn counter-clockwise, `−1`
+/// clockwise, `0` when they are collinear.
+#[must_use]
+pub fn orient2_sign(a: glam::DVec2, b: glam::DVec2, c: glam::DVec2) -> i8 {
+    let o = orient2d(c2(a.x, a.y), c2(b.x, b.y), c2(c.x, c.y));
+    if o > 0.0 {
+        1
+    } else if o < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
 /// The sign of `−N_x`, else `−N_y`, else `−N_z`, `N = (b − a) × (c − a)`, each exact.
 #[cold]
 fn perturbed(a: DVec3, b: DVec3, c: DVec3) -> i8 {

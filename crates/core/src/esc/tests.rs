@@ -826,3 +826,50 @@ fn cavities_face_inward_whichever_way_they_come() {
         Err(EscError::Shells(ShellError::Intersect { .. }))
     ));
 }
+
+/// The cube `[-1, 1]³` with an octahedron of half-diagonal `reach` inside it, as one mesh: its
+/// corners poke through the cube's faces when `reach > 1`.
+fn cube_with_octahedron(reach: f64) -> Mesh {
+    let mut mesh = boxes(&[(DVec3::splat(-1.0), DVec3::splat(1.0), false)]);
+    let base = mesh.positions.len() as u32;
+    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+        mesh.positions.extend([axis * reach, -axis * reach]);
+    }
+    for octant in 0..8u32 {
+        let [x, y, z] = [0, 1, 2].map(|k| base + 2 * k + (octant >> k & 1));
+        // Counter-clockwise from outside in the octants with an even number of negative axes.
+        let tri = if octant.count_ones() % 2 == 0 {
+            [x, y, z]
+        } else {
+            [x, z, y]
+        };
+        mesh.triangles.push(tri);
+    }
+    mesh.normals = angle_weighted_normals(&mesh.positions, &mesh.triangles);
+    mesh
+}
+
+#[test]
+fn an_inner_shell_that_crosses_its_outer_shell_is_refused_like_pieces_side_by_side() {
+    // Neither shell's tested vertex is inside the other: only the surfaces show the crossing.
+    let e = EscSolid::new(&cube_with_octahedron(1.3)).unwrap_err();
+    assert_eq!(
+        e,
+        EscError::Shells(ShellError::Intersect {
+            first: 0,
+            second: 1
+        })
+    );
+    let message = e.to_string();
+    assert!(
+        message.contains("pieces 1 and 2") && message.contains("cross each other"),
+        "{message}"
+    );
+    assert!(!message.contains('\n'));
+    // Within the cube, the octahedron is a cavity.
+    let solid = EscSolid::new(&cube_with_octahedron(0.9)).expect("a cavity");
+    assert_eq!((solid.shells(), solid.shells_turned_over()), (2, 1));
+    let mut stats = Stats::default();
+    assert_eq!(solid.value(DVec3::ZERO, &mut stats), 0);
+    assert_eq!(solid.value(DVec3::splat(0.8), &mut stats), 1);
+}

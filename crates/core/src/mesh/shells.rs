@@ -3,17 +3,18 @@
 //! A closed mesh may bound a solid with several pieces, or with cavities: each piece of its surface
 //! is a *shell*. A shell inside an even number of others (0: an outer boundary) must face outward,
 //! with positive signed volume; one inside an odd number bounds a cavity and faces inward, negative.
-//! [`orient_shells`] tells nesting by ray parity against the flat triangles, with exact orientation
-//! predicates, and turns over every shell that faces the wrong way.
+//! [`orient_shells`] refuses shells whose flat triangles meet, tells nesting by ray parity against
+//! the flat triangles, with exact orientation predicates, and turns over every shell that faces the
+//! wrong way.
 
 use alloc::vec;
 use alloc::vec::Vec;
 use core::fmt;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::Mesh;
-use crate::esc::predicates::orient_sign;
+use crate::esc::predicates::{orient_sign, orient2_sign};
 
 /// The most work [`orient_shells`] does to tell the shells' nesting, in pairs of boxes compared
 /// and triangles tested: about a second. A hostile mesh of thousands of shells whose boxes all
@@ -24,9 +25,8 @@ pub const MAX_SHELL_WORK: usize = 50_000_000;
 /// their first triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ShellError {
-    /// Two shells cross (or touch) each other, found where it is cheap to tell: a vertex of one is
-    /// inside the other but its bounding box is not within the other's, or each is inside the
-    /// other.
+    /// Two shells cross (or touch) each other: a triangle of one meets a triangle of the other, side
+    /// by side or one inside the other (a cavity that reaches through its outer shell).
     Intersect {
         /// The lower shell number.
         first: usize,
@@ -129,9 +129,10 @@ fn find(parent: &mut [usize], mut i: usize) -> usize {
 /// pairs times the triangles of a shell; a mesh of one shell only has its volume summed.
 ///
 /// The mesh should be a closed, consistently oriented 2-manifold ([`super::validate`]); shells that
-/// cross each other do not bound a solid, and are refused only where that is cheap to see (see
-/// [`ShellError::Intersect`]): two shells that cross without either condition are oriented as if
-/// the tested vertices told their nesting.
+/// cross or touch each other do not bound a solid, and are refused ([`ShellError::Intersect`]): the
+/// triangles of two shells whose boxes overlap are compared exactly where their own boxes reach
+/// into both shells' boxes, swept along x. Shells whose surfaces do not meet are nested or apart
+/// as one vertex says, so nesting is then exact.
 ///
 /// # Errors
 ///
@@ -203,6 +204,14 @@ fn orient_shells_within(mesh: &mut Mesh, budget: usize) -> Result<ShellOrientati
             {
                 return crossing;
             }
+            // Neither vertex test shows it (an inner shell poking through its outer one, or pieces
+            // side by side whose tested vertices are outside each other): the surfaces.
+            let overlap = (alo.max(blo), ahi.min(bhi));
+            if surfaces_meet(mesh, [&members[a], &members[b]], overlap, &mut budget)
+                .ok_or(too_much)?
+            {
+                return crossing;
+            }
             if b_in_a {
                 depth[b] += 1;
             }
@@ -242,6 +251,140 @@ fn orient_shells_within(mesh: &mut Mesh, budget: usize) -> Result<ShellOrientati
         shells: count,
         turned_over,
     })
+}
+
+/// Whether a triangle of the shell `shells[0]` meets one of `shells[1]` (their triangles), exactly.
+/// Only triangles whose boxes reach into `overlap` (the box both shells' boxes hold) are compared,
+/// swept along x, each against those of the other shell whose boxes overlap its own. `None` when
+/// that would take more than `budget`, which is spent by the triangles listed and the pairs
+/// compared.
+fn surfaces_meet(
+    mesh: &Mesh,
+    shells: [&[u32]; 2],
+    overlap: (DVec3, DVec3),
+    budget: &mut usize,
+) -> Option<bool> {
+    // Per triangle near the overlap: its box, its shell (0 or 1) and its corners.
+    let mut near: Vec<(DVec3, DVec3, usize, [DVec3; 3])> = Vec::new();
+    for (side, shell) in shells.iter().enumerate() {
+        *budget = budget.checked_sub(shell.len())?;
+        for &t in *shell {
+            let p = mesh.triangles[t as usize].map(|i| mesh.positions[i as usize]);
+            let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+            if lo.cmple(overlap.1).all() && overlap.0.cmple(hi).all() {
+                near.push((lo, hi, side, p));
+            }
+        }
+    }
+    near.sort_unstable_by(|x, y| x.0.x.total_cmp(&y.0.x));
+    // The triangles of each shell whose boxes reach the sweep's x.
+    let mut active: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
+    for (k, &(lo, hi, side, p)) in near.iter().enumerate() {
+        for list in &mut active {
+            list.retain(|&j| near[j].1.x >= lo.x);
+        }
+        let other = &active[1 - side];
+        *budget = budget.checked_sub(other.len())?;
+        for &j in other {
+            let (jlo, jhi, _, q) = near[j];
+            if jlo.cmple(hi).all() && lo.cmple(jhi).all() && triangles_meet(p, q) {
+                return Some(true);
+            }
+        }
+        active[side].push(k);
+    }
+    Some(false)
+}
+
+/// Whether the closed triangles `s` and `t` share a point, exactly. Their intersection is convex,
+/// and its extreme points lie on edges of one or the other, so they meet where an edge of one meets
+/// the other.
+fn triangles_meet(s: [DVec3; 3], t: [DVec3; 3]) -> bool {
+    // All of one strictly on one side of the other's plane: apart.
+    let t_side = t.map(|p| orient_sign(s[0], s[1], s[2], p));
+    let s_side = s.map(|p| orient_sign(t[0], t[1], t[2], p));
+    if [t_side, s_side]
+        .iter()
+        .any(|sides| *sides == [1; 3] || *sides == [-1; 3])
+    {
+        return false;
+    }
+    (0..3).any(|i| {
+        segment_meets_triangle(s[i], s[(i + 1) % 3], t)
+            || segment_meets_triangle(t[i], t[(i + 1) % 3], s)
+    })
+}
+
+/// Whether the segment `p–q` meets the closed triangle `a, b, c`, exactly. A triangle whose corners
+/// are collinear meets nothing here (its edges are tested as segments of the other triangle).
+fn segment_meets_triangle(p: DVec3, q: DVec3, [a, b, c]: [DVec3; 3]) -> bool {
+    let (sp, sq) = (orient_sign(a, b, c, p), orient_sign(a, b, c, q));
+    if sp == sq && sp != 0 {
+        return false;
+    }
+    if sp == 0 && sq == 0 {
+        // In the triangle's plane: in the coordinate plane where the triangle's shadow is largest.
+        let Some(flat) = projection(a, b, c) else {
+            return false;
+        };
+        return segment_meets_triangle_2d(flat(p), flat(q), [flat(a), flat(b), flat(c)]);
+    }
+    // The segment meets the plane at one point: within the triangle when the line through the
+    // segment passes no edge on the wrong side.
+    let e = [
+        orient_sign(p, q, a, b),
+        orient_sign(p, q, b, c),
+        orient_sign(p, q, c, a),
+    ];
+    !(e.contains(&1) && e.contains(&-1))
+}
+
+/// The projection that drops the axis along which the triangle `a, b, c` is seen largest (exact, as
+/// dropping a coordinate is), or `None` for a triangle whose corners are collinear.
+fn projection(a: DVec3, b: DVec3, c: DVec3) -> Option<fn(DVec3) -> DVec2> {
+    let drops: [fn(DVec3) -> DVec2; 3] = [
+        |p| DVec2::new(p.y, p.z),
+        |p| DVec2::new(p.z, p.x),
+        |p| DVec2::new(p.x, p.y),
+    ];
+    let normal = (b - a).cross(c - a).abs();
+    let mut order = [0, 1, 2];
+    order.sort_unstable_by(|&i, &j| normal[j].total_cmp(&normal[i]));
+    // The largest rounded component first; any projection with a non-zero exact area will do.
+    order
+        .into_iter()
+        .map(|k| drops[k])
+        .find(|f| orient2_sign(f(a), f(b), f(c)) != 0)
+}
+
+/// Whether the segment `p–q` meets the closed triangle `a, b, c` (not collinear), in the plane.
+fn segment_meets_triangle_2d(p: DVec2, q: DVec2, [a, b, c]: [DVec2; 3]) -> bool {
+    let turn = orient2_sign(a, b, c);
+    let inside = |x: DVec2| {
+        [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(u, v)| orient2_sign(u, v, x) * turn >= 0)
+    };
+    inside(p)
+        || inside(q)
+        || [(a, b), (b, c), (c, a)]
+            .iter()
+            .any(|&(u, v)| segments_meet(p, q, u, v))
+}
+
+/// Whether the closed segments `p–q` and `u–v` share a point, in the plane, exactly.
+fn segments_meet(p: DVec2, q: DVec2, u: DVec2, v: DVec2) -> bool {
+    let (d1, d2) = (orient2_sign(u, v, p), orient2_sign(u, v, q));
+    let (d3, d4) = (orient2_sign(p, q, u), orient2_sign(p, q, v));
+    // On the segment's line and within its box: on the segment.
+    let on = |s: DVec2, e: DVec2, x: DVec2, d: i8| {
+        d == 0 && x.cmpge(s.min(e)).all() && x.cmple(s.max(e)).all()
+    };
+    (d1 * d2 < 0 && d3 * d4 < 0)
+        || on(u, v, p, d1)
+        || on(u, v, q, d2)
+        || on(p, q, u, d3)
+        || on(p, q, v, d4)
 }
 
 /// The most vertices of a shell tried when the first ones lie on the other shell.
@@ -556,6 +699,101 @@ mod tests {
             .to_string()
             .contains("pieces 1 and 2")
         );
+    }
+
+    #[test]
+    fn crossing_shells_are_refused_where_no_vertex_shows_it() {
+        // A cube inside the unit sphere whose corners poke through it: the cube's box is within the
+        // sphere's, its tested corner is outside the sphere and the sphere's vertex outside the cube.
+        let sphere = crate::esc::examples::icosphere(2);
+        let with = |lo: DVec3, hi: DVec3| {
+            let mut mesh = sphere.clone();
+            let (p, t) = cube(lo, hi, mesh.positions.len() as u32);
+            mesh.normals.extend(p.iter().map(|q| -q.normalize()));
+            mesh.positions.extend(p);
+            mesh.triangles.extend(t);
+            mesh
+        };
+        let mut mesh = with(DVec3::splat(-0.7), DVec3::splat(0.7));
+        let before = mesh.clone();
+        let e = orient_shells(&mut mesh).unwrap_err();
+        assert_eq!(
+            e,
+            ShellError::Intersect {
+                first: 0,
+                second: 1
+            }
+        );
+        assert_eq!(mesh, before);
+        assert!(e.to_string().contains("pieces 1 and 2"), "{e}");
+        // A cube well inside is a cavity (turned inward); a cavity touching its outer cube is refused.
+        let mut inside = with(DVec3::splat(-0.5), DVec3::splat(0.5));
+        let done = orient_shells(&mut inside).expect("a cavity");
+        assert_eq!((done.shells, done.turned_over), (2, 1));
+        let mut touching = mesh_of(&[
+            (DVec3::splat(-1.0), DVec3::splat(1.0), false),
+            (DVec3::new(-1.0, -0.5, -0.5), DVec3::splat(0.5), true),
+        ]);
+        assert!(matches!(
+            orient_shells(&mut touching),
+            Err(ShellError::Intersect { .. })
+        ));
+        // Two bars crossing like a plus sign: neither's first corner is inside the other.
+        let mut plus = mesh_of(&[
+            (
+                DVec3::new(-3.0, -1.0, -1.0),
+                DVec3::new(3.0, 1.0, 1.0),
+                false,
+            ),
+            (
+                DVec3::new(-1.0, -3.0, -0.5),
+                DVec3::new(1.0, 3.0, 0.5),
+                false,
+            ),
+        ]);
+        assert_eq!(
+            orient_shells(&mut plus),
+            Err(ShellError::Intersect {
+                first: 0,
+                second: 1
+            })
+        );
+    }
+
+    #[test]
+    fn triangles_meet_exactly_through_faces_edges_and_corners() {
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let moved = |d: DVec3, s: [DVec3; 3]| s.map(|p| p + d);
+        // Through the inside, edge to edge, corner to face, coplanar overlapping, coplanar apart,
+        // parallel planes, and a slanted one that misses.
+        let upright = [
+            DVec3::new(0.2, 0.2, -1.0),
+            DVec3::new(0.2, 0.2, 1.0),
+            DVec3::new(0.3, 0.1, 0.0),
+        ];
+        assert!(triangles_meet(t, upright));
+        assert!(triangles_meet(t, moved(DVec3::new(0.3, 0.0, 0.0), upright)));
+        let corner_on_face = [
+            DVec3::new(0.25, 0.25, 0.0),
+            DVec3::new(0.25, 0.25, 1.0),
+            DVec3::new(0.5, 0.0, 1.0),
+        ];
+        assert!(triangles_meet(t, corner_on_face));
+        assert!(triangles_meet(t, moved(DVec3::new(0.5, 0.5, 0.0), t)));
+        assert!(triangles_meet(t, moved(DVec3::new(1.0, 0.0, 0.0), t)));
+        assert!(!triangles_meet(t, moved(DVec3::new(1.0, 0.5, 0.0), t)));
+        assert!(!triangles_meet(t, moved(DVec3::new(0.0, 0.0, 1e-300), t)));
+        assert!(!triangles_meet(
+            t,
+            moved(DVec3::new(0.5, 0.5, 0.0), upright)
+        ));
+        // A small triangle inside a large coplanar one.
+        let small = [
+            DVec3::new(0.1, 0.1, 0.0),
+            DVec3::new(0.2, 0.1, 0.0),
+            DVec3::new(0.1, 0.2, 0.0),
+        ];
+        assert!(triangles_meet(t, small) && triangles_meet(small, t));
     }
 
     #[test]
