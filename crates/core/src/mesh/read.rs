@@ -28,10 +28,13 @@ use super::{Format, Mesh, stl};
 
 /// The most triangles a file may have (after fan-splitting OBJ polygons): a binary STL of this size
 /// is 10 MB, and the solids of this project are meant for thousands of triangles, not millions.
+/// A file past it is refused ([`ReadError`]'s "more than 200000 triangles"), in the command line,
+/// the page and the node package alike; a model file's mesh operand has the same cap. README.md
+/// says it with the other input caps.
 pub const MAX_TRIANGLES: usize = 200_000;
 
 /// The most vertices a mesh may have: OBJ `v` (and `vn`) statements as read, STL corners after
-/// welding.
+/// welding. Refused past it as [`MAX_TRIANGLES`] is.
 pub const MAX_VERTICES: usize = 200_000;
 
 /// The largest file accepted, in bytes (128 MiB).
@@ -775,6 +778,20 @@ mod tests {
         let mut bytes = TETRA_BINARY.to_vec();
         bytes[84 + 12 + 12 + 4..84 + 12 + 12 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
         assert_eq!(read(&bytes), Err(ReadError::NotFinite { vertex: 2 }));
+    }
+
+    #[test]
+    fn the_readme_states_the_caps_of_mesh_files() {
+        let readme = include_str!("../../../../README.md");
+        let words = readme.split_whitespace().collect::<Vec<_>>().join(" ");
+        let thousands = |n: usize| format!("{},{:03}", n / 1000, n % 1000);
+        for said in [
+            format!("a mesh file {} MiB", MAX_FILE_BYTES >> 20),
+            format!("{} triangles", thousands(MAX_TRIANGLES)),
+            format!("{} vertices", thousands(MAX_VERTICES)),
+        ] {
+            assert!(words.contains(&said), "README.md does not say {said:?}");
+        }
     }
 
     #[test]
