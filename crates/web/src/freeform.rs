@@ -950,6 +950,10 @@ pub mod headless {
     use crate::error::Error;
     use bezsolid_core::mesh::exchange::ExportFormat;
 
+    /// Why the mesh of a result that holds everything far from its solids is refused.
+    pub const UNBOUNDED: &str = "the result is unbounded (a complement holds everything outside \
+         its solids): intersect it with a bounded solid to mesh it";
+
     /// The largest resolution of a headless surface or mesh.
     pub const MAX_RESOLUTION: usize = bezsolid_core::esc::draw::MAX_RESOLUTION;
 
@@ -1011,7 +1015,11 @@ pub mod headless {
         resolution: usize,
         progress: impl FnMut(usize, usize),
     ) -> Result<bezsolid_core::mesh::Mesh, Error> {
-        let mesh = boolean(text, resolution)?.surface_in_steps(resolution, progress);
+        let boolean = boolean(text, resolution)?;
+        if !boolean.is_bounded() {
+            return Err(UNBOUNDED.into());
+        }
+        let mesh = boolean.surface_in_steps(resolution, progress);
         if mesh.triangles.is_empty() {
             return Err("the result is empty: there is no surface to export".into());
         }
@@ -1155,6 +1163,16 @@ mod tests {
         assert_eq!(stl.len(), 84 + 50 * closed.triangles.len());
         assert!(headless::mesh(&link, ExportFormat::Stl, 1000).is_err());
         assert!(headless::surface(&link, 1000).is_err());
+        // A complement holds everything far away: no mesh, whichever way it is asked for.
+        let complement = r#"{ "format": "bezsolid", "version": 1,
+            "solid": { "kind": "esc", "operation": "complement",
+                       "operands": [ { "example": "icosphere" } ] } }"#;
+        for e in [
+            headless::mesh(complement, ExportFormat::Stl, 16).unwrap_err(),
+            headless::result_mesh(complement, 16, |_, _| {}).unwrap_err(),
+        ] {
+            assert_eq!(e.message(), headless::UNBOUNDED);
+        }
         assert!(headless::surface("#v1.garbage", 16).is_err());
     }
 

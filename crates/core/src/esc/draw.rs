@@ -62,6 +62,15 @@ impl Boolean {
             })
     }
 
+    /// Whether the result is bounded: far from every solid each solid is out, so the result holds
+    /// the points far away exactly when the expression of all solids out is 1. A complement alone,
+    /// or a union with one, is not: its [`Boolean::surface`] is the solids' surface turned inside
+    /// out (a negative volume), not a solid to export; intersect it with a bounded solid first.
+    #[must_use]
+    pub fn is_bounded(&self) -> bool {
+        self.expr.value(&mut |_| 0) == 0
+    }
+
     /// A box holding the result: unions and differences of the operands' boxes, intersections of
     /// them; a complement is bounded by all the solids' box.
     #[must_use]

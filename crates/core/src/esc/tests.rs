@@ -873,3 +873,43 @@ fn an_inner_shell_that_crosses_its_outer_shell_is_refused_like_pieces_side_by_si
     assert_eq!(solid.value(DVec3::ZERO, &mut stats), 0);
     assert_eq!(solid.value(DVec3::splat(0.8), &mut stats), 1);
 }
+
+#[test]
+fn complements_and_unions_with_them_are_unbounded() {
+    let sphere = EscSolid::new(&Example::Icosphere.mesh()).expect("valid");
+    let torus = EscSolid::new(&Example::Torus.mesh()).expect("valid");
+    let s = |i| Expr::Solid(i);
+    let not = Expr::complement;
+    let op = Expr::binary;
+    let far = [
+        DVec3::new(100.0, 0.0, 0.0),
+        DVec3::new(-3.0, 40.0, 7.0),
+        DVec3::splat(-1e6),
+    ];
+    let mut stats = Stats::default();
+    for (expr, bounded) in [
+        (s(0), true),
+        (not(s(0)), false),
+        (not(not(s(0))), true),
+        (op(Op::Union, s(0), not(s(1))), false),
+        (op(Op::Intersection, s(0), not(s(1))), true),
+        (op(Op::Difference, s(0), s(1)), true),
+        (op(Op::Difference, not(s(0)), s(1)), false),
+        (not(op(Op::Intersection, s(0), s(1))), false),
+        (not(op(Op::Union, not(s(0)), s(1))), true),
+    ] {
+        let boolean = super::Boolean {
+            solids: vec![sphere.clone(), torus.clone()],
+            expr: expr.clone(),
+        };
+        assert_eq!(boolean.is_bounded(), bounded, "{expr:?}");
+        // Far from both solids, the result holds every point or none.
+        for q in far {
+            assert_eq!(
+                boolean.value(q, &mut stats),
+                i32::from(!bounded),
+                "{expr:?} {q}"
+            );
+        }
+    }
+}
