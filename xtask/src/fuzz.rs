@@ -28,7 +28,7 @@ pub(crate) const DEFAULT_SECONDS: u64 = 60;
 /// shared two-core machine; 30 s is past any budget, so a hang.
 fn timeout(target: &str) -> u32 {
     match target {
-        "eval" | "contour" | "mesh" => 30,
+        "eval" | "contour" | "mesh" | "tree" => 30,
         _ => 10,
     }
 }

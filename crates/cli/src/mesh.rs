@@ -35,7 +35,8 @@ pub(crate) struct MeshArgs {
     /// out with --stats.
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     output: Option<String>,
-    /// Cells along the longest side of the model's box [default: 64; at most 512].
+    /// Cells along the longest side of the model's box, or of each part's where parts lie far
+    /// apart [default: 64; at most 512].
     #[arg(long, value_name = "N")]
     res: Option<usize>,
     /// Vertices are refined until |f| <= A [default: 1e-9].
@@ -96,6 +97,13 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
             bail!("--res {res} is outside 1..={ESC_MAX_RESOLUTION} for a free-form model");
         }
         let boolean = file.to_boolean().with_context(|| crate::describe(model))?;
+        if !boolean.is_bounded() {
+            bail!(
+                "{}: the result is unbounded (a complement holds everything outside its solids): \
+                 intersect it with a bounded solid to mesh it",
+                crate::describe(model)
+            );
+        }
         let mesh = boolean.surface_in_steps(res, &mut step);
         if mesh.triangles.is_empty() {
             bail!("mesh: the result is empty");

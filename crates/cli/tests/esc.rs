@@ -392,6 +392,21 @@ fn free_form_model_files_and_links_classify_and_mesh() {
     let out = bezsolid(&["eval", model, "--points", file]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("free-form"));
+    // A complement holds everything outside its solid: no mesh (it printed volume −3.97).
+    let complement = scratch(
+        "complement.bsolid.json",
+        r#"{ "format": "bezsolid", "version": 1,
+             "solid": { "kind": "esc", "operation": "complement",
+                        "operands": [ { "example": "icosphere" } ] } }"#,
+    );
+    let out = bezsolid(&["mesh", complement.to_str().unwrap(), "--stats"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("unbounded") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
 }
 
 /// The cube `[-1, 1]³` and, inside it, an octahedron of half-diagonal `reach` (its corners poke

@@ -695,3 +695,68 @@ fn meshes_are_written_as_3mf_and_glb() {
         String::from_utf8_lossy(&bad.stderr).contains(".stl, .obj or .ply, or in .3mf or .glb")
     );
 }
+
+/// A model file of the 3D tree `solid` (JSON).
+fn tree_file(name: &str, solid: &str) -> String {
+    let path = scratch(
+        name,
+        &format!(r#"{{"format":"bezsolid","version":1,"solid":{solid}}}"#),
+    );
+    path.to_str().unwrap().to_string()
+}
+
+/// Models a hostile user gives that lost their solid: far from the origin (a unit sphere at 1e8
+/// meshed to 0 triangles, a unit box at 1e9 too), parts far apart (a sphere and a torus 1000
+/// apart: 0 triangles), a strong blend (a0 = 1e4 stopped at x = 4.26 with volume 277; 1e5 had no
+/// triangles), sizes past what f64 evaluates (radius 1e200 gave NaN): each meshes whole or is
+/// refused by name.
+#[test]
+fn far_strong_and_huge_models_mesh_whole_or_are_refused() {
+    let ball = 4.0 / 3.0 * std::f64::consts::PI;
+    let sphere = |c: f64| format!(r#"{{"kind":"sphere","center":[{c},0,0],"radius":1}}"#);
+    let home = stats_of(&["mesh", &tree_file("home.json", &sphere(0.0)), "--stats"]);
+    let far = stats_of(&["mesh", &tree_file("far.json", &sphere(1e8)), "--stats"]);
+    let (v, w) = (far["volume"][0], home["volume"][0]);
+    assert!(
+        (v - w).abs() < 1e-6 * w && (w - ball).abs() < 0.01 * ball,
+        "at 1e8: {v}"
+    );
+    assert!((far["bbox"][0] - 1e8 + 1.0).abs() < 1e-3);
+    let boxed = r#"{"kind":"box","min":[1e9,0,0],"max":[1000000001,1,1]}"#;
+    let v = stats_of(&["mesh", &tree_file("far-box.json", boxed), "--stats"])["volume"][0];
+    assert!((v - 1.0).abs() < 1e-3, "a unit box at 1e9: {v}");
+    let apart = format!(
+        r#"{{"kind":"union","of":[{},{{"kind":"torus","center":[1000,0,0],"axis":"z","major":2,"minor":0.5}}]}}"#,
+        sphere(0.0)
+    );
+    let v = stats_of(&["mesh", &tree_file("apart.json", &apart), "--stats"])["volume"][0];
+    let torus = 2.0 * std::f64::consts::PI.powi(2) * 2.0 * 0.25;
+    assert!(
+        (v - ball - torus).abs() < 0.02 * (ball + torus),
+        "1000 apart: {v}"
+    );
+    // The blends' volumes by Monte Carlo: about 404 and 1240.
+    for (a0, want, reach) in [(1e4, 404.0, 4.5), (1e5, 1240.0, 6.5)] {
+        let blend = format!(
+            r#"{{"kind":"blend_union","a0":{a0},"a1":1,"a2":1,"of":[{},{}]}}"#,
+            sphere(-1.0),
+            sphere(1.0)
+        );
+        let stats = stats_of(&["mesh", &tree_file("blend.json", &blend), "--stats"]);
+        let v = stats["volume"][0];
+        assert!((v - want).abs() < 0.04 * want, "a0 = {a0}: {v}");
+        assert!(stats["bbox"][3] > reach, "a0 = {a0}: {:?}", stats["bbox"]);
+    }
+    let huge = r#"{"kind":"intersection","of":[{"kind":"sphere","center":[0,0,0],"radius":1e200},{"kind":"sphere","center":[0,0,0],"radius":1}]}"#;
+    let out = bezsolid(&["mesh", &tree_file("huge.json", huge), "--stats"]);
+    let err = common::one_line_error(&out);
+    assert!(
+        err.contains("solid.of[0].radius: 1e200 is too large"),
+        "{err}"
+    );
+    // A solid finer than the grid is an error, never an empty success.
+    let thin = r#"{"kind":"box","min":[0,0,0],"max":[1,1,1e-9]}"#;
+    let out = bezsolid(&["mesh", &tree_file("thin.json", thin), "--stats"]);
+    let err = common::one_line_error(&out);
+    assert!(err.contains("came out empty"), "{err}");
+}

@@ -27,6 +27,7 @@
 //! | [`eval()`] | a patch or volume net and query points | `f` never NaN; `f ≤ 0` outside the control points' box |
 //! | [`contour()`] | a small patch net, a resolution | closed polylines of finite vertices within the grid |
 //! | [`mesh()`] | a small volume net, a resolution | a closed manifold of finite vertices within the grid |
+//! | [`tree()`] | a 3D tree with numbers at the edges of the accepted range | finite `f` and gradient to `±f64::MAX`; sound bounds; a closed mesh or an inside point |
 
 mod contour;
 mod eval;
@@ -37,6 +38,7 @@ mod mesh_import;
 mod model;
 mod net;
 mod plasm;
+mod tree;
 
 pub use contour::contour;
 pub use eval::eval;
@@ -45,6 +47,7 @@ pub use mesh::mesh;
 pub use mesh_import::mesh_import;
 pub use model::model;
 pub use plasm::{PLASM_STEPS, plasm};
+pub use tree::tree;
 
 /// A fuzz target: bytes in, a panic on a bug.
 pub type Target = fn(&[u8]);
@@ -59,6 +62,7 @@ pub const TARGETS: &[(&str, Target)] = &[
     ("eval", eval),
     ("contour", contour),
     ("mesh", mesh),
+    ("tree", tree),
 ];
 
 /// The target of a name.

@@ -162,44 +162,81 @@ fn grow_level(folds: usize) -> f64 {
     (0..folds).fold(1.0, |k, _| k * UNION_LEVEL)
 }
 
-/// The bounds of `spec` at `level` in space, given `forward` (the node's coordinates to space)
-/// and its leaves, in the order the builder compiled them.
-pub(super) fn bounds<'a, const D: usize>(
+/// The hull of `boxes` (empty for none).
+pub(super) fn hull_of<const D: usize>(boxes: &[Aabb<D>]) -> Aabb<D> {
+    boxes.iter().fold(Aabb::empty(), |h, b| h.hull(*b))
+}
+
+/// The most boxes [`boxes`] keeps for a node: past it they are joined into their hull.
+const MAX_BOXES: usize = 64;
+
+/// Boxes in space whose union holds every point where `spec`'s `f > level` (none for an empty
+/// solid; `None` where it may be unbounded), given `forward` (the node's coordinates to space)
+/// and its leaves, in the order the builder compiled them; the tree's bounds are their hull: a union's are its operands', so that parts far
+/// apart keep boxes of their own ([`clusters`]); an intersection's the overlaps of its operands'.
+pub(super) fn boxes<'a, const D: usize>(
     spec: &SolidSpec,
     level: f64,
     forward: &Affine<D>,
     leaves: &mut impl Iterator<Item = &'a Leaf<D>>,
-) -> Option<Aabb<D>>
+) -> Option<alloc::vec::Vec<Aabb<D>>>
 where
     Dim<D>: Dimension<D>,
 {
+    use alloc::vec::Vec;
+    let capped = |mut b: Vec<Aabb<D>>| {
+        b.retain(|b| !b.is_empty());
+        if b.len() > MAX_BOXES {
+            b = alloc::vec![hull_of(&b)];
+        }
+        b
+    };
+    // Both operands' boxes (the union of their sets).
+    let join = |a: Option<Vec<Aabb<D>>>, b: Option<Vec<Aabb<D>>>| match (a, b) {
+        (Some(mut a), Some(b)) => {
+            a.extend(b);
+            Some(capped(a))
+        }
+        _ => None,
+    };
+    // The overlaps (the intersection of their sets); an unbounded operand bounds nothing.
+    let meet = |a: Option<Vec<Aabb<D>>>, b: Option<Vec<Aabb<D>>>| match (a, b) {
+        (Some(a), Some(b)) => {
+            let pairs = a.len() * b.len();
+            Some(capped(if pairs > MAX_BOXES {
+                alloc::vec![hull_of(&a).overlap(hull_of(&b))]
+            } else {
+                a.iter()
+                    .flat_map(|x| b.iter().map(|y| x.overlap(*y)))
+                    .collect()
+            }))
+        }
+        (a, b) => a.or(b),
+    };
     match spec {
         SolidSpec::Union { of } => {
             let n = of.len();
-            let mut hull = Some(Aabb::empty());
+            let mut all = Some(Vec::new());
             for (i, child) in of.iter().enumerate() {
                 let folds = n - i.max(1);
-                let b = bounds(child, level * grow_level(folds), forward, leaves);
-                hull = match (hull, b) {
-                    (Some(h), Some(b)) => Some(h.hull(b)),
-                    _ => None,
-                };
+                all = join(
+                    all,
+                    boxes(child, level * grow_level(folds), forward, leaves),
+                );
             }
-            hull
+            all
         }
         SolidSpec::Intersection { of } => {
-            let mut overlap: Option<Aabb<D>> = None;
+            let mut overlap = None;
             for child in of {
-                if let Some(b) = bounds(child, level, forward, leaves) {
-                    overlap = Some(overlap.map_or(b, |o| o.overlap(b)));
-                }
+                overlap = meet(overlap, boxes(child, level, forward, leaves));
             }
             overlap
         }
         SolidSpec::Difference { of } => {
             let mut first = None;
             for (i, child) in of.iter().enumerate() {
-                let b = bounds(child, level, forward, leaves);
+                let b = boxes(child, level, forward, leaves);
                 if i == 0 {
                     first = b;
                 }
@@ -210,26 +247,19 @@ where
         | SolidSpec::BlendIntersection { of, a0, a1, a2 } => {
             let union = matches!(spec, SolidSpec::BlendUnion { .. });
             let level = blend_level(level, *a0, a1.abs().max(a2.abs()), union);
-            let mut parts = of.iter().map(|c| bounds(c, level, forward, leaves));
+            let mut parts = of.iter().map(|c| boxes(c, level, forward, leaves));
             let (a, b) = (parts.next().flatten(), parts.next().flatten());
-            match (union, a, b) {
-                (true, Some(a), Some(b)) => Some(a.hull(b)),
-                (true, _, _) => None,
-                (false, Some(a), Some(b)) => Some(a.overlap(b)),
-                (false, a, b) => a.or(b),
-            }
+            if union { join(a, b) } else { meet(a, b) }
         }
         SolidSpec::Morph { of, t } => {
-            let parts: alloc::vec::Vec<_> = of
+            let parts: Vec<_> = of
                 .iter()
-                .map(|c| bounds(c, level, forward, leaves))
+                .map(|c| boxes(c, level, forward, leaves))
                 .collect();
             if !(0.0..=1.0).contains(t) {
                 return None;
             }
-            parts
-                .into_iter()
-                .try_fold(Aabb::empty(), |h, b| b.map(|b| h.hull(b)))
+            parts.into_iter().fold(Some(Vec::new()), join)
         }
         SolidSpec::Transform {
             solid,
@@ -238,12 +268,51 @@ where
             scale,
         } => {
             let m = transform_forward::<D>(translate, rotate, scale);
-            bounds(solid, level, &forward.after(&m), leaves)
+            boxes(solid, level, &forward.after(&m), leaves)
         }
-        SolidSpec::Part { solid, .. } => bounds(solid, level, forward, leaves),
+        SolidSpec::Part { solid, .. } => boxes(solid, level, forward, leaves),
         _ => {
             let leaf = leaves.next()?;
-            leaf_bounds(&leaf.shape, level).map(|b| b.mapped(forward))
+            leaf_bounds(&leaf.shape, level).map(|b| capped(alloc::vec![b.mapped(forward)]))
+        }
+    }
+}
+
+/// The most parts [`clusters`] gives: past it the nearest are joined.
+pub(super) const MAX_PARTS: usize = 16;
+
+/// `boxes` gathered into parts far apart: two boxes nearer each other (along the axis where
+/// they are farthest apart) than the longer side of either are one part, the hull of both, and
+/// so on until no two parts are that near; at most [`MAX_PARTS`], the nearest (for their size)
+/// joined first. A part's grid of cells, half a cell past it, never reaches another's box.
+pub(super) fn clusters<const D: usize>(boxes: &[Aabb<D>]) -> alloc::vec::Vec<Aabb<D>> {
+    let side = |b: &Aabb<D>| (0..D).map(|i| b.hi[i] - b.lo[i]).fold(0.0f64, f64::max);
+    let gap = |a: &Aabb<D>, b: &Aabb<D>| {
+        (0..D)
+            .map(|i| (a.lo[i] - b.hi[i]).max(b.lo[i] - a.hi[i]))
+            .fold(0.0f64, f64::max)
+    };
+    // How near two parts are, for their size: below 1 they are one part.
+    let nearness = |a: &Aabb<D>, b: &Aabb<D>| gap(a, b) / side(a).max(side(b));
+    let mut parts: alloc::vec::Vec<Aabb<D>> =
+        boxes.iter().copied().filter(|b| !b.is_empty()).collect();
+    loop {
+        let mut nearest: Option<(f64, usize, usize)> = None;
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                let n = nearness(&parts[i], &parts[j]);
+                if nearest.is_none_or(|(m, _, _)| n < m) {
+                    nearest = Some((n, i, j));
+                }
+            }
+        }
+        match nearest {
+            // Near, or not a number (a side of no length): one part.
+            Some((n, i, j)) if n < 1.0 || n.is_nan() || parts.len() > MAX_PARTS => {
+                let b = parts.swap_remove(j);
+                parts[i] = parts[i].hull(b);
+            }
+            _ => return parts,
         }
     }
 }

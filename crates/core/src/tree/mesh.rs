@@ -79,12 +79,16 @@ impl fmt::Display for TreeMeshError {
                 write!(f, "resolution {got} is outside 1..={MAX_RESOLUTION}")
             }
             Self::Accuracy => f.write_str("the accuracy must be a positive finite number"),
-            Self::Lost { at, f: value, resolution } => {
+            Self::Lost {
+                at,
+                f: value,
+                resolution,
+            } => {
                 write!(
                     f,
-                    "the solid is inside at ({}, {}, {}) (f = {value:e}), but its boundary at \
-                     resolution {resolution} came out empty: its parts are finer than the grid's \
-                     cells; raise the resolution or give a smaller box",
+                    "the solid is inside at ({}, {}, {}) (f = {value:e}), but its boundary came \
+                     out empty at resolution {resolution}: it is finer than the cells there; mesh \
+                     at a finer one or in a smaller box",
                     at[0], at[1], at[2]
                 )
             }
@@ -390,6 +394,22 @@ impl Tree<3> {
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
         share: Share,
+        progress: Option<&mut dyn FnMut(usize, usize)>,
+    ) -> Result<(Keyed, MeshStats), TreeMeshError> {
+        if region.is_none() && self.clusters.len() > 1 {
+            return self.mesh_parts(resolution, accuracy, share, progress);
+        }
+        self.mesh_area(None, resolution, accuracy, region, share, progress)
+    }
+
+    /// [`Tree::mesh_in_steps`] within `area` (the tree's bounds where `None`).
+    pub(super) fn mesh_area(
+        &self,
+        area: Option<([f64; 3], [f64; 3])>,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+        share: Share,
         mut progress: Option<&mut dyn FnMut(usize, usize)>,
     ) -> Result<(Keyed, MeshStats), TreeMeshError> {
         let reporting = progress.is_some();
@@ -398,7 +418,7 @@ impl Tree<3> {
                 report(done, total);
             }
         };
-        let Some(plan) = self.blocks_plan(resolution, accuracy, region)? else {
+        let Some(plan) = self.blocks_plan(area, resolution, accuracy, region)? else {
             progress(1, 1);
             return Ok(((Mesh::default(), Vec::new()), MeshStats::default()));
         };
@@ -435,7 +455,7 @@ impl Tree<3> {
         );
         progress(total, total);
         if share.count() == 1 && mesh.0.triangles.is_empty() {
-            self.lost(resolution, region)?;
+            self.lost(resolution, region.or(area))?;
         }
         Ok((mesh, stats))
     }
@@ -462,12 +482,13 @@ impl Tree<3> {
     /// its pruned program. `None` for an empty solid.
     pub(super) fn blocks_plan(
         &self,
+        area: Option<([f64; 3], [f64; 3])>,
         resolution: usize,
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
     ) -> Result<Option<Plan<'_>>, TreeMeshError> {
         Ok(self
-            .mesh_grid(resolution, accuracy, region)?
+            .mesh_grid_in(area, resolution, accuracy, region)?
             .map(|(grid, clip)| self.walk(grid, clip, accuracy, None)))
     }
 
@@ -479,8 +500,20 @@ impl Tree<3> {
         accuracy: f64,
         region: Option<([f64; 3], [f64; 3])>,
     ) -> Result<Option<(SampleGrid, Option<Shape<3>>)>, TreeMeshError> {
+        self.mesh_grid_in(None, resolution, accuracy, region)
+    }
+
+    /// [`Tree::mesh_grid`] over `area` (a part of the bounds holding the solid there) where
+    /// given.
+    fn mesh_grid_in(
+        &self,
+        area: Option<([f64; 3], [f64; 3])>,
+        resolution: usize,
+        accuracy: f64,
+        region: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<Option<(SampleGrid, Option<Shape<3>>)>, TreeMeshError> {
         let Some(Region { lo, hi, clip }) =
-            self::region(self.bounds(), region, resolution, accuracy)?
+            self::region(area.or(self.bounds()), region, resolution, accuracy)?
         else {
             return Ok(None);
         };
@@ -1316,7 +1349,10 @@ mod tests {
             assert!(tree.f(glam::DVec3::new(reach, 0.0, 0.0)) > 0.0);
             let (lo, hi) = tree.bounds().unwrap();
             // Within twice the solid's reach, and holding every inside point of a wider box.
-            assert!(hi[0] < 2.0 * reach && lo[0] > -2.0 * reach, "{lo:?} .. {hi:?}");
+            assert!(
+                hi[0] < 2.0 * reach && lo[0] > -2.0 * reach,
+                "{lo:?} .. {hi:?}"
+            );
             let wide = 3.0 * reach;
             let n = 100_000;
             let mut inside = 0;
@@ -1334,7 +1370,10 @@ mod tests {
             let mesh = tree.polygonize(64, 1e-10, None).unwrap();
             mesh.check_closed_manifold().unwrap();
             let v = mesh.volume();
-            assert!((v - mc).abs() <= 0.05 * mc, "a0 = {a0}: mesh {v} vs Monte Carlo {mc}");
+            assert!(
+                (v - mc).abs() <= 0.05 * mc,
+                "a0 = {a0}: mesh {v} vs Monte Carlo {mc}"
+            );
         }
     }
 

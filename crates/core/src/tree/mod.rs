@@ -48,6 +48,7 @@ mod check;
 mod far;
 mod interval;
 mod mesh;
+mod parts;
 mod remesh;
 
 pub use interval::Interval;
@@ -455,6 +456,9 @@ where
     /// The middles of the boxes of the leaves bounded on their own, in space: where to look for
     /// an inside point ([`Tree::inside_point`]).
     middles: Vec<[f64; D]>,
+    /// The parts of the bounds far apart from each other, each meshed in a box of its own (one
+    /// where the solid's parts are near; none where it may be unbounded or is empty).
+    clusters: Vec<bounds::Aabb<D>>,
 }
 
 /// `f` and the preimages of one point.
@@ -787,7 +791,9 @@ where
         middle
             .into_iter()
             .chain(self.middles.iter().copied())
-            .filter(|p| within.is_none_or(|(lo, hi)| (0..D).all(|i| lo[i] <= p[i] && p[i] <= hi[i])))
+            .filter(|p| {
+                within.is_none_or(|(lo, hi)| (0..D).all(|i| lo[i] <= p[i] && p[i] <= hi[i]))
+            })
             .map(|p| (Dim::<D>::point(p), self.f(Dim::<D>::point(p))))
             .find(|&(_, f)| f > 0.0)
     }
@@ -995,15 +1001,12 @@ where
             scales: (1.0, 1.0),
         };
         b.node(root, "solid", None, 1)?;
-        let bounds = bounds::bounds(root, 0.0, &Affine::IDENTITY, &mut b.leaves.iter());
+        let boxes = bounds::boxes(root, 0.0, &Affine::IDENTITY, &mut b.leaves.iter());
+        let bounds = boxes.as_deref().map(bounds::hull_of);
+        let clusters = boxes.map(|b| bounds::clusters(&b)).unwrap_or_default();
         let parts = bounds::parts_hull(root, &Affine::IDENTITY, &mut b.leaves.iter());
         let mut middles = Vec::new();
-        bounds::leaf_middles(
-            root,
-            &Affine::IDENTITY,
-            &mut b.leaves.iter(),
-            &mut middles,
-        );
+        bounds::leaf_middles(root, &Affine::IDENTITY, &mut b.leaves.iter(), &mut middles);
         Ok(Tree {
             leaves: b.leaves,
             steps: b.steps,
@@ -1011,6 +1014,7 @@ where
             bounds,
             parts,
             middles,
+            clusters,
         })
     }
 

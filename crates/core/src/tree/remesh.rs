@@ -233,6 +233,12 @@ impl Tree<3> {
         share: Share,
         cache: &mut MeshCache,
     ) -> Result<(Piece, Remeshed), TreeMeshError> {
+        if region.is_none() && self.far_parts().len() > 1 {
+            // Parts far apart are meshed each in its own grid, afresh: no cache.
+            *cache = MeshCache::default();
+            let piece = self.polygonize_share(resolution, accuracy, None, share)?;
+            return Ok((piece, Remeshed::default()));
+        }
         let Some((grid, clip)) = self.mesh_grid(resolution, accuracy, region)? else {
             *cache = MeshCache::default();
             return Ok((
