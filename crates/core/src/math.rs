@@ -58,6 +58,51 @@ pub(crate) fn sampling_box<const D: usize>(
     (lo, hi)
 }
 
+/// The most parts [`far_parts`] gives: past it the nearest are joined.
+pub(crate) const MAX_PARTS: usize = 16;
+
+/// Boxes `[lo, hi]` (none empty) gathered into parts far apart, to mesh each on a grid of its own:
+/// two boxes nearer each other (along the axis where they are farthest apart) than the longer
+/// side of either are one part, the hull of both, and so on until no two parts are that near; at
+/// most [`MAX_PARTS`], the nearest (for their size) joined first. A part's grid, a cell or less
+/// past it, never reaches another's box.
+pub(crate) fn far_parts<const D: usize>(
+    boxes: &[([f64; D], [f64; D])],
+) -> alloc::vec::Vec<([f64; D], [f64; D])> {
+    type Part<const D: usize> = ([f64; D], [f64; D]);
+    let side = |b: &Part<D>| (0..D).map(|i| b.1[i] - b.0[i]).fold(0.0f64, f64::max);
+    let gap = |a: &Part<D>, b: &Part<D>| {
+        (0..D)
+            .map(|i| (a.0[i] - b.1[i]).max(b.0[i] - a.1[i]))
+            .fold(0.0f64, f64::max)
+    };
+    // How near two parts are, for their size: below 1 they are one part.
+    let nearness = |a: &Part<D>, b: &Part<D>| gap(a, b) / side(a).max(side(b));
+    let mut parts = boxes.to_vec();
+    loop {
+        let mut nearest: Option<(f64, usize, usize)> = None;
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                let n = nearness(&parts[i], &parts[j]);
+                if nearest.is_none_or(|(m, _, _)| n < m) {
+                    nearest = Some((n, i, j));
+                }
+            }
+        }
+        match nearest {
+            // Near, or not a number (a side of no length): one part.
+            Some((n, i, j)) if n < 1.0 || n.is_nan() || parts.len() > MAX_PARTS => {
+                let b = parts.swap_remove(j);
+                parts[i] = (
+                    core::array::from_fn(|k| parts[i].0[k].min(b.0[k])),
+                    core::array::from_fn(|k| parts[i].1[k].max(b.1[k])),
+                );
+            }
+            _ => return parts,
+        }
+    }
+}
+
 /// The most evaluations [`illinois`] makes.
 pub(crate) const ROOT_STEPS: u32 = 60;
 

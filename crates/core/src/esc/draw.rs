@@ -167,6 +167,36 @@ impl Boolean {
             progress(1, 1);
             return Mesh::default();
         }
+        let parts = self.far_parts();
+        if parts.len() < 2 {
+            return self.surface_in((lo, hi), res, progress);
+        }
+        // Parts far apart, each on a grid of its own (one grid over all of them gave each part
+        // less than a cell): the meshes side by side, the progress over the parts.
+        const STEPS: usize = 1000;
+        let count = parts.len();
+        let mut mesh = Mesh::default();
+        for (k, part) in parts.into_iter().enumerate() {
+            let piece = self.surface_in(part, res, &mut |done, total| {
+                progress(k * STEPS + done * STEPS / total.max(1), count * STEPS);
+            });
+            let base = mesh.positions.len() as u32;
+            mesh.positions.extend_from_slice(&piece.positions);
+            mesh.normals.extend_from_slice(&piece.normals);
+            mesh.triangles
+                .extend(piece.triangles.iter().map(|t| t.map(|v| v + base)));
+        }
+        progress(count * STEPS, count * STEPS);
+        mesh
+    }
+
+    /// The surface within the box `(lo, hi)`, which holds a part of the result and no other's.
+    fn surface_in(
+        &self,
+        (lo, hi): (DVec3, DVec3),
+        res: usize,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Mesh {
         let grid = grid_over((lo, hi), res, 1);
         let [nx, ny, nz] = grid.dims;
         let steps = nz + 1;

@@ -34,6 +34,7 @@ pub mod bool;
 pub mod chain;
 pub mod draw;
 pub mod examples;
+mod parts;
 pub mod pn;
 pub mod predicates;
 pub mod ray;

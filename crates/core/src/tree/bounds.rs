@@ -278,43 +278,17 @@ where
     }
 }
 
-/// The most parts [`clusters`] gives: past it the nearest are joined.
-pub(super) const MAX_PARTS: usize = 16;
-
-/// `boxes` gathered into parts far apart: two boxes nearer each other (along the axis where
-/// they are farthest apart) than the longer side of either are one part, the hull of both, and
-/// so on until no two parts are that near; at most [`MAX_PARTS`], the nearest (for their size)
-/// joined first. A part's grid of cells, half a cell past it, never reaches another's box.
+/// `boxes` gathered into parts far apart ([`crate::math::far_parts`]).
 pub(super) fn clusters<const D: usize>(boxes: &[Aabb<D>]) -> alloc::vec::Vec<Aabb<D>> {
-    let side = |b: &Aabb<D>| (0..D).map(|i| b.hi[i] - b.lo[i]).fold(0.0f64, f64::max);
-    let gap = |a: &Aabb<D>, b: &Aabb<D>| {
-        (0..D)
-            .map(|i| (a.lo[i] - b.hi[i]).max(b.lo[i] - a.hi[i]))
-            .fold(0.0f64, f64::max)
-    };
-    // How near two parts are, for their size: below 1 they are one part.
-    let nearness = |a: &Aabb<D>, b: &Aabb<D>| gap(a, b) / side(a).max(side(b));
-    let mut parts: alloc::vec::Vec<Aabb<D>> =
-        boxes.iter().copied().filter(|b| !b.is_empty()).collect();
-    loop {
-        let mut nearest: Option<(f64, usize, usize)> = None;
-        for i in 0..parts.len() {
-            for j in i + 1..parts.len() {
-                let n = nearness(&parts[i], &parts[j]);
-                if nearest.is_none_or(|(m, _, _)| n < m) {
-                    nearest = Some((n, i, j));
-                }
-            }
-        }
-        match nearest {
-            // Near, or not a number (a side of no length): one part.
-            Some((n, i, j)) if n < 1.0 || n.is_nan() || parts.len() > MAX_PARTS => {
-                let b = parts.swap_remove(j);
-                parts[i] = parts[i].hull(b);
-            }
-            _ => return parts,
-        }
-    }
+    let pairs: alloc::vec::Vec<_> = boxes
+        .iter()
+        .filter(|b| !b.is_empty())
+        .map(|b| (b.lo, b.hi))
+        .collect();
+    crate::math::far_parts(&pairs)
+        .into_iter()
+        .map(|(lo, hi)| Aabb { lo, hi })
+        .collect()
 }
 
 /// The level a blend's operands must pass for the blend to pass `level` (≤ 0), with `a` the
