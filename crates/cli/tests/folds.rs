@@ -32,6 +32,11 @@ fn model(degree: &[usize], points: &[Vec<f64>]) -> String {
 /// The regular grid over the unit box with the positions of its control points shuffled among
 /// them and ξ random: a net that folds over itself everywhere.
 fn shuffled(rng: &mut Rng, degree: &[usize]) -> String {
+    shuffled_at(rng, degree, 0.0)
+}
+
+/// [`shuffled`] over the unit box moved by `x` along the first axis.
+fn shuffled_at(rng: &mut Rng, degree: &[usize], x: f64) -> String {
     let dims: Vec<usize> = degree.iter().map(|d| d + 1).collect();
     let count: usize = dims.iter().product();
     let mut spots: Vec<Vec<f64>> = (0..count)
@@ -49,6 +54,7 @@ fn shuffled(rng: &mut Rng, degree: &[usize]) -> String {
         spots.swap(k, j.min(k));
     }
     for s in &mut spots {
+        s[0] += x;
         s.push(rng.unit() * 2.0 - 1.0);
     }
     model(degree, &spots)
@@ -402,4 +408,62 @@ fn the_three_inverse_maps_agree_on_moved_and_folded_nets() {
         !out.status.success() && err.contains("paper") && err.contains("clip"),
         "{err}"
     );
+}
+
+/// A tree of two shuffled degree-16 volumes, meshed where their queries run out of their work
+/// budget: closed, and the same on one thread and two (its blocks sample a shared face each, and
+/// a query's work depended on the work spent before it: 45 open edges at resolution 16).
+#[test]
+fn a_tree_of_folded_volumes_meshes_closed_whatever_the_order() {
+    let mut rng = Rng(0x94d0_49bb_1331_11eb);
+    let solid = |text: String| {
+        let (_, solid) = text.split_once(r#""solid":"#).unwrap();
+        solid.strip_suffix('}').unwrap().to_string()
+    };
+    let (a, b) = (
+        solid(shuffled(&mut rng, &[16, 16, 16])),
+        solid(shuffled_at(&mut rng, &[16, 16, 16], 0.5)),
+    );
+    let tree = scratch(
+        "two-folded.bsolid.json",
+        &format!(
+            r#"{{"format":"bezsolid","version":1,"solid":{{"kind":"union","of":[{a},{b}]}}}}"#
+        ),
+    );
+    let mut files = Vec::new();
+    for threads in ["1", "2"] {
+        let obj = out_path(&format!("two-folded-{threads}.obj"));
+        run_within(
+            &[
+                "mesh",
+                tree.to_str().unwrap(),
+                "--res",
+                "16",
+                "--threads",
+                threads,
+                "-o",
+                obj.to_str().unwrap(),
+            ],
+            Duration::from_secs(60),
+        );
+        files.push(std::fs::read_to_string(&obj).unwrap());
+    }
+    assert_eq!(files[0], files[1], "two threads made another mesh");
+    let mut mesh = bezsolid_core::mesh::Mesh::default();
+    for line in files[0].lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        match w.first() {
+            Some(&"v") => mesh
+                .positions
+                .push(glam::DVec3::from_array(std::array::from_fn(|k| {
+                    w[k + 1].parse().unwrap()
+                }))),
+            Some(&"f") => mesh.triangles.push(std::array::from_fn(|k| {
+                w[k + 1].split('/').next().unwrap().parse::<u32>().unwrap() - 1
+            })),
+            _ => {}
+        }
+    }
+    assert!(mesh.triangle_count() > 50);
+    mesh.check_closed_manifold().unwrap();
 }

@@ -271,6 +271,14 @@ where
             .get((0..D).fold(0, |k, a| k * self.cells[a] + cell[a]))
     }
 
+    /// Fixes the work of every query through each cell's map at about `queries` evaluations
+    /// ([`Solid::fix_query_work`]): a mesh's samples then do not depend on their order.
+    pub fn fix_query_work(&self, queries: usize) {
+        for part in &self.parts {
+            part.fix_query_work(queries);
+        }
+    }
+
     /// Whether the global net is a regular grid (no point moved in space).
     #[must_use]
     pub fn is_regular(&self) -> bool {

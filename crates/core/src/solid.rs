@@ -298,6 +298,14 @@ where
         }
     }
 
+    /// [`Solid::plan`], with the work of every query fixed at the plan's share (see
+    /// [`InverseMap::fix_query_work`]): what a mesh that samples points twice needs.
+    pub fn fix_query_work(&self, queries: usize) {
+        if let Some(map) = self.inverse() {
+            map.fix_query_work(queries);
+        }
+    }
+
     /// How many evaluations of `f` so far ran out of their work budget where the net folds very
     /// many times over ([`InverseMap::exhausted`]); 0 for a regular grid.
     #[must_use]

@@ -422,6 +422,9 @@ impl Tree<3> {
             progress(1, 1);
             return Ok(((Mesh::default(), Vec::new()), MeshStats::default()));
         };
+        // The samples and, about as many again, the roots' evaluations, each with the same work
+        // wherever and whenever it is taken: the blocks beside a face see one sign there.
+        self.fix_query_work(2 * plan.stats.evaluated);
         let (stats, total) = (plan.stats, plan.stats.cells);
         if stats.skipped < total {
             progress(stats.skipped, total);

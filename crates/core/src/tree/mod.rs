@@ -659,6 +659,19 @@ where
         }
     }
 
+    /// [`Tree::plan`] with every query's work fixed at the plan's share (see
+    /// [`Solid::fix_query_work`]), for the space-mapped cells of piecewise leaves too: the values
+    /// of a mesh's samples then do not depend on the order they are taken in.
+    pub(crate) fn fix_query_work(&self, queries: usize) {
+        for leaf in &self.leaves {
+            match &leaf.shape {
+                Shape::Bezier(s, None) => s.fix_query_work(queries),
+                Shape::Piecewise(p, None) => p.fix_query_work(queries),
+                _ => {}
+            }
+        }
+    }
+
     /// The defining function at `p`: positive inside.
     #[must_use]
     pub fn f(&self, p: Point<D>) -> f64 {

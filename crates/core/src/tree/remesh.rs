@@ -272,6 +272,7 @@ impl Tree<3> {
             made: BTreeMap::new(),
         };
         let plan = self.walk(grid, clip, accuracy, Some(&mut memo));
+        self.fix_query_work(2 * plan.stats.evaluated);
         let blocks = share.of_blocks(&plan.blocks);
         let key = |b: &Block| (b.lo, b.size);
         // The blocks to mesh again: not in the cache, or changed.
