@@ -47,7 +47,7 @@ pub enum TreeMeshError {
     /// The mesh or contour came out empty while the solid has an inside point: its parts are
     /// finer than the grid's cells (never an empty success).
     Lost {
-        /// An inside point (its first `D` coordinates).
+        /// An inside point (a 2D one's third coordinate 0).
         at: [f64; 3],
         /// `f` there.
         f: f64,
@@ -314,7 +314,8 @@ impl Tree<3> {
     ///
     /// # Errors
     ///
-    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy.
+    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy; an
+    /// empty mesh where the solid has an inside point ([`TreeMeshError::Lost`]).
     pub fn polygonize(
         &self,
         resolution: usize,
@@ -896,7 +897,8 @@ impl Tree<2> {
     ///
     /// # Errors
     ///
-    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy.
+    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy; no
+    /// line where the solid has an inside point ([`TreeMeshError::Lost`]).
     pub fn contour(
         &self,
         resolution: usize,
@@ -930,7 +932,16 @@ impl Tree<2> {
             .enumerate()
             .map(|(k, f)| field.clipped(f, [xs[k % xs.len()], ys[k / xs.len()]]))
             .collect();
-        Ok(contour(&grid, &values, |p| field.f(p.to_array()), accuracy))
+        let lines = contour(&grid, &values, |p| field.f(p.to_array()), accuracy);
+        // Never an empty success where the solid has an inside point.
+        if let (true, Some((p, f))) = (lines.is_empty(), self.inside_point(region)) {
+            return Err(TreeMeshError::Lost {
+                at: [p.x, p.y, 0.0],
+                f,
+                resolution,
+            });
+        }
+        Ok(lines)
     }
 }
 

@@ -203,6 +203,21 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+        // A 2D tree's contour likewise.
+        let strip = match ModelFile::from_spec(S::Rectangle {
+            min: [0.0, 0.0],
+            max: [1.0, 1e-9],
+        })
+        .to_tree()
+        .unwrap()
+        {
+            ModelTree::Plane(t) => t,
+            ModelTree::Space(_) => panic!("3D"),
+        };
+        assert!(matches!(
+            strip.contour(64, 1e-12, None),
+            Err(TreeMeshError::Lost { resolution: 64, .. })
+        ));
         // An empty solid is an empty mesh, as before.
         let none = space(S::Intersection {
             of: vec![sphere([0.0; 3], 1.0), sphere([5.0, 0.0, 0.0], 1.0)],
