@@ -1,0 +1,273 @@
+//! What a leaf of a tree is, in its own coordinates: the primitives' formulas of DESIGN §5 and
+//! their gradients, and the Bézier and piecewise leaves, regular ones with their `ξ` nets kept
+//! apart for the interval bounds.
+
+use alloc::boxed::Box;
+use alloc::vec::Vec;
+
+use crate::dim::{Dim, Dimension};
+use crate::inverse::Method;
+use crate::math::sqrt;
+use crate::rfunc::intersect;
+use crate::solid::Solid;
+use crate::tensor::Tensor;
+
+/// What a leaf is, in its own coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Shape<const D: usize>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// A patch or volume solid; a regular one keeps its `ξ` net apart, to evaluate `ξ` alone.
+    Bezier(Box<Solid<D>>, Option<Box<Regular<D>>>),
+    /// `radius² − ‖p − center‖²`.
+    Ball { center: [f64; D], radius: f64 },
+    /// `s_0 & s_1 (& s_2)`, `s_i = (p_i − min_i)(max_i − p_i)`.
+    Box { min: [f64; D], max: [f64; D] },
+    /// `radius²` less the squared distance from the line along axis `axis` through `center`.
+    Cylinder {
+        center: [f64; D],
+        axis: usize,
+        radius: f64,
+    },
+    /// `minor² − (√(a² + b²) − major)² − c²`.
+    Torus {
+        center: [f64; D],
+        axis: usize,
+        major: f64,
+        minor: f64,
+    },
+    /// `offset − normal · p`.
+    Half { normal: [f64; D], offset: f64 },
+    /// A piecewise solid; a regular one keeps its cells' `ξ` nets apart, for bounds.
+    Piecewise(
+        Box<crate::piecewise::Piecewise<D>>,
+        Option<Box<RegularCells<D>>>,
+    ),
+}
+
+impl<const D: usize> Shape<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// `f` at `p` (in the leaf's coordinates) and, for a Bézier leaf, its preimages and whether
+    /// the query ran out of its work budget.
+    pub(super) fn eval(&self, p: [f64; D]) -> (f64, usize, bool) {
+        self.eval_by(p, Method::Fast)
+    }
+
+    /// [`Self::eval`] with the preimages of a space-mapped leaf found by `method`.
+    pub(super) fn eval_by(&self, p: [f64; D], method: Method) -> (f64, usize, bool) {
+        let (f, n) = match self {
+            Self::Bezier(_, Some(r)) => {
+                let t = r.scaled(p);
+                let inside = t.iter().all(|&x| (0.0..=1.0).contains(&x));
+                return (
+                    crate::rfunc::clip(r.xi.eval(t), t),
+                    usize::from(inside),
+                    false,
+                );
+            }
+            Self::Bezier(solid, None) => {
+                let v = solid.evaluate(Dim::<D>::point(p), method);
+                return (v.f, v.preimages, v.exhausted);
+            }
+            Self::Piecewise(solid, _) => {
+                let v = solid.evaluate(Dim::<D>::point(p), method);
+                return (v.f, v.preimages, v.exhausted);
+            }
+            Self::Ball { center, radius } => {
+                let d2: f64 = (0..D)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                (radius * radius - d2, 0)
+            }
+            Self::Box { min, max } => {
+                let s = |i: usize| (p[i] - min[i]) * (max[i] - p[i]);
+                let f = (1..D).fold(s(0), |f, i| intersect(f, s(i)));
+                (f, 0)
+            }
+            Self::Cylinder {
+                center,
+                axis,
+                radius,
+            } => {
+                let d2: f64 = (0..D)
+                    .filter(|&i| i != *axis)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                (radius * radius - d2, 0)
+            }
+            Self::Torus {
+                center,
+                axis,
+                major,
+                minor,
+            } => {
+                let across: f64 = (0..D)
+                    .filter(|&i| i != *axis)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                let along = p[*axis] - center[*axis];
+                let ring = sqrt(across) - major;
+                (minor * minor - ring * ring - along * along, 0)
+            }
+            Self::Half { normal, offset } => {
+                let dot: f64 = (0..D).map(|i| normal[i] * p[i]).sum();
+                (offset - dot, 0)
+            }
+        };
+        (f, n, false)
+    }
+}
+
+impl<const D: usize> Shape<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// `f` and `∇f` at `p`, in the leaf's coordinates.
+    pub(super) fn gradient(&self, p: [f64; D]) -> (f64, [f64; D]) {
+        match self {
+            Self::Bezier(solid, _) => {
+                let (f, g) = solid.f_with_gradient(Dim::<D>::point(p));
+                (f, Dim::<D>::coords(g))
+            }
+            Self::Piecewise(solid, _) => {
+                let (f, g) = solid.f_with_gradient(Dim::<D>::point(p));
+                (f, Dim::<D>::coords(g))
+            }
+            Self::Ball { center, .. } => (
+                self.eval(p).0,
+                core::array::from_fn(|i| -2.0 * (p[i] - center[i])),
+            ),
+            Self::Box { min, max } => {
+                let s = |i: usize| (p[i] - min[i]) * (max[i] - p[i]);
+                let ds = |i: usize| max[i] + min[i] - 2.0 * p[i];
+                let mut f = s(0);
+                let mut g = [0.0; D];
+                g[0] = ds(0);
+                for i in 1..D {
+                    let (v, da, db) = crate::rfunc::intersect_with_partials(f, s(i));
+                    for gc in &mut g {
+                        *gc *= da;
+                    }
+                    g[i] = db * ds(i);
+                    f = v;
+                }
+                (f, g)
+            }
+            Self::Cylinder { center, axis, .. } => (
+                self.eval(p).0,
+                core::array::from_fn(|i| {
+                    if i == *axis {
+                        0.0
+                    } else {
+                        -2.0 * (p[i] - center[i])
+                    }
+                }),
+            ),
+            Self::Torus {
+                center,
+                axis,
+                major,
+                ..
+            } => {
+                let across: f64 = (0..D)
+                    .filter(|&i| i != *axis)
+                    .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
+                    .sum();
+                let rho = sqrt(across);
+                let ring = rho - major;
+                (
+                    self.eval(p).0,
+                    core::array::from_fn(|i| {
+                        if i == *axis {
+                            -2.0 * (p[i] - center[i])
+                        } else if rho == 0.0 {
+                            0.0
+                        } else {
+                            -2.0 * ring * (p[i] - center[i]) / rho
+                        }
+                    }),
+                )
+            }
+            Self::Half { normal, offset } => {
+                let dot: f64 = (0..D).map(|i| normal[i] * p[i]).sum();
+                (offset - dot, core::array::from_fn(|i| -normal[i]))
+            }
+        }
+    }
+}
+
+/// A regular Bézier leaf's `ξ` net and box: `f = S_ξ(t) & F_s(t)` with `t` the point scaled to
+/// the box, computed as the solid computes it (the same sums in the same order), without its
+/// `x, y, z` components.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Regular<const D: usize> {
+    pub(super) xi: Tensor<f64, D>,
+    pub(super) min: [f64; D],
+    pub(super) max: [f64; D],
+}
+
+impl<const D: usize> Regular<D> {
+    pub(super) fn of(solid: &Solid<D>) -> Option<Self>
+    where
+        Dim<D>: Dimension<D>,
+    {
+        if solid.is_space_mapped() {
+            return None;
+        }
+        let (min, max) = solid.domain();
+        Some(Self {
+            xi: solid.xi_net(),
+            min: Dim::<D>::coords(min),
+            max: Dim::<D>::coords(max),
+        })
+    }
+
+    /// The parameters of `p` (any point, inside the box or not).
+    pub(super) fn scaled(&self, p: [f64; D]) -> [f64; D] {
+        core::array::from_fn(|c| (p[c] - self.min[c]) / (self.max[c] - self.min[c]))
+    }
+}
+
+/// A regular piecewise leaf's cells' `ξ` nets (in the net's order, the last axis fastest) and its
+/// box: what its interval bounds read.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct RegularCells<const D: usize> {
+    pub(super) xi: Vec<Tensor<f64, D>>,
+    pub(super) cells: [usize; D],
+    pub(super) min: [f64; D],
+    pub(super) max: [f64; D],
+}
+
+impl<const D: usize> RegularCells<D> {
+    pub(super) fn of(solid: &crate::piecewise::Piecewise<D>) -> Option<Self>
+    where
+        Dim<D>: Dimension<D>,
+    {
+        if !solid.is_regular() {
+            return None;
+        }
+        let cells = solid.cells();
+        let count: usize = cells.iter().product();
+        let xi = (0..count)
+            .map(|k| {
+                let cell = crate::tensor::multi_index(cells, k);
+                solid.part(cell).map(Solid::xi_net)
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let (min, max) = solid.domain();
+        Some(Self {
+            xi,
+            cells,
+            min: Dim::<D>::coords(min),
+            max: Dim::<D>::coords(max),
+        })
+    }
+
+    /// The global parameters of `p` (any point, inside the box or not).
+    pub(super) fn scaled(&self, p: [f64; D]) -> [f64; D] {
+        core::array::from_fn(|c| (p[c] - self.min[c]) / (self.max[c] - self.min[c]))
+    }
+}
