@@ -180,11 +180,7 @@ impl Boolean {
             let piece = self.surface_in(part, res, &mut |done, total| {
                 progress(k * STEPS + done * STEPS / total.max(1), count * STEPS);
             });
-            let base = mesh.positions.len() as u32;
-            mesh.positions.extend_from_slice(&piece.positions);
-            mesh.normals.extend_from_slice(&piece.normals);
-            mesh.triangles
-                .extend(piece.triangles.iter().map(|t| t.map(|v| v + base)));
+            mesh.append(&piece);
         }
         progress(count * STEPS, count * STEPS);
         mesh

@@ -208,6 +208,16 @@ impl Mesh {
         self.triangles[t].map(|i| self.positions[i as usize])
     }
 
+    /// Appends `other`'s vertices, normals and triangles (its indices moved past this mesh's
+    /// vertices): two meshes side by side, sharing nothing.
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
+    }
+
     /// The enclosed volume by the divergence theorem, `Σ (a · (b × c)) / 6`: positive for a closed
     /// mesh oriented outward.
     #[must_use]

@@ -7,18 +7,15 @@
 //! given box the field is `f & box` (the R-function intersection with the box's own function),
 //! which is negative outside the box, so the mesh is closed there too, cut by the box's faces.
 
-use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 use core::fmt;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 
-use super::{Interval, Shape, Step, Tree};
-use crate::contour::{Grid2, Polyline, contour};
+use super::{Shape, Step, Tree};
 use crate::dim::{Dim, Dimension};
 use crate::math::{illinois, sampling_box};
 use crate::mesh::Mesh;
-use crate::mesh::adaptive::octants;
 use crate::mesh::polygonize::{
     Block, BlockRoots, Keyed, Marcher, make_and_weld, polygonize_blocks, split_run,
 };
@@ -106,13 +103,13 @@ impl fmt::Display for TreeMeshError {
 impl core::error::Error for TreeMeshError {}
 
 /// The box to sample and, for a box the caller gave, the box's own function to cut by.
-struct Region<const D: usize>
+pub(super) struct Region<const D: usize>
 where
     Dim<D>: Dimension<D>,
 {
-    lo: [f64; D],
-    hi: [f64; D],
-    clip: Option<Shape<D>>,
+    pub(super) lo: [f64; D],
+    pub(super) hi: [f64; D],
+    pub(super) clip: Option<Shape<D>>,
 }
 
 /// How far the sampling grid is moved off the region's corner, in cells. Parts are placed on round
@@ -120,10 +117,10 @@ where
 /// gives coincident vertices and triangles of no area, which mesh readers refuse; a grid moved by
 /// an odd fraction of a cell is on round numbers nowhere. It stays under half a cell, so the outer
 /// samples are still past the region on every side.
-const GRID_SHIFT: f64 = 0.072_334_815_9;
+pub(super) const GRID_SHIFT: f64 = 0.072_334_815_9;
 
 /// The region to sample (`None` for an empty solid).
-fn region<const D: usize>(
+pub(super) fn region<const D: usize>(
     bounds: Option<([f64; D], [f64; D])>,
     given: Option<([f64; D], [f64; D])>,
     resolution: usize,
@@ -180,22 +177,31 @@ where
     stack: Vec<f64>,
 }
 
-impl<const D: usize> Field<'_, D>
+impl<'a, const D: usize> Field<'a, D>
 where
     Dim<D>: Dimension<D>,
 {
-    fn f(&mut self, p: [f64; D]) -> f64 {
+    /// The field of `tree`, cut by `clip` where a box was given.
+    pub(super) fn new(tree: &'a Tree<D>, clip: Option<Shape<D>>) -> Self {
+        Self {
+            tree,
+            clip,
+            stack: Vec::with_capacity(tree.stack),
+        }
+    }
+
+    pub(super) fn f(&mut self, p: [f64; D]) -> f64 {
         self.f_by(None, p)
     }
 
     /// `f` by a pruned program (see [`Tree::pruned`]), or the tree's own where `None`.
-    fn f_by(&mut self, program: Option<&[Step]>, p: [f64; D]) -> f64 {
+    pub(super) fn f_by(&mut self, program: Option<&[Step]>, p: [f64; D]) -> f64 {
         let steps = program.unwrap_or(&self.tree.steps);
         let f = self.tree.evaluate_program(steps, p, &mut self.stack).f;
         self.clipped(f, p)
     }
 
-    fn clipped(&self, f: f64, p: [f64; D]) -> f64 {
+    pub(super) fn clipped(&self, f: f64, p: [f64; D]) -> f64 {
         match &self.clip {
             None => f,
             Some(b) => intersect(f, b.eval(p).0),
@@ -203,7 +209,7 @@ where
     }
 
     /// The outward unit normal `−∇f/|∇f|` (zero where the gradient vanishes), by `program`.
-    fn normal(&self, program: Option<&[Step]>, p: [f64; D]) -> [f64; D] {
+    pub(super) fn normal(&self, program: Option<&[Step]>, p: [f64; D]) -> [f64; D] {
         let (f, g) = self
             .tree
             .gradient_program(program.unwrap_or(&self.tree.steps), p);
@@ -294,16 +300,6 @@ pub struct MeshStats {
     pub skipped: usize,
     /// Samples evaluated.
     pub evaluated: usize,
-}
-
-/// Boxes of at most this many cells per side are sampled whole rather than bounded again.
-const LEAF_CELLS: usize = 4;
-
-/// What bounding one box of cells gave ([`Tree::bound_box`]).
-enum Bounded {
-    Skipped,
-    Block(Block, Option<Vec<Step>>),
-    Split([usize; 3]),
 }
 
 impl Tree<3> {
@@ -536,254 +532,6 @@ impl Tree<3> {
         };
         Ok(Some((grid, clip)))
     }
-
-    /// The blocks of `grid` ([`Tree::blocks_plan`]), the leaves' ranges over its boxes taken
-    /// from `memo` where it holds them, and kept there for the next walk.
-    pub(super) fn walk(
-        &self,
-        grid: SampleGrid,
-        clip: Option<Shape<3>>,
-        accuracy: f64,
-        memo: Option<&mut RangeMemo>,
-    ) -> Plan<'_> {
-        let field = Field {
-            tree: self,
-            clip,
-            stack: Vec::with_capacity(self.stack),
-        };
-        let [nx, ny, nz] = grid.dims;
-        let mut stats = MeshStats {
-            cells: (nx - 1) * (ny - 1) * (nz - 1),
-            ..MeshStats::default()
-        };
-        // The magnitude of f in the region: a sample on a block's face within `tau` of zero by a
-        // pruned program takes the whole tree's value, so that both blocks beside the face see
-        // one sign (a pruned program has the tree's signs; rounding, far below `tau`, does not).
-        let whole = self.interval(
-            grid.point(0, 0, 0).to_array(),
-            grid.point(nx - 1, ny - 1, nz - 1).to_array(),
-        );
-        let scale = whole.lo.abs().max(whole.hi.abs());
-        let tau = if scale.is_finite() {
-            accuracy.max(1e-10 * scale)
-        } else {
-            accuracy
-        };
-        let root = ([0usize; 3], [nx - 1, ny - 1, nz - 1]);
-        let (programs, blocks) = match memo {
-            // Kept ranges are looked up and made in the walk's order: one thread.
-            Some(memo) => self.walk_from(&grid, field.clip.as_ref(), root, Some(memo), &mut stats),
-            #[cfg(feature = "parallel")]
-            None => self.walk_on_pool(&grid, field.clip.as_ref(), root, &mut stats),
-            #[cfg(not(feature = "parallel"))]
-            None => self.walk_from(&grid, field.clip.as_ref(), root, None, &mut stats),
-        };
-        Plan {
-            grid,
-            field,
-            accuracy,
-            tau,
-            programs,
-            blocks,
-            stats,
-        }
-    }
-
-    /// Boxes of cells from `root` down, bounded by intervals: one sign, no surface (skipped);
-    /// else split in eight, down to boxes sampled whole as blocks, each with its pruned program
-    /// (a block's tag: its program's index in the programs returned). Depth first, the high
-    /// corner first; the counts added to `stats`.
-    fn walk_from(
-        &self,
-        grid: &SampleGrid,
-        clip: Option<&Shape<3>>,
-        root: ([usize; 3], [usize; 3]),
-        mut memo: Option<&mut RangeMemo>,
-        stats: &mut MeshStats,
-    ) -> (Vec<Vec<Step>>, Vec<Block>) {
-        let mut programs: Vec<Vec<Step>> = Vec::new();
-        let mut blocks: Vec<Block> = Vec::new();
-        let mut todo = alloc::vec![root];
-        let mut scratch = (Vec::with_capacity(self.leaves.len()), Vec::new());
-        while let Some((lo, hi)) = todo.pop() {
-            match self.bound_box(
-                grid,
-                clip,
-                (lo, hi),
-                memo.as_deref_mut(),
-                &mut scratch,
-                stats,
-            ) {
-                Bounded::Skipped => {}
-                Bounded::Block(mut block, program) => {
-                    block.tag = match program {
-                        Some(program) => {
-                            programs.push(program);
-                            (programs.len() - 1) as u32
-                        }
-                        None => u32::MAX,
-                    };
-                    blocks.push(block);
-                }
-                Bounded::Split(mid) => todo.extend(octants(lo, mid, hi).map(|(_, child)| child)),
-            }
-        }
-        (programs, blocks)
-    }
-
-    /// [`Tree::walk_from`] with the boxes of the second level walked on rayon's pool: the same
-    /// blocks in the same order, the same programs.
-    #[cfg(feature = "parallel")]
-    fn walk_on_pool(
-        &self,
-        grid: &SampleGrid,
-        clip: Option<&Shape<3>>,
-        root: ([usize; 3], [usize; 3]),
-        stats: &mut MeshStats,
-    ) -> (Vec<Vec<Step>>, Vec<Block>) {
-        use rayon::prelude::*;
-        /// A box still to walk, or a block found on the way down.
-        enum Found {
-            Box([usize; 3], [usize; 3]),
-            Block(Block, Option<Vec<Step>>),
-        }
-        let mut scratch = (Vec::with_capacity(self.leaves.len()), Vec::new());
-        let mut frontier = alloc::vec![Found::Box(root.0, root.1)];
-        for _ in 0..2 {
-            let mut next = Vec::new();
-            for found in frontier {
-                let Found::Box(lo, hi) = found else {
-                    next.push(found);
-                    continue;
-                };
-                match self.bound_box(grid, clip, (lo, hi), None, &mut scratch, stats) {
-                    Bounded::Skipped => {}
-                    Bounded::Block(block, program) => next.push(Found::Block(block, program)),
-                    // The walk takes the children from the high corner down.
-                    Bounded::Split(mid) => next.extend(
-                        octants(lo, mid, hi)
-                            .rev()
-                            .map(|(_, (a, b))| Found::Box(a, b)),
-                    ),
-                }
-            }
-            frontier = next;
-        }
-        let walked: Vec<(Vec<Vec<Step>>, Vec<Block>, MeshStats)> = frontier
-            .into_par_iter()
-            .map(|found| match found {
-                Found::Box(lo, hi) => {
-                    let mut part = MeshStats::default();
-                    let (programs, blocks) = self.walk_from(grid, clip, (lo, hi), None, &mut part);
-                    (programs, blocks, part)
-                }
-                Found::Block(block, program) => {
-                    let programs = program.into_iter().collect();
-                    (programs, alloc::vec![block], MeshStats::default())
-                }
-            })
-            .collect();
-        let (mut programs, mut blocks) = (Vec::new(), Vec::new());
-        for (part_programs, part_blocks, part) in walked {
-            let base = programs.len() as u32;
-            blocks.extend(part_blocks.into_iter().map(|mut block| {
-                if block.tag != u32::MAX {
-                    block.tag += base;
-                }
-                block
-            }));
-            programs.extend(part_programs);
-            stats.skipped += part.skipped;
-            stats.evaluated += part.evaluated;
-        }
-        (programs, blocks)
-    }
-
-    /// The box of cells `[lo, hi]` bounded: one sign (skipped, its cells counted), a block to
-    /// sample with its pruned program (its tag not set yet), or the cut to split it at.
-    fn bound_box(
-        &self,
-        grid: &SampleGrid,
-        clip: Option<&Shape<3>>,
-        (lo, hi): ([usize; 3], [usize; 3]),
-        memo: Option<&mut RangeMemo>,
-        (leaves, scratch): &mut (Vec<Interval>, Vec<f64>),
-        stats: &mut MeshStats,
-    ) -> Bounded {
-        let (plo, phi) = (
-            grid.point(lo[0], lo[1], lo[2]),
-            grid.point(hi[0], hi[1], hi[2]),
-        );
-        match memo {
-            Some(memo) => memo.ranges(self, (lo, hi), plo, phi, leaves, scratch),
-            None => self.leaf_ranges(plo.to_array(), phi.to_array(), leaves),
-        }
-        let mut range = self.range_of(leaves);
-        if let Some(b) = clip {
-            range = range.intersect_box(b, plo.to_array(), phi.to_array());
-        }
-        let size = [0, 1, 2].map(|k| hi[k] - lo[k]);
-        if range.hi < 0.0 || range.lo > 0.0 {
-            stats.skipped += size.iter().product::<usize>();
-            Bounded::Skipped
-        } else if size.iter().all(|&s| s <= LEAF_CELLS) {
-            // The box's own program, without the operands that cannot decide a sign in it:
-            // the tree's signs, zero set and normals there, for the cost of what is near.
-            stats.evaluated += size.iter().map(|s| s + 1).product::<usize>();
-            Bounded::Block(Block { lo, size, tag: 0 }, self.pruned_of(leaves))
-        } else {
-            Bounded::Split([0, 1, 2].map(|k| lo[k] + size[k] / 2))
-        }
-    }
-}
-
-/// The most leaf ranges a [`RangeMemo`] keeps (16 bytes each): past it, the ranges of the boxes
-/// walked last are bounded again next time.
-const MEMO_RANGES: usize = 1 << 20;
-
-/// The leaves' ranges over the boxes of a walk, kept for the next walk over the same grid: a leaf
-/// unchanged since has the same ranges.
-#[derive(Clone, Debug, Default)]
-pub(super) struct RangeMemo {
-    /// By leaf of the tree walked: how it changed since the ranges in `kept` were made.
-    pub(super) changes: Vec<super::remesh::Change>,
-    /// The ranges by leaf over each box (its first and last sample) of the last walk.
-    pub(super) kept: BTreeMap<([usize; 3], [usize; 3]), Vec<Interval>>,
-    /// This walk's.
-    pub(super) made: BTreeMap<([usize; 3], [usize; 3]), Vec<Interval>>,
-}
-
-impl RangeMemo {
-    /// The ranges of `tree`'s leaves over the box `key` (`[plo, phi]` in space), in `out`.
-    fn ranges(
-        &mut self,
-        tree: &Tree<3>,
-        key: ([usize; 3], [usize; 3]),
-        plo: DVec3,
-        phi: DVec3,
-        out: &mut Vec<Interval>,
-        scratch: &mut Vec<f64>,
-    ) {
-        let (lo, hi) = (plo.to_array(), phi.to_array());
-        let kept = self.kept.remove(&key);
-        out.clear();
-        out.extend((0..tree.leaves.len()).map(|i| {
-            let known = kept.as_ref().and_then(|k| k.get(i));
-            let same = match (self.changes.get(i), tree.leaves.get(i)) {
-                (Some(change), Some(leaf)) => change.same_over(leaf, lo, hi),
-                _ => false,
-            };
-            match known {
-                Some(&range) if same => range,
-                _ => tree.leaf_range(i, lo, hi, scratch),
-            }
-        }));
-        // Kept within a bound (the cache of a worker that meshes a model of many leaves at a
-        // fine resolution would otherwise hold a range for every leaf over every box).
-        if (self.made.len() + 1) * out.len() <= MEMO_RANGES {
-            self.made.insert(key, out.clone());
-        }
-    }
 }
 
 /// The grid of a tree's mesh, its blocks and their pruned programs ([`Tree::blocks_plan`]).
@@ -889,163 +637,17 @@ impl Plan<'_> {
         (keyed, reads, roots.marks)
     }
 }
-
-impl Tree<2> {
-    /// The zero contour of the solid, solid on the left, from a grid of `resolution` cells per
-    /// side of its bounds (or of `region`, cut by it) with a cell of margin, vertices refined to
-    /// `|f| ≤ accuracy`. An empty solid has no lines.
-    ///
-    /// # Errors
-    ///
-    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy; no
-    /// line where the solid has an inside point ([`TreeMeshError::Lost`]).
-    pub fn contour(
-        &self,
-        resolution: usize,
-        accuracy: f64,
-        region: Option<([f64; 2], [f64; 2])>,
-    ) -> Result<Vec<Polyline>, TreeMeshError> {
-        let Some(Region { lo, hi, clip }) =
-            self::region(self.bounds(), region, resolution, accuracy)?
-        else {
-            return Ok(Vec::new());
-        };
-        let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
-        let cell = (hi - lo) / resolution as f64;
-        let shift = cell * GRID_SHIFT;
-        let grid = Grid2::new(
-            lo - cell + shift,
-            hi + cell + shift,
-            resolution + 3,
-            resolution + 3,
-        );
-        let mut field = Field {
-            tree: self,
-            clip,
-            stack: Vec::with_capacity(self.stack),
-        };
-        // The samples as a grid (the Bézier leaves axis at a time), the roots point by point.
-        let (xs, ys) = (grid.xs(), grid.ys());
-        let values: Vec<f64> = self
-            .f_grid([&xs, &ys])
-            .into_iter()
-            .enumerate()
-            .map(|(k, f)| field.clipped(f, [xs[k % xs.len()], ys[k / xs.len()]]))
-            .collect();
-        let lines = contour(&grid, &values, |p| field.f(p.to_array()), accuracy);
-        // Never an empty success where the solid has an inside point.
-        if let (true, Some((p, f))) = (lines.is_empty(), self.inside_point(region)) {
-            return Err(TreeMeshError::Lost {
-                at: [p.x, p.y, 0.0],
-                f,
-                resolution,
-            });
-        }
-        Ok(lines)
-    }
-}
-
-/// The two axes of the plane across `axis` (0 for x), in order: `(y, z)` across x, `(x, z)`
-/// across y, `(x, y)` across z: the coordinates of [`Tree::section`]'s lines.
-#[must_use]
-pub fn plane_axes(axis: usize) -> [usize; 2] {
-    match axis {
-        0 => [1, 2],
-        1 => [0, 2],
-        _ => [0, 1],
-    }
-}
-
-impl Tree<3> {
-    /// The true section of the solid by the plane `p[axis] = at`: the zero contour of `f` on the
-    /// plane, solid on the left, in the plane's coordinates (the other two axes in order: `(y, z)`
-    /// across x, `(x, z)` across y, `(x, y)` across z), from a grid of `resolution` cells per side
-    /// of the bounds (or of `region`, cut by it) with a cell of margin, vertices refined to
-    /// `|f| ≤ accuracy`. The loops' signed areas add up to the section's area.
-    ///
-    /// # Errors
-    ///
-    /// [`TreeMeshError`]: no bounds and no region, a bad region, resolution or accuracy, an axis
-    /// past z, or a plane that misses the box ([`TreeMeshError::Plane`]).
-    pub fn section(
-        &self,
-        axis: usize,
-        at: f64,
-        resolution: usize,
-        accuracy: f64,
-        region: Option<([f64; 3], [f64; 3])>,
-    ) -> Result<Vec<Polyline>, TreeMeshError> {
-        if axis > 2 || !at.is_finite() {
-            return Err(TreeMeshError::Region);
-        }
-        // The box the model fills (or the one given) must hold the plane.
-        if let Some((lo, hi)) = region.or(self.bounds())
-            && lo[axis] <= hi[axis]
-            && !(lo[axis]..=hi[axis]).contains(&at)
-        {
-            return Err(TreeMeshError::Plane {
-                axis,
-                at,
-                lo: lo[axis],
-                hi: hi[axis],
-            });
-        }
-        let Some(Region { lo, hi, clip }) =
-            self::region(self.bounds(), region, resolution, accuracy)?
-        else {
-            return Ok(Vec::new());
-        };
-        let [a, b] = plane_axes(axis);
-        let (plo, phi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
-        let cell = (phi - plo) / resolution as f64;
-        let shift = cell * GRID_SHIFT;
-        let grid = Grid2::new(
-            plo - cell + shift,
-            phi + cell + shift,
-            resolution + 3,
-            resolution + 3,
-        );
-        let (us, vs) = (grid.xs(), grid.ys());
-        let place = |q: [f64; 2]| {
-            let mut p = [at; 3];
-            p[a] = q[0];
-            p[b] = q[1];
-            p
-        };
-        let mut field = Field {
-            tree: self,
-            clip,
-            stack: Vec::with_capacity(self.stack),
-        };
-        // The plane's grid as a grid of space with one sample across the axis: its first axis
-        // (a) is the fastest, as the plane's grid has it.
-        let across = [at];
-        let mut axes: [&[f64]; 3] = [&across; 3];
-        axes[a] = &us;
-        axes[b] = &vs;
-        let values: Vec<f64> = self
-            .f_grid(axes)
-            .into_iter()
-            .enumerate()
-            .map(|(k, f)| field.clipped(f, place([us[k % us.len()], vs[k / us.len()]])))
-            .collect();
-        Ok(contour(
-            &grid,
-            &values,
-            |q| field.f(place(q.to_array())),
-            accuracy,
-        ))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contour::Polyline;
     use crate::model::{ModelFile, Rotation, SolidSpec as S};
     use crate::testutil::{Rng, random_point as point, random_tree};
     use crate::tree::ModelTree;
+    use crate::tree::plane_axes;
     use alloc::boxed::Box;
     use alloc::vec;
+    use glam::DVec2;
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 

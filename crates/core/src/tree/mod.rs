@@ -48,11 +48,14 @@ mod interval;
 mod mesh;
 mod parts;
 mod remesh;
+mod section;
 mod shape;
+mod walk;
 
 pub use interval::Interval;
-pub use mesh::{MAX_RESOLUTION, MeshStats, TreeMeshError, plane_axes};
+pub use mesh::{MAX_RESOLUTION, MeshStats, TreeMeshError};
 pub use remesh::{MeshCache, Remeshed};
+pub use section::plane_axes;
 
 /// The deepest a tree may be: a node and its children count 2.
 pub const MAX_DEPTH: usize = 32;

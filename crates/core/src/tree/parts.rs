@@ -47,11 +47,7 @@ impl Tree<3> {
                 Share::WHOLE,
                 report,
             )?;
-            let base = mesh.positions.len() as u32;
-            mesh.positions.extend_from_slice(&piece.positions);
-            mesh.normals.extend_from_slice(&piece.normals);
-            mesh.triangles
-                .extend(piece.triangles.iter().map(|t| t.map(|v| v + base)));
+            mesh.append(&piece);
             keys.resize(mesh.positions.len(), crate::mesh::Piece::UNSHARED);
             stats.cells += part_stats.cells;
             stats.skipped += part_stats.skipped;

@@ -4,7 +4,8 @@
 use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
-use super::mesh::{Plan, RangeMemo, Reads};
+use super::mesh::{Plan, Reads};
+use super::walk::RangeMemo;
 use super::{Leaf, Shape, Step, Tree, TreeMeshError};
 use crate::mesh::polygonize::{Block, Keyed, Marcher, weld_kept};
 use crate::mesh::{Piece, SampleGrid, Share};
