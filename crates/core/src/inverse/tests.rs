@@ -4,6 +4,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec3, DVec4};
 
+use super::atlas::AtlasBudget;
 use super::*;
 use crate::tensor::{Patch, Volume};
 use crate::testutil::Rng;
