@@ -34,7 +34,7 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::dim::{Control, Dim, Dimension, Point};
-use crate::inverse::{Method, QueryStats, Value, solve_jac};
+use crate::inverse::{Method, QueryStats, Share, Value, solve_jac};
 use crate::rfunc::{clip, clip_with_gradient};
 use crate::solid::{Solid, SolidError, odometer, point_bounds, regular_box};
 use crate::tensor::{Tensor, multi_index};
@@ -271,12 +271,63 @@ where
             .get((0..D).fold(0, |k, a| k * self.cells[a] + cell[a]))
     }
 
-    /// Fixes the work of every query through each cell's map at about `queries` evaluations
+    /// Says that about `queries` evaluations of `f` are coming (see [`Solid::plan`]): the moved
+    /// cells share one map's budget (see [`Share`]), each by the part of the solid's box its own
+    /// covers.
+    pub fn plan(&self, queries: usize) {
+        self.share(1.0, self.load());
+        self.plan_cells(queries);
+    }
+
+    /// [`Self::plan`] with the cells' shares given before ([`Self::share`]): a tree's leaf.
+    pub(crate) fn plan_cells(&self, queries: usize) {
+        for part in &self.parts {
+            part.plan(queries);
+        }
+    }
+
+    /// [`Self::plan`] with the work of every query through each cell's map fixed at its share
     /// ([`Solid::fix_query_work`]): a mesh's samples then do not depend on their order.
     pub fn fix_query_work(&self, queries: usize) {
+        self.share(1.0, self.load());
+        self.fix_cells_query_work(queries);
+    }
+
+    /// [`Self::fix_query_work`] with the cells' shares given before ([`Self::share`]).
+    pub(crate) fn fix_cells_query_work(&self, queries: usize) {
         for part in &self.parts {
             part.fix_query_work(queries);
         }
+    }
+
+    /// The sum of the moved cells' reaches within the solid ([`Self::share`] with `reach` 1): how
+    /// many cells a query into the solid's box reaches on average.
+    pub(crate) fn load(&self) -> f64 {
+        self.cell_reaches().map(|(_, r)| r).sum()
+    }
+
+    /// Gives each moved cell the part of a command's work its box covers of the solid's, times
+    /// `reach` (the solid's own part of the command), among maps whose reaches sum to `load`.
+    pub(crate) fn share(&self, reach: f64, load: f64) {
+        for (part, r) in self.cell_reaches() {
+            part.share(Share::new(reach * r, load));
+        }
+    }
+
+    /// The moved cells with the fraction of the solid's box their own box covers.
+    fn cell_reaches(&self) -> impl Iterator<Item = (&Solid<D>, f64)> {
+        let whole = self.domain();
+        let whole = (Dim::<D>::coords(whole.0), Dim::<D>::coords(whole.1));
+        self.parts
+            .iter()
+            .filter(|part| part.is_space_mapped())
+            .map(move |part| {
+                let (lo, hi) = part.domain();
+                (
+                    part,
+                    box_fraction((Dim::<D>::coords(lo), Dim::<D>::coords(hi)), whole),
+                )
+            })
     }
 
     /// Whether the global net is a regular grid (no point moved in space).
@@ -460,7 +511,13 @@ where
                         Vec::new()
                     }
                 }
-                Some(map) => map.preimages(part.net(), p, method, INVERSE_ACCURACY, &mut stats),
+                Some(map) => {
+                    // Each cell's query has its own budget (its share of the command's).
+                    let mut own = QueryStats::default();
+                    let roots = map.preimages(part.net(), p, method, INVERSE_ACCURACY, &mut own);
+                    stats.exhausted |= own.exhausted;
+                    roots
+                }
             };
             for u in roots {
                 let t = self.global(k, u);
@@ -493,7 +550,7 @@ where
             .map(|(k, part)| {
                 let u = match part.inverse() {
                     None => Dim::<D>::coords(part.to_param(Dim::<D>::point(p))),
-                    Some(map) => map.outside(part.net(), p, &mut stats),
+                    Some(map) => map.outside(part.net(), p, &mut QueryStats::default()),
                 };
                 let t = self.global(k, u);
                 let f = clip(Dim::<D>::split(part.net().eval(u)).1, t);
@@ -562,6 +619,25 @@ where
             .map(|at| self.f(Dim::<D>::point(core::array::from_fn(|c| axes[c][at[c]]))))
             .collect()
     }
+}
+
+/// The part of the box `whole` that the box `part` (within it) covers, by volume; an axis along
+/// which `whole` is flat counts 1.
+pub(crate) fn box_fraction<const D: usize>(
+    part: ([f64; D], [f64; D]),
+    whole: ([f64; D], [f64; D]),
+) -> f64 {
+    (0..D)
+        .map(|c| {
+            let side = whole.1[c] - whole.0[c];
+            let own = (part.1[c].min(whole.1[c]) - part.0[c].max(whole.0[c])).max(0.0);
+            if side > 0.0 {
+                (own / side).min(1.0)
+            } else {
+                1.0
+            }
+        })
+        .product()
 }
 
 /// The columns of `m` as rows.

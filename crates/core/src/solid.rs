@@ -11,7 +11,7 @@ use once_cell::race::OnceBox;
 use glam::DVec2;
 
 use crate::dim::{Control, Dim, Dimension, Point};
-use crate::inverse::{Forward, InverseMap, Method, QueryStats, Value, solve_jac};
+use crate::inverse::{Forward, InverseMap, Method, QueryStats, Share, Value, solve_jac};
 use crate::rfunc::{clip, clip_to_box, clip_with_gradient, intersect, strip};
 use crate::tensor::{Axis, PatchError, Tensor, multi_index};
 
@@ -295,6 +295,14 @@ where
     pub fn plan(&self, queries: usize) {
         if let Some(map) = self.inverse() {
             map.plan(queries);
+        }
+    }
+
+    /// Says that the solid's map takes `share` of the commands to come, with other maps (see
+    /// [`InverseMap::share`]); nothing for a regular grid.
+    pub fn share(&self, share: Share) {
+        if let Some(map) = self.inverse() {
+            map.share(share);
         }
     }
 

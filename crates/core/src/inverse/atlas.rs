@@ -54,46 +54,118 @@ pub(crate) struct AtlasBudget {
 }
 
 /// The work all the queries of a plan may spend together, in evaluations of one control point
-/// (one such unit is a few instructions): about a second of one core.
+/// (one such unit is a few instructions): about a second of one core. Maps that share a command
+/// (a tree's leaves, a piecewise solid's cells) share it too (see [`Share`]).
 const PLAN_WORK: u64 = 1 << 30;
 
 /// The least work one query may spend, however many are planned or spent: a few evaluations of
-/// the largest net.
+/// the largest net (shared among the maps a query reaches, see [`Share`]).
 const MIN_QUERY_WORK: u64 = 1 << 15;
 
+/// The evaluations of its own net one query of a shared map may always spend, up to
+/// [`MIN_QUERY_WORK`]: enough to seed and polish a few pieces of its atlas, so that a map among
+/// hundreds still finds its preimages (256 folded trilinear cells lost their solid with less).
+const LEAST_QUERY_EVALUATIONS: u64 = 512;
+
 /// The most work one query may spend: about ten milliseconds (a probe of `f` under the pointer
-/// runs on the page's thread).
+/// runs on the page's thread), shared as [`MIN_QUERY_WORK`] is.
 const MAX_QUERY_WORK: u64 = 1 << 21;
 
-impl AtlasBudget {
-    /// The work one of `queries` planned queries may spend when `spent` has been spent since the
-    /// map was made: an equal share of [`PLAN_WORK`] while it lasts, within [`MIN_QUERY_WORK`] and
-    /// [`MAX_QUERY_WORK`] (the most where nothing was planned); the least once it is spent, so
-    /// that queries past the plan (a contour's vertices after its grid) add little.
-    pub(crate) fn query_work(queries: usize, spent: u64) -> u64 {
-        if spent >= PLAN_WORK {
-            return MIN_QUERY_WORK;
-        }
-        if queries == 0 {
-            return MAX_QUERY_WORK;
-        }
-        (PLAN_WORK / queries as u64).clamp(MIN_QUERY_WORK, MAX_QUERY_WORK)
+/// The cost of the finest atlas one map always gets, in control points times pieces (so a small
+/// net always gets a fine atlas); maps that share a command share eight times as much.
+const CHEAP_ATLAS: usize = 1 << 18;
+
+/// One map's part of a command whose queries reach several maps: the leaves of a tree, the cells
+/// of a piecewise solid. The command's work and atlases are the budget of one map, split among
+/// the maps by how many of its queries each is expected to take, so that a model of 200 folded
+/// leaves costs what one folded net costs, not 200 times as much.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Share {
+    /// The fraction of the command's queries expected to reach the map: how much of the model's
+    /// extent its image covers (at most 1).
+    pub reach: f64,
+    /// How many maps one query reaches on average: the sum of the maps' reaches, at least 1.
+    pub load: f64,
+}
+
+impl Share {
+    /// A map that has the command to itself.
+    pub const WHOLE: Self = Self {
+        reach: 1.0,
+        load: 1.0,
+    };
+
+    /// The share of `reach` among maps whose reaches sum to `load`, both brought into range
+    /// (a reach within `[2⁻³⁰, 1]`, a load at least 1 and the reach).
+    #[must_use]
+    pub fn new(reach: f64, load: f64) -> Self {
+        let reach = if reach.is_nan() {
+            1.0
+        } else {
+            reach.clamp(1.0 / (1u64 << 30) as f64, 1.0)
+        };
+        let load = if load.is_nan() {
+            1.0
+        } else {
+            load.max(1.0).max(reach)
+        };
+        Self { reach, load }
     }
 
-    /// The budget for about `queries` queries on a net of dimension `dim` with `points` control
-    /// points. Cutting a piece costs about as much as 16 queries, and both cost more the more
-    /// points the net has: about one piece per 16 queries, and at least as many as a fixed cost
-    /// allows (`2¹⁸ / points`, so a small net always gets a fine atlas), between 64 and 4096 (a
-    /// patch, or a small volume) or 1024 (a volume whose pieces cost more to cut).
-    pub(crate) fn for_queries(dim: usize, points: usize, queries: usize) -> Self {
-        let most = if dim == 2 || points <= 125 {
+    /// The map's part of the command's work: `reach / load`.
+    #[must_use]
+    pub fn weight(self) -> f64 {
+        self.reach / self.load
+    }
+
+    /// The map's part of the command's atlases: eight times its weight, at most all of it.
+    fn atlas_weight(self) -> f64 {
+        (8.0 * self.weight()).min(1.0)
+    }
+}
+
+impl AtlasBudget {
+    /// The work one of `queries` planned queries of a command may spend in a map of `share` and
+    /// `points` control points when `spent` has been spent since the map was made: an equal share
+    /// of [`PLAN_WORK`] among the queries and the maps each reaches while the map's part lasts,
+    /// within [`MIN_QUERY_WORK`] and [`MAX_QUERY_WORK`] split among those maps (the most where
+    /// nothing was planned) but no less than [`LEAST_QUERY_EVALUATIONS`] of the net; the least
+    /// once the map's part is spent, so that queries past the plan (a contour's vertices after
+    /// its grid) add little.
+    pub(crate) fn query_work(queries: usize, spent: u64, share: Share, points: usize) -> u64 {
+        let own = (LEAST_QUERY_EVALUATIONS * points as u64).min(MIN_QUERY_WORK);
+        let floor = ((MIN_QUERY_WORK as f64 / share.load) as u64)
+            .max(own)
+            .max(1);
+        let most = ((MAX_QUERY_WORK as f64 / share.load) as u64).max(floor);
+        if spent as f64 >= PLAN_WORK as f64 * share.weight() {
+            return floor;
+        }
+        if queries == 0 {
+            return most;
+        }
+        ((PLAN_WORK as f64 / (queries as f64 * share.load)) as u64).clamp(floor, most)
+    }
+
+    /// The budget for about `queries` queries of a command on a net of dimension `dim` with
+    /// `points` control points, of which the map takes `share`. Cutting a piece costs about as
+    /// much as 16 queries, and both cost more the more points the net has: about one piece per
+    /// 16 of the map's queries, and at least as many as a fixed cost allows (`2¹⁸ / points`, so
+    /// a small net always gets a fine atlas), between 64 and 4096 (a patch, or a small volume)
+    /// or 1024 (a volume whose pieces cost more to cut). Shared maps split eight such budgets by
+    /// their weight (no fewer than 8 pieces each).
+    pub(crate) fn for_queries(dim: usize, points: usize, queries: usize, share: Share) -> Self {
+        let part = share.atlas_weight();
+        let scaled = |n: usize| ((n as f64 * part) as usize).max(8);
+        let most = scaled(if dim == 2 || points <= 125 {
             4096
         } else {
             1024
-        };
-        let cheap = (1 << 18) / points.max(1);
+        });
+        let cheap = scaled(CHEAP_ATLAS / points.max(1));
+        let own = (queries as f64 * share.reach) as usize;
         Self {
-            max_pieces: (queries / 16).max(cheap).clamp(64, most),
+            max_pieces: (own / 16).max(cheap).clamp(scaled(64), most),
         }
     }
 }

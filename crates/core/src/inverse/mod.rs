@@ -31,6 +31,8 @@
 #![allow(clippy::needless_range_loop)]
 
 pub(crate) mod atlas;
+
+pub use atlas::Share;
 mod certify;
 pub mod clip;
 mod newton;
@@ -236,6 +238,9 @@ pub struct InverseMap<const D: usize> {
     /// The work every query may spend, whatever was spent before it, where a mesh fixed it
     /// ([`InverseMap::fix_query_work`]); 0 where it is not fixed.
     fixed: AtomicU64,
+    /// The map's [`Share`] of its command: the bits of its reach and load.
+    reach: AtomicU64,
+    load: AtomicU64,
 }
 
 impl<const D: usize> Clone for InverseMap<D> {
@@ -251,6 +256,8 @@ impl<const D: usize> Clone for InverseMap<D> {
             exhausted: AtomicUsize::new(self.exhausted.load(Ordering::Relaxed)),
             spent: AtomicU64::new(self.spent.load(Ordering::Relaxed)),
             fixed: AtomicU64::new(self.fixed.load(Ordering::Relaxed)),
+            reach: AtomicU64::new(self.reach.load(Ordering::Relaxed)),
+            load: AtomicU64::new(self.load.load(Ordering::Relaxed)),
         }
     }
 }
@@ -310,6 +317,8 @@ impl<const D: usize> InverseMap<D> {
             exhausted: AtomicUsize::new(0),
             spent: AtomicU64::new(0),
             fixed: AtomicU64::new(0),
+            reach: AtomicU64::new(1.0f64.to_bits()),
+            load: AtomicU64::new(1.0f64.to_bits()),
         }
     }
 

@@ -6,7 +6,7 @@ use alloc::boxed::Box;
 use alloc::vec::Vec;
 use core::sync::atomic::Ordering;
 
-use super::atlas::{Atlas, AtlasBudget};
+use super::atlas::{Atlas, AtlasBudget, Share};
 use super::newton::{ROOT_RESIDUAL, ROUNDING_RESIDUAL, SETTLED_STEP};
 use super::{
     Eval, Forward, InverseMap, MAX_ATLAS_ROOTS, MAX_PIECE_SEEDS, MERGE, QueryStats, clamp_unit,
@@ -32,8 +32,31 @@ impl<const D: usize> InverseMap<D> {
     /// meshed at 16 left 45 open edges).
     pub fn fix_query_work(&self, queries: usize) {
         self.plan(queries);
-        let share = AtlasBudget::query_work(self.planned.load(Ordering::Relaxed).max(1), 0);
-        self.fixed.store(share, Ordering::Relaxed);
+        let work = AtlasBudget::query_work(
+            self.planned.load(Ordering::Relaxed).max(1),
+            0,
+            self.shared(),
+            self.tensor.coefs.len(),
+        );
+        self.fixed.store(work, Ordering::Relaxed);
+    }
+
+    /// Says that the map takes `share` of the command it serves (one leaf of a tree, one cell of
+    /// a piecewise solid), before the plan and the first query: its atlas and its queries' work
+    /// are that part of one map's (see [`Share`]).
+    pub fn share(&self, share: Share) {
+        let share = Share::new(share.reach, share.load);
+        self.reach.store(share.reach.to_bits(), Ordering::Relaxed);
+        self.load.store(share.load.to_bits(), Ordering::Relaxed);
+    }
+
+    /// The map's part of its command (see [`InverseMap::share`]): the whole where not said.
+    #[must_use]
+    pub fn shared(&self) -> Share {
+        Share {
+            reach: f64::from_bits(self.reach.load(Ordering::Relaxed)),
+            load: f64::from_bits(self.load.load(Ordering::Relaxed)),
+        }
     }
 
     /// How many queries so far ran out of their work budget (see [`QueryStats::exhausted`]): a
@@ -47,7 +70,8 @@ impl<const D: usize> InverseMap<D> {
     fn atlas(&self) -> &Atlas<D> {
         self.atlas.get_or_init(|| {
             let queries = self.planned.load(Ordering::Relaxed);
-            let budget = AtlasBudget::for_queries(D, self.tensor.coefs.len(), queries);
+            let budget =
+                AtlasBudget::for_queries(D, self.tensor.coefs.len(), queries, self.shared());
             Box::new(Atlas::build(&self.tensor, budget))
         })
     }
@@ -122,6 +146,8 @@ impl<const D: usize> InverseMap<D> {
         AtlasBudget::query_work(
             self.planned.load(Ordering::Relaxed),
             self.spent.load(Ordering::Relaxed),
+            self.shared(),
+            self.tensor.coefs.len(),
         )
     }
 

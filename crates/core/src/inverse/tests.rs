@@ -4,7 +4,7 @@ use alloc::vec::Vec;
 
 use glam::{DVec3, DVec4};
 
-use super::atlas::AtlasBudget;
+use super::atlas::{AtlasBudget, Share};
 use super::*;
 use crate::tensor::{Patch, Volume};
 use crate::testutil::Rng;
@@ -281,7 +281,7 @@ fn degenerate_nets_give_defined_values() {
                     // Through the atlas: within the query's work budget (and its slack).
                     let slack = (48 * 4 + 80) * 16 * 2 + 13 * 16;
                     assert!(
-                        stats.work <= AtlasBudget::query_work(0, 0) + slack,
+                        stats.work <= AtlasBudget::query_work(0, 0, Share::WHOLE, 9) + slack,
                         "{stats:?}"
                     );
                 } else {
@@ -548,10 +548,10 @@ fn queries_through_the_atlas_are_bounded_however_the_net_folds() {
         let (pieces, _) = map.atlas_pieces();
         assert_eq!(
             pieces,
-            AtlasBudget::for_queries(2, points, planned).max_pieces
+            AtlasBudget::for_queries(2, points, planned, Share::WHOLE).max_pieces
         );
         // The largest a query may spend: before the plan's work is spent.
-        let cap = AtlasBudget::query_work(planned, 0);
+        let cap = AtlasBudget::query_work(planned, 0, Share::WHOLE, points);
         let mut most = QueryStats::default();
         for _ in 0..200 {
             let p = net.forward(random_u(&mut rng)).x;

@@ -34,7 +34,7 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use crate::dim::{Dim, Dimension, Point};
-use crate::inverse::Method;
+use crate::inverse::{Method, Share};
 use crate::rfunc::{intersect, union};
 use crate::solid::Solid;
 pub(crate) use build::{piecewise, rotation3, sin_cos};
@@ -92,6 +92,19 @@ fn error(path: &str, message: impl Into<String>) -> TreeError {
     TreeError {
         path: path.into(),
         message: message.into(),
+    }
+}
+
+/// The determinant of a square matrix of 2 or 3 rows (1 for any other size).
+fn determinant<const D: usize>(m: &[[f64; D]; D]) -> f64 {
+    match D {
+        2 => m[0][0] * m[1][1] - m[0][1] * m[1][0],
+        3 => {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        }
+        _ => 1.0,
     }
 }
 
@@ -399,23 +412,79 @@ impl<const D: usize> Tree<D>
 where
     Dim<D>: Dimension<D>,
 {
-    /// Prepares the Bézier leaves for about `queries` evaluations (see [`Solid::plan`]).
+    /// Prepares the space-mapped leaves (and the moved cells of piecewise ones) for about
+    /// `queries` evaluations (see [`Solid::plan`]): their maps share one map's budget (see
+    /// [`Share`]), each by the part of the model's box its image's box covers, so that a tree of
+    /// many folded nets costs what one costs.
     pub fn plan(&self, queries: usize) {
+        self.share_maps();
         for leaf in &self.leaves {
-            if let Shape::Bezier(s, None) = &leaf.shape {
-                s.plan(queries);
+            match &leaf.shape {
+                Shape::Bezier(s, None) => s.plan(queries),
+                Shape::Piecewise(p, None) => p.plan_cells(queries),
+                _ => {}
             }
         }
     }
 
     /// [`Tree::plan`] with every query's work fixed at the plan's share (see
-    /// [`Solid::fix_query_work`]), for the space-mapped cells of piecewise leaves too: the values
-    /// of a mesh's samples then do not depend on the order they are taken in.
+    /// [`Solid::fix_query_work`]): the values of a mesh's samples then do not depend on the
+    /// order they are taken in.
     pub(crate) fn fix_query_work(&self, queries: usize) {
+        self.share_maps();
         for leaf in &self.leaves {
             match &leaf.shape {
                 Shape::Bezier(s, None) => s.fix_query_work(queries),
-                Shape::Piecewise(p, None) => p.fix_query_work(queries),
+                Shape::Piecewise(p, None) => p.fix_cells_query_work(queries),
+                _ => {}
+            }
+        }
+    }
+
+    /// Gives every map of the tree (space-mapped leaves, moved cells) its [`Share`] of the
+    /// commands to come: the part of the model's box ([`Tree::parts_box`]) its image's box
+    /// covers, among the sum of those parts.
+    fn share_maps(&self) {
+        let whole = self
+            .parts
+            .map(|b| (0..D).map(|c| b.hi[c] - b.lo[c]).product::<f64>())
+            .filter(|v| v.is_finite() && *v > 0.0);
+        // The part of the model's box a box of the leaf's own coordinates covers, in space.
+        let reach = |leaf: &Leaf<D>, (lo, hi): (Point<D>, Point<D>)| -> f64 {
+            let (lo, hi) = (Dim::<D>::coords(lo), Dim::<D>::coords(hi));
+            let own: f64 = (0..D).map(|c| hi[c] - lo[c]).product();
+            let det = leaf.map.map_or(1.0, |m| determinant(&m.m)).abs();
+            match whole {
+                Some(whole) if det > 0.0 => (own / det / whole).min(1.0),
+                _ => 1.0,
+            }
+        };
+        let mut reaches = Vec::new();
+        let mut load = 0.0;
+        for leaf in &self.leaves {
+            match &leaf.shape {
+                Shape::Bezier(s, None) if s.is_space_mapped() => {
+                    let r = reach(leaf, s.domain());
+                    load += r;
+                    reaches.push(r);
+                }
+                Shape::Piecewise(p, None) if !p.is_regular() => {
+                    let r = reach(leaf, p.domain());
+                    load += r * p.load();
+                    reaches.push(r);
+                }
+                _ => {}
+            }
+        }
+        let mut reaches = reaches.into_iter();
+        for leaf in &self.leaves {
+            match &leaf.shape {
+                Shape::Bezier(s, None) if s.is_space_mapped() => {
+                    s.share(Share::new(reaches.next().unwrap_or(1.0), load));
+                }
+                Shape::Piecewise(p, None) if !p.is_regular() => {
+                    p.share(reaches.next().unwrap_or(1.0), load);
+                }
                 _ => {}
             }
         }

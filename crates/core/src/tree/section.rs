@@ -41,6 +41,7 @@ impl Tree<2> {
         let mut field = Field::new(self, clip);
         // The samples as a grid (the Bézier leaves axis at a time), the roots point by point.
         let (xs, ys) = (grid.xs(), grid.ys());
+        self.plan(xs.len() * ys.len());
         let values: Vec<f64> = self
             .f_grid([&xs, &ys])
             .into_iter()
@@ -121,6 +122,7 @@ impl Tree<3> {
             resolution + 3,
         );
         let (us, vs) = (grid.xs(), grid.ys());
+        self.plan(us.len() * vs.len());
         let place = |q: [f64; 2]| {
             let mut p = [at; 3];
             p[a] = q[0];
