@@ -233,7 +233,8 @@ impl Tiles {
     fn program_at(&self, grid: &Grid2, p: DVec2) -> Option<&[Step]> {
         let (a, b) = (grid.point(0, 0), grid.point(grid.nx() - 1, grid.ny() - 1));
         let cell = |x: f64, lo: f64, hi: f64, n: usize| {
-            let t = ((x - lo) / (hi - lo) * (n - 1) as f64).floor();
+            // Truncation is the floor of a positive number (and NaN goes to the first cell).
+            let t = (x - lo) / (hi - lo) * (n - 1) as f64;
             if t > 0.0 { (t as usize).min(n - 2) } else { 0 }
         };
         self.program(
