@@ -168,6 +168,9 @@ impl Sectioned for bezsolid_core::piecewise::Piecewise3 {
     fn f_grid(&self, axes: [&[f64]; 3]) -> Vec<f64> {
         bezsolid_core::piecewise::Piecewise3::f_grid(self, axes)
     }
+    fn plan(&self, queries: usize) {
+        bezsolid_core::piecewise::Piecewise3::plan(self, queries);
+    }
     fn mapped(&self) -> bool {
         !self.is_regular()
     }
@@ -485,6 +488,8 @@ fn piecewise_field(
     let (w, h) = field_size(view, long);
     let grid = view_grid(editor, view, w, h);
     let (xs, ys) = (grid.xs(), grid.ys());
+    // The moved cells share the frame's budget (see `Share`).
+    solid.plan(w * h);
     let samples: Vec<(f64, bool)> = ys
         .iter()
         .flat_map(|&y| xs.iter().map(move |&x| DVec2::new(x, y)))
