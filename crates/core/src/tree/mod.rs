@@ -459,32 +459,28 @@ where
                 _ => 1.0,
             }
         };
-        let mut reaches = Vec::new();
-        let mut load = 0.0;
-        for leaf in &self.leaves {
-            match &leaf.shape {
+        // Each map-bearing leaf with its reach, and how much it adds to the load (a piecewise
+        // leaf's moved cells, each its part of the leaf's reach).
+        let shares: Vec<(&Shape<D>, f64, f64)> = self
+            .leaves
+            .iter()
+            .filter_map(|leaf| match &leaf.shape {
                 Shape::Bezier(s, None) if s.is_space_mapped() => {
                     let r = reach(leaf, s.domain());
-                    load += r;
-                    reaches.push(r);
+                    Some((&leaf.shape, r, r))
                 }
                 Shape::Piecewise(p, None) if !p.is_regular() => {
                     let r = reach(leaf, p.domain());
-                    load += r * p.load();
-                    reaches.push(r);
+                    Some((&leaf.shape, r, r * p.load()))
                 }
-                _ => {}
-            }
-        }
-        let mut reaches = reaches.into_iter();
-        for leaf in &self.leaves {
-            match &leaf.shape {
-                Shape::Bezier(s, None) if s.is_space_mapped() => {
-                    s.share(Share::new(reaches.next().unwrap_or(1.0), load));
-                }
-                Shape::Piecewise(p, None) if !p.is_regular() => {
-                    p.share(reaches.next().unwrap_or(1.0), load);
-                }
+                _ => None,
+            })
+            .collect();
+        let load = shares.iter().map(|s| s.2).sum();
+        for (shape, reach, _) in shares {
+            match shape {
+                Shape::Bezier(s, _) => s.share(Share::new(reach, load)),
+                Shape::Piecewise(p, _) => p.share(reach, load),
                 _ => {}
             }
         }

@@ -30,40 +30,15 @@ impl Tree<2> {
         else {
             return Ok(Vec::new());
         };
-        let (lo, hi) = (DVec2::from_array(lo), DVec2::from_array(hi));
-        let cell = (hi - lo) / resolution as f64;
-        let shift = cell * GRID_SHIFT;
-        let grid = Grid2::new(
-            lo - cell + shift,
-            hi + cell + shift,
-            resolution + 3,
-            resolution + 3,
-        );
+        let grid = plane_grid(DVec2::from_array(lo), DVec2::from_array(hi), resolution);
         let mut field = Field::new(self, clip);
-        // The samples as a grid (the Bézier leaves axis at a time), the roots point by point.
-        let (xs, ys) = (grid.xs(), grid.ys());
-        self.plan(xs.len() * ys.len());
-        let tiles = Tiles::new(self, &grid, |q| q);
-        let lines = match &tiles {
-            Some(tiles) => {
-                let values = tiles.values(&mut field, &grid, |q| q);
-                contour(
-                    &grid,
-                    &values,
-                    |p| field.f_by(tiles.program_at(&grid, p), p.to_array()),
-                    accuracy,
-                )
-            }
-            None => {
-                let values: Vec<f64> = self
-                    .f_grid([&xs, &ys])
-                    .into_iter()
-                    .enumerate()
-                    .map(|(k, f)| field.clipped(f, [xs[k % xs.len()], ys[k / xs.len()]]))
-                    .collect();
-                contour(&grid, &values, |p| field.f(p.to_array()), accuracy)
-            }
-        };
+        let lines = self.plane_contour(
+            &grid,
+            &mut field,
+            |q| q,
+            accuracy,
+            |xs, ys| self.f_grid([xs, ys]),
+        );
         // Never an empty success where the solid has an inside point.
         if let (true, Some((p, f))) = (lines.is_empty(), self.inside_point(region)) {
             return Err(TreeMeshError::Lost {
@@ -127,17 +102,11 @@ impl Tree<3> {
             return Ok(Vec::new());
         };
         let [a, b] = plane_axes(axis);
-        let (plo, phi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
-        let cell = (phi - plo) / resolution as f64;
-        let shift = cell * GRID_SHIFT;
-        let grid = Grid2::new(
-            plo - cell + shift,
-            phi + cell + shift,
-            resolution + 3,
-            resolution + 3,
+        let grid = plane_grid(
+            DVec2::new(lo[a], lo[b]),
+            DVec2::new(hi[a], hi[b]),
+            resolution,
         );
-        let (us, vs) = (grid.xs(), grid.ys());
-        self.plan(us.len() * vs.len());
         let place = |q: [f64; 2]| {
             let mut p = [at; 3];
             p[a] = q[0];
@@ -145,33 +114,66 @@ impl Tree<3> {
             p
         };
         let mut field = Field::new(self, clip);
-        if let Some(tiles) = Tiles::new(self, &grid, place) {
-            let values = tiles.values(&mut field, &grid, place);
-            return Ok(contour(
-                &grid,
+        Ok(
+            self.plane_contour(&grid, &mut field, place, accuracy, |us, vs| {
+                // The plane's grid as a grid of space with one sample across the axis: its first
+                // axis (a) is the fastest, as the plane's grid has it.
+                let across = [at];
+                let mut axes: [&[f64]; 3] = [&across; 3];
+                axes[a] = us;
+                axes[b] = vs;
+                self.f_grid(axes)
+            }),
+        )
+    }
+}
+
+/// The grid of a contour over `[lo, hi]` in a plane: `resolution` cells a side with a cell of
+/// margin, shifted off the lattice by [`GRID_SHIFT`] of a cell.
+fn plane_grid(lo: DVec2, hi: DVec2, resolution: usize) -> Grid2 {
+    let cell = (hi - lo) / resolution as f64;
+    let shift = cell * GRID_SHIFT;
+    Grid2::new(
+        lo - cell + shift,
+        hi + cell + shift,
+        resolution + 3,
+        resolution + 3,
+    )
+}
+
+impl<const D: usize> Tree<D>
+where
+    Dim<D>: Dimension<D>,
+{
+    /// The zero contour of `field` on the plane's `grid`, placed in space by `place`, vertices
+    /// refined to `|f| ≤ accuracy`: planned for the grid's samples, taken tile by tile by pruned
+    /// programs ([`Tiles`]), or by `f_grid` (the tree's grid evaluation over the grid's two
+    /// coordinate lists) where no tile leaves anything out.
+    fn plane_contour(
+        &self,
+        grid: &Grid2,
+        field: &mut Field<'_, D>,
+        place: impl Fn([f64; 2]) -> [f64; D] + Copy,
+        accuracy: f64,
+        f_grid: impl FnOnce(&[f64], &[f64]) -> Vec<f64>,
+    ) -> Vec<Polyline> {
+        let (xs, ys) = (grid.xs(), grid.ys());
+        self.plan(xs.len() * ys.len());
+        if let Some(tiles) = Tiles::new(self, grid, place) {
+            let values = tiles.values(field, grid, place);
+            return contour(
+                grid,
                 &values,
-                |q| field.f_by(tiles.program_at(&grid, q), place(q.to_array())),
+                |q| field.f_by(tiles.program_at(grid, q), place(q.to_array())),
                 accuracy,
-            ));
+            );
         }
-        // The plane's grid as a grid of space with one sample across the axis: its first axis
-        // (a) is the fastest, as the plane's grid has it.
-        let across = [at];
-        let mut axes: [&[f64]; 3] = [&across; 3];
-        axes[a] = &us;
-        axes[b] = &vs;
-        let values: Vec<f64> = self
-            .f_grid(axes)
+        let values: Vec<f64> = f_grid(&xs, &ys)
             .into_iter()
             .enumerate()
-            .map(|(k, f)| field.clipped(f, place([us[k % us.len()], vs[k / us.len()]])))
+            .map(|(k, f)| field.clipped(f, place([xs[k % xs.len()], ys[k / xs.len()]])))
             .collect();
-        Ok(contour(
-            &grid,
-            &values,
-            |q| field.f(place(q.to_array())),
-            accuracy,
-        ))
+        contour(grid, &values, |q| field.f(place(q.to_array())), accuracy)
     }
 }
 
