@@ -29,6 +29,12 @@ fn model(degree: &[usize], points: &[Vec<f64>]) -> String {
     )
 }
 
+/// The `solid` of a model file made by [`model`]: a node to put in a tree.
+fn solid(text: String) -> String {
+    let (_, solid) = text.split_once(r#""solid":"#).unwrap();
+    solid.strip_suffix('}').unwrap().to_string()
+}
+
 /// The regular grid over the unit box with the positions of its control points shuffled among
 /// them and ξ random: a net that folds over itself everywhere.
 fn shuffled(rng: &mut Rng, degree: &[usize]) -> String {
@@ -423,10 +429,6 @@ fn the_three_inverse_maps_agree_on_moved_and_folded_nets() {
 #[test]
 fn a_tree_of_folded_volumes_meshes_closed_whatever_the_order() {
     let mut rng = Rng(0x94d0_49bb_1331_11eb);
-    let solid = |text: String| {
-        let (_, solid) = text.split_once(r#""solid":"#).unwrap();
-        solid.strip_suffix('}').unwrap().to_string()
-    };
     let (a, b) = (
         solid(shuffled(&mut rng, &[16, 16, 16])),
         solid(shuffled_at(&mut rng, &[16, 16, 16], 0.5)),
@@ -484,9 +486,7 @@ fn a_tree_of_many_folded_volumes_shares_one_budget() {
     let leaves: Vec<String> = (0..200)
         .map(|k| {
             let at = [0.5 * (k % 20) as f64, 0.5 * (k / 20) as f64];
-            let text = shuffled_by(&mut rng, &[6, 6, 1], &at);
-            let (_, solid) = text.split_once(r#""solid":"#).unwrap();
-            solid.strip_suffix('}').unwrap().to_string()
+            solid(shuffled_by(&mut rng, &[6, 6, 1], &at))
         })
         .collect();
     let tree = scratch(
@@ -553,9 +553,7 @@ fn the_contour_of_many_folded_patches_samples_the_near_ones() {
     let leaves: Vec<String> = (0..60)
         .map(|k| {
             let at = [(k % 10) as f64, (k / 10) as f64];
-            let text = shuffled_by(&mut rng, &[6, 6], &at);
-            let (_, solid) = text.split_once(r#""solid":"#).unwrap();
-            solid.strip_suffix('}').unwrap().to_string()
+            solid(shuffled_by(&mut rng, &[6, 6], &at))
         })
         .collect();
     let tree = scratch(

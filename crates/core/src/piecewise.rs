@@ -623,10 +623,7 @@ where
 
 /// The part of the box `whole` that the box `part` (within it) covers, by volume; an axis along
 /// which `whole` is flat counts 1.
-pub(crate) fn box_fraction<const D: usize>(
-    part: ([f64; D], [f64; D]),
-    whole: ([f64; D], [f64; D]),
-) -> f64 {
+fn box_fraction<const D: usize>(part: ([f64; D], [f64; D]), whole: ([f64; D], [f64; D])) -> f64 {
     (0..D)
         .map(|c| {
             let side = whole.1[c] - whole.0[c];

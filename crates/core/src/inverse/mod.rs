@@ -31,13 +31,13 @@
 #![allow(clippy::needless_range_loop)]
 
 pub(crate) mod atlas;
-
-pub use atlas::Share;
 mod certify;
 pub mod clip;
 mod newton;
 mod query;
 pub mod tps;
+
+pub use atlas::Share;
 
 use alloc::vec::Vec;
 use core::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
