@@ -42,6 +42,12 @@ const MAX_SEEDS: usize = 4096;
 /// Newton steps from a seed towards a root in the box.
 const ROOT_STEPS: usize = 40;
 
+/// A positive number below any determinant or value the file meets, and one above any squared
+/// distance: exponents whose digits after the first are zeros, which HyperFun's scanner reads
+/// right (it misreads `1e-15` as `1e-5`; see [`super::num`]).
+const TINY: &str = "1e-300";
+const HUGE: &str = "1e300";
+
 /// Newton steps towards the continuation's root past the box.
 const CONTINUATION_STEPS: usize = 30;
 
@@ -328,8 +334,8 @@ pub(super) fn write_mapped(
     let _ = writeln!(
         w,
         "    if ({tag}res <= {} or ({tag}set = 1 and {tag}res <= {})) then",
-        sci(leaf.scale * 1e-15),
-        sci(leaf.scale * 1e-9)
+        num(leaf.scale * 1e-15),
+        num(leaf.scale * 1e-9)
     );
     let _ = writeln!(w, "      {tag}ok = 1; {tag}go = 0;");
     let _ = writeln!(w, "    else");
@@ -373,12 +379,21 @@ pub(super) fn write_mapped(
     let _ = writeln!(w, "        {tag}det = {};", det(&refs));
     let _ = writeln!(
         w,
-        "        if (abs({tag}det) <= 1e-300) then {tag}go = 0; else"
+        "        if (abs({tag}det) <= {TINY}) then {tag}go = 0; else"
     );
+    // 1 / det without dividing by less than 1e-6 in magnitude, which HyperFun refuses ("Division
+    // by zero"): det scaled by 2^20 (exactly) until it is that large, the scale divided by it.
+    let _ = writeln!(w, "          {tag}sc = {tag}det; {tag}inv = 1;");
+    let _ = writeln!(
+        w,
+        "          while (abs({tag}sc) < 0.000001) loop\n            \
+         {tag}sc = {tag}sc * 1048576; {tag}inv = {tag}inv * 1048576;\n          endloop;"
+    );
+    let _ = writeln!(w, "          {tag}inv = {tag}inv / {tag}sc;");
     for a in 1..=d {
         let mut with_r = refs.clone();
         with_r[a - 1] = &r;
-        let _ = writeln!(w, "          {tag}e{a} = {} / {tag}det;", det(&with_r));
+        let _ = writeln!(w, "          {tag}e{a} = {} * {tag}inv;", det(&with_r));
     }
     for a in 1..=d {
         let t = &params[a - 1];
@@ -393,7 +408,8 @@ pub(super) fn write_mapped(
     );
     let _ = writeln!(
         w,
-        "          if ({tag}step <= 1e-13) then {tag}set = 1; endif;"
+        "          if ({tag}step <= {}) then {tag}set = 1; endif;",
+        num(1e-13)
     );
     let escaped: Vec<String> = params.iter().map(|t| format!("abs({t}) >= 8")).collect();
     let _ = writeln!(
@@ -421,7 +437,7 @@ pub(super) fn write_mapped(
     // The nearest seed.
     let mut search = String::new();
     let body = &mut search;
-    let _ = writeln!(body, "  {tag}near = 1; {tag}nd = 1e300; {tag}n = 1;");
+    let _ = writeln!(body, "  {tag}near = 1; {tag}nd = {HUGE}; {tag}n = 1;");
     let _ = writeln!(body, "  while ({tag}n <= {seeds}) loop");
     let _ = writeln!(body, "    {tag}dd = {};", distance(&format!("{tag}n")));
     let _ = writeln!(
@@ -449,7 +465,7 @@ pub(super) fn write_mapped(
     let _ = writeln!(
         body,
         "    if ({tag}n > 0 and {tag}n /= {tag}near{more}) then\n      \
-         if ({} <= {}) then {tag}try = 1; endif;\n    endif;",
+         {tag}dd = {};\n      if ({tag}dd <= {}) then {tag}try = 1; endif;\n    endif;",
         distance(&format!("{tag}n")),
         num(radius)
     );
@@ -458,7 +474,7 @@ pub(super) fn write_mapped(
     body.push_str(&indent(&newton, 4));
     let inside: Vec<String> = params
         .iter()
-        .map(|t| format!("{t} >= -1e-12 and {t} <= 1.000000000001"))
+        .map(|t| format!("{t} >= {} and {t} <= {}", num(-1e-12), num(1.0 + 1e-12)))
         .collect();
     let _ = writeln!(
         body,
@@ -501,7 +517,7 @@ pub(super) fn write_mapped(
     let _ = writeln!(body, "    {tag}cont = {tag}xv & {clip};");
     let _ = writeln!(
         body,
-        "    -- Outside the image f is negative.\n    if ({tag}cont >= 0) then {tag}cont = -{tag}cont - 1e-300; endif;"
+        "    -- Outside the image f is negative.\n    if ({tag}cont >= 0) then {tag}cont = -{tag}cont - {TINY}; endif;"
     );
     MappedCode {
         setup,
@@ -556,11 +572,6 @@ fn largest_abs(w: &mut String, pad: &str, var: &str, of: &str, d: usize) {
 fn term(n: usize, i: usize, t: &str, s: &str) -> String {
     let b = basis_term(n, i, t, s);
     if b.is_empty() { String::from("1") } else { b }
-}
-
-/// A small tolerance in exponent form (`1.5e-15`), which HyperFun reads.
-fn sci(x: f64) -> String {
-    format!("{x:e}")
 }
 
 /// `text` with every line indented by `by` more spaces.

@@ -30,12 +30,26 @@ mod tree;
 
 pub use tree::{MAX_NUMBERS, TreeHfError, tree_hf};
 
-/// A number as a HyperFun literal: negative ones in parentheses, so `a*(-0.5)` parses.
+/// A number as a HyperFun literal: negative ones in parentheses, so `a*(-0.5)` parses. Rust writes
+/// an `f64` in plain decimal, never with an exponent: HyperFun's scanner misreads a negative
+/// exponent of two or more digits (`1e-15` as `1e-5`: the sign goes to the first digit only),
+/// while it reads plain digits as meant (to a few units in the last place: it sums them one at a
+/// time).
 fn num(x: f64) -> String {
     if x < 0.0 {
         format!("({x})")
     } else {
         format!("{x}")
+    }
+}
+
+/// `expr / d` for a constant `d`, written as a product by `1 / d` where `|d| < 1e-6`: HyperFun
+/// refuses any division by less than that ("Division by zero").
+fn over(expr: &str, d: f64) -> String {
+    if d.abs() >= 1e-6 {
+        format!("({expr}) / {}", num(d))
+    } else {
+        format!("({expr}) * {}", num(1.0 / d))
     }
 }
 
@@ -55,7 +69,11 @@ fn basis_term(n: usize, i: usize, t: &str, s: &str) -> String {
 /// Lines that define the parameter `t` of axis `k` (1-based `x[k]`) over `[lo, hi]`, `1 − t` and the
 /// basis values `{t}0..{t}n`.
 fn axis_lines(out: &mut String, t: &str, k: usize, lo: f64, hi: f64, n: usize) {
-    let _ = writeln!(out, "  {t} = (x[{k}] - {}) / {};", num(lo), num(hi - lo));
+    let _ = writeln!(
+        out,
+        "  {t} = {};",
+        over(&format!("x[{k}] - {}", num(lo)), hi - lo)
+    );
     let _ = writeln!(out, "  {t}s = 1 - {t};");
     for i in 0..=n {
         let _ = writeln!(
@@ -133,8 +151,8 @@ pub fn solid2_hf(solid: &Solid2) -> Result<String, TreeHfError> {
             .collect();
         rows.push(format!("bu{i}*({})", terms.join(" + ")));
     }
-    let _ = writeln!(out, "  s = {};", rows.join("\n    + "));
-    let _ = writeln!(out, "  my_model = s & ((u*us) & (v*vs));\n}}");
+    let _ = writeln!(out, "  sxi = {};", rows.join("\n    + "));
+    let _ = writeln!(out, "  my_model = sxi & ((u*us) & (v*vs));\n}}");
     Ok(out)
 }
 
@@ -212,8 +230,8 @@ pub fn solid3_hf(solid: &Solid3) -> Result<String, TreeHfError> {
         }
         slabs.push(format!("bu{i}*({})", rows.join("\n      + ")));
     }
-    let _ = writeln!(out, "  s = {};", slabs.join("\n    + "));
-    let _ = writeln!(out, "  my_model = s & (((u*us) & (v*vs)) & (w*ws));\n}}");
+    let _ = writeln!(out, "  sxi = {};", slabs.join("\n    + "));
+    let _ = writeln!(out, "  my_model = sxi & (((u*us) & (v*vs)) & (w*ws));\n}}");
     Ok(out)
 }
 

@@ -15,7 +15,7 @@ use alloc::vec::Vec;
 use core::fmt::{self, Write as _};
 
 use super::mapped::{self, MappedLeaf, mapped_leaf, mapped_net, write_mapped};
-use super::{basis_term, num};
+use super::{basis_term, num, over};
 use crate::model::{CoordAxis, ModelError, ModelFile, Rotation, SolidSpec};
 use crate::solid::Solid;
 use crate::tree::ModelTree;
@@ -312,7 +312,7 @@ impl Writer {
                 let terms: Vec<String> = (0..d)
                     .map(|j| format!("{} * ({q}[{}] - {})", num(r[j][i]), j + 1, num(t[j])))
                     .collect();
-                format!("({}) / {}", terms.join(" + "), num(s[i]))
+                over(&terms.join(" + "), s[i])
             } else {
                 format!("{q}[{}]", i + 1)
             };
@@ -348,10 +348,8 @@ impl Writer {
             let t = format!("{tag}{}", ["u", "v", "w"][k]);
             let _ = writeln!(
                 self.body,
-                "  {t} = ({q}[{}] - {}) / {};",
-                k + 1,
-                num(lo[k]),
-                num(hi[k] - lo[k])
+                "  {t} = {};",
+                over(&format!("{q}[{}] - {}", k + 1, num(lo[k])), hi[k] - lo[k])
             );
             let _ = writeln!(self.body, "  {t}s = 1 - {t};");
             for i in 0..=n {
@@ -527,10 +525,11 @@ impl Writer {
             );
             let _ = writeln!(
                 self.body,
-                "  {g} = ({q}[{}] - {}) / {};",
-                k + 1,
-                num(leaf.lo[k]),
-                num(leaf.hi[k] - leaf.lo[k])
+                "  {g} = {};",
+                over(
+                    &format!("{q}[{}] - {}", k + 1, num(leaf.lo[k])),
+                    leaf.hi[k] - leaf.lo[k]
+                )
             );
             let _ = writeln!(self.body, "  {g}s = 1 - {g};");
             let _ = writeln!(self.body, "  {t} = {g} * {};", leaf.cells[k]);
