@@ -32,24 +32,40 @@ use core::fmt::Write as _;
 use super::{basis_term, num};
 use crate::dim::Control;
 use crate::dim::{Dim, Dimension};
-use crate::inverse::Forward;
+use crate::inverse::tps::Kernel;
+use crate::inverse::{Forward, InverseMap};
 use crate::solid::Solid;
 use crate::tensor::Tensor;
 
 /// The most seeds one leaf's table holds.
 const MAX_SEEDS: usize = 4096;
 
-/// Newton steps from a seed towards a root in the box.
-const ROOT_STEPS: usize = 40;
+/// Newton steps from a seed towards a root in the box (as many as eval's fast path takes).
+const ROOT_STEPS: usize = 12;
+
+/// The seeds an injective map tries where Newton from the guess fails: the nearest few to the
+/// point, among those within the radius (the others cannot be a preimage's nearest seed).
+const NEAREST_SEEDS: usize = 4;
+
+/// A seed's Newton iterate this far from the box's centre along an axis (in parameters) has left
+/// for a root past the box: the seed is dropped.
+const SEED_ESCAPE: f64 = 2.0;
+
+/// The continuation's Newton escapes where eval's does (`|u| ≥ 8`).
+const ESCAPE: f64 = 8.0;
+
+/// A Newton step this short has settled (the residual is checked once more), as in `eval`. Past
+/// the box (the continuation, `|u|` up to 8) the polynomial's terms cancel and a root may never
+/// settle to this: `eval` then takes the spline guess, and the file does the same unless its own
+/// rounding, which differs, lets it settle (a few points in a thousand far outside a net, both
+/// values negative).
+const SETTLED_STEP: f64 = 1e-13;
 
 /// A positive number below any determinant or value the file meets, and one above any squared
 /// distance: exponents whose digits after the first are zeros, which HyperFun's scanner reads
 /// right (it misreads `1e-15` as `1e-5`; see [`super::num`]).
 const TINY: &str = "1e-300";
 const HUGE: &str = "1e300";
-
-/// Newton steps towards the continuation's root past the box.
-const CONTINUATION_STEPS: usize = 30;
 
 /// A space-mapped Bézier leaf as its export needs it, whatever its dimension.
 pub(super) struct MappedLeaf {
@@ -71,6 +87,45 @@ pub(super) struct MappedLeaf {
     /// A seed whose image is farther than this from the point is not the nearest seed of any of
     /// its preimages.
     radius: f64,
+    /// Where the continuation's Newton starts: the inverse map's spline guess, as `eval` starts
+    /// it ([`crate::inverse::InverseMap::outside`]); `None` for a cell that is a linear map (no
+    /// inverse map), whose continuation starts at the nearest seed and converges in one step.
+    guess: Option<Guess>,
+    /// The continuation's Newton steps at most: `eval`'s.
+    outside_steps: usize,
+    /// The control points' bounding box, per coordinate: it holds the image.
+    bounds: Vec<(f64, f64)>,
+}
+
+/// A spline guess's numbers ([`crate::inverse::tps::Spline::parts`]), one list per coordinate.
+struct Guess {
+    kernel: Kernel,
+    centre: Vec<f64>,
+    inv_scale: f64,
+    /// The normalised sites, one list per coordinate.
+    sites: Vec<Vec<f64>>,
+    /// The sites' weights, one list per parameter.
+    weights: Vec<Vec<f64>>,
+    /// Row 0 the constant, row `1 + c` the coefficients of coordinate `c`.
+    affine: Vec<Vec<f64>>,
+}
+
+impl Guess {
+    fn of<const D: usize>(map: &InverseMap<D>) -> Self {
+        let parts = map.spline().parts();
+        Self {
+            kernel: parts.kernel,
+            centre: parts.centre.to_vec(),
+            inv_scale: parts.inv_scale,
+            sites: (0..D)
+                .map(|c| parts.sites.iter().map(|s| s[c]).collect())
+                .collect(),
+            weights: (0..D)
+                .map(|a| parts.weights.iter().map(|w| w[a]).collect())
+                .collect(),
+            affine: parts.affine.iter().map(|row| row.to_vec()).collect(),
+        }
+    }
 }
 
 /// The parts of a space-mapped solid; `None` for a regular grid (which has a closed form).
@@ -78,16 +133,19 @@ pub(super) fn mapped_leaf<const D: usize>(s: &Solid<D>) -> Option<MappedLeaf>
 where
     Dim<D>: Dimension<D>,
 {
-    let map = s.inverse()?;
-    Some(mapped_net(s.net(), map.injective()))
+    Some(mapped_net(s.net(), Some(s.inverse()?)))
 }
 
-/// The parts of any net as a space mapping (a regular cell of a moved piecewise solid too, whose
-/// map is linear and injective).
-pub(super) fn mapped_net<const D: usize>(net: &Tensor<Control<D>, D>, injective: bool) -> MappedLeaf
+/// The parts of any net as a space mapping with its inverse map, or without one a regular cell of
+/// a moved piecewise solid (whose map is linear and injective).
+pub(super) fn mapped_net<const D: usize>(
+    net: &Tensor<Control<D>, D>,
+    map: Option<&InverseMap<D>>,
+) -> MappedLeaf
 where
     Dim<D>: Dimension<D>,
 {
+    let injective = map.is_none_or(InverseMap::injective);
     let dims = net.dims();
     let points: Vec<([f64; D], f64)> = net.points().iter().map(|&c| Dim::<D>::split(c)).collect();
     let spatial: Vec<Vec<f64>> = (0..D)
@@ -128,21 +186,24 @@ where
         }
     }
     // |∂S/∂u_a| ≤ n_a · the longest step between neighbours along a; a preimage's nearest seed
-    // is within half a spacing along each axis. Twice that, so that the next seeds are tried too.
-    let radius = (0..D)
-        .map(|a| {
-            let n = dims[a] - 1;
-            let stride: usize = dims[a + 1..].iter().product();
-            let longest = (0..points.len())
-                .filter(|i| (i / stride) % dims[a] < n)
-                .map(|i| {
-                    let (p, q) = (points[i].0, points[i + stride].0);
-                    libm::sqrt((0..D).map(|c| (q[c] - p[c]) * (q[c] - p[c])).sum::<f64>())
-                })
-                .fold(0.0f64, f64::max);
-            n as f64 * longest / (grid[a] - 1) as f64
-        })
-        .sum::<f64>();
+    // is within half a spacing along each axis. Twice that where the map may fold, so that the
+    // next seeds are tried too.
+    let reach = if injective { 0.5 } else { 1.0 };
+    let radius = reach
+        * (0..D)
+            .map(|a| {
+                let n = dims[a] - 1;
+                let stride: usize = dims[a + 1..].iter().product();
+                let longest = (0..points.len())
+                    .filter(|i| (i / stride) % dims[a] < n)
+                    .map(|i| {
+                        let (p, q) = (points[i].0, points[i + stride].0);
+                        libm::sqrt((0..D).map(|c| (q[c] - p[c]) * (q[c] - p[c])).sum::<f64>())
+                    })
+                    .fold(0.0f64, f64::max);
+                n as f64 * longest / (grid[a] - 1) as f64
+            })
+            .sum::<f64>();
     MappedLeaf {
         dims: dims.to_vec(),
         spatial,
@@ -152,6 +213,11 @@ where
         seeds,
         images,
         radius,
+        guess: map.map(Guess::of),
+        bounds: (0..D).map(|c| (lo[c], hi[c])).collect(),
+        // As `InverseMap::outside`: 30 steps where the map is injective, else 8 (within a query
+        // budget that a single point never exhausts).
+        outside_steps: if injective { 30 } else { 8 },
     }
 }
 
@@ -159,7 +225,8 @@ impl MappedLeaf {
     /// How many numbers the export writes for this leaf (its arrays' lengths).
     pub(super) fn numbers(&self) -> usize {
         let d = self.dims.len();
-        (d + 1) * self.xi.len() + 2 * d * self.seeds[0].len()
+        let guess = self.guess.as_ref().map_or(0, |g| 2 * d * g.sites[0].len());
+        (d + 1) * self.xi.len() + 2 * d * self.seeds[0].len() + guess
     }
 }
 
@@ -206,6 +273,16 @@ pub(super) fn write_mapped(
     for c in 0..d {
         array(format!("{tag}i{}", c + 1), &leaf.images[c], body);
     }
+    if let Some(g) = &leaf.guess
+        && !g.sites[0].is_empty()
+    {
+        for c in 0..d {
+            array(format!("{tag}hs{}", c + 1), &g.sites[c], body);
+        }
+        for a in 0..d {
+            array(format!("{tag}hw{}", a + 1), &g.weights[a], body);
+        }
+    }
     for a in 0..d {
         let n1 = leaf.dims[a];
         arrays.push((format!("{tag}b{}", axes[a]), n1));
@@ -243,67 +320,20 @@ pub(super) fn write_mapped(
             let _ = writeln!(eval, "  {tag}d{}[{}] = {derivative};", axes[a], i + 1);
         }
     }
-    let mut zero: Vec<String> = (1..=d).map(|c| format!("{tag}x{c}")).collect();
-    zero.push(format!("{tag}xv"));
-    for a in 1..=d {
-        for c in 1..=d {
-            zero.push(format!("{tag}j{a}{c}"));
-        }
-    }
-    for z in &zero {
-        let _ = writeln!(eval, "  {z} = 0;");
-    }
-    // One loop per axis over the control points, the last axis innermost.
-    let index = |a: usize| format!("{tag}k{}", axes[a]);
-    for a in 0..d {
-        let pad = "  ".repeat(a + 1);
-        let _ = writeln!(eval, "{pad}{} = 1;", index(a));
-        let _ = writeln!(eval, "{pad}while ({} <= {}) loop", index(a), leaf.dims[a]);
-    }
-    let pad = "  ".repeat(d + 1);
-    // The flat index: ((ku − 1)·m1 + kv − 1)·l1 + kw.
-    let mut flat = format!("{} - 1", index(0));
-    for a in 1..d {
-        flat = format!("({flat}) * {} + {} - 1", leaf.dims[a], index(a));
-    }
-    let _ = writeln!(eval, "{pad}{tag}ix = {flat} + 1;");
-    let factor = |a: usize, derivative: bool| {
-        format!(
-            "{tag}{}{}[{}]",
-            if derivative { "d" } else { "b" },
-            axes[a],
-            index(a)
-        )
-    };
-    let product = |along: Option<usize>| {
-        (0..d)
-            .map(|a| factor(a, along == Some(a)))
-            .collect::<Vec<_>>()
-            .join(" * ")
-    };
-    let _ = writeln!(eval, "{pad}{tag}bb = {};", product(None));
-    for a in 0..d {
-        let _ = writeln!(eval, "{pad}{tag}g{} = {};", a + 1, product(Some(a)));
-    }
+    // S, S_xi and the Jacobian by sums factored along the axes, the last innermost: each level
+    // sums the level inside it against its axis's basis (the value) and the basis's derivative
+    // (its own partial), and carries the inner partials against the basis: about 2D + 1 products
+    // per control point instead of D² + 3D + 1.
+    let _ = writeln!(eval, "  {tag}ix = 1;");
+    sum_level(&mut eval, leaf, tag, 0);
     for c in 1..=d {
-        let _ = writeln!(
-            eval,
-            "{pad}{tag}x{c} = {tag}x{c} + {tag}bb * {tag}p{c}[{tag}ix];"
-        );
+        let _ = writeln!(eval, "  {tag}x{c} = {tag}z0v{c};");
     }
-    let _ = writeln!(eval, "{pad}{tag}xv = {tag}xv + {tag}bb * {tag}xi[{tag}ix];");
+    let _ = writeln!(eval, "  {tag}xv = {tag}z0v0;");
     for a in 1..=d {
         for c in 1..=d {
-            let _ = writeln!(
-                eval,
-                "{pad}{tag}j{a}{c} = {tag}j{a}{c} + {tag}g{a} * {tag}p{c}[{tag}ix];"
-            );
+            let _ = writeln!(eval, "  {tag}j{a}{c} = {tag}z0g{}{c};", a - 1);
         }
-    }
-    for a in (0..d).rev() {
-        let pad = "  ".repeat(a + 1);
-        let _ = writeln!(eval, "{pad}  {} = {} + 1;", index(a), index(a));
-        let _ = writeln!(eval, "{pad}endloop;");
     }
     // The clipped value at the current parameters.
     let params: Vec<String> = (0..d).map(|a| format!("{tag}{}", axes[a])).collect();
@@ -333,7 +363,7 @@ pub(super) fn write_mapped(
     largest_abs(w, "    ", &format!("{tag}res"), &format!("{tag}r"), d);
     let _ = writeln!(
         w,
-        "    if ({tag}res <= {} or ({tag}set = 1 and {tag}res <= {})) then",
+        "    if (({tag}res <= {} and {tag}it < {tag}max) or ({tag}set = 1 and {tag}res <= {})) then",
         num(leaf.scale * 1e-15),
         num(leaf.scale * 1e-9)
     );
@@ -409,9 +439,12 @@ pub(super) fn write_mapped(
     let _ = writeln!(
         w,
         "          if ({tag}step <= {}) then {tag}set = 1; endif;",
-        num(1e-13)
+        num(SETTLED_STEP)
     );
-    let escaped: Vec<String> = params.iter().map(|t| format!("abs({t}) >= 8")).collect();
+    let escaped: Vec<String> = params
+        .iter()
+        .map(|t| format!("abs({t}) >= {tag}esc"))
+        .collect();
     let _ = writeln!(
         w,
         "          if ({}) then {tag}go = 0; endif;",
@@ -434,28 +467,55 @@ pub(super) fn write_mapped(
             .collect::<Vec<_>>()
             .join(" ")
     };
-    // The nearest seed.
-    let mut search = String::new();
-    let body = &mut search;
-    let _ = writeln!(body, "  {tag}near = 1; {tag}nd = {HUGE}; {tag}n = 1;");
-    let _ = writeln!(body, "  while ({tag}n <= {seeds}) loop");
-    let _ = writeln!(body, "    {tag}dd = {};", distance(&format!("{tag}n")));
+    // A root Newton reached in the closed box: clamped onto it within rounding (S_xi taken there,
+    // as eval does), its clipped value the best so far.
+    let inside: Vec<String> = params
+        .iter()
+        .map(|t| format!("{t} >= {} and {t} <= {}", num(-1e-12), num(1.0 + 1e-12)))
+        .collect();
+    let inside = inside.join(" and ");
+    let mut accept = String::new();
+    let _ = writeln!(accept, "{tag}cl = 0;");
+    for t in &params {
+        let _ = writeln!(
+            accept,
+            "if ({t} < 0) then {t} = 0; {tag}cl = 1; endif;\n\
+             if ({t} > 1) then {t} = 1; {tag}cl = 1; endif;"
+        );
+    }
+    let _ = writeln!(accept, "if ({tag}cl = 1) then");
+    accept.push_str(&indent(&eval, 0));
+    let _ = writeln!(accept, "endif;");
+    let _ = writeln!(accept, "{tag}val = {tag}xv & {clip};");
+    let _ = writeln!(
+        accept,
+        "if ({tag}found = 0 or {tag}val > {tag}best) then {tag}best = {tag}val; endif;"
+    );
+    let _ = writeln!(accept, "{tag}found = 1;");
+
+    // The seeds: the nearest one, then every one within the radius (an injective map stops at
+    // its first root).
+    let mut seeded = String::new();
+    let body = &mut seeded;
+    let _ = writeln!(body, "{tag}near = 1; {tag}nd = {HUGE}; {tag}n = 1;");
+    let _ = writeln!(body, "while ({tag}n <= {seeds}) loop");
+    let _ = writeln!(body, "  {tag}dd = {};", distance(&format!("{tag}n")));
     let _ = writeln!(
         body,
-        "    if ({tag}dd < {tag}nd) then {tag}nd = {tag}dd; {tag}near = {tag}n; endif;"
+        "  if ({tag}dd < {tag}nd) then {tag}nd = {tag}dd; {tag}near = {tag}n; endif;"
     );
-    let _ = writeln!(body, "    {tag}n = {tag}n + 1;\n  endloop;");
-    // Newton from the nearest seed (n = 0), then from every seed within the radius.
+    let _ = writeln!(body, "  {tag}n = {tag}n + 1;\nendloop;");
     let radius = leaf.radius * leaf.radius;
     let _ = writeln!(
         body,
-        "  {tag}found = 0; {tag}best = 0; {tag}n = 0; {tag}max = {ROOT_STEPS};"
+        "{tag}n = 0; {tag}max = {ROOT_STEPS}; {tag}esc = {};",
+        num(SEED_ESCAPE)
     );
-    let _ = writeln!(body, "  while ({tag}n <= {seeds}) loop");
-    let _ = writeln!(body, "    {tag}try = 0;");
+    let _ = writeln!(body, "while ({tag}n <= {seeds}) loop");
+    let _ = writeln!(body, "  {tag}try = 0;");
     let _ = writeln!(
         body,
-        "    if ({tag}n = 0) then {tag}try = 1; {tag}k = {tag}near; else {tag}k = {tag}n; endif;"
+        "  if ({tag}n = 0) then {tag}try = 1; {tag}k = {tag}near; else {tag}k = {tag}n; endif;"
     );
     let more = if leaf.injective {
         format!(" and {tag}found = 0")
@@ -464,61 +524,137 @@ pub(super) fn write_mapped(
     };
     let _ = writeln!(
         body,
-        "    if ({tag}n > 0 and {tag}n /= {tag}near{more}) then\n      \
-         {tag}dd = {};\n      if ({tag}dd <= {}) then {tag}try = 1; endif;\n    endif;",
+        "  if ({tag}n > 0 and {tag}n /= {tag}near{more}) then\n    \
+         {tag}dd = {};\n    if ({tag}dd <= {}) then {tag}try = 1; endif;\n  endif;",
         distance(&format!("{tag}n")),
         num(radius)
     );
-    let _ = writeln!(body, "    if ({tag}try = 1) then");
-    let _ = writeln!(body, "      {}", seed_at(&format!("{tag}k")));
-    body.push_str(&indent(&newton, 4));
-    let inside: Vec<String> = params
-        .iter()
-        .map(|t| format!("{t} >= {} and {t} <= {}", num(-1e-12), num(1.0 + 1e-12)))
-        .collect();
+    let _ = writeln!(body, "  if ({tag}try = 1) then");
+    let _ = writeln!(body, "    {}", seed_at(&format!("{tag}k")));
+    body.push_str(&indent(&newton, 2));
+    let _ = writeln!(body, "    if ({tag}ok = 1 and {inside}) then");
+    body.push_str(&indent(&accept, 6));
+    let _ = writeln!(body, "    endif;\n  endif;");
+    let _ = writeln!(body, "  {tag}n = {tag}n + 1;\nendloop;");
+
+    // An injective map's seeds: the few nearest to the point (within the radius), nearest first,
+    // until one reaches the root.
+    let mut nearest = String::new();
+    let body = &mut nearest;
+    let _ = writeln!(body, "{tag}prev = -1; {tag}tries = 0;");
     let _ = writeln!(
         body,
-        "      if ({tag}ok = 1 and {}) then",
-        inside.join(" and ")
+        "while ({tag}tries < {NEAREST_SEEDS} and {tag}found = 0) loop"
     );
-    // On the box's boundary within rounding: clamped, and S_xi taken there (as eval does).
-    let _ = writeln!(body, "        {tag}cl = 0;");
-    for t in &params {
-        let _ = writeln!(
-            body,
-            "        if ({t} < 0) then {t} = 0; {tag}cl = 1; endif;\n        \
-             if ({t} > 1) then {t} = 1; {tag}cl = 1; endif;"
-        );
-    }
-    let _ = writeln!(body, "        if ({tag}cl = 1) then");
-    body.push_str(&indent(&eval, 8));
-    let _ = writeln!(body, "        endif;");
-    let _ = writeln!(body, "        {tag}val = {tag}xv & {clip};");
     let _ = writeln!(
         body,
-        "        if ({tag}found = 0 or {tag}val > {tag}best) then {tag}best = {tag}val; endif;"
+        "  {tag}near = 0; {tag}nd = {}; {tag}n = 1;",
+        num(radius)
     );
-    let _ = writeln!(body, "        {tag}found = 1;");
-    let _ = writeln!(body, "      endif;\n    endif;");
+    let _ = writeln!(body, "  while ({tag}n <= {seeds}) loop");
+    let _ = writeln!(body, "    {tag}dd = {};", distance(&format!("{tag}n")));
+    let _ = writeln!(
+        body,
+        "    if ({tag}dd > {tag}prev and {tag}dd <= {tag}nd) then {tag}nd = {tag}dd; {tag}near = {tag}n; endif;"
+    );
     let _ = writeln!(body, "    {tag}n = {tag}n + 1;\n  endloop;");
-    // No preimage: the continuation past the box, from the nearest seed.
-    let mut continuation = String::new();
-    let body = &mut continuation;
     let _ = writeln!(
         body,
-        "    {} {tag}max = {CONTINUATION_STEPS};",
-        seed_at(&format!("{tag}near"))
+        "  if ({tag}near = 0) then {tag}tries = {NEAREST_SEEDS}; else"
+    );
+    let _ = writeln!(
+        body,
+        "    {tag}prev = {tag}nd; {tag}tries = {tag}tries + 1; {} {tag}max = {ROOT_STEPS}; {tag}esc = {};",
+        seed_at(&format!("{tag}near")),
+        num(SEED_ESCAPE)
     );
     body.push_str(&indent(&newton, 2));
-    let _ = writeln!(body, "    if ({tag}ok = 0) then");
-    let _ = writeln!(body, "      {}", seed_at(&format!("{tag}near")));
-    body.push_str(&indent(&eval, 4));
-    let _ = writeln!(body, "    endif;");
-    let _ = writeln!(body, "    {tag}cont = {tag}xv & {clip};");
+    let _ = writeln!(body, "    if ({tag}ok = 1 and {inside}) then");
+    body.push_str(&indent(&accept, 6));
+    let _ = writeln!(body, "    endif;\n  endif;\nendloop;");
+
+    // Where the continuation's Newton starts (`{tag}h1..`): the spline guess, or a linear cell's
+    // first seed (its Newton converges in one step from anywhere).
+    let mut guess = String::new();
+    match &leaf.guess {
+        Some(g) => write_guess(&mut guess, g, tag, q, d),
+        None => {
+            for a in 0..d {
+                let _ = writeln!(guess, "  {tag}h{} = {tag}s{}[1];", a + 1, axes[a]);
+            }
+        }
+    }
+    let start: Vec<String> = (0..d)
+        .map(|a| format!("{} = {tag}h{};", params[a], a + 1))
+        .collect();
+    let start = start.join(" ");
+    // The continuation at the parameters Newton reached (`{tag}ok = 1`, S evaluated there), else
+    // at the guess: negative outside the image, as eval forces it.
+    let mut negative = String::new();
+    let _ = writeln!(negative, "if ({tag}ok = 0) then");
+    let _ = writeln!(negative, "  {start}");
+    negative.push_str(&indent(&eval, 0));
+    let _ = writeln!(negative, "endif;");
+    let _ = writeln!(negative, "{tag}cont = {tag}xv & {clip};");
     let _ = writeln!(
-        body,
-        "    -- Outside the image f is negative.\n    if ({tag}cont >= 0) then {tag}cont = -{tag}cont - {TINY}; endif;"
+        negative,
+        "-- Outside the image f is negative.\nif ({tag}cont >= 0) then {tag}cont = -{tag}cont - {TINY}; endif;\n\
+         {tag}cdone = 1;"
     );
+
+    let mut search = String::new();
+    let mut continuation = String::new();
+    let _ = writeln!(search, "  {tag}found = 0; {tag}best = 0; {tag}cdone = 0;");
+    if leaf.injective {
+        // Newton from the guess first, as eval's continuation runs it: a root in the box is the
+        // preimage (one at most); a root past the box is the continuation's, and the point has
+        // no preimage (the certified map does not fold back into the box); only where Newton
+        // fails, and the point lies in the net's bounding box (which holds the image), do the
+        // seeds search.
+        search.push_str(&guess);
+        let _ = writeln!(
+            search,
+            "  {start} {tag}max = {}; {tag}esc = {};",
+            leaf.outside_steps,
+            num(ESCAPE)
+        );
+        search.push_str(&indent(&newton, 0));
+        let _ = writeln!(search, "  if ({tag}ok = 1 and {inside}) then");
+        search.push_str(&indent(&accept, 4));
+        let _ = writeln!(search, "  else\n    if ({tag}ok = 1) then");
+        search.push_str(&indent(&negative, 6));
+        let in_box: Vec<String> = (0..d)
+            .map(|c| {
+                let (lo, hi) = leaf.bounds[c];
+                format!(
+                    "{q}[{}] >= {} and {q}[{}] <= {}",
+                    c + 1,
+                    num(lo),
+                    c + 1,
+                    num(hi)
+                )
+            })
+            .collect();
+        let _ = writeln!(search, "    else\n      if ({}) then", in_box.join(" and "));
+        search.push_str(&indent(&nearest, 8));
+        let _ = writeln!(search, "      endif;\n    endif;\n  endif;");
+        // Newton from the guess failed: eval's continuation is at the guess itself.
+        let _ = writeln!(continuation, "    if ({tag}cdone = 0) then");
+        let _ = writeln!(continuation, "      {tag}ok = 0;");
+        continuation.push_str(&indent(&negative, 6));
+        let _ = writeln!(continuation, "    endif;");
+    } else {
+        search.push_str(&indent(&seeded, 2));
+        continuation.push_str(&indent(&guess, 2));
+        let _ = writeln!(
+            continuation,
+            "    {start} {tag}max = {}; {tag}esc = {};",
+            leaf.outside_steps,
+            num(ESCAPE)
+        );
+        continuation.push_str(&indent(&newton, 2));
+        continuation.push_str(&indent(&negative, 4));
+    }
     MappedCode {
         setup,
         search,
@@ -555,6 +691,133 @@ impl MappedCode {
         let _ = writeln!(body, "    {tag}f = {};\n  endif;", self.cont);
         format!("{tag}f")
     }
+}
+
+/// The loop of axis `a` of the factored sums ([`write_mapped`]'s `eval`): accumulators
+/// `{tag}z{a}v{c}` (the value of coordinate `c`, `0` for ξ) and `{tag}z{a}g{b}{c}` (its partial
+/// along axis `b ≥ a`), summed over the axis's control points; the innermost axis reads the net at
+/// the running index `{tag}ix`.
+fn sum_level(out: &mut String, leaf: &MappedLeaf, tag: &str, a: usize) {
+    let d = leaf.dims.len();
+    let axes = ["u", "v", "w"];
+    let pad = "  ".repeat(a + 1);
+    let k = format!("{tag}k{}", axes[a]);
+    let (b, dv) = (
+        format!("{tag}b{}[{k}]", axes[a]),
+        format!("{tag}d{}[{k}]", axes[a]),
+    );
+    let mut zero = Vec::new();
+    for c in 0..=d {
+        zero.push(format!("{tag}z{a}v{c} = 0;"));
+    }
+    for g in a..d {
+        for c in 1..=d {
+            zero.push(format!("{tag}z{a}g{g}{c} = 0;"));
+        }
+    }
+    let _ = writeln!(out, "{pad}{}", zero.join(" "));
+    let _ = writeln!(
+        out,
+        "{pad}{k} = 1;\n{pad}while ({k} <= {}) loop",
+        leaf.dims[a]
+    );
+    let inner = format!("{pad}  ");
+    if a + 1 == d {
+        for c in 1..=d {
+            let _ = writeln!(
+                out,
+                "{inner}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}p{c}[{tag}ix];"
+            );
+            let _ = writeln!(
+                out,
+                "{inner}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}p{c}[{tag}ix];"
+            );
+        }
+        let _ = writeln!(
+            out,
+            "{inner}{tag}z{a}v0 = {tag}z{a}v0 + {b} * {tag}xi[{tag}ix];"
+        );
+        let _ = writeln!(out, "{inner}{tag}ix = {tag}ix + 1;");
+    } else {
+        sum_level(out, leaf, tag, a + 1);
+        let next = a + 1;
+        for c in 0..=d {
+            let _ = writeln!(
+                out,
+                "{inner}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}z{next}v{c};"
+            );
+        }
+        for c in 1..=d {
+            let _ = writeln!(
+                out,
+                "{inner}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}z{next}v{c};"
+            );
+        }
+        for g in next..d {
+            for c in 1..=d {
+                let _ = writeln!(
+                    out,
+                    "{inner}{tag}z{a}g{g}{c} = {tag}z{a}g{g}{c} + {b} * {tag}z{next}g{g}{c};"
+                );
+            }
+        }
+    }
+    let _ = writeln!(out, "{inner}{k} = {k} + 1;\n{pad}endloop;");
+}
+
+/// Lines that set `{tag}h1..{tag}hd` to the spline guess at the point `q`, summed in the order of
+/// [`crate::inverse::tps::Spline::eval`].
+fn write_guess(body: &mut String, g: &Guess, tag: &str, q: &str, d: usize) {
+    for c in 1..=d {
+        let _ = writeln!(
+            body,
+            "    {tag}hq{c} = ({q}[{c}] - {}) * {};",
+            num(g.centre[c - 1]),
+            num(g.inv_scale)
+        );
+    }
+    for a in 0..d {
+        let mut sum = num(g.affine[0][a]);
+        for c in 0..d {
+            let _ = write!(sum, " + {} * {tag}hq{}", num(g.affine[1 + c][a]), c + 1);
+        }
+        let _ = writeln!(body, "    {tag}h{} = {sum};", a + 1);
+    }
+    let sites = g.sites[0].len();
+    if sites == 0 {
+        return;
+    }
+    let r2 = (1..=d)
+        .map(|c| format!("({tag}hs{c}[{tag}hk] - {tag}hq{c}) * ({tag}hs{c}[{tag}hk] - {tag}hq{c})"))
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let _ = writeln!(
+        body,
+        "    {tag}hk = 1;\n    while ({tag}hk <= {sites}) loop"
+    );
+    let _ = writeln!(body, "      {tag}hr = {r2};");
+    match g.kernel {
+        Kernel::ThinPlate => {
+            let _ = writeln!(
+                body,
+                "      if ({tag}hr > 0) then {tag}hp = 0.5 * {tag}hr * log({tag}hr); \
+                 else {tag}hp = 0; endif;"
+            );
+        }
+        Kernel::Linear => {
+            let _ = writeln!(body, "      {tag}hp = sqrt({tag}hr);");
+        }
+        Kernel::Cubic => {
+            let _ = writeln!(body, "      {tag}hp = {tag}hr * sqrt({tag}hr);");
+        }
+    }
+    for a in 1..=d {
+        let _ = writeln!(
+            body,
+            "      {tag}h{a} = {tag}h{a} + {tag}hw{a}[{tag}hk] * {tag}hp;"
+        );
+    }
+    let _ = writeln!(body, "      {tag}hk = {tag}hk + 1;\n    endloop;");
 }
 
 /// Lines that set `var` to the largest `|{of}1|`, …, `|{of}d|`, indented by `pad`.

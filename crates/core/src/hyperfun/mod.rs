@@ -26,6 +26,7 @@ use crate::{Solid2, Solid3};
 #[cfg(test)]
 mod interp;
 mod mapped;
+pub mod read;
 mod tree;
 
 pub use tree::{MAX_NUMBERS, TreeHfError, tree_hf};

@@ -124,7 +124,8 @@ impl Writer {
     fn array(&mut self, prefix: &str, values: &[f64]) -> String {
         let name = self.name(prefix);
         self.arrays.push((name.clone(), 3));
-        let mut v: Vec<String> = values.iter().map(|&x| num(x)).collect();
+        // A whole array's items are bare signed numbers in HyperFun's grammar (`-0.5`, not `(-0.5)`).
+        let mut v: Vec<String> = values.iter().map(|&x| format!("{x}")).collect();
         v.resize(3, String::from("0"));
         let _ = writeln!(self.body, "  {name} = [{}];", v.join(", "));
         name
@@ -616,8 +617,7 @@ where
         .filter_map(|k| {
             let at = crate::tensor::multi_index(counts, k);
             let part = s.part(at)?;
-            let injective = part.inverse().is_none_or(|m| m.injective());
-            Some((at.to_vec(), mapped_net(part.net(), injective)))
+            Some((at.to_vec(), mapped_net(part.net(), part.inverse())))
         })
         .collect();
     Some((cells, counts.to_vec()))

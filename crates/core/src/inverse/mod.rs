@@ -328,6 +328,11 @@ impl<const D: usize> InverseMap<D> {
         self.injective
     }
 
+    /// The spline guess itself.
+    pub(crate) fn spline(&self) -> &Spline<D> {
+        &self.guess
+    }
+
     /// The spline guess of `u` at `p`.
     #[must_use]
     pub fn guess(&self, p: [f64; D]) -> [f64; D] {

@@ -237,6 +237,32 @@ impl<const D: usize> Spline<D> {
     pub fn eval(&self, p: [f64; D]) -> [f64; D] {
         self.eval_normalised(self.normalise(p))
     }
+
+    /// The fitted spline's numbers, for a program that evaluates it as [`Spline::eval`] does (the
+    /// HyperFun export): the kernel, the normalisation `q = (p − centre)·inv_scale`, the sites
+    /// (normalised) and their weights, and the affine part (row 0 the constant, row `1 + c` the
+    /// coefficient of `q_c`). `s(p) = affine₀ + Σ_c affine_{1+c} q_c + Σ_k w_k φ(|q − site_k|²)`,
+    /// summed in that order.
+    pub(crate) fn parts(&self) -> SplineParts<'_, D> {
+        SplineParts {
+            kernel: self.kernel,
+            centre: self.centre,
+            inv_scale: self.inv_scale,
+            sites: &self.sites,
+            weights: &self.weights,
+            affine: &self.affine,
+        }
+    }
+}
+
+/// A spline's numbers ([`Spline::parts`]).
+pub(crate) struct SplineParts<'a, const D: usize> {
+    pub(crate) kernel: Kernel,
+    pub(crate) centre: [f64; D],
+    pub(crate) inv_scale: f64,
+    pub(crate) sites: &'a [[f64; D]],
+    pub(crate) weights: &'a [[f64; D]],
+    pub(crate) affine: &'a [[f64; D]],
 }
 
 fn dist2<const D: usize>(a: [f64; D], b: [f64; D]) -> f64 {
