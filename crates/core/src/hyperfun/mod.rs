@@ -24,6 +24,8 @@ use crate::bernstein::binomial;
 use crate::{Solid2, Solid3};
 
 #[cfg(test)]
+mod agree_tests;
+#[cfg(test)]
 mod interp;
 mod mapped;
 pub mod read;

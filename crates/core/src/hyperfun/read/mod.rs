@@ -301,6 +301,13 @@ impl Evaluator<'_> {
         self.machine.run(&p.compiled, p.main, x, a)
     }
 
+    /// The operations the last successful evaluation took, as [`MAX_OPERATIONS`] counts them:
+    /// the work of a point, the same on every machine.
+    #[must_use]
+    pub fn operations(&self) -> u64 {
+        self.machine.operations
+    }
+
     /// The body's `s` items as the last evaluation left them.
     #[must_use]
     pub fn s(&self) -> &[f64] {

@@ -70,6 +70,8 @@ pub(crate) struct Machine {
     stack: Vec<f64>,
     frames: Vec<Frame>,
     next_stamp: u32,
+    /// The operations the last completed run took (its work, as the budget counts it).
+    pub(crate) operations: u64,
 }
 
 impl Machine {
@@ -86,6 +88,7 @@ impl Machine {
             stack: Vec::with_capacity(depth + 1),
             frames: Vec::new(),
             next_stamp: 1,
+            operations: 0,
         }
     }
 
@@ -335,6 +338,7 @@ impl Machine {
                 Op::Return => {
                     let v = self.pop();
                     let Some(frame) = self.frames.pop() else {
+                        self.operations = MAX_OPERATIONS - budget;
                         return Ok(v);
                     };
                     let caller = &program.bodies[frame.body];
