@@ -109,7 +109,8 @@ fn clap_sentence(e: &clap::Error) -> String {
 /// The MODEL argument of the commands that take a model file, a share link or a preset.
 #[derive(clap::Args)]
 pub(crate) struct Model {
-    /// The model: a model file, a share link or a preset (see `bezsolid --help`).
+    /// The model: a model file, a share link, a HyperFun file bezsolid exported or a preset (see
+    /// `bezsolid --help`).
     #[arg(value_name = "MODEL")]
     model: Option<String>,
 }

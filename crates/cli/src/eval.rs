@@ -49,6 +49,13 @@ pub(crate) fn run(args: &EvalArgs) -> Result<()> {
              default)"
         ),
     };
+    // A HyperFun program that carries no bezsolid model: evaluated as HyperFun reads it.
+    if crate::is_hyperfun(model) {
+        let text = crate::read_hyperfun(model)?;
+        if bezsolid_core::hyperfun::model_of(&text).is_none() {
+            return hyperfun(model, &text, points, args.output.as_deref());
+        }
+    }
     // One patch or volume, or a tree of many solids (a single solid is a tree of one leaf).
     let tree = crate::load_file(model)?
         .to_tree()
@@ -86,6 +93,39 @@ pub(crate) fn run(args: &EvalArgs) -> Result<()> {
             })?;
         }
     }
+    out.finish()
+}
+
+/// `bezsolid eval` of a HyperFun program (`x,y,z,f` rows): its `my_model` (else its first body),
+/// read and evaluated as HyperFun's interpreter reads and evaluates it; a refusal or an error at a
+/// point is HyperFun's message at its line and position.
+fn hyperfun(path: &str, text: &str, points: &str, output: Option<&str>) -> Result<()> {
+    use bezsolid_core::hyperfun::read::Program;
+    let program = Program::parse(text).map_err(|e| anyhow!("{path}: {e}"))?;
+    let mut run = program.evaluator();
+    let mut points = Points::open(points, 3)?;
+    let mut out = Sink::create(output)?;
+    out.write(format_args!("x,y,z,f\n"))?;
+    let mut progress = Progress::new("evaluating", out.is_stdout());
+    let mut count = 0usize;
+    while let Some(p) = points.next() {
+        let p = p?;
+        count += 1;
+        let f = run.eval(&p, &[]).map_err(|e| {
+            anyhow!(
+                "{path}: at point {count} ({}, {}, {}): {e}",
+                p[0],
+                p[1],
+                p[2]
+            )
+        })?;
+        out.write(format_args!("{},{},{},{f}\n", p[0], p[1], p[2]))?;
+        if count.is_multiple_of(256) {
+            let (read, len) = points.progress();
+            progress.at(read, len);
+        }
+    }
+    progress.finish();
     out.finish()
 }
 

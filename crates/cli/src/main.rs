@@ -138,7 +138,9 @@ enum Command {
 /// What the help says after the commands.
 const MORE: &str = "MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many \
 solids: primitives, Bézier solids, set operations, blends, morphs and transforms), a share link \
-(the whole URL or its #v1. fragment; quote it in the shell) or a preset: preset:fig9, \
+(the whole URL or its #v1. fragment; quote it in the shell), a HyperFun file bezsolid exported \
+(.hf: it carries its model; `eval` also evaluates any HyperFun program as HyperFun reads it) or a \
+preset: preset:fig9, \
 preset:blob, preset:ring, preset:fish, and the zoo's preset:chair, preset:vase, preset:knot, \
 preset:shell, preset:koi, preset:tooth. MESH, A and B are mesh files or built-in examples: \
 example:icosphere, example:torus, example:blob, or free-form model files or links (`mesh` writes \
@@ -147,7 +149,7 @@ model file or link holding one, or one of the paper's examples: example:3.1, exa
 example:4.1, example:4.4, example:4.6, example:4.7, example:4.8, example:4.7-bezier-grid.
 
 Inputs are read up to a cap, whatever they are (files, pipes, devices): a model file 16 MiB, a \
-script file 256 KiB, a mesh file 128 MiB, a points file 256 MiB.
+script file 256 KiB, a HyperFun file 32 MiB, a mesh file 128 MiB, a points file 256 MiB.
 
 Run `bezsolid <command> --help` for a command's options and examples.";
 
@@ -263,8 +265,36 @@ pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
             arg, cap, "script",
         )?));
     }
+    if is_hyperfun(arg) {
+        let text = read_hyperfun(arg)?;
+        return match bezsolid_core::hyperfun::model_of(&text) {
+            Some(Ok(file)) => Ok(file),
+            Some(Err(e)) => Err(anyhow::anyhow!(
+                "{arg}: the bezsolid model this HyperFun file carries does not open: {e}"
+            )),
+            None => anyhow::bail!(
+                "{arg} is a HyperFun program that carries no bezsolid model (bezsolid's exports \
+                 carry theirs, unless it was too large): `bezsolid eval` evaluates it as HyperFun \
+                 reads it"
+            ),
+        };
+    }
     let text = input::read_text(arg, input::MAX_MODEL_BYTES, "model file")?;
     serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))
+}
+
+/// Whether `arg` names a HyperFun file (`.hf`).
+pub(crate) fn is_hyperfun(arg: &str) -> bool {
+    !is_link(arg)
+        && Path::new(arg)
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("hf"))
+}
+
+/// The text of the HyperFun file `arg`, within the reader's cap.
+pub(crate) fn read_hyperfun(arg: &str) -> Result<String> {
+    let cap = bezsolid_core::hyperfun::read::MAX_SOURCE_BYTES as u64;
+    input::read_text(arg, cap, "HyperFun file")
 }
 
 fn preset(name: &str) -> Result<Preset> {

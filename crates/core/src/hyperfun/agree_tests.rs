@@ -100,3 +100,41 @@ where
         },
     )
 }
+
+#[cfg(feature = "link")]
+#[test]
+fn an_export_carries_its_model_back_exactly() {
+    use crate::model::ModelFile;
+    for preset in Preset::ALL {
+        let (text, file) = match preset.solid() {
+            ModelSolid::Patch(s) => (solid2_hf(&s).unwrap(), ModelFile::from_solid2(&s)),
+            ModelSolid::Volume(s) => (solid3_hf(&s).unwrap(), ModelFile::from_solid3(&s)),
+        };
+        let back = super::model_of(&text)
+            .unwrap_or_else(|| panic!("{preset:?}: no model carried"))
+            .unwrap();
+        assert_eq!(back, file, "{preset:?}");
+        // HyperFun takes the comments: each within its scanner's 256 characters.
+        assert!(
+            text.lines()
+                .filter(|l| l.trim_start().starts_with("--"))
+                .all(|l| l.len() < 256),
+            "{preset:?}"
+        );
+        Program::parse(&text).unwrap();
+    }
+    // A file written for HyperFun carries none; a carried link edited by hand is an error.
+    assert!(super::model_of("my_model(x[3], a[1]) { my_model = 1; }").is_none());
+    let text = solid3_hf(&match Preset::Blob.solid() {
+        ModelSolid::Volume(s) => s,
+        ModelSolid::Patch(_) => unreachable!(),
+    })
+    .unwrap();
+    // The link cut short: its last characters dropped.
+    let last = text
+        .lines()
+        .rfind(|l| l.starts_with(super::MODEL_MARK))
+        .unwrap();
+    let broken = text.replacen(last, &last[..last.len() - 6], 1);
+    assert!(super::model_of(&broken).unwrap().is_err());
+}

@@ -33,6 +33,60 @@ mod tree;
 
 pub use tree::{MAX_NUMBERS, TreeHfError, tree_hf};
 
+/// How the comment lines that carry an export's model begin: `-- bezsolid model: ` and a part of
+/// the model's share link, in lines HyperFun's scanner takes (it refuses a comment past 256
+/// characters).
+pub const MODEL_MARK: &str = "-- bezsolid model: ";
+
+/// The most characters of the link one comment line carries.
+const MODEL_LINE: usize = 160;
+
+/// `text` with the model it was exported from in comment lines at its top ([`model_of`] reads it
+/// back): the model's share link, so that a HyperFun file opens back as the exact model. A model
+/// whose link would pass the link's cap is not carried (the file says so).
+#[cfg(feature = "link")]
+#[must_use]
+pub fn with_model(text: &str, file: &crate::model::ModelFile) -> String {
+    let mut out = String::with_capacity(text.len() + 512);
+    match crate::link::encode(file) {
+        Ok(link) => {
+            let _ = writeln!(
+                out,
+                "-- The bezsolid model this file was exported from (its share link), for \
+                 bezsolid to open it back:"
+            );
+            let chars: Vec<char> = link.chars().collect();
+            for line in chars.chunks(MODEL_LINE) {
+                let line: String = line.iter().collect();
+                let _ = writeln!(out, "{MODEL_MARK}{line}");
+            }
+        }
+        Err(_) => {
+            let _ = writeln!(
+                out,
+                "-- The bezsolid model is too large to be carried here: keep its model file."
+            );
+        }
+    }
+    out.push_str(text);
+    out
+}
+
+/// The model a HyperFun export carries ([`with_model`]): `None` for a file that carries none (a
+/// program written for HyperFun, or an export too large to carry its model).
+///
+/// # Errors
+///
+/// The link's error where the carried link does not decode (a file edited by hand).
+#[cfg(feature = "link")]
+pub fn model_of(text: &str) -> Option<Result<crate::model::ModelFile, crate::link::LinkError>> {
+    let link: String = text
+        .lines()
+        .filter_map(|l| l.trim_end().strip_prefix(MODEL_MARK))
+        .collect();
+    (!link.is_empty()).then(|| crate::link::decode_file(&link))
+}
+
 /// A number as a HyperFun literal: negative ones in parentheses, so `a*(-0.5)` parses. Rust writes
 /// an `f64` in plain decimal, never with an exponent: HyperFun's scanner misreads a negative
 /// exponent of two or more digits (`1e-15` as `1e-5`: the sign goes to the first digit only),
@@ -156,6 +210,8 @@ pub fn solid2_hf(solid: &Solid2) -> Result<String, TreeHfError> {
     }
     let _ = writeln!(out, "  sxi = {};", rows.join("\n    + "));
     let _ = writeln!(out, "  my_model = sxi & ((u*us) & (v*vs));\n}}");
+    #[cfg(feature = "link")]
+    let out = with_model(&out, &crate::model::ModelFile::from_solid2(solid));
     Ok(out)
 }
 
@@ -235,6 +291,8 @@ pub fn solid3_hf(solid: &Solid3) -> Result<String, TreeHfError> {
     }
     let _ = writeln!(out, "  sxi = {};", slabs.join("\n    + "));
     let _ = writeln!(out, "  my_model = sxi & (((u*us) & (v*vs)) & (w*ws));\n}}");
+    #[cfg(feature = "link")]
+    let out = with_model(&out, &crate::model::ModelFile::from_solid3(solid));
     Ok(out)
 }
 

@@ -92,6 +92,8 @@ fn tree_hf_within(file: &ModelFile, cap: usize) -> Result<String, TreeHfError> {
     }
     out.push_str(&w.body);
     let _ = writeln!(out, "  my_model = {root};\n}}");
+    #[cfg(feature = "link")]
+    let out = super::with_model(&out, file);
     Ok(out)
 }
 

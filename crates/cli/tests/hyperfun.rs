@@ -1,0 +1,131 @@
+//! HyperFun files on the command line: an export opens back as the model it carries (eval, mesh),
+//! and a program written for HyperFun is evaluated as HyperFun reads it, its refusals HyperFun's
+//! messages at their places.
+
+#![allow(clippy::unwrap_used)] // a test: a failed unwrap is a failed test
+mod common;
+use common::{bezsolid, one_line_error, out_path, scratch, succeed};
+
+fn stdout(out: &std::process::Output) -> String {
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+#[test]
+fn an_export_opens_back_as_the_model_it_came_from() {
+    let hf = out_path("chair.hf");
+    succeed(&["hf", "preset:chair", "-o", hf.to_str().unwrap()]);
+    let points = scratch(
+        "chair-points.csv",
+        "0,0,1\n0.3,-0.2,0.5\n5,5,5\n-0.9,0.8,1.9\n",
+    );
+    let points = points.to_str().unwrap();
+    let from_file = succeed(&["eval", hf.to_str().unwrap(), "--points", points]);
+    let from_preset = succeed(&["eval", "preset:chair", "--points", points]);
+    // The same model: the same rows, preimages included.
+    assert_eq!(stdout(&from_file), stdout(&from_preset));
+    let stl = out_path("chair.stl");
+    succeed(&[
+        "mesh",
+        hf.to_str().unwrap(),
+        "--res",
+        "8",
+        "-o",
+        stl.to_str().unwrap(),
+    ]);
+    assert!(std::fs::metadata(&stl).unwrap().len() > 84);
+}
+
+#[test]
+fn a_hyperfun_program_evaluates_as_hyperfun_reads_it() {
+    let program = scratch(
+        "ball.hf",
+        "-- written for HyperFun\nmy_model(x[3], a[1])\n{\n  array centre[3];\n  centre = [1, 0, 0];\n  \
+         my_model = hfSphere(x, centre, 2) | hfBlock(x, centre, 1, 1, 1);\n}\n",
+    );
+    let points = scratch("ball-points.csv", "x,y,z\n1,0,0\n4,0,0\n1,1.5,0\n");
+    let out = succeed(&[
+        "eval",
+        program.to_str().unwrap(),
+        "--points",
+        points.to_str().unwrap(),
+    ]);
+    let rows: Vec<Vec<f64>> = stdout(&out)
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    // hfSphere is r² − |x − c|², hfBlock the box [c, c + 1]³ by R-functions, | the R-union.
+    let union = |f1: f64, f2: f64| f1 + f2 + (f1 * f1 + f2 * f2).sqrt();
+    let block = |p: [f64; 3]| {
+        let and = |f1: f64, f2: f64| f1 + f2 - (f1 * f1 + f2 * f2).sqrt();
+        let slab = |t: f64| t * (1.0 - t);
+        and(and(slab(p[0] - 1.0), slab(p[1])), slab(p[2]))
+    };
+    for row in &rows {
+        let p = [row[0], row[1], row[2]];
+        let sphere = 4.0 - ((p[0] - 1.0).powi(2) + p[1] * p[1] + p[2] * p[2]);
+        let want = union(sphere, block(p));
+        assert!(
+            (row[3] - want).abs() <= 1e-12 * want.abs().max(1.0),
+            "{row:?}: {want}"
+        );
+    }
+    assert_eq!(rows.len(), 3);
+}
+
+#[test]
+fn hyperfun_refusals_are_its_messages_at_their_places() {
+    let points = scratch("one-point.csv", "0,0,0\n")
+        .to_str()
+        .unwrap()
+        .to_owned();
+    // `s` is HyperFun's attribute array, never a variable.
+    let local_s = scratch(
+        "local-s.hf",
+        "my_model(x[3], a[1])\n{\n  s = x[1]*x[1] + x[2]*x[2];\n  my_model = 1 - s;\n}\n",
+    );
+    let err = one_line_error(&bezsolid(&[
+        "eval",
+        local_s.to_str().unwrap(),
+        "--points",
+        &points,
+    ]));
+    assert!(
+        err.ends_with("local-s.hf: line 3, position 7: Left bracket expected"),
+        "{err}"
+    );
+    // A condition's operand that opens with a bracket is a nested condition to HyperFun.
+    let bracket = scratch(
+        "bracket.hf",
+        "my_model(x[3], a[1])\n{\n  a1 = x[1]; b1 = x[2]; c1 = 1;\n  r = -1;\n  \
+         if ((a1 - b1) * (a1 - b1) <= c1) then\n    r = 1;\n  endif;\n  my_model = r;\n}\n",
+    );
+    let err = one_line_error(&bezsolid(&[
+        "eval",
+        bracket.to_str().unwrap(),
+        "--points",
+        &points,
+    ]));
+    assert!(
+        err.ends_with("line 5, position 17: Right parenthes expected"),
+        "{err}"
+    );
+    // HyperFun divides by nothing under 1e-6.
+    let tiny = scratch(
+        "tiny.hf",
+        "my_model(x[3], a[1])\n{\n  d = 0.0000001;\n  my_model = 1 / d;\n}\n",
+    );
+    let err = one_line_error(&bezsolid(&[
+        "eval",
+        tiny.to_str().unwrap(),
+        "--points",
+        &points,
+    ]));
+    assert!(
+        err.contains("at point 1 (0, 0, 0)") && err.ends_with("Division by zero"),
+        "{err}"
+    );
+    // A program written for HyperFun carries no model to mesh.
+    let err = one_line_error(&bezsolid(&["mesh", tiny.to_str().unwrap(), "-o", "x.stl"]));
+    assert!(err.contains("carries no bezsolid model"), "{err}");
+}
