@@ -227,7 +227,7 @@ test('each export downloads a file that parses back; the model file opens again'
   // HyperFun: the model function with the explicit Bernstein sum.
   const hf = (await exported(page, 'hf')).bytes.toString();
   assert.match(hf, /my_model\(x\[3\], a\[1\]\)\s*\{/);
-  assert.match(hf, /my_model = s & \(\(u\*us\) & \(v\*vs\)\);\s*\}/);
+  assert.match(hf, /my_model = sxi & \(\(u\*us\) & \(v\*vs\)\);\s*\}/);
 
   // PNG of the view: the canvas's size, and a picture (red inside, blue outside).
   const png = decodePng((await exported(page, 'png')).bytes);
@@ -245,6 +245,12 @@ test('each export downloads a file that parses back; the model file opens again'
   assert.match(mapped, /while \(m1go = 1\) loop/);
   assert.match(mapped, /my_model = n\d+;\s*\}\s*$/);
   assert.equal(await model(page), edited);
+  // The HyperFun file carries its model: opened by the picker, it is the model it came from.
+  await page.setInputFiles('#open-file', { name: 'm.bsolid.json', mimeType: 'application/json', buffer: json.bytes });
+  await page.waitForFunction((o) => window.bezsolid.modeler.model_json() === o, original);
+  await page.setInputFiles('#open-file', { name: 'edited.hf', mimeType: 'text/plain', buffer: Buffer.from(mapped) });
+  await page.waitForFunction((o) => window.bezsolid.modeler.model_json() === o, edited);
+  assert.match(await status(page), /Opened edited\.hf/);
 
   // Import: the exported model file by the picker (an undo step), and a broken one (kept).
   await page.setInputFiles('#open-file', { name: 'm.bsolid.json', mimeType: 'application/json', buffer: json.bytes });

@@ -552,6 +552,18 @@ impl Modeler {
     ///
     /// What is wrong with the file.
     pub fn load_model(&mut self, text: &str) -> Result<(), JsError> {
+        // A HyperFun file bezsolid exported carries its model.
+        if let Some(file) = bezsolid_core::hyperfun::model_of(text) {
+            return self.open_file(file.map_err(Error::from)?);
+        }
+        let start = text.trim_start();
+        if !start.starts_with('{') && (start.starts_with("--") || text.contains("my_model(")) {
+            return Err(Error::new(
+                "a HyperFun program that carries no bezsolid model: the page opens the HyperFun \
+                 files bezsolid exported (the command line's `bezsolid eval` evaluates any)",
+            )
+            .into());
+        }
         if !text.trim_start().starts_with('{') {
             // Not JSON: the reader's own message says so.
             document::read_model(text)?;
