@@ -43,7 +43,7 @@ pub(crate) struct MeshArgs {
     #[arg(long, value_name = "A")]
     accuracy: Option<f64>,
     /// The box a tree is meshed within, and cut by; needed by one that may be unbounded (a
-    /// half-space, a cylinder).
+    /// half-space, a cylinder) and by a HyperFun program.
     #[arg(long = "box", value_name = "X0,Y0,Z0,X1,Y1,Z1")]
     region: Option<String>,
     /// Threads to mesh on (the same mesh as on one) [default: every core].
@@ -84,6 +84,13 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
     };
     if !(1..=MAX_RESOLUTION).contains(&res) {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
+    }
+    if crate::is_hyperfun(model) {
+        let text = crate::read_hyperfun(model)?;
+        if bezsolid_core::hyperfun::model_of(&text).is_none() {
+            let mesh = hyperfun(model, &text, res, args.region.as_deref())?;
+            return finish(model, &mesh, format, stats, res);
+        }
     }
     let file = crate::load_file(model)?;
     let mut progress = Progress::new("meshing", false);
@@ -143,8 +150,19 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
     };
     progress.finish();
     crate::warn_exhausted(exhausted);
+    finish(model, &mesh, format, stats, res)
+}
+
+/// Writes `mesh` where `format` says and prints its figures with `--stats`.
+fn finish(
+    model: &str,
+    mesh: &bezsolid_core::mesh::Mesh,
+    format: Option<(&str, ExportFormat)>,
+    stats: bool,
+    res: usize,
+) -> Result<()> {
     if let Some((out, format)) = format {
-        let bytes = format.write(&mesh, &title(model))?;
+        let bytes = format.write(mesh, &title(model))?;
         std::fs::write(out, bytes).with_context(|| format!("cannot write {out}"))?;
         eprintln!(
             "bezsolid: {} triangles, {} vertices written to {out}",
@@ -153,9 +171,44 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
         );
     }
     if stats {
-        print_stats(&mesh, res);
+        print_stats(mesh, res);
     }
     Ok(())
+}
+
+/// The mesh of a HyperFun program that carries no bezsolid model, within the box it needs (a
+/// program has no bounds of its own), cut by it.
+fn hyperfun(
+    path: &str,
+    text: &str,
+    res: usize,
+    region: Option<&str>,
+) -> Result<bezsolid_core::mesh::Mesh> {
+    use bezsolid_core::hyperfun::{field, read::Program};
+    let Some((lo, hi)) = args::bounds::<3>("--box", region)? else {
+        bail!(
+            "{path}: a HyperFun program has no bounds of its own: mesh it within \
+             --box X0,Y0,Z0,X1,Y1,Z1"
+        );
+    };
+    if res > field::MAX_RESOLUTION {
+        bail!(
+            "--res {res} is outside 1..={} for a HyperFun program",
+            field::MAX_RESOLUTION
+        );
+    }
+    let program = Program::parse(text).map_err(|e| anyhow::anyhow!("{path}: {e}"))?;
+    let mut progress = Progress::new("meshing", false);
+    let mesh = field::mesh(
+        &program,
+        glam::DVec3::from_array(lo),
+        glam::DVec3::from_array(hi),
+        res,
+        &mut |done, total| progress.steps(done, total),
+    )
+    .map_err(|e| anyhow::anyhow!("{path}: {e}"))?;
+    progress.finish();
+    Ok(mesh)
 }
 
 /// The model's name in the files that keep one (3MF, GLB): the preset's, or the model file's name

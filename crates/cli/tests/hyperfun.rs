@@ -125,7 +125,91 @@ fn hyperfun_refusals_are_its_messages_at_their_places() {
         err.contains("at point 1 (0, 0, 0)") && err.ends_with("Division by zero"),
         "{err}"
     );
-    // A program written for HyperFun carries no model to mesh.
-    let err = one_line_error(&bezsolid(&["mesh", tiny.to_str().unwrap(), "-o", "x.stl"]));
+    // Meshing stops at the first point it fails at, with its message.
+    let err = one_line_error(&bezsolid(&[
+        "mesh",
+        tiny.to_str().unwrap(),
+        "--box",
+        "-1,-1,-1,1,1,1",
+        "--stats",
+    ]));
+    assert!(
+        err.contains("at (-1, -1, -1)") && err.ends_with("Division by zero"),
+        "{err}"
+    );
+    // A program carries no model for the commands that need one.
+    let err = one_line_error(&bezsolid(&["link", tiny.to_str().unwrap()]));
     assert!(err.contains("carries no bezsolid model"), "{err}");
+}
+
+#[test]
+fn a_hyperfun_program_meshes_within_its_box() {
+    let ball = scratch(
+        "unit-ball.hf",
+        "my_model(x[3], a[1]) {\n  array c[3];\n  c = [0.5, 0, 0];\n  my_model = hfSphere(x, c, 1);\n}\n",
+    );
+    let ball = ball.to_str().unwrap();
+    let stats = |args: &[&str]| -> Vec<(String, Vec<f64>)> {
+        let out = succeed(args);
+        stdout(&out)
+            .lines()
+            .map(|l| {
+                let (name, rest) = l.split_once(':').unwrap();
+                let v = rest
+                    .split_whitespace()
+                    .map(|v| v.parse().unwrap())
+                    .collect();
+                (name.to_string(), v)
+            })
+            .collect()
+    };
+    // The whole ball: its volume 4π/3 to marching cubes' accuracy (the inscribed polyhedron of
+    // 1/16 cells, within 1.5 %), its box [-0.5, 1.5] × [-1, 1]².
+    let whole = stats(&[
+        "mesh",
+        ball,
+        "--box",
+        "-2,-2,-2,2,2,2",
+        "--res",
+        "32",
+        "--stats",
+    ]);
+    let volume = whole[0].1[0];
+    assert!(
+        (volume - 4.0 * std::f64::consts::PI / 3.0).abs() < 0.065,
+        "{whole:?}"
+    );
+    let bbox = &whole[2].1;
+    for (got, want) in bbox.iter().zip([-0.5, -1.0, -1.0, 1.5, 1.0, 1.0]) {
+        assert!((got - want).abs() < 1e-6, "{bbox:?}");
+    }
+    // Cut by a box through its centre: the half ball, closed by the cut.
+    let half = stats(&[
+        "mesh",
+        ball,
+        "--box",
+        "0.5,-2,-2,2,2,2",
+        "--res",
+        "32",
+        "--stats",
+    ]);
+    let volume = half[0].1[0];
+    assert!(
+        (volume - 2.0 * std::f64::consts::PI / 3.0).abs() < 0.06,
+        "{half:?}"
+    );
+    // Without a box it says what it needs; outside the solid, that it is empty there.
+    let err = one_line_error(&bezsolid(&["mesh", ball, "--stats"]));
+    assert!(err.contains("--box X0,Y0,Z0,X1,Y1,Z1"), "{err}");
+    let err = one_line_error(&bezsolid(&[
+        "mesh",
+        ball,
+        "--box",
+        "5,5,5,6,6,6",
+        "--stats",
+    ]));
+    assert!(
+        err.contains("no point of the grid in the box is inside"),
+        "{err}"
+    );
 }

@@ -1,7 +1,9 @@
 //! HyperFun (`.hf`) export of every model: a regular-grid solid in closed form, a space-mapped one
 //! (moved control points) with its inverse map written in HyperFun itself (seeds, Newton's
 //! method, the largest clipped value over the preimages: `mapped.rs`), a tree of many solids node
-//! by node ([`tree_hf`]).
+//! by node ([`tree_hf`]). Each export carries its model in comment lines (`with_model`,
+//! `model_of`, with the `link` feature), so that it opens back as the model it came from; [`read`] reads any HyperFun
+//! program as HyperFun's own interpreter does, and [`field`] meshes one within a box.
 //!
 //! A regular solid is written as the explicit Bernstein sum in plain HyperFun arithmetic (`+ − * /` and the
 //! R-function intersection `&`, which HyperFun defines as `f1 + f2 − sqrt(f1² + f2²)`, the paper's), so
@@ -25,6 +27,7 @@ use crate::{Solid2, Solid3};
 
 #[cfg(test)]
 mod agree_tests;
+pub mod field;
 #[cfg(test)]
 mod interp;
 mod mapped;
@@ -39,6 +42,7 @@ pub use tree::{MAX_NUMBERS, TreeHfError, tree_hf};
 pub const MODEL_MARK: &str = "-- bezsolid model: ";
 
 /// The most characters of the link one comment line carries.
+#[cfg(feature = "link")]
 const MODEL_LINE: usize = 160;
 
 /// `text` with the model it was exported from in comment lines at its top ([`model_of`] reads it

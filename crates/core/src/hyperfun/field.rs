@@ -1,0 +1,232 @@
+//! A HyperFun program's solid as a mesh: its field sampled over a box and polygonized (marching
+//! cubes, inside `f > 0` as in HyperFun), each crossing found on its edge by the program itself
+//! (regula falsi), the solid cut by the box so that the mesh is closed. A program has no bounds of
+//! its own: the box is the caller's, as HyperFun's polygonizer takes one.
+
+use alloc::vec::Vec;
+use core::fmt;
+
+use glam::DVec3;
+
+use super::read::{Evaluator, HfError, Program};
+use crate::mesh::Mesh;
+use crate::mesh::polygonize::{EdgeRoots, SampleGrid, polygonize};
+
+/// The most operations of the reader one mesh may take over all its points (about a minute).
+pub const MAX_MESH_OPERATIONS: u64 = 20_000_000_000;
+
+/// The most cells along the box's longest side (the samples, 8 bytes each, stay under 140 MB).
+pub const MAX_RESOLUTION: usize = 256;
+
+/// Steps of regula falsi on an edge.
+const ROOT_STEPS: usize = 24;
+
+/// Why a program has no mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FieldMeshError {
+    /// The program failed at a point (HyperFun's message at its line and position).
+    Program {
+        /// The point.
+        at: [f64; 3],
+        /// The program's error.
+        error: HfError,
+    },
+    /// Its value at a point is not a number or not finite.
+    NotFinite {
+        /// The point.
+        at: [f64; 3],
+    },
+    /// The points together took more than [`MAX_MESH_OPERATIONS`].
+    TooMuchWork,
+    /// No sample of the box is inside (`f > 0`).
+    Empty,
+}
+
+impl fmt::Display for FieldMeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Program { at, error } => {
+                write!(f, "at ({}, {}, {}): {error}", at[0], at[1], at[2])
+            }
+            Self::NotFinite { at } => write!(
+                f,
+                "the value at ({}, {}, {}) is not a finite number",
+                at[0], at[1], at[2]
+            ),
+            Self::TooMuchWork => write!(
+                f,
+                "the program takes more than {MAX_MESH_OPERATIONS} operations over the grid: \
+                 mesh it at a lower resolution or in a smaller box"
+            ),
+            Self::Empty => write!(f, "no point of the grid in the box is inside (f > 0)"),
+        }
+    }
+}
+
+impl core::error::Error for FieldMeshError {}
+
+/// The mesh of `program`'s solid within the box `[lo, hi]`, `res` cells along the box's longest
+/// side (from 1 to [`MAX_RESOLUTION`], clamped), cut by the box. `progress(done, total)` is told of each layer of samples.
+///
+/// # Errors
+///
+/// [`FieldMeshError`]: the program's error or a value that is not finite at a point, work past
+/// [`MAX_MESH_OPERATIONS`], or no inside sample.
+pub fn mesh(
+    program: &Program,
+    lo: DVec3,
+    hi: DVec3,
+    res: usize,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Mesh, FieldMeshError> {
+    let extent = hi - lo;
+    let step = extent.max_element() / res.clamp(1, MAX_RESOLUTION) as f64;
+    let count = |e: f64| (libm::ceil(e / step) as usize).max(1) + 1;
+    let dims = [count(extent.x), count(extent.y), count(extent.z)];
+    let step = DVec3::new(
+        extent.x / (dims[0] - 1) as f64,
+        extent.y / (dims[1] - 1) as f64,
+        extent.z / (dims[2] - 1) as f64,
+    );
+    let grid = SampleGrid {
+        origin: lo,
+        step,
+        dims,
+    };
+    let mut field = Field {
+        run: program.evaluator(),
+        work: 0,
+        failed: None,
+    };
+    let mut values = Vec::with_capacity(dims[0] * dims[1] * dims[2]);
+    let mut inside = false;
+    for c in 0..dims[2] {
+        for b in 0..dims[1] {
+            for a in 0..dims[0] {
+                let p = grid.point(a, b, c);
+                let mut v = field.at(p)?;
+                // The box cuts the solid: its outer samples are outside.
+                let rim = a == 0
+                    || b == 0
+                    || c == 0
+                    || a + 1 == dims[0]
+                    || b + 1 == dims[1]
+                    || c + 1 == dims[2];
+                if rim && v > 0.0 {
+                    v = -f64::MIN_POSITIVE;
+                }
+                inside |= v > 0.0;
+                values.push(v);
+            }
+        }
+        progress(c + 1, dims[2]);
+    }
+    if !inside {
+        return Err(FieldMeshError::Empty);
+    }
+    let mut roots = Roots {
+        field: &mut field,
+        grid,
+        values: &values,
+    };
+    let mesh = polygonize(&grid, &values, &mut roots);
+    match field.failed {
+        Some(e) => Err(e),
+        None => Ok(mesh),
+    }
+}
+
+/// The program at points, its work counted.
+struct Field<'p> {
+    run: Evaluator<'p>,
+    work: u64,
+    /// The first failure while refining an edge (where the polygonizer cannot be told).
+    failed: Option<FieldMeshError>,
+}
+
+impl Field<'_> {
+    fn at(&mut self, p: DVec3) -> Result<f64, FieldMeshError> {
+        let at = p.to_array();
+        let v = self
+            .run
+            .eval(&at, &[])
+            .map_err(|error| FieldMeshError::Program { at, error })?;
+        self.work = self.work.saturating_add(self.run.operations());
+        if self.work > MAX_MESH_OPERATIONS {
+            return Err(FieldMeshError::TooMuchWork);
+        }
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(FieldMeshError::NotFinite { at })
+        }
+    }
+}
+
+/// Edge roots by regula falsi (Illinois) on the program; an edge to a rim sample (forced outside
+/// by the box's cut) by linear interpolation.
+struct Roots<'f, 'p> {
+    field: &'f mut Field<'p>,
+    grid: SampleGrid,
+    values: &'f [f64],
+}
+
+impl EdgeRoots for Roots<'_, '_> {
+    fn vertex(&mut self, axis: usize, lower: [usize; 3], f0: f64, f1: f64) -> (f64, DVec3) {
+        let linear = |f0: f64, f1: f64| {
+            let t = f0 / (f0 - f1);
+            if t.is_finite() {
+                t.clamp(0.0, 1.0)
+            } else {
+                0.5
+            }
+        };
+        let mut upper = lower;
+        upper[axis] += 1;
+        let dims = self.grid.dims;
+        let rim = |i: [usize; 3]| (0..3).any(|k| i[k] == 0 || i[k] + 1 == dims[k]);
+        let index = |i: [usize; 3]| (i[2] * dims[1] + i[1]) * dims[0] + i[0];
+        debug_assert!(self.values.len() > index(upper));
+        if self.field.failed.is_some() || rim(lower) || rim(upper) {
+            return (linear(f0, f1), DVec3::ZERO);
+        }
+        let p0 = self.grid.point(lower[0], lower[1], lower[2]);
+        let p1 = self.grid.point(upper[0], upper[1], upper[2]);
+        let (mut a, mut fa, mut b, mut fb) = (0.0, f0, 1.0, f1);
+        let mut side = 0;
+        for _ in 0..ROOT_STEPS {
+            let t = (a * fb - b * fa) / (fb - fa);
+            if !t.is_finite() {
+                break;
+            }
+            let ft = match self.field.at(p0.lerp(p1, t)) {
+                Ok(v) => v,
+                Err(e) => {
+                    self.field.failed = Some(e);
+                    break;
+                }
+            };
+            if ft == 0.0 {
+                return (t, DVec3::ZERO);
+            }
+            // The root stays between the ends whose values differ in sign (f ≤ 0 against f > 0).
+            if (ft > 0.0) == (fb > 0.0) {
+                (b, fb) = (t, ft);
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            } else {
+                (a, fa) = (t, ft);
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            }
+            if b - a <= 1e-12 {
+                break;
+            }
+        }
+        (linear(fa, fb) * (b - a) + a, DVec3::ZERO)
+    }
+}
