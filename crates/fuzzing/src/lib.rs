@@ -28,9 +28,11 @@
 //! | [`contour()`] | a small patch net, a resolution | closed polylines of finite vertices within the grid |
 //! | [`mesh()`] | a small volume net, a resolution | a closed manifold of finite vertices within the grid |
 //! | [`tree()`] | a 3D tree with numbers at the edges of the accepted range | finite `f` and gradient to `±f64::MAX`; sound bounds; a closed mesh or an inside point |
+//! | [`hyperfun()`] | a HyperFun text | the strict reader's parse and evaluation: places of errors; a reused evaluator answers as a fresh one |
 
 mod contour;
 mod eval;
+mod hyperfun;
 mod input;
 mod link;
 mod mesh;
@@ -42,6 +44,7 @@ mod tree;
 
 pub use contour::contour;
 pub use eval::eval;
+pub use hyperfun::hyperfun;
 pub use link::link;
 pub use mesh::mesh;
 pub use mesh_import::mesh_import;
@@ -63,6 +66,7 @@ pub const TARGETS: &[(&str, Target)] = &[
     ("contour", contour),
     ("mesh", mesh),
     ("tree", tree),
+    ("hyperfun", hyperfun),
 ];
 
 /// The target of a name.
