@@ -63,6 +63,12 @@ pub(crate) fn run(args: &ContourArgs) -> Result<()> {
     if !(accuracy.is_finite() && accuracy > 0.0) {
         bail!("--accuracy must be a positive number");
     }
+    if crate::is_hyperfun(model) {
+        let text = crate::read_hyperfun(model)?;
+        if bezsolid_core::hyperfun::model_of(&text).is_none() {
+            return hyperfun_section(args, model, &text, res, accuracy, &out);
+        }
+    }
     let file = crate::load_file(model)?;
     if let Some(plane) = args.section.as_deref() {
         return section(args, model, &file, plane, res, accuracy, &out);
@@ -144,6 +150,86 @@ impl Output<'_> {
     }
 }
 
+/// The plane of `--section x=C` (or `y=`, `z=`): its axis and coordinate.
+fn parse_plane(plane: &str) -> Result<(usize, f64)> {
+    let parsed = plane.split_once('=').and_then(|(name, at)| {
+        let axis = ["x", "y", "z"].iter().position(|a| *a == name.trim())?;
+        let at: f64 = at.trim().parse().ok().filter(|v: &f64| v.is_finite())?;
+        Some((axis, at))
+    });
+    parsed.ok_or_else(|| {
+        anyhow::anyhow!("--section {plane}: a plane is x=C, y=C or z=C with C a finite number")
+    })
+}
+
+/// `--section x=C` of a HyperFun program that carries no bezsolid model, within the box it needs
+/// (a program has no bounds of its own): its zero contour in the plane, as HyperFun evaluates it.
+fn hyperfun_section(
+    args: &ContourArgs,
+    path: &str,
+    text: &str,
+    res: usize,
+    accuracy: f64,
+    out: &Output<'_>,
+) -> Result<()> {
+    use bezsolid_core::contour::{Grid2, contour_grid};
+    use bezsolid_core::hyperfun::field::{FieldMeshError, MAX_MESH_OPERATIONS};
+    use bezsolid_core::hyperfun::read::Program;
+    let Some(plane) = args.section.as_deref() else {
+        bail!(
+            "{path}: a HyperFun program is 3D: draw its section with --section x=C, y=C or z=C \
+             within --box X0,Y0,Z0,X1,Y1,Z1"
+        );
+    };
+    let (axis, at) = parse_plane(plane)?;
+    let Some((lo, hi)) = args::bounds::<3>("--box", args.region.as_deref())? else {
+        bail!(
+            "{path}: a HyperFun program has no bounds of its own: cut it within \
+             --box X0,Y0,Z0,X1,Y1,Z1"
+        );
+    };
+    let program = Program::parse(text).map_err(|e| anyhow::anyhow!("{path}: {e}"))?;
+    let [a, b] = bezsolid_core::tree::plane_axes(axis);
+    let (lo, hi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
+    let side = (hi - lo).max_element();
+    let samples = |e: f64| ((e / side * res as f64).ceil() as usize).max(1) + 1;
+    let grid = Grid2::new(lo, hi, samples(hi.x - lo.x), samples(hi.y - lo.y));
+    let mut run = program.evaluator();
+    let (mut work, mut failed) = (0u64, None);
+    let lines = contour_grid(
+        &grid,
+        |q| {
+            if failed.is_some() {
+                return -1.0;
+            }
+            let mut p = [at; 3];
+            (p[a], p[b]) = (q.x, q.y);
+            match run.eval(&p, &[]) {
+                Ok(v) if v.is_finite() => {
+                    work += run.operations();
+                    if work > MAX_MESH_OPERATIONS {
+                        failed = Some(FieldMeshError::TooMuchWork);
+                    }
+                    v
+                }
+                Ok(_) => {
+                    failed = Some(FieldMeshError::NotFinite { at: p });
+                    -1.0
+                }
+                Err(error) => {
+                    failed = Some(FieldMeshError::Program { at: p, error });
+                    -1.0
+                }
+            }
+        },
+        accuracy,
+    );
+    if let Some(e) = failed {
+        bail!("{path}: {e}");
+    }
+    out.write(&lines, lo, hi, &format!("the section {plane}: "))
+}
+
 /// `--section x=C`: the true section of a 3D model (a volume, a piecewise volume or a 3D tree) by
 /// the plane, drawn in the plane's coordinates (`y, z` across x, `x, z` across y, `x, y` across z).
 fn section(
@@ -155,14 +241,7 @@ fn section(
     accuracy: f64,
     out: &Output<'_>,
 ) -> Result<()> {
-    let parsed = plane.split_once('=').and_then(|(name, at)| {
-        let axis = ["x", "y", "z"].iter().position(|a| *a == name.trim())?;
-        let at: f64 = at.trim().parse().ok().filter(|v: &f64| v.is_finite())?;
-        Some((axis, at))
-    });
-    let Some((axis, at)) = parsed else {
-        bail!("--section {plane}: a plane is x=C, y=C or z=C with C a finite number");
-    };
+    let (axis, at) = parse_plane(plane)?;
     let region = args::bounds::<3>("--box", args.region.as_deref())?;
     let ModelTree::Space(tree) = file.to_tree().with_context(|| crate::describe(model))? else {
         bail!("--section cuts 3D models; this is a 2D model: draw its contour without it");

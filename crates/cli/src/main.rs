@@ -139,8 +139,8 @@ enum Command {
 const MORE: &str = "MODEL is a model file (.bsolid.json: one patch or volume, or a tree of many \
 solids: primitives, Bézier solids, set operations, blends, morphs and transforms), a share link \
 (the whole URL or its #v1. fragment; quote it in the shell), a HyperFun file bezsolid exported \
-(.hf: it carries its model; `eval`, and `mesh` within --box, also take any HyperFun program, \
-read as HyperFun reads it) or a \
+(.hf: it carries its model; `eval`, and `mesh` and `contour --section` within --box, also take \
+any HyperFun program, read as HyperFun reads it) or a \
 preset: preset:fig9, \
 preset:blob, preset:ring, preset:fish, and the zoo's preset:chair, preset:vase, preset:knot, \
 preset:shell, preset:koi, preset:tooth. MESH, A and B are mesh files or built-in examples: \

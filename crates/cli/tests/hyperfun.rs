@@ -213,3 +213,39 @@ fn a_hyperfun_program_meshes_within_its_box() {
         "{err}"
     );
 }
+
+#[test]
+fn a_hyperfun_program_is_cut_by_a_plane() {
+    let ball = scratch(
+        "section-ball.hf",
+        "my_model(x[3], a[1]) {\n  array c[3];\n  c = [0.5, 0, 0];\n  my_model = hfSphere(x, c, 1);\n}\n",
+    );
+    let ball = ball.to_str().unwrap();
+    // Through the centre, the unit disc; 0.6 above it, the disc of radius 0.8.
+    for (plane, r) in [("z=0", 1.0f64), ("y=0.6", 0.8)] {
+        let out = succeed(&[
+            "contour",
+            ball,
+            "--section",
+            plane,
+            "--box",
+            "-2,-2,-2,2,2,2",
+            "--stats",
+        ]);
+        let area: f64 = stdout(&out)
+            .lines()
+            .find_map(|l| l.strip_prefix("area: "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        let want = std::f64::consts::PI * r * r;
+        assert!(
+            (area - want).abs() < 1e-3 * want,
+            "{plane}: {area} against {want}"
+        );
+    }
+    let err = one_line_error(&bezsolid(&["contour", ball, "--stats"]));
+    assert!(err.contains("--section x=C, y=C or z=C"), "{err}");
+    let err = one_line_error(&bezsolid(&["contour", ball, "--section", "z=0", "--stats"]));
+    assert!(err.contains("--box X0,Y0,Z0,X1,Y1,Z1"), "{err}");
+}
