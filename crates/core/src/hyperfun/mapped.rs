@@ -716,50 +716,54 @@ fn sum_level(out: &mut String, leaf: &MappedLeaf, tag: &str, a: usize) {
         }
     }
     let _ = writeln!(out, "{pad}{}", zero.join(" "));
+    if a + 1 == d {
+        // The innermost axis unrolled (its basis at constant indices): no loop test or counter
+        // per control point.
+        for kk in 1..=leaf.dims[a] {
+            let (b, dv) = (
+                format!("{tag}b{}[{kk}]", axes[a]),
+                format!("{tag}d{}[{kk}]", axes[a]),
+            );
+            for c in 1..=d {
+                let _ = writeln!(
+                    out,
+                    "{pad}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}p{c}[{tag}ix];\n\
+                     {pad}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}p{c}[{tag}ix];"
+                );
+            }
+            let _ = writeln!(
+                out,
+                "{pad}{tag}z{a}v0 = {tag}z{a}v0 + {b} * {tag}xi[{tag}ix];\n{pad}{tag}ix = {tag}ix + 1;"
+            );
+        }
+        return;
+    }
     let _ = writeln!(
         out,
         "{pad}{k} = 1;\n{pad}while ({k} <= {}) loop",
         leaf.dims[a]
     );
     let inner = format!("{pad}  ");
-    if a + 1 == d {
-        for c in 1..=d {
-            let _ = writeln!(
-                out,
-                "{inner}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}p{c}[{tag}ix];"
-            );
-            let _ = writeln!(
-                out,
-                "{inner}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}p{c}[{tag}ix];"
-            );
-        }
+    sum_level(out, leaf, tag, a + 1);
+    let next = a + 1;
+    for c in 0..=d {
         let _ = writeln!(
             out,
-            "{inner}{tag}z{a}v0 = {tag}z{a}v0 + {b} * {tag}xi[{tag}ix];"
+            "{inner}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}z{next}v{c};"
         );
-        let _ = writeln!(out, "{inner}{tag}ix = {tag}ix + 1;");
-    } else {
-        sum_level(out, leaf, tag, a + 1);
-        let next = a + 1;
-        for c in 0..=d {
-            let _ = writeln!(
-                out,
-                "{inner}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}z{next}v{c};"
-            );
-        }
+    }
+    for c in 1..=d {
+        let _ = writeln!(
+            out,
+            "{inner}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}z{next}v{c};"
+        );
+    }
+    for g in next..d {
         for c in 1..=d {
             let _ = writeln!(
                 out,
-                "{inner}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}z{next}v{c};"
+                "{inner}{tag}z{a}g{g}{c} = {tag}z{a}g{g}{c} + {b} * {tag}z{next}g{g}{c};"
             );
-        }
-        for g in next..d {
-            for c in 1..=d {
-                let _ = writeln!(
-                    out,
-                    "{inner}{tag}z{a}g{g}{c} = {tag}z{a}g{g}{c} + {b} * {tag}z{next}g{g}{c};"
-                );
-            }
         }
     }
     let _ = writeln!(out, "{inner}{k} = {k} + 1;\n{pad}endloop;");
