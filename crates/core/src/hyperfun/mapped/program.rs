@@ -1,24 +1,5 @@
-//! A space-mapped Bézier leaf in HyperFun: the inverse map written in the language itself.
-//!
-//! `f(x)` is the largest clipped `S_ξ(u) & F_s(u)` over the preimages `u` of `x` in the closed
-//! parameter box (`S(u) = x`), and where `x` has none the negative continuation: `S_ξ & F_s` at the
-//! root of the polynomial map extended past the box, forced negative (the first paper's §3.3.2 and
-//! DESIGN §5, as `eval` computes it). The file finds the preimages as `eval` does on its fast
-//! path, with HyperFun's arrays, loops and conditionals:
-//!
-//! - a table of seeds over the parameter box with their images (constants, computed here by the
-//!   forward map), the nearest seed found by a loop;
-//! - Newton's method from the nearest seed and from every seed whose image lies within a radius
-//!   that bounds how far a seed's image can be from a preimage's (the net's Lipschitz bound along
-//!   each axis times the seed spacing): `S` and its Jacobian by loops over the control points with
-//!   the Bernstein basis and its derivatives written out per axis, each step by Cramer's rule,
-//!   stopped at a root by the same tolerances as `eval` (relative to the net's extent);
-//! - the largest clipped value over the roots in the box; where the map is certified injective
-//!   the first root is the only one and ends the search.
-//!
-//! Where the map is certified injective the value is `eval`'s to rounding; where it folds the seeds
-//! are denser (three per degree along each axis), which finds the roots that `eval`'s atlas finds
-//! except within rounding of a fold.
+//! The program of one space-mapped net: its constant arrays, the preimages' search (Newton from
+//! the spline guess, then the nearest seeds), Newton's loop and the negative continuation.
 
 // Axes index the net's counts, the seed tables and the names at once.
 #![allow(clippy::needless_range_loop)]
@@ -29,211 +10,14 @@ use alloc::string::String;
 use alloc::vec::Vec;
 use core::fmt::Write as _;
 
-use super::{basis_term, num};
-use crate::dim::Control;
-use crate::dim::{Dim, Dimension};
-use crate::inverse::tps::Kernel;
-use crate::inverse::{Forward, InverseMap};
-use crate::solid::Solid;
-use crate::tensor::Tensor;
-
-/// The most seeds one leaf's table holds.
-const MAX_SEEDS: usize = 4096;
-
-/// Newton steps from a seed towards a root in the box (as many as eval's fast path takes).
-const ROOT_STEPS: usize = 12;
-
-/// The seeds an injective map tries where Newton from the guess fails: the nearest few to the
-/// point, among those within the radius (the others cannot be a preimage's nearest seed).
-const NEAREST_SEEDS: usize = 4;
-
-/// A seed's Newton iterate this far from the box's centre along an axis (in parameters) has left
-/// for a root past the box: the seed is dropped.
-const SEED_ESCAPE: f64 = 2.0;
-
-/// The continuation's Newton escapes where eval's does (`|u| ≥ 8`).
-const ESCAPE: f64 = 8.0;
-
-/// A Newton step this short has settled (the residual is checked once more), as in `eval`. Past
-/// the box (the continuation, `|u|` up to 8) the polynomial's terms cancel and a root may never
-/// settle to this: `eval` then takes the spline guess, and the file does the same unless its own
-/// rounding, which differs, lets it settle (a few points in a thousand far outside a net, both
-/// values negative).
-const SETTLED_STEP: f64 = 1e-13;
-
-/// A positive number below any determinant or value the file meets, and one above any squared
-/// distance: exponents whose digits after the first are zeros, which HyperFun's scanner reads
-/// right (it misreads `1e-15` as `1e-5`; see [`super::num`]).
-const TINY: &str = "1e-300";
-const HUGE: &str = "1e300";
-
-/// A space-mapped Bézier leaf as its export needs it, whatever its dimension.
-pub(super) struct MappedLeaf {
-    /// Control points per axis.
-    dims: Vec<usize>,
-    /// The control points' spatial coordinates, one list per coordinate, in storage order (the
-    /// last axis fastest).
-    spatial: Vec<Vec<f64>>,
-    /// The control points' ξ in the same order.
-    xi: Vec<f64>,
-    /// Whether the map is certified injective (one preimage at most).
-    injective: bool,
-    /// The net's extent: the unit of residuals.
-    scale: f64,
-    /// The seeds' parameters, one list per axis.
-    seeds: Vec<Vec<f64>>,
-    /// The seeds' images, one list per coordinate.
-    images: Vec<Vec<f64>>,
-    /// A seed whose image is farther than this from the point is not the nearest seed of any of
-    /// its preimages.
-    radius: f64,
-    /// Where the continuation's Newton starts: the inverse map's spline guess, as `eval` starts
-    /// it ([`crate::inverse::InverseMap::outside`]); `None` for a cell that is a linear map (no
-    /// inverse map), whose continuation starts at the nearest seed and converges in one step.
-    guess: Option<Guess>,
-    /// The continuation's Newton steps at most: `eval`'s.
-    outside_steps: usize,
-    /// The control points' bounding box, per coordinate: it holds the image.
-    bounds: Vec<(f64, f64)>,
-}
-
-/// A spline guess's numbers ([`crate::inverse::tps::Spline::parts`]), one list per coordinate.
-struct Guess {
-    kernel: Kernel,
-    centre: Vec<f64>,
-    inv_scale: f64,
-    /// The normalised sites, one list per coordinate.
-    sites: Vec<Vec<f64>>,
-    /// The sites' weights, one list per parameter.
-    weights: Vec<Vec<f64>>,
-    /// Row 0 the constant, row `1 + c` the coefficients of coordinate `c`.
-    affine: Vec<Vec<f64>>,
-}
-
-impl Guess {
-    fn of<const D: usize>(map: &InverseMap<D>) -> Self {
-        let parts = map.spline().parts();
-        Self {
-            kernel: parts.kernel,
-            centre: parts.centre.to_vec(),
-            inv_scale: parts.inv_scale,
-            sites: (0..D)
-                .map(|c| parts.sites.iter().map(|s| s[c]).collect())
-                .collect(),
-            weights: (0..D)
-                .map(|a| parts.weights.iter().map(|w| w[a]).collect())
-                .collect(),
-            affine: parts.affine.iter().map(|row| row.to_vec()).collect(),
-        }
-    }
-}
-
-/// The parts of a space-mapped solid; `None` for a regular grid (which has a closed form).
-pub(super) fn mapped_leaf<const D: usize>(s: &Solid<D>) -> Option<MappedLeaf>
-where
-    Dim<D>: Dimension<D>,
-{
-    Some(mapped_net(s.net(), Some(s.inverse()?)))
-}
-
-/// The parts of any net as a space mapping with its inverse map, or without one a regular cell of
-/// a moved piecewise solid (whose map is linear and injective).
-pub(super) fn mapped_net<const D: usize>(
-    net: &Tensor<Control<D>, D>,
-    map: Option<&InverseMap<D>>,
-) -> MappedLeaf
-where
-    Dim<D>: Dimension<D>,
-{
-    let injective = map.is_none_or(InverseMap::injective);
-    let dims = net.dims();
-    let points: Vec<([f64; D], f64)> = net.points().iter().map(|&c| Dim::<D>::split(c)).collect();
-    let spatial: Vec<Vec<f64>> = (0..D)
-        .map(|c| points.iter().map(|(x, _)| x[c]).collect())
-        .collect();
-    let xi = points.iter().map(|&(_, v)| v).collect();
-    let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
-    for (x, _) in &points {
-        for c in 0..D {
-            lo[c] = lo[c].min(x[c]);
-            hi[c] = hi[c].max(x[c]);
-        }
-    }
-    let scale = (0..D)
-        .map(|c| (hi[c] - lo[c]).max(lo[c].abs()).max(hi[c].abs()))
-        .fold(0.0f64, f64::max);
-    // Seeds per axis: a few per degree, more where the map may fold, within the table's cap.
-    let per_degree = if injective { 1 } else { 3 };
-    let mut grid: [usize; D] = core::array::from_fn(|a| per_degree * (dims[a] - 1) + 2);
-    while grid.iter().product::<usize>() > MAX_SEEDS {
-        let widest = (0..D).max_by_key(|&a| grid[a]).unwrap_or(0);
-        grid[widest] -= 1;
-    }
-    let count: usize = grid.iter().product();
-    let mut seeds: Vec<Vec<f64>> = (0..D).map(|_| Vec::with_capacity(count)).collect();
-    let mut images: Vec<Vec<f64>> = (0..D).map(|_| Vec::with_capacity(count)).collect();
-    for flat in 0..count {
-        let mut rest = flat;
-        let mut u = [0.0; D];
-        for a in (0..D).rev() {
-            u[a] = (rest % grid[a]) as f64 / (grid[a] - 1) as f64;
-            rest /= grid[a];
-        }
-        let e = net.forward(u);
-        for a in 0..D {
-            seeds[a].push(u[a]);
-            images[a].push(e.x[a]);
-        }
-    }
-    // |∂S/∂u_a| ≤ n_a · the longest step between neighbours along a; a preimage's nearest seed
-    // is within half a spacing along each axis. Twice that where the map may fold, so that the
-    // next seeds are tried too.
-    let reach = if injective { 0.5 } else { 1.0 };
-    let radius = reach
-        * (0..D)
-            .map(|a| {
-                let n = dims[a] - 1;
-                let stride: usize = dims[a + 1..].iter().product();
-                let longest = (0..points.len())
-                    .filter(|i| (i / stride) % dims[a] < n)
-                    .map(|i| {
-                        let (p, q) = (points[i].0, points[i + stride].0);
-                        libm::sqrt((0..D).map(|c| (q[c] - p[c]) * (q[c] - p[c])).sum::<f64>())
-                    })
-                    .fold(0.0f64, f64::max);
-                n as f64 * longest / (grid[a] - 1) as f64
-            })
-            .sum::<f64>();
-    MappedLeaf {
-        dims: dims.to_vec(),
-        spatial,
-        xi,
-        injective,
-        scale: scale.max(f64::MIN_POSITIVE),
-        seeds,
-        images,
-        radius,
-        guess: map.map(Guess::of),
-        bounds: (0..D).map(|c| (lo[c], hi[c])).collect(),
-        // As `InverseMap::outside`: 30 steps where the map is injective, else 8 (within a query
-        // budget that a single point never exhausts).
-        outside_steps: if injective { 30 } else { 8 },
-    }
-}
-
-impl MappedLeaf {
-    /// How many numbers the export writes for this leaf (its arrays' lengths).
-    pub(super) fn numbers(&self) -> usize {
-        let d = self.dims.len();
-        let guess = self.guess.as_ref().map_or(0, |g| 2 * d * g.sites[0].len());
-        (d + 1) * self.xi.len() + 2 * d * self.seeds[0].len() + guess
-    }
-}
+use super::sums::{sum_level, write_guess};
+use super::{ESCAPE, HUGE, MappedLeaf, NEAREST_SEEDS, ROOT_STEPS, SEED_ESCAPE, SETTLED_STEP, TINY};
+use crate::hyperfun::{basis_term, num};
 
 /// The HyperFun lines of one space-mapped net at the coordinates in array `q`, its names
 /// prefixed by `tag`, its arrays added to `arrays`. `cell` is a piecewise solid's cell and cell
 /// counts: its clipping is on the global parameter `(cell + u) / cells`.
-pub(super) fn write_mapped(
+pub(in crate::hyperfun) fn write_mapped(
     leaf: &MappedLeaf,
     tag: &str,
     q: &str,
@@ -615,7 +399,7 @@ pub(super) fn write_mapped(
         let _ = writeln!(
             search,
             "  {start} {tag}max = {}; {tag}esc = {};",
-            leaf.outside_steps,
+            leaf.outside_steps(),
             num(ESCAPE)
         );
         search.push_str(&indent(&newton, 0));
@@ -649,7 +433,7 @@ pub(super) fn write_mapped(
         let _ = writeln!(
             continuation,
             "    {start} {tag}max = {}; {tag}esc = {};",
-            leaf.outside_steps,
+            leaf.outside_steps(),
             num(ESCAPE)
         );
         continuation.push_str(&indent(&newton, 2));
@@ -668,18 +452,18 @@ pub(super) fn write_mapped(
 /// One net's lines: `setup` (its constant arrays), `search` (sets `found` to 1 where the point has
 /// a preimage, `best` to the largest clipped value over them) and `continuation` (sets `cont` to
 /// the negative continuation; it needs `search` run before it).
-pub(super) struct MappedCode {
-    pub(super) setup: String,
-    pub(super) search: String,
-    pub(super) continuation: String,
-    pub(super) found: String,
-    pub(super) best: String,
-    pub(super) cont: String,
+pub(in crate::hyperfun) struct MappedCode {
+    pub(in crate::hyperfun) setup: String,
+    pub(in crate::hyperfun) search: String,
+    pub(in crate::hyperfun) continuation: String,
+    pub(in crate::hyperfun) found: String,
+    pub(in crate::hyperfun) best: String,
+    pub(in crate::hyperfun) cont: String,
 }
 
 impl MappedCode {
     /// The lines of a single solid: `f` is the best value, or the continuation; the variable.
-    pub(super) fn single(&self, tag: &str, body: &mut String) -> String {
+    pub(in crate::hyperfun) fn single(&self, tag: &str, body: &mut String) -> String {
         body.push_str(&self.setup);
         body.push_str(&self.search);
         let _ = writeln!(
@@ -691,137 +475,6 @@ impl MappedCode {
         let _ = writeln!(body, "    {tag}f = {};\n  endif;", self.cont);
         format!("{tag}f")
     }
-}
-
-/// The loop of axis `a` of the factored sums ([`write_mapped`]'s `eval`): accumulators
-/// `{tag}z{a}v{c}` (the value of coordinate `c`, `0` for ξ) and `{tag}z{a}g{b}{c}` (its partial
-/// along axis `b ≥ a`), summed over the axis's control points; the innermost axis reads the net at
-/// the running index `{tag}ix`.
-fn sum_level(out: &mut String, leaf: &MappedLeaf, tag: &str, a: usize) {
-    let d = leaf.dims.len();
-    let axes = ["u", "v", "w"];
-    let pad = "  ".repeat(a + 1);
-    let k = format!("{tag}k{}", axes[a]);
-    let (b, dv) = (
-        format!("{tag}b{}[{k}]", axes[a]),
-        format!("{tag}d{}[{k}]", axes[a]),
-    );
-    let mut zero = Vec::new();
-    for c in 0..=d {
-        zero.push(format!("{tag}z{a}v{c} = 0;"));
-    }
-    for g in a..d {
-        for c in 1..=d {
-            zero.push(format!("{tag}z{a}g{g}{c} = 0;"));
-        }
-    }
-    let _ = writeln!(out, "{pad}{}", zero.join(" "));
-    if a + 1 == d {
-        // The innermost axis unrolled (its basis at constant indices): no loop test or counter
-        // per control point.
-        for kk in 1..=leaf.dims[a] {
-            let (b, dv) = (
-                format!("{tag}b{}[{kk}]", axes[a]),
-                format!("{tag}d{}[{kk}]", axes[a]),
-            );
-            for c in 1..=d {
-                let _ = writeln!(
-                    out,
-                    "{pad}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}p{c}[{tag}ix];\n\
-                     {pad}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}p{c}[{tag}ix];"
-                );
-            }
-            let _ = writeln!(
-                out,
-                "{pad}{tag}z{a}v0 = {tag}z{a}v0 + {b} * {tag}xi[{tag}ix];\n{pad}{tag}ix = {tag}ix + 1;"
-            );
-        }
-        return;
-    }
-    let _ = writeln!(
-        out,
-        "{pad}{k} = 1;\n{pad}while ({k} <= {}) loop",
-        leaf.dims[a]
-    );
-    let inner = format!("{pad}  ");
-    sum_level(out, leaf, tag, a + 1);
-    let next = a + 1;
-    for c in 0..=d {
-        let _ = writeln!(
-            out,
-            "{inner}{tag}z{a}v{c} = {tag}z{a}v{c} + {b} * {tag}z{next}v{c};"
-        );
-    }
-    for c in 1..=d {
-        let _ = writeln!(
-            out,
-            "{inner}{tag}z{a}g{a}{c} = {tag}z{a}g{a}{c} + {dv} * {tag}z{next}v{c};"
-        );
-    }
-    for g in next..d {
-        for c in 1..=d {
-            let _ = writeln!(
-                out,
-                "{inner}{tag}z{a}g{g}{c} = {tag}z{a}g{g}{c} + {b} * {tag}z{next}g{g}{c};"
-            );
-        }
-    }
-    let _ = writeln!(out, "{inner}{k} = {k} + 1;\n{pad}endloop;");
-}
-
-/// Lines that set `{tag}h1..{tag}hd` to the spline guess at the point `q`, summed in the order of
-/// [`crate::inverse::tps::Spline::eval`].
-fn write_guess(body: &mut String, g: &Guess, tag: &str, q: &str, d: usize) {
-    for c in 1..=d {
-        let _ = writeln!(
-            body,
-            "    {tag}hq{c} = ({q}[{c}] - {}) * {};",
-            num(g.centre[c - 1]),
-            num(g.inv_scale)
-        );
-    }
-    for a in 0..d {
-        let mut sum = num(g.affine[0][a]);
-        for c in 0..d {
-            let _ = write!(sum, " + {} * {tag}hq{}", num(g.affine[1 + c][a]), c + 1);
-        }
-        let _ = writeln!(body, "    {tag}h{} = {sum};", a + 1);
-    }
-    let sites = g.sites[0].len();
-    if sites == 0 {
-        return;
-    }
-    let r2 = (1..=d)
-        .map(|c| format!("({tag}hs{c}[{tag}hk] - {tag}hq{c}) * ({tag}hs{c}[{tag}hk] - {tag}hq{c})"))
-        .collect::<Vec<_>>()
-        .join(" + ");
-    let _ = writeln!(
-        body,
-        "    {tag}hk = 1;\n    while ({tag}hk <= {sites}) loop"
-    );
-    let _ = writeln!(body, "      {tag}hr = {r2};");
-    match g.kernel {
-        Kernel::ThinPlate => {
-            let _ = writeln!(
-                body,
-                "      if ({tag}hr > 0) then {tag}hp = 0.5 * {tag}hr * log({tag}hr); \
-                 else {tag}hp = 0; endif;"
-            );
-        }
-        Kernel::Linear => {
-            let _ = writeln!(body, "      {tag}hp = sqrt({tag}hr);");
-        }
-        Kernel::Cubic => {
-            let _ = writeln!(body, "      {tag}hp = {tag}hr * sqrt({tag}hr);");
-        }
-    }
-    for a in 1..=d {
-        let _ = writeln!(
-            body,
-            "      {tag}h{a} = {tag}h{a} + {tag}hw{a}[{tag}hk] * {tag}hp;"
-        );
-    }
-    let _ = writeln!(body, "      {tag}hk = {tag}hk + 1;\n    endloop;");
 }
 
 /// Lines that set `var` to the largest `|{of}1|`, …, `|{of}d|`, indented by `pad`.
@@ -842,7 +495,7 @@ fn term(n: usize, i: usize, t: &str, s: &str) -> String {
 }
 
 /// `text` with every line indented by `by` more spaces.
-pub(super) fn indent(text: &str, by: usize) -> String {
+pub(in crate::hyperfun) fn indent(text: &str, by: usize) -> String {
     let pad = " ".repeat(by);
     text.lines().fold(String::new(), |mut out, line| {
         let _ = writeln!(out, "{pad}{line}");
