@@ -63,11 +63,8 @@ pub(crate) fn run(args: &ContourArgs) -> Result<()> {
     if !(accuracy.is_finite() && accuracy > 0.0) {
         bail!("--accuracy must be a positive number");
     }
-    if crate::is_hyperfun(model) {
-        let text = crate::read_hyperfun(model)?;
-        if bezsolid_core::hyperfun::model_of(&text).is_none() {
-            return hyperfun_section(args, model, &text, res, accuracy, &out);
-        }
+    if let Some(program) = crate::hyperfun_program(model)? {
+        return hyperfun_section(args, model, &program, res, accuracy, &out);
     }
     let file = crate::load_file(model)?;
     if let Some(plane) = args.section.as_deref() {
@@ -167,14 +164,14 @@ fn parse_plane(plane: &str) -> Result<(usize, f64)> {
 fn hyperfun_section(
     args: &ContourArgs,
     path: &str,
-    text: &str,
+    program: &bezsolid_core::hyperfun::read::Program,
     res: usize,
     accuracy: f64,
     out: &Output<'_>,
 ) -> Result<()> {
     use bezsolid_core::contour::{Grid2, contour_grid};
-    use bezsolid_core::hyperfun::field::{FieldMeshError, MAX_MESH_OPERATIONS};
-    use bezsolid_core::hyperfun::read::Program;
+    use bezsolid_core::hyperfun::field::Sampler;
+    use glam::DVec3;
     let Some(plane) = args.section.as_deref() else {
         bail!(
             "{path}: a HyperFun program is 3D: draw its section with --section x=C, y=C or z=C \
@@ -188,38 +185,25 @@ fn hyperfun_section(
              --box X0,Y0,Z0,X1,Y1,Z1"
         );
     };
-    let program = Program::parse(text).map_err(|e| anyhow::anyhow!("{path}: {e}"))?;
     let [a, b] = bezsolid_core::tree::plane_axes(axis);
     let (lo, hi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
     let side = (hi - lo).max_element();
     let samples = |e: f64| ((e / side * res as f64).ceil() as usize).max(1) + 1;
     let grid = Grid2::new(lo, hi, samples(hi.x - lo.x), samples(hi.y - lo.y));
-    let mut run = program.evaluator();
-    let (mut work, mut failed) = (0u64, None);
+    let mut sampler = Sampler::new(program);
+    let mut failed = None;
     let lines = contour_grid(
         &grid,
         |q| {
-            if failed.is_some() {
-                return -1.0;
-            }
-            let mut p = [at; 3];
+            let mut p = DVec3::splat(at);
             (p[a], p[b]) = (q.x, q.y);
-            match run.eval(&p, &[]) {
-                Ok(v) if v.is_finite() => {
-                    work += run.operations();
-                    if work > MAX_MESH_OPERATIONS {
-                        failed = Some(FieldMeshError::TooMuchWork);
-                    }
-                    v
-                }
-                Ok(_) => {
-                    failed = Some(FieldMeshError::NotFinite { at: p });
+            match failed.is_none().then(|| sampler.at(p)) {
+                Some(Ok(v)) => v,
+                Some(Err(e)) => {
+                    failed = Some(e);
                     -1.0
                 }
-                Err(error) => {
-                    failed = Some(FieldMeshError::Program { at: p, error });
-                    -1.0
-                }
+                None => -1.0,
             }
         },
         accuracy,

@@ -50,11 +50,8 @@ pub(crate) fn run(args: &EvalArgs) -> Result<()> {
         ),
     };
     // A HyperFun program that carries no bezsolid model: evaluated as HyperFun reads it.
-    if crate::is_hyperfun(model) {
-        let text = crate::read_hyperfun(model)?;
-        if bezsolid_core::hyperfun::model_of(&text).is_none() {
-            return hyperfun(model, &text, points, args.output.as_deref());
-        }
+    if let Some(program) = crate::hyperfun_program(model)? {
+        return hyperfun(model, &program, points, args.output.as_deref());
     }
     // One patch or volume, or a tree of many solids (a single solid is a tree of one leaf).
     let tree = crate::load_file(model)?
@@ -99,9 +96,12 @@ pub(crate) fn run(args: &EvalArgs) -> Result<()> {
 /// `bezsolid eval` of a HyperFun program (`x,y,z,f` rows): its `my_model` (else its first body),
 /// read and evaluated as HyperFun's interpreter reads and evaluates it; a refusal or an error at a
 /// point is HyperFun's message at its line and position.
-fn hyperfun(path: &str, text: &str, points: &str, output: Option<&str>) -> Result<()> {
-    use bezsolid_core::hyperfun::read::Program;
-    let program = Program::parse(text).map_err(|e| anyhow!("{path}: {e}"))?;
+fn hyperfun(
+    path: &str,
+    program: &bezsolid_core::hyperfun::read::Program,
+    points: &str,
+    output: Option<&str>,
+) -> Result<()> {
     let mut run = program.evaluator();
     let mut points = Points::open(points, 3)?;
     let mut out = Sink::create(output)?;

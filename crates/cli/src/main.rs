@@ -292,8 +292,25 @@ pub(crate) fn is_hyperfun(arg: &str) -> bool {
             .is_some_and(|e| e.eq_ignore_ascii_case("hf"))
 }
 
+/// The program of the HyperFun file `arg` where it carries no bezsolid model; `None` for any other
+/// MODEL, a bezsolid export included ([`load_file`] opens that as its model).
+pub(crate) fn hyperfun_program(
+    arg: &str,
+) -> Result<Option<bezsolid_core::hyperfun::read::Program>> {
+    if !is_hyperfun(arg) {
+        return Ok(None);
+    }
+    let text = read_hyperfun(arg)?;
+    if bezsolid_core::hyperfun::model_of(&text).is_some() {
+        return Ok(None);
+    }
+    bezsolid_core::hyperfun::read::Program::parse(&text)
+        .map(Some)
+        .map_err(|e| anyhow::anyhow!("{arg}: {e}"))
+}
+
 /// The text of the HyperFun file `arg`, within the reader's cap.
-pub(crate) fn read_hyperfun(arg: &str) -> Result<String> {
+fn read_hyperfun(arg: &str) -> Result<String> {
     let cap = bezsolid_core::hyperfun::read::MAX_SOURCE_BYTES as u64;
     input::read_text(arg, cap, "HyperFun file")
 }

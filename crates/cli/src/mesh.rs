@@ -85,12 +85,9 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
     if !(1..=MAX_RESOLUTION).contains(&res) {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
     }
-    if crate::is_hyperfun(model) {
-        let text = crate::read_hyperfun(model)?;
-        if bezsolid_core::hyperfun::model_of(&text).is_none() {
-            let mesh = hyperfun(model, &text, res, args.region.as_deref())?;
-            return finish(model, &mesh, format, stats, res);
-        }
+    if let Some(program) = crate::hyperfun_program(model)? {
+        let mesh = hyperfun(model, &program, res, args.region.as_deref())?;
+        return finish(model, &mesh, format, stats, res);
     }
     let file = crate::load_file(model)?;
     let mut progress = Progress::new("meshing", false);
@@ -180,11 +177,11 @@ fn finish(
 /// program has no bounds of its own), cut by it.
 fn hyperfun(
     path: &str,
-    text: &str,
+    program: &bezsolid_core::hyperfun::read::Program,
     res: usize,
     region: Option<&str>,
 ) -> Result<bezsolid_core::mesh::Mesh> {
-    use bezsolid_core::hyperfun::{field, read::Program};
+    use bezsolid_core::hyperfun::field;
     let Some((lo, hi)) = args::bounds::<3>("--box", region)? else {
         bail!(
             "{path}: a HyperFun program has no bounds of its own: mesh it within \
@@ -197,10 +194,9 @@ fn hyperfun(
             field::MAX_RESOLUTION
         );
     }
-    let program = Program::parse(text).map_err(|e| anyhow::anyhow!("{path}: {e}"))?;
     let mut progress = Progress::new("meshing", false);
     let mesh = field::mesh(
-        &program,
+        program,
         glam::DVec3::from_array(lo),
         glam::DVec3::from_array(hi),
         res,

@@ -93,11 +93,7 @@ pub fn mesh(
         step,
         dims,
     };
-    let mut field = Field {
-        run: program.evaluator(),
-        work: 0,
-        failed: None,
-    };
+    let mut field = Sampler::new(program);
     let mut values = Vec::with_capacity(dims[0] * dims[1] * dims[2]);
     let mut inside = false;
     for c in 0..dims[2] {
@@ -127,7 +123,6 @@ pub fn mesh(
     let mut roots = Roots {
         field: &mut field,
         grid,
-        values: &values,
     };
     let mesh = polygonize(&grid, &values, &mut roots);
     match field.failed {
@@ -136,16 +131,33 @@ pub fn mesh(
     }
 }
 
-/// The program at points, its work counted.
-struct Field<'p> {
+/// A program's values at points for a mesh or a section, their work counted together against
+/// [`MAX_MESH_OPERATIONS`].
+pub struct Sampler<'p> {
     run: Evaluator<'p>,
     work: u64,
     /// The first failure while refining an edge (where the polygonizer cannot be told).
     failed: Option<FieldMeshError>,
 }
 
-impl Field<'_> {
-    fn at(&mut self, p: DVec3) -> Result<f64, FieldMeshError> {
+impl<'p> Sampler<'p> {
+    /// A sampler of `program`, no work done yet.
+    #[must_use]
+    pub fn new(program: &'p Program) -> Self {
+        Self {
+            run: program.evaluator(),
+            work: 0,
+            failed: None,
+        }
+    }
+
+    /// The program's value at `p`.
+    ///
+    /// # Errors
+    ///
+    /// The program's error there, a value that is not finite, or the work of all points so far
+    /// past [`MAX_MESH_OPERATIONS`].
+    pub fn at(&mut self, p: DVec3) -> Result<f64, FieldMeshError> {
         let at = p.to_array();
         let v = self
             .run
@@ -166,9 +178,8 @@ impl Field<'_> {
 /// Edge roots by regula falsi (Illinois) on the program; an edge to a rim sample (forced outside
 /// by the box's cut) by linear interpolation.
 struct Roots<'f, 'p> {
-    field: &'f mut Field<'p>,
+    field: &'f mut Sampler<'p>,
     grid: SampleGrid,
-    values: &'f [f64],
 }
 
 impl EdgeRoots for Roots<'_, '_> {
@@ -185,8 +196,6 @@ impl EdgeRoots for Roots<'_, '_> {
         upper[axis] += 1;
         let dims = self.grid.dims;
         let rim = |i: [usize; 3]| (0..3).any(|k| i[k] == 0 || i[k] + 1 == dims[k]);
-        let index = |i: [usize; 3]| (i[2] * dims[1] + i[1]) * dims[0] + i[0];
-        debug_assert!(self.values.len() > index(upper));
         if self.field.failed.is_some() || rim(lower) || rim(upper) {
             return (linear(f0, f1), DVec3::ZERO);
         }
