@@ -63,10 +63,12 @@ pub(crate) fn run(args: &ContourArgs) -> Result<()> {
     if !(accuracy.is_finite() && accuracy > 0.0) {
         bail!("--accuracy must be a positive number");
     }
-    if let Some(program) = crate::hyperfun_program(model)? {
-        return hyperfun_section(args, model, &program, res, accuracy, &out);
-    }
-    let file = crate::load_file(model)?;
+    let file = match crate::open(model)? {
+        crate::Opened::Program(program, bounds) => {
+            return hyperfun_section(args, model, &program, bounds, res, accuracy, &out);
+        }
+        crate::Opened::Model(file) => file,
+    };
     if let Some(plane) = args.section.as_deref() {
         return section(args, model, &file, plane, res, accuracy, &out);
     }
@@ -159,58 +161,42 @@ fn parse_plane(plane: &str) -> Result<(usize, f64)> {
     })
 }
 
-/// `--section x=C` of a HyperFun program that carries no bezsolid model, within the box it needs
-/// (a program has no bounds of its own): its zero contour in the plane, as HyperFun evaluates it.
+/// `--section x=C` of a HyperFun program (not a bezsolid export), within the box it needs (a
+/// program has no bounds of its own: `--box`, else the box its model file gives, `default`): its
+/// zero contour in the plane, as HyperFun evaluates it.
 fn hyperfun_section(
     args: &ContourArgs,
     path: &str,
     program: &bezsolid_core::hyperfun::read::Program,
+    default: Option<([f64; 3], [f64; 3])>,
     res: usize,
     accuracy: f64,
     out: &Output<'_>,
 ) -> Result<()> {
-    use bezsolid_core::contour::{Grid2, contour_grid};
-    use bezsolid_core::hyperfun::field::Sampler;
     use glam::DVec3;
+    let path = crate::describe(path);
     let Some(plane) = args.section.as_deref() else {
         bail!(
-            "{path}: a HyperFun program is 3D: draw its section with --section x=C, y=C or z=C \
-             within --box X0,Y0,Z0,X1,Y1,Z1"
+            "{path}: a HyperFun program is 3D: draw its section with --section x=C, y=C or z=C{}",
+            if default.is_some() {
+                ""
+            } else {
+                " within --box X0,Y0,Z0,X1,Y1,Z1"
+            }
         );
     };
     let (axis, at) = parse_plane(plane)?;
-    let Some((lo, hi)) = args::bounds::<3>("--box", args.region.as_deref())? else {
+    let Some((lo, hi)) = args::bounds::<3>("--box", args.region.as_deref())?.or(default) else {
         bail!(
             "{path}: a HyperFun program has no bounds of its own: cut it within \
              --box X0,Y0,Z0,X1,Y1,Z1"
         );
     };
+    let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
+    let lines = bezsolid_core::hyperfun::field::section(program, axis, at, lo, hi, res, accuracy)
+        .map_err(|e| anyhow::anyhow!("{path}: {e}"))?;
     let [a, b] = bezsolid_core::tree::plane_axes(axis);
     let (lo, hi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
-    let side = (hi - lo).max_element();
-    let samples = |e: f64| ((e / side * res as f64).ceil() as usize).max(1) + 1;
-    let grid = Grid2::new(lo, hi, samples(hi.x - lo.x), samples(hi.y - lo.y));
-    let mut sampler = Sampler::new(program);
-    let mut failed = None;
-    let lines = contour_grid(
-        &grid,
-        |q| {
-            let mut p = DVec3::splat(at);
-            (p[a], p[b]) = (q.x, q.y);
-            match failed.is_none().then(|| sampler.at(p)) {
-                Some(Ok(v)) => v,
-                Some(Err(e)) => {
-                    failed = Some(e);
-                    -1.0
-                }
-                None => -1.0,
-            }
-        },
-        accuracy,
-    );
-    if let Some(e) = failed {
-        bail!("{path}: {e}");
-    }
     out.write(&lines, lo, hi, &format!("the section {plane}: "))
 }
 

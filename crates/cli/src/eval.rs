@@ -49,14 +49,15 @@ pub(crate) fn run(args: &EvalArgs) -> Result<()> {
              default)"
         ),
     };
-    // A HyperFun program that carries no bezsolid model: evaluated as HyperFun reads it.
-    if let Some(program) = crate::hyperfun_program(model)? {
-        return hyperfun(model, &program, points, args.output.as_deref());
-    }
+    let file = match crate::open(model)? {
+        // A HyperFun program (not a bezsolid export): evaluated as HyperFun reads it.
+        crate::Opened::Program(program, _) => {
+            return hyperfun(model, &program, points, args.output.as_deref());
+        }
+        crate::Opened::Model(file) => file,
+    };
     // One patch or volume, or a tree of many solids (a single solid is a tree of one leaf).
-    let tree = crate::load_file(model)?
-        .to_tree()
-        .with_context(|| crate::describe(model))?;
+    let tree = file.to_tree().with_context(|| crate::describe(model))?;
     let dim = match tree {
         ModelTree::Plane(_) => 2,
         ModelTree::Space(_) => 3,
@@ -102,6 +103,7 @@ fn hyperfun(
     points: &str,
     output: Option<&str>,
 ) -> Result<()> {
+    let path = crate::describe(path);
     let mut run = program.evaluator();
     let mut points = Points::open(points, 3)?;
     let mut out = Sink::create(output)?;

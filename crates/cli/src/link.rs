@@ -33,6 +33,7 @@ pub(crate) fn run(args: &LinkArgs) -> Result<()> {
     match file.solid {
         SolidSpec::Esc { .. } => file.to_boolean().map(drop),
         SolidSpec::Plasm { .. } => file.to_script().map(drop),
+        SolidSpec::Hyperfun { .. } => file.to_hyperfun().map(drop),
         // One patch or volume, or a tree of many solids.
         _ => file.to_tree().map(drop),
     }

@@ -28,7 +28,8 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use bezsolid_core::model::{MAX_SCRIPT_BYTES, ModelFile, ModelSolid};
+use bezsolid_core::hyperfun::read::Program;
+use bezsolid_core::model::{MAX_SCRIPT_BYTES, ModelFile, ModelSolid, SolidSpec};
 use bezsolid_core::presets::Preset;
 use clap::error::ErrorKind;
 use clap::{CommandFactory, FromArgMatches, Parser};
@@ -140,7 +141,8 @@ const MORE: &str = "MODEL is a model file (.bsolid.json: one patch or volume, or
 solids: primitives, Bézier solids, set operations, blends, morphs and transforms), a share link \
 (the whole URL or its #v1. fragment; quote it in the shell), a HyperFun file bezsolid exported \
 (.hf: it carries its model; `eval`, and `mesh` and `contour --section` within --box, also take \
-any HyperFun program, read as HyperFun reads it) or a \
+any HyperFun program, read as HyperFun reads it, and a model file or link of kind hyperfun, its \
+box the default --box) or a \
 preset: preset:fig9, \
 preset:blob, preset:ring, preset:fish, and the zoo's preset:chair, preset:vase, preset:knot, \
 preset:shell, preset:koi, preset:tooth. MESH, A and B are mesh files or built-in examples: \
@@ -268,20 +270,23 @@ pub(crate) fn load_file(arg: &str) -> Result<ModelFile> {
     }
     if is_hyperfun(arg) {
         let text = read_hyperfun(arg)?;
-        return match bezsolid_core::hyperfun::model_of(&text) {
-            Some(Ok(file)) => Ok(file),
-            Some(Err(e)) => Err(anyhow::anyhow!(
-                "{arg}: the bezsolid model this HyperFun file carries does not open: {e}"
-            )),
-            None => anyhow::bail!(
+        return carried(arg, &text).unwrap_or_else(|| {
+            anyhow::bail!(
                 "{arg} is a HyperFun program that carries no bezsolid model (bezsolid's exports \
                  carry theirs, unless it was too large): `bezsolid eval` evaluates it as HyperFun \
                  reads it"
-            ),
-        };
+            )
+        });
     }
     let text = input::read_text(arg, input::MAX_MODEL_BYTES, "model file")?;
     serde_json::from_str(&text).with_context(|| format!("{arg} is not a valid model file"))
+}
+
+/// The bezsolid model the text of the HyperFun file `arg` carries; `None` where it carries none.
+fn carried(arg: &str, text: &str) -> Option<Result<ModelFile>> {
+    Some(bezsolid_core::hyperfun::model_of(text)?.map_err(|e| {
+        anyhow::anyhow!("{arg}: the bezsolid model this HyperFun file carries does not open: {e}")
+    }))
 }
 
 /// Whether `arg` names a HyperFun file (`.hf`).
@@ -292,21 +297,39 @@ pub(crate) fn is_hyperfun(arg: &str) -> bool {
             .is_some_and(|e| e.eq_ignore_ascii_case("hf"))
 }
 
-/// The program of the HyperFun file `arg` where it carries no bezsolid model; `None` for any other
-/// MODEL, a bezsolid export included ([`load_file`] opens that as its model).
-pub(crate) fn hyperfun_program(
-    arg: &str,
-) -> Result<Option<bezsolid_core::hyperfun::read::Program>> {
-    if !is_hyperfun(arg) {
-        return Ok(None);
+/// A MODEL of the commands that take a HyperFun program too (`eval`, `mesh`, `contour`).
+pub(crate) enum Opened {
+    /// A HyperFun program, parsed: that of a HyperFun file that carries no bezsolid model (no
+    /// box: `None`), or of a model file or link of kind `hyperfun`, with its box (the file's, or
+    /// the default box where it gives none).
+    Program(Program, Option<([f64; 3], [f64; 3])>),
+    /// Any other model ([`load_file`]), the model a bezsolid export carries included; not yet
+    /// validated.
+    Model(ModelFile),
+}
+
+/// Opens `arg` as [`load_file`] does, where a HyperFun program may stand for a model; the file is
+/// read once.
+pub(crate) fn open(arg: &str) -> Result<Opened> {
+    let file = if is_hyperfun(arg) {
+        let text = read_hyperfun(arg)?;
+        match carried(arg, &text) {
+            Some(file) => file?,
+            None => {
+                return Program::parse(&text)
+                    .map(|program| Opened::Program(program, None))
+                    .map_err(|e| anyhow::anyhow!("{arg}: {e}"));
+            }
+        }
+    } else {
+        load_file(arg)?
+    };
+    if !matches!(file.solid, SolidSpec::Hyperfun { .. }) {
+        return Ok(Opened::Model(file));
     }
-    let text = read_hyperfun(arg)?;
-    if bezsolid_core::hyperfun::model_of(&text).is_some() {
-        return Ok(None);
-    }
-    bezsolid_core::hyperfun::read::Program::parse(&text)
-        .map(Some)
-        .map_err(|e| anyhow::anyhow!("{arg}: {e}"))
+    let (text, [lo, hi]) = file.to_hyperfun().with_context(|| describe(arg))?;
+    let program = Program::parse(text).map_err(|e| anyhow::anyhow!("{}: {e}", describe(arg)))?;
+    Ok(Opened::Program(program, Some((lo, hi))))
 }
 
 /// The text of the HyperFun file `arg`, within the reader's cap.

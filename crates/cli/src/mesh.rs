@@ -43,7 +43,8 @@ pub(crate) struct MeshArgs {
     #[arg(long, value_name = "A")]
     accuracy: Option<f64>,
     /// The box a tree is meshed within, and cut by; needed by one that may be unbounded (a
-    /// half-space, a cylinder) and by a HyperFun program.
+    /// half-space, a cylinder) and by a HyperFun program (a model file of kind hyperfun gives its
+    /// own).
     #[arg(long = "box", value_name = "X0,Y0,Z0,X1,Y1,Z1")]
     region: Option<String>,
     /// Threads to mesh on (the same mesh as on one) [default: every core].
@@ -85,11 +86,13 @@ pub(crate) fn run(args: &MeshArgs) -> Result<()> {
     if !(1..=MAX_RESOLUTION).contains(&res) {
         bail!("--res {res} is outside 1..={MAX_RESOLUTION}");
     }
-    if let Some(program) = crate::hyperfun_program(model)? {
-        let mesh = hyperfun(model, &program, res, args.region.as_deref())?;
-        return finish(model, &mesh, format, stats, res);
-    }
-    let file = crate::load_file(model)?;
+    let file = match crate::open(model)? {
+        crate::Opened::Program(program, bounds) => {
+            let mesh = hyperfun(model, &program, res, args.region.as_deref(), bounds)?;
+            return finish(model, &mesh, format, stats, res);
+        }
+        crate::Opened::Model(file) => file,
+    };
     let mut progress = Progress::new("meshing", false);
     let live = progress.live();
     let mut step = |done: usize, total: usize| progress.steps(done, total);
@@ -173,16 +176,18 @@ fn finish(
     Ok(())
 }
 
-/// The mesh of a HyperFun program that carries no bezsolid model, within the box it needs (a
-/// program has no bounds of its own), cut by it.
+/// The mesh of a HyperFun program (not a bezsolid export) within the box it needs (a program has
+/// no bounds of its own), cut by it: `--box`, else the box its model file gives (`default`).
 fn hyperfun(
     path: &str,
     program: &bezsolid_core::hyperfun::read::Program,
     res: usize,
     region: Option<&str>,
+    default: Option<([f64; 3], [f64; 3])>,
 ) -> Result<bezsolid_core::mesh::Mesh> {
     use bezsolid_core::hyperfun::field;
-    let Some((lo, hi)) = args::bounds::<3>("--box", region)? else {
+    let path = crate::describe(path);
+    let Some((lo, hi)) = args::bounds::<3>("--box", region)?.or(default) else {
         bail!(
             "{path}: a HyperFun program has no bounds of its own: mesh it within \
              --box X0,Y0,Z0,X1,Y1,Z1"

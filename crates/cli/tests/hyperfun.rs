@@ -249,3 +249,87 @@ fn a_hyperfun_program_is_cut_by_a_plane() {
     let err = one_line_error(&bezsolid(&["contour", ball, "--section", "z=0", "--stats"]));
     assert!(err.contains("--box X0,Y0,Z0,X1,Y1,Z1"), "{err}");
 }
+
+#[test]
+fn a_hyperfun_model_file_is_its_program_within_its_box() {
+    let program = "my_model(x[3], a[1]) {\n  array c[3];\n  c = [0.5, 0, 0];\n  my_model = hfSphere(x, c, 1);\n}\n";
+    let json = |bounds: &str| {
+        let program = program.replace('\n', "\\n");
+        format!(
+            r#"{{"format": "bezsolid", "version": 1,
+                "solid": {{"kind": "hyperfun", "program": "{program}"{bounds}}}}}"#
+        )
+    };
+    let boxed = scratch(
+        "ball-boxed.bsolid.json",
+        &json(r#", "box": [[-2, -2, 0], [2, 2, 2]]"#),
+    );
+    let boxed = boxed.to_str().unwrap();
+    // No box in the file: HyperFun's default box, [-10, 10]³.
+    let plain = scratch("ball-plain.bsolid.json", &json(""));
+    let plain = plain.to_str().unwrap();
+    let volume = |args: &[&str]| -> f64 {
+        let out = succeed(args);
+        stdout(&out)
+            .lines()
+            .find_map(|l| l.strip_prefix("volume: "))
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let third = std::f64::consts::PI / 3.0;
+    // The file's box cuts the ball in half; --box overrides it.
+    let half = volume(&["mesh", boxed, "--res", "32", "--stats"]);
+    assert!((half - 2.0 * third).abs() < 0.06, "{half}");
+    let whole = volume(&[
+        "mesh",
+        boxed,
+        "--res",
+        "32",
+        "--box",
+        "-2,-2,-2,2,2,2",
+        "--stats",
+    ]);
+    assert!((whole - 4.0 * third).abs() < 0.065, "{whole}");
+    let coarse = volume(&["mesh", plain, "--res", "64", "--stats"]);
+    assert!((coarse - 4.0 * third).abs() < 0.5, "{coarse}");
+    // Its section within the file's box; eval as the program.
+    let out = succeed(&["contour", boxed, "--section", "z=0.6", "--stats"]);
+    let area: f64 = stdout(&out)
+        .lines()
+        .find_map(|l| l.strip_prefix("area: "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let disc = std::f64::consts::PI * 0.64;
+    assert!((area - disc).abs() < 1e-3 * disc, "{area}");
+    let points = scratch("ball-file-points.csv", "0.5,0,0\n3,0,0\n");
+    let out = succeed(&["eval", boxed, "--points", points.to_str().unwrap()]);
+    assert_eq!(stdout(&out), "x,y,z,f\n0.5,0,0,1\n3,0,0,-5.25\n");
+    // Its share link carries the program and the box.
+    let out = succeed(&["link", boxed]);
+    let link = stdout(&out).trim().to_string();
+    let from_link = volume(&["mesh", &link, "--res", "32", "--stats"]);
+    assert_eq!(from_link, half);
+    // What is not a Bézier solid is said so; a bad box or program is refused.
+    let err = one_line_error(&bezsolid(&["hf", boxed, "-o", "unused.hf"]));
+    assert!(err.contains("this is a HyperFun program"), "{err}");
+    let flat = scratch(
+        "ball-flat.bsolid.json",
+        &json(r#", "box": [[0, 0, 0], [1, 1, 0]]"#),
+    );
+    let flat = flat.to_str().unwrap();
+    for args in [&["mesh", flat, "--stats"][..], &["link", flat]] {
+        let err = one_line_error(&bezsolid(args));
+        assert!(
+            err.contains("box [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]] is refused"),
+            "{err}"
+        );
+    }
+    let broken = scratch(
+        "broken.bsolid.json",
+        r#"{"format": "bezsolid", "version": 1, "solid": {"kind": "hyperfun", "program": "m(x[3], a[1]) { m = ; }"}}"#,
+    );
+    let err = one_line_error(&bezsolid(&["mesh", broken.to_str().unwrap(), "--stats"]));
+    assert!(err.contains("broken.bsolid.json: line 1"), "{err}");
+}

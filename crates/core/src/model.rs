@@ -22,10 +22,16 @@
 //!   refuses a longer list while reading it, before the rest of the file is read.
 //! - `kind: "plasm"` (scripts): `script`, the text of a PLaSM script (at most
 //!   [`MAX_SCRIPT_BYTES`]); what it draws is what the script's top-level expressions give.
+//! - `kind: "hyperfun"` (HyperFun programs): `program`, the text of a HyperFun program (at most
+//!   [`MAX_SOURCE_BYTES`](crate::hyperfun::read::MAX_SOURCE_BYTES)), read and evaluated as
+//!   HyperFun's interpreter does ([`crate::hyperfun::read`]); its solid is `f > 0`. A program has
+//!   no bounds of its own: `box`, `[[x0, y0, z0], [x1, y1, z1]]` (finite, each low coordinate
+//!   below the high one), is the box it is drawn and meshed in; absent, it is
+//!   [`DEFAULT_HYPERFUN_BOX`], `[-10, 10]³` as HyperFun's polygonizer takes by default.
 //!
-//! There is no separate box: a regular grid is recognised from the points. Readers ignore fields they
-//! do not know (later kinds add fields) and reject an unknown version. With the `serde` feature the
-//! types derive `Serialize` and `Deserialize` in exactly this shape.
+//! A patch or volume has no separate box: a regular grid is recognised from the points. Readers
+//! ignore fields they do not know (later kinds add fields) and reject an unknown version. With the
+//! `serde` feature the types derive `Serialize` and `Deserialize` in exactly this shape.
 
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -67,6 +73,9 @@ pub const MAX_SCALE: f64 = 1e6;
 pub const MAX_SCRIPT_BYTES: usize = 256 * 1024;
 /// The model file version this build writes and reads.
 pub const VERSION: u32 = 1;
+/// The box of a HyperFun program whose model file gives none (`[[x0, y0, z0], [x1, y1, z1]]`):
+/// `[-10, 10]³`, the default box of HyperFun's polygonizer.
+pub const DEFAULT_HYPERFUN_BOX: [[f64; 3]; 2] = [[-10.0; 3], [10.0; 3]];
 
 /// A model file.
 #[derive(Clone, Debug, PartialEq)]
@@ -284,6 +293,19 @@ pub enum SolidSpec {
         /// The global net's points, the last axis fastest.
         points: Vec<Vec<f64>>,
     },
+    /// A HyperFun program, read and evaluated as HyperFun's interpreter does
+    /// ([`crate::hyperfun::read`]): its solid is `f > 0` within `box`.
+    Hyperfun {
+        /// The program's text.
+        program: String,
+        /// The box `[[x0, y0, z0], [x1, y1, z1]]` it is drawn and meshed in (a program has no
+        /// bounds of its own); absent, [`DEFAULT_HYPERFUN_BOX`].
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "box", default, skip_serializing_if = "Option::is_none")
+        )]
+        bounds: Option<[[f64; 3]; 2]>,
+    },
 }
 
 /// The longest name of a [`SolidSpec::Part`], in bytes.
@@ -393,7 +415,11 @@ impl SolidSpec {
     pub fn is_tree(&self) -> bool {
         !matches!(
             self,
-            Self::Patch { .. } | Self::Volume { .. } | Self::Esc { .. } | Self::Plasm { .. }
+            Self::Patch { .. }
+                | Self::Volume { .. }
+                | Self::Esc { .. }
+                | Self::Plasm { .. }
+                | Self::Hyperfun { .. }
         )
     }
 }
@@ -527,6 +553,12 @@ pub enum ModelError {
     Esc(String),
     /// A script past [`MAX_SCRIPT_BYTES`]: its length.
     ScriptTooLong(usize),
+    /// A HyperFun program past [`MAX_SOURCE_BYTES`](crate::hyperfun::read::MAX_SOURCE_BYTES):
+    /// its length.
+    ProgramTooLong(usize),
+    /// A HyperFun program's box that is not finite or is empty on an axis (its low coordinate
+    /// not below its high one): the box.
+    BadBox([[f64; 3]; 2]),
     /// A tree of many solids that breaks a rule: the node's path and what is wrong.
     Tree(crate::tree::TreeError),
     /// A free-form model's mesh past a count cap, found before anything is built.
@@ -562,6 +594,16 @@ impl fmt::Display for ModelError {
             Self::ScriptTooLong(len) => write!(
                 f,
                 "the script is {len} bytes; a model file holds at most {MAX_SCRIPT_BYTES}"
+            ),
+            Self::ProgramTooLong(len) => write!(
+                f,
+                "the HyperFun program is {len} bytes; a model file holds at most {}",
+                crate::hyperfun::read::MAX_SOURCE_BYTES
+            ),
+            Self::BadBox([lo, hi]) => write!(
+                f,
+                "the HyperFun program's box [{lo:?}, {hi:?}] is refused: its coordinates must \
+                 be finite, each low one below the high one"
             ),
             Self::MeshTooLarge {
                 operand,
@@ -661,6 +703,7 @@ impl ModelFile {
                     "this is a piecewise solid (cells of one net), not a single Bézier solid",
                 ));
             }
+            SolidSpec::Hyperfun { .. } => return Err(ModelError::Kind(HYPERFUN_NOT_BEZIER)),
             _ => {
                 return Err(ModelError::Kind(
                     "this is a model of many solids (a tree of primitives, Bézier solids and \
@@ -703,6 +746,42 @@ impl ModelFile {
             return Err(ModelError::ScriptTooLong(script.len()));
         }
         Ok(script)
+    }
+
+    /// The model file of a HyperFun program drawn and meshed within `bounds`
+    /// (`[[x0, y0, z0], [x1, y1, z1]]`; `None` writes no box: [`DEFAULT_HYPERFUN_BOX`]).
+    #[must_use]
+    pub fn from_hyperfun(program: &str, bounds: Option<[[f64; 3]; 2]>) -> Self {
+        Self::new(SolidSpec::Hyperfun {
+            program: program.into(),
+            bounds,
+        })
+    }
+
+    /// Checks the header and gives the program of a HyperFun model and its box
+    /// ([`DEFAULT_HYPERFUN_BOX`] where the file gives none). The program is not parsed here
+    /// ([`Program::parse`](crate::hyperfun::read::Program::parse) does that).
+    ///
+    /// # Errors
+    ///
+    /// [`ModelError`] for another format or version, another kind ([`ModelError::Kind`]), a
+    /// program past [`MAX_SOURCE_BYTES`](crate::hyperfun::read::MAX_SOURCE_BYTES)
+    /// ([`ModelError::ProgramTooLong`]), or a box that is not finite or is empty on an axis
+    /// ([`ModelError::BadBox`]).
+    pub fn to_hyperfun(&self) -> Result<(&str, [[f64; 3]; 2]), ModelError> {
+        self.check_header()?;
+        let SolidSpec::Hyperfun { program, bounds } = &self.solid else {
+            return Err(ModelError::Kind("this model is not a HyperFun program"));
+        };
+        if program.len() > crate::hyperfun::read::MAX_SOURCE_BYTES {
+            return Err(ModelError::ProgramTooLong(program.len()));
+        }
+        let bounds = bounds.unwrap_or(DEFAULT_HYPERFUN_BOX);
+        let [lo, hi] = bounds;
+        if (0..3).any(|i| !(lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i])) {
+            return Err(ModelError::BadBox(bounds));
+        }
+        Ok((program, bounds))
     }
 
     /// The model file of a free-form model.
@@ -764,6 +843,11 @@ impl ModelFile {
                     "this is a PLaSM script, not a free-form model",
                 ));
             }
+            SolidSpec::Hyperfun { .. } => {
+                return Err(ModelError::Kind(
+                    "this is a HyperFun program, not a free-form model",
+                ));
+            }
             _ => {
                 return Err(ModelError::Kind(
                     "this is a Bézier solid, not a free-form model",
@@ -801,6 +885,10 @@ impl ModelFile {
         Ok(Boolean { solids, expr })
     }
 }
+
+/// How the readers of Bézier solids and trees refuse a HyperFun program.
+pub(crate) const HYPERFUN_NOT_BEZIER: &str = "this is a HyperFun program (draw it in the HyperFun \
+     mode, or mesh it with `bezsolid mesh`), not a Bézier solid";
 
 /// The `operation` of a free-form model of one operand that takes its complement.
 pub const COMPLEMENT: &str = "complement";
@@ -1083,6 +1171,127 @@ mod tests {
             ModelFile::from_solid3(&s3).to_solid(),
             Ok(ModelSolid::Volume(s3))
         );
+    }
+
+    #[test]
+    fn hyperfun_programs_round_trip_through_json_with_and_without_a_box() {
+        let program = "my_model(x[3], a[1]) {\n  my_model = 1 - x[1]^2; -- \"é\"\n}\n";
+        let plain = ModelFile::from_hyperfun(program, None);
+        let json = serde_json::to_string(&plain).unwrap();
+        assert!(
+            json.contains(r#""kind":"hyperfun","program":"#) && !json.contains("box"),
+            "{json}"
+        );
+        let back: ModelFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, plain);
+        assert_eq!(back.to_hyperfun(), Ok((program, DEFAULT_HYPERFUN_BOX)));
+        let bounds = [[-1.0, -2.5, 0.0], [1.0, 2.5, 3.0]];
+        let boxed = ModelFile::from_hyperfun(program, Some(bounds));
+        let json = serde_json::to_string(&boxed).unwrap();
+        assert!(
+            json.contains(r#""box":[[-1.0,-2.5,0.0],[1.0,2.5,3.0]]"#),
+            "{json}"
+        );
+        let back: ModelFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, boxed);
+        assert_eq!(back.to_hyperfun(), Ok((program, bounds)));
+        // As a person writes it: the box before the kind, integers, other fields ignored.
+        let file: ModelFile = serde_json::from_str(
+            r#"{"format": "bezsolid", "version": 1, "solid": {"box": [[0, 0, 0], [1, 2, 3]],
+                "note": 1, "kind": "hyperfun", "program": "m(x[3], a[1]) { m = 1; }"}}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            file.to_hyperfun(),
+            Ok(("m(x[3], a[1]) { m = 1; }", [[0.0; 3], [1.0, 2.0, 3.0]]))
+        );
+        // Not a Bézier solid, a tree, a free-form model or a script, and said so.
+        for e in [
+            file.to_solid().unwrap_err(),
+            file.to_tree().unwrap_err(),
+            file.to_boolean().unwrap_err(),
+        ] {
+            assert!(e.to_string().contains("HyperFun program"), "{e}");
+        }
+        assert!(
+            file.to_solid()
+                .unwrap_err()
+                .to_string()
+                .contains("bezsolid mesh")
+        );
+        assert_eq!(
+            file.to_script(),
+            Err(ModelError::Kind("this model is not a PLaSM script"))
+        );
+        assert_eq!(
+            ModelFile::from_plasm("1;").to_hyperfun(),
+            Err(ModelError::Kind("this model is not a HyperFun program"))
+        );
+        assert!(!file.solid.is_tree());
+        // Inside a tree it is refused by its path.
+        let tree = ModelFile::from_spec(SolidSpec::Union {
+            of: vec![
+                SolidSpec::Sphere {
+                    center: [0.0; 3],
+                    radius: 1.0,
+                },
+                file.solid.clone(),
+            ],
+        });
+        let e = tree.to_tree().unwrap_err().to_string();
+        assert!(e.contains("of[1]") && e.contains("HyperFun program"), "{e}");
+    }
+
+    #[test]
+    fn hyperfun_programs_with_a_bad_box_or_a_wrong_field_type_are_refused() {
+        let read = |solid: &str| {
+            serde_json::from_str::<ModelFile>(&format!(
+                r#"{{"format": "bezsolid", "version": 1, "solid": {solid}}}"#
+            ))
+        };
+        for (solid, says) in [
+            (r#"{"kind": "hyperfun", "program": 5}"#, "expected a string"),
+            (r#"{"kind": "hyperfun"}"#, "missing field `program`"),
+            (
+                r#"{"kind": "hyperfun", "program": "", "box": [[0, 0], [1, 1]]}"#,
+                "array of length 3",
+            ),
+            (
+                r#"{"kind": "hyperfun", "program": "", "box": [0, 0, 0, 1, 1, 1]}"#,
+                "expected an array",
+            ),
+            (
+                r#"{"kind": "hyperfun", "program": "", "box": "[-1, 1]"}"#,
+                "expected an array",
+            ),
+        ] {
+            let e = read(solid).unwrap_err().to_string();
+            assert!(e.contains(says), "{solid}: {e}");
+        }
+        for (bounds, inverted) in [
+            ("[[0, 0, 0], [1, 1, 0]]", true),
+            ("[[0, 2, 0], [1, 1, 1]]", true),
+            ("[[0, 0, 0], [1, 1, 1e999]]", false),
+        ] {
+            let solid = format!(r#"{{"kind": "hyperfun", "program": "", "box": {bounds}}}"#);
+            match read(&solid) {
+                Ok(file) => {
+                    let e = file.to_hyperfun().unwrap_err();
+                    assert!(matches!(e, ModelError::BadBox(_)), "{e:?}");
+                    assert!(e.to_string().contains("low one below the high one"), "{e}");
+                }
+                // JSON has no infinite numbers: serde_json refuses one out of range.
+                Err(e) => assert!(!inverted, "{solid}: {e}"),
+            }
+        }
+        let e = ModelFile::from_hyperfun("", Some([[0.0; 3], [f64::NAN; 3]]))
+            .to_hyperfun()
+            .unwrap_err();
+        assert!(matches!(e, ModelError::BadBox(_)), "{e:?}");
+        // The header first.
+        let mut file = ModelFile::from_hyperfun("", Some([[1.0; 3], [0.0; 3]]));
+        file.version = 2;
+        assert_eq!(file.to_hyperfun(), Err(ModelError::Version(2)));
     }
 
     #[test]

@@ -1,12 +1,13 @@
 //! A HyperFun program's solid as a mesh: its field sampled over a box and polygonized (marching
 //! cubes, inside `f > 0` as in HyperFun), each crossing found on its edge by the program itself
-//! (regula falsi), the solid cut by the box so that the mesh is closed. A program has no bounds of
+//! (regula falsi), the solid cut by the box so that the mesh is closed; and its [`section`] by a
+//! plane across an axis, the zero contour of the program in the plane. A program has no bounds of
 //! its own: the box is the caller's, as HyperFun's polygonizer takes one.
 
 use alloc::vec::Vec;
 use core::fmt;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::read::{Evaluator, HfError, Program};
 use crate::mesh::Mesh;
@@ -17,6 +18,10 @@ pub const MAX_MESH_OPERATIONS: u64 = 20_000_000_000;
 
 /// The most cells along the box's longest side (the samples, 8 bytes each, stay under 140 MB).
 pub const MAX_RESOLUTION: usize = 256;
+
+/// The most cells along the longer side of a [`section`]'s rectangle (4096² samples, 8 bytes
+/// each, 134 MB).
+pub const MAX_SECTION_RESOLUTION: usize = 4096;
 
 /// Steps of regula falsi on an edge.
 const ROOT_STEPS: usize = 24;
@@ -131,6 +136,65 @@ pub fn mesh(
     }
 }
 
+/// The section of `program`'s solid by the plane across `axis` (0 for x, 1 for y, 2 for z) at
+/// `at`, within the box `[lo, hi]`: the zero contour of the program in the plane, sampled on a
+/// grid of `res` cells along the longer side of the box's rectangle in the plane (from 1 to
+/// [`MAX_SECTION_RESOLUTION`], clamped; along the shorter side as many as keep its cells no
+/// larger), each vertex refined on the program until `|f| <= accuracy`.
+///
+/// The lines are in the plane's two coordinates, ordered as [`crate::tree::plane_axes`] orders
+/// them (`y, z` across x, `x, z` across y, `x, y` across z), with `f > 0` on their left; a line
+/// that leaves the box's rectangle ends on its border. `at` need not be within `[lo, hi]` along
+/// `axis`. A rectangle that is empty or not finite in the plane gives no lines.
+///
+/// # Errors
+///
+/// [`FieldMeshError`]: the program's error or a value that is not finite at a point, or work
+/// past [`MAX_MESH_OPERATIONS`] (the first of them stops the sampling).
+pub fn section(
+    program: &Program,
+    axis: usize,
+    at: f64,
+    lo: DVec3,
+    hi: DVec3,
+    res: usize,
+    accuracy: f64,
+) -> Result<Vec<crate::contour::Polyline>, FieldMeshError> {
+    use crate::contour::{Grid2, contour_grid};
+    let [a, b] = crate::tree::plane_axes(axis);
+    let (lo, hi) = (DVec2::new(lo[a], lo[b]), DVec2::new(hi[a], hi[b]));
+    if !(lo.is_finite() && hi.is_finite() && lo.x < hi.x && lo.y < hi.y) {
+        return Ok(Vec::new());
+    }
+    let res = res.clamp(1, MAX_SECTION_RESOLUTION);
+    let side = (hi - lo).max_element();
+    let samples = |e: f64| (libm::ceil(e / side * res as f64) as usize).max(1) + 1;
+    let grid = Grid2::new(lo, hi, samples(hi.x - lo.x), samples(hi.y - lo.y));
+    let mut sampler = Sampler::new(program);
+    let mut failed = None;
+    let lines = contour_grid(
+        &grid,
+        |q| {
+            let mut p = DVec3::splat(at);
+            (p[a], p[b]) = (q.x, q.y);
+            // After the first failure no point is evaluated: its error is the answer.
+            match failed.is_none().then(|| sampler.at(p)) {
+                Some(Ok(v)) => v,
+                Some(Err(e)) => {
+                    failed = Some(e);
+                    -1.0
+                }
+                None => -1.0,
+            }
+        },
+        accuracy,
+    );
+    match failed {
+        Some(e) => Err(e),
+        None => Ok(lines),
+    }
+}
+
 /// A program's values at points for a mesh or a section, their work counted together against
 /// [`MAX_MESH_OPERATIONS`].
 pub struct Sampler<'p> {
@@ -237,5 +301,71 @@ impl EdgeRoots for Roots<'_, '_> {
             }
         }
         (linear(fa, fb) * (b - a) + a, DVec3::ZERO)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    const BALL: &str = "my_model(x[3], a[1]) { my_model = 1 - x[1]^2 - x[2]^2 - x[3]^2; }";
+
+    #[test]
+    fn a_sections_lines_lie_on_the_program_s_zero_set_in_the_planes_coordinates() {
+        let program = Program::parse(BALL).unwrap();
+        let (lo, hi) = (DVec3::splat(-2.0), DVec3::splat(2.0));
+        // Through the centre, the unit circle, counter-clockwise around the disc.
+        let lines = section(&program, 2, 0.0, lo, hi, 64, 1e-12).unwrap();
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        assert!(lines[0].closed);
+        assert!(lines[0].points.len() > 100);
+        for p in &lines[0].points {
+            assert!((p.length() - 1.0).abs() < 1e-9, "{p}");
+        }
+        let area = lines[0].signed_area();
+        assert!((area - core::f64::consts::PI).abs() < 2e-3, "{area}");
+        // Across x at 0.6: the circle of radius 0.8 in (y, z); the box's x extent is not needed.
+        let thin = section(
+            &program,
+            0,
+            0.6,
+            DVec3::new(0.0, -1.0, -1.0),
+            DVec3::new(0.1, 1.0, 1.0),
+            64,
+            1e-12,
+        )
+        .unwrap();
+        assert_eq!(thin.len(), 1);
+        for p in &thin[0].points {
+            assert!((p.length() - 0.8).abs() < 1e-9, "{p}");
+        }
+        // Above the ball, or in an empty rectangle, nothing.
+        assert_eq!(section(&program, 2, 2.0, lo, hi, 64, 1e-12), Ok(Vec::new()));
+        let flat = DVec3::new(2.0, -2.0, -2.0);
+        assert_eq!(
+            section(&program, 2, 0.0, lo, flat, 64, 1e-12),
+            Ok(Vec::new())
+        );
+    }
+
+    #[test]
+    fn a_section_says_the_programs_first_error() {
+        let program = Program::parse("my_model(x[3], a[1]) { my_model = 1 / x[1]; }").unwrap();
+        let err = section(
+            &program,
+            2,
+            0.0,
+            DVec3::splat(-1.0),
+            DVec3::splat(1.0),
+            4,
+            1e-9,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, FieldMeshError::Program { at, .. } if at[0] == 0.0),
+            "{err:?}"
+        );
     }
 }

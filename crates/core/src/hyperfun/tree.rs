@@ -233,7 +233,7 @@ impl Writer {
             SolidSpec::Part { solid, .. } => self.node(solid, &format!("{path}.solid"), q)?,
             SolidSpec::Patch { .. } | SolidSpec::Volume { .. } => self.bezier(spec, path, q)?,
             SolidSpec::Piecewise { .. } => self.piecewise(spec, path, q)?,
-            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
+            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } | SolidSpec::Hyperfun { .. } => {
                 unreachable!("refused by the tree's validation")
             }
         })

@@ -17,6 +17,8 @@
 //!   (an operation says how many follow it), patches and volumes laid out as above;
 //! - variant `5`, a free-form model that variant `2` cannot say (a complement, an expression,
 //!   named, rotated or scaled operands, a crease angle): each operand with its optional fields.
+//! - variant `6`, a HyperFun program: its text, then its box (`None`, or `Some` of the low and
+//!   the high corner, three numbers each).
 //!
 //! One sequence per coordinate (rather than per point) puts like numbers together, which deflate
 //! turns into shorter links: the paper's Fig. 9 model gives a link of about 100 characters.
@@ -90,6 +92,11 @@ enum Wire {
         operation: u8,
         expression: Option<String>,
         operands: Vec<WirePlaced>,
+    },
+    /// A HyperFun program, as text, and its box if the model gives one (appended).
+    Hyperfun {
+        program: String,
+        bounds: Option<[[f64; 3]; 2]>,
     },
 }
 
@@ -368,6 +375,10 @@ pub fn encode(model: &ModelFile) -> Result<String, LinkError> {
         SolidSpec::Plasm { script } => Wire::Plasm {
             script: script.clone(),
         },
+        SolidSpec::Hyperfun { program, bounds } => Wire::Hyperfun {
+            program: program.clone(),
+            bounds: *bounds,
+        },
         tree => Wire::Tree {
             nodes: tree::flatten(tree)?,
         },
@@ -489,6 +500,7 @@ pub fn decode_file(link: &str) -> Result<ModelFile, LinkError> {
                 .collect::<Result<_, LinkError>>()?,
         },
         Wire::Plasm { script } => SolidSpec::Plasm { script },
+        Wire::Hyperfun { program, bounds } => SolidSpec::Hyperfun { program, bounds },
         Wire::Tree { nodes } => tree::build(nodes)?,
     };
     Ok(ModelFile {
@@ -809,6 +821,105 @@ mod tests {
             huge.to_script(),
             Err(ModelError::ScriptTooLong(_))
         ));
+    }
+
+    #[test]
+    fn hyperfun_programs_round_trip_with_and_without_a_box() {
+        let program =
+            "-- a ball, é\nmy_model(x[3], a[1]) {\n  my_model = 1 - x[1]^2 - x[2]^2 - x[3]^2;\n}\n";
+        let boxed = [[-1.5, -2.0, -0.0], [1.5, 2.0, 1e-300]];
+        for bounds in [None, Some(boxed)] {
+            let model = ModelFile::from_hyperfun(program, bounds);
+            let link = encode(&model).expect("a link");
+            let back = decode_file(&link).expect("it opens");
+            assert_eq!(back, model);
+            // Bit for bit: -0.0 stays negative.
+            assert_eq!(format!("{back:?}"), format!("{model:?}"));
+            let (text, got) = back.to_hyperfun().unwrap();
+            assert_eq!(text, program);
+            assert_eq!(got, bounds.unwrap_or(crate::model::DEFAULT_HYPERFUN_BOX));
+            // Every other reader refuses it by what it is.
+            let refused = |e: ModelError| {
+                let ModelError::Kind(why) = e else {
+                    panic!("{e:?}")
+                };
+                assert!(why.contains("HyperFun program"), "{why}");
+            };
+            refused(back.to_solid().unwrap_err());
+            refused(back.to_boolean().unwrap_err());
+            assert!(matches!(back.to_script(), Err(ModelError::Kind(_))));
+            let err = back.to_tree().unwrap_err().to_string();
+            assert!(err.contains("HyperFun program"), "{err}");
+            assert!(matches!(
+                decode(&link),
+                Err(LinkError::Model(ModelError::Kind(_)))
+            ));
+        }
+        // The variant is the last of the layout, after every earlier one.
+        let bytes = inflate(
+            &URL_SAFE_NO_PAD
+                .decode(&encode(&ModelFile::from_hyperfun("", None)).unwrap()[1 + PREFIX.len()..])
+                .unwrap(),
+        )
+        .unwrap();
+        assert_eq!(bytes, [6, 0, 0], "variant 6, no text, no box");
+        // A PLaSM script is not a HyperFun program.
+        assert!(matches!(
+            ModelFile::from_plasm("1;").to_hyperfun(),
+            Err(ModelError::Kind(_))
+        ));
+    }
+
+    #[test]
+    fn hyperfun_programs_with_a_bad_box_or_too_long_are_refused() {
+        let program = "my_model(x[3], a[1]) { my_model = 1; }";
+        for bad in [
+            [[0.0; 3], [1.0, 1.0, 0.0]],
+            [[0.0; 3], [1.0, -1.0, 1.0]],
+            [[f64::NAN, 0.0, 0.0], [1.0; 3]],
+            [[0.0; 3], [f64::INFINITY, 1.0, 1.0]],
+        ] {
+            let model = ModelFile::from_hyperfun(program, Some(bad));
+            // It travels as it is, and is refused where it is read, in a file or a link.
+            let back = decode_file(&encode(&model).unwrap()).unwrap();
+            for m in [&model, &back] {
+                let err = m.to_hyperfun().unwrap_err();
+                assert!(
+                    matches!(err, ModelError::BadBox(b) if format!("{b:?}") == format!("{bad:?}")),
+                    "{err:?}"
+                );
+                assert!(err.to_string().contains("box"), "{err}");
+            }
+        }
+        let long = "x".repeat(crate::hyperfun::read::MAX_SOURCE_BYTES + 1);
+        let err = ModelFile::from_hyperfun(&long, None)
+            .to_hyperfun()
+            .unwrap_err();
+        assert_eq!(
+            err,
+            ModelError::ProgramTooLong(crate::hyperfun::read::MAX_SOURCE_BYTES + 1)
+        );
+        // A box of the wrong shape is a damaged link.
+        let mut bytes = postcard::to_allocvec(&Wire::Hyperfun {
+            program: "m".into(),
+            bounds: None,
+        })
+        .unwrap();
+        // The box's tag as 2: neither none nor some.
+        *bytes.last_mut().unwrap() = 2;
+        let mut link = String::from("#v1.");
+        URL_SAFE_NO_PAD.encode_string(miniz_oxide::deflate::compress_to_vec(&bytes, 6), &mut link);
+        assert_eq!(decode_file(&link), Err(LinkError::Decode));
+        // A box cut short.
+        let mut bytes = postcard::to_allocvec(&Wire::Hyperfun {
+            program: "m".into(),
+            bounds: Some([[0.0; 3], [1.0; 3]]),
+        })
+        .unwrap();
+        bytes.truncate(bytes.len() - 8);
+        let mut link = String::from("#v1.");
+        URL_SAFE_NO_PAD.encode_string(miniz_oxide::deflate::compress_to_vec(&bytes, 6), &mut link);
+        assert_eq!(decode_file(&link), Err(LinkError::Decode));
     }
 
     #[test]

@@ -158,6 +158,12 @@ pub(super) fn flatten(root: &SolidSpec) -> Result<Vec<Node>, LinkError> {
                     "a free-form model or a script is a model of its own, not a node of a tree",
                 ));
             }
+            SolidSpec::Hyperfun { .. } => {
+                return Err(refused(
+                    "solid",
+                    "a HyperFun program is a model of its own, not a node of a tree",
+                ));
+            }
             &SolidSpec::Circle { center, radius } => Node::Circle { center, radius },
             &SolidSpec::Sphere { center, radius } => Node::Sphere { center, radius },
             &SolidSpec::Rectangle { min, max } => Node::Rectangle { min, max },

@@ -50,6 +50,7 @@ const KINDS: &[&str] = &[
     "transform",
     "part",
     "piecewise",
+    "hyperfun",
 ];
 
 /// The most values kept from the fields before `kind` (every number, string and list counts one):
@@ -136,6 +137,7 @@ enum Kind {
     Esc,
     Plasm,
     Piecewise,
+    Hyperfun,
     /// A node of a tree other than a Bézier leaf: its index in [`KINDS`].
     Node(usize),
 }
@@ -155,6 +157,7 @@ impl<'de> Deserialize<'de> for Kind {
                     "esc" => Ok(Kind::Esc),
                     "plasm" => Ok(Kind::Plasm),
                     "piecewise" => Ok(Kind::Piecewise),
+                    "hyperfun" => Ok(Kind::Hyperfun),
                     _ => KINDS
                         .iter()
                         .position(|&k| k == v)
@@ -184,6 +187,9 @@ enum Key {
     Expression,
     Script,
     Cells,
+    Program,
+    /// A HyperFun program's `box`.
+    Box,
     /// A field of a tree's node: its index in [`NODE_KEYS`].
     Node(usize),
     /// A field no kind has (ignored, as serde ignores unknown fields).
@@ -225,6 +231,8 @@ impl Key {
             Self::Expression => "expression",
             Self::Script => "script",
             Self::Cells => "cells",
+            Self::Program => "program",
+            Self::Box => "box",
             Self::Node(i) => NODE_KEYS[i],
             Self::Other => "",
         }
@@ -249,6 +257,8 @@ impl<'de> Deserialize<'de> for Key {
                     "expression" => Key::Expression,
                     "script" => Key::Script,
                     "cells" => Key::Cells,
+                    "program" => Key::Program,
+                    "box" => Key::Box,
                     _ => NODE_KEYS
                         .iter()
                         .position(|&k| k == v)
@@ -289,6 +299,10 @@ enum Fields {
         cells: Option<Vec<usize>>,
         degree: Option<Vec<usize>>,
         points: Option<Vec<Vec<f64>>>,
+    },
+    Hyperfun {
+        program: Option<String>,
+        bounds: Option<Option<[[f64; 3]; 2]>>,
     },
     /// A tree's node: its kind's index in [`KINDS`] and its fields.
     Node(usize, alloc::boxed::Box<NodeFields>),
@@ -464,6 +478,10 @@ impl Fields {
                 degree: None,
                 points: None,
             },
+            Kind::Hyperfun => Self::Hyperfun {
+                program: None,
+                bounds: None,
+            },
             Kind::Node(kind) => Self::Node(kind, alloc::boxed::Box::default()),
         }
     }
@@ -500,6 +518,10 @@ impl Fields {
                 cells: cells.ok_or_else(|| missing(Key::Cells))?,
                 degree: degree.ok_or_else(|| missing(Key::Degree))?,
                 points: points.ok_or_else(|| missing(Key::Points))?,
+            },
+            Self::Hyperfun { program, bounds } => SolidSpec::Hyperfun {
+                program: program.ok_or_else(|| missing(Key::Program))?,
+                bounds: bounds.unwrap_or_default(),
             },
             Self::Node(kind, fields) => fields.finish(kind)?,
         })
@@ -541,6 +563,8 @@ impl<'de> DeserializeSeed<'de> for Field<'_> {
             (Fields::Esc { expression, .. }, Key::Expression) => fill(expression, key, d),
             (Fields::Plasm { script }, Key::Script) => fill(script, key, d),
             (Fields::Piecewise { cells, .. }, Key::Cells) => fill(cells, key, d),
+            (Fields::Hyperfun { program, .. }, Key::Program) => fill(program, key, d),
+            (Fields::Hyperfun { bounds, .. }, Key::Box) => fill(bounds, key, d),
             (Fields::Piecewise { degree, .. }, Key::Degree) => fill(degree, key, d),
             (Fields::Piecewise { points, .. }, Key::Points) => {
                 if points.is_some() {
@@ -644,6 +668,11 @@ impl<'de> Visitor<'de> for SolidVisitor {
                 points: seq.next_element_seed(PiecewisePoints)?.ok_or_else(|| {
                     de::Error::invalid_length(3, &"a kind and the fields of that kind")
                 })?,
+            },
+            Kind::Hyperfun => SolidSpec::Hyperfun {
+                program: element(&mut seq, 1)?,
+                // `#[serde(default)]`: absent at the end, there is none.
+                bounds: seq.next_element()?.unwrap_or_default(),
             },
             Kind::Node(kind) => {
                 return Err(de::Error::custom(format_args!(
@@ -888,6 +917,11 @@ mod tests {
         Plasm {
             script: String,
         },
+        Hyperfun {
+            program: String,
+            #[serde(default, rename = "box")]
+            bounds: Option<[[f64; 3]; 2]>,
+        },
     }
 
     impl From<Derived> for SolidSpec {
@@ -904,6 +938,7 @@ mod tests {
                     operands,
                 },
                 Derived::Plasm { script } => Self::Plasm { script },
+                Derived::Hyperfun { program, bounds } => Self::Hyperfun { program, bounds },
             }
         }
     }
@@ -923,6 +958,11 @@ mod tests {
             ("volume", volume),
             ("esc", esc),
             ("plasm", r#""script": "1 + 1;""#),
+            (
+                "hyperfun",
+                r#""program": "m(x[3], a[1]) { m = 1 - x[1]^2; }", "box": [[-1, -2, -3], [1, 2, 3.5]]"#,
+            ),
+            ("hyperfun", r#""program": "m(x[3], a[1]) { m = 1; }""#),
         ] {
             let k = format!(r#""kind": "{kind}""#);
             // `kind` first (as written), last, in the middle of other fields, as an index.
@@ -966,6 +1006,17 @@ mod tests {
             r#"{"operands": [{"mesh": {"positions": [], "triangles": []}}], "kind": "esc"}"#,
             r#"{"kind": "plasm", "script": 5}"#,
             r#"{"script": ["a"], "kind": "plasm"}"#,
+            r#"{"kind": "hyperfun"}"#,
+            r#"{"kind": "hyperfun", "box": [[0, 0, 0], [1, 1, 1]]}"#,
+            r#"{"kind": "hyperfun", "program": 5}"#,
+            r#"{"kind": "hyperfun", "program": "", "box": null}"#,
+            r#"{"box": null, "kind": "hyperfun", "program": ""}"#,
+            r#"{"kind": "hyperfun", "program": "", "box": [[0, 0], [1, 1]]}"#,
+            r#"{"kind": "hyperfun", "program": "", "box": [[0, 0, 0]]}"#,
+            r#"{"kind": "hyperfun", "program": "", "box": [[0, 0, 0], [1, 1, "1"]]}"#,
+            r#"{"kind": "hyperfun", "program": "", "box": "no"}"#,
+            r#"{"box": [[0, 0, 0], [1, 1, 1], [2, 2, 2]], "kind": "hyperfun", "program": ""}"#,
+            r#"{"kind": "hyperfun", "program": "", "box": [[0, 0, 0], [1, 1, 1]], "box": null}"#,
             // Kinds that do not exist.
             r#"{"kind": "teapot", "script": ""}"#,
             r#"{"kind": 4, "script": ""}"#,
@@ -979,6 +1030,12 @@ mod tests {
             r#"["plasm", "1;"]"#,
             r#"["plasm", "1;", 2]"#,
             r#"["plasm"]"#,
+            r#"["hyperfun", "m(x[3], a[1]) { m = 1; }"]"#,
+            r#"["hyperfun", "", [[0, 0, 0], [1, 1, 1]]]"#,
+            r#"["hyperfun", "", null]"#,
+            r#"["hyperfun", "", [[0, 0, 0], [1, 1, 1]], 3]"#,
+            r#"["hyperfun", "", [[0, 0], [1, 1]]]"#,
+            r#"["hyperfun"]"#,
             r#"["esc", "union", []]"#,
             r#"["esc", null, []]"#,
             r#"["esc", []]"#,

@@ -21,8 +21,8 @@ impl ModelFile {
     ///
     /// # Errors
     ///
-    /// [`ModelError`] for another format or version, a free-form model or a script
-    /// ([`ModelError::Kind`]), or a tree that breaks a rule ([`ModelError::Tree`], naming the
+    /// [`ModelError`] for another format or version, a free-form model, a script or a HyperFun
+    /// program ([`ModelError::Kind`]), or a tree that breaks a rule ([`ModelError::Tree`], naming the
     /// node's path).
     pub fn to_tree(&self) -> Result<ModelTree, ModelError> {
         self.check_header()?;
@@ -62,6 +62,12 @@ fn kind_dimension(spec: &SolidSpec) -> Result<Option<usize>, &'static str> {
         }
         SolidSpec::Plasm { .. } => {
             return Err("a PLaSM script is a model of its own, not a node of a tree");
+        }
+        SolidSpec::Hyperfun { .. } => {
+            return Err(
+                "a HyperFun program is a model of its own (draw it in the HyperFun mode, or mesh \
+                 it with `bezsolid mesh`), not a node of a tree",
+            );
         }
         _ => None,
     })
@@ -300,7 +306,7 @@ where
                 }
                 self.node(solid, &field("solid"), map, height)?;
             }
-            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
+            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } | SolidSpec::Hyperfun { .. } => {
                 unreachable!("refused by kind_dimension")
             }
         }
