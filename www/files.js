@@ -3,6 +3,7 @@
 // takes time runs in the export worker, in the work list with a Cancel.
 import { tools } from './modules.js';
 import { $, say, messageOf, download, capture, setupMenu } from './ui.js';
+import { runHere } from './hyperfun.js';
 
 const MESH_FILE = /\.(obj|stl|ply)$/i;
 const MESH_FORMATS = ['stl', 'obj', 'ply', '3mf', 'glb'];
@@ -10,10 +11,16 @@ const MESH_TYPES = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet
 
 /** Sets up links, files and exports on `app` (see main.js); returns what the page asks of them. */
 export function setupFiles(app) {
-  const { modeler, ff, sv } = app;
-  const { is_free_form, script_link, script_model_json, script_of } = app.glue;
+  const { modeler, ff, sv, hv } = app;
+  const { is_free_form, script_link, script_model_json, script_of, hyperfun_of, hyperfun_link, hyperfun_carries_model } = app.glue;
   const freeform = () => app.workspace() === 'freeform';
   const scripting = () => app.workspace() === 'script';
+  const hyperfun = () => app.workspace() === 'hyperfun';
+  // A HyperFun model (a file or link of kind `hyperfun`): `{ program, box }`, or undefined.
+  const hyperfunIn = (text) => {
+    const json = hyperfun_of(text);
+    return json === undefined ? undefined : JSON.parse(json);
+  };
 
   // Opens a link in the address over the model (a script, a free-form scene or a Bézier model).
   // The fragment is removed once opened: the model lives on in the autosave, so a reload brings
@@ -21,10 +28,16 @@ export function setupFiles(app) {
   const openFromAddress = () => {
     if (!location.hash || location.hash === '#') return false;
     const script = script_of(location.href);
-    const free = script === undefined && is_free_form(location.href);
+    const program = script === undefined ? hyperfunIn(location.href) : undefined;
+    const free = script === undefined && program === undefined && is_free_form(location.href);
     let opened = false;
     try {
-      if (script !== undefined) {
+      if (program !== undefined) {
+        app.hyperfun.load(program.program, program.box);
+        app.setWorkspace('hyperfun');
+        say('Opened the HyperFun program from the link.');
+        opened = true;
+      } else if (script !== undefined) {
         app.script.load(script);
         app.setWorkspace('script');
         say('Opened the script from the link.');
@@ -46,6 +59,7 @@ export function setupFiles(app) {
     if (openFromAddress()) {
       app.changed();
       if (scripting()) app.script.runIfNew();
+      if (hyperfun()) app.hyperfun.runIfNew();
     }
   });
 
@@ -53,7 +67,9 @@ export function setupFiles(app) {
   $('copy-link').addEventListener('click', async () => {
     let fragment;
     try {
-      fragment = scripting() ? script_link(app.script.text()) : freeform() ? ff.link() : modeler.link();
+      fragment = scripting() ? script_link(app.script.text())
+        : hyperfun() ? hyperfun_link(app.hyperfun.text(), new Float64Array(app.hyperfun.box()))
+          : freeform() ? ff.link() : modeler.link();
     } catch (err) {
       say(messageOf(err), 'error');
       return;
@@ -89,6 +105,17 @@ export function setupFiles(app) {
       const script = /\.psm$/i.test(file.name) ? text : script_of(text);
       if (script !== undefined) {
         app.script.open(script, `Opened ${file.name}.`);
+        return;
+      }
+      // A HyperFun model file, or a HyperFun program that is not one of bezsolid's exports (an
+      // export opens as the model it carries, below).
+      const program = hyperfunIn(text);
+      if (program !== undefined) {
+        app.hyperfun.open(program.program, program.box, `Opened ${file.name}.`);
+        return;
+      }
+      if (/\.hf$/i.test(file.name) && !hyperfun_carries_model(text)) {
+        app.hyperfun.open(text, undefined, `Opened ${file.name} in the HyperFun mode: it is drawn within the box (set it in the panel).`);
         return;
       }
       if (is_free_form(text)) {
@@ -213,6 +240,21 @@ export function setupFiles(app) {
       capture(app.canvas3, 'bezsolid-script.png');
     },
   };
+  const hyperfunExports = {
+    model: () => download('bezsolid-hyperfun.bsolid.json', new Blob([app.hyperfun.modelJson()], { type: 'application/json' })),
+    hf: () => download('bezsolid.hf', new Blob([app.hyperfun.text()], { type: 'text/plain' })),
+    ...Object.fromEntries(MESH_FORMATS.map((format) => [format, () => {
+      const model = app.hyperfun.modelJson();
+      const resolution = app.hyperfun.resolution();
+      const job = { kind: 'hyperfun-mesh', model, format, resolution };
+      exportMesh(`bezsolid-hyperfun.${format}`, 'hyperfun-mesh', format, model, resolution, async () => (await runHere(job)).data);
+    }])),
+    png: () => {
+      if (!app.viewer) return;
+      hv.render(app.viewer);
+      capture(app.canvas3, 'bezsolid-hyperfun.png');
+    },
+  };
   // What the solid measures, on the mesh (or contour) the exports make: in the export worker, in
   // the work list with a Cancel, shown beside the button until the model changes (the modes'
   // updates clear it: `data-revision` is the model's revision it measured).
@@ -227,10 +269,12 @@ export function setupFiles(app) {
       + (m.open ? `; ${m.open} open ${m.open === 1 ? 'piece ends' : 'pieces end'} on the drawn box and ${m.open === 1 ? 'is' : 'are'} left out.` : '.'));
   const measure = async () => {
     const free = freeform();
-    const model = free ? ff.model_json() : modeler.model_json();
-    const resolution = free ? ff.resolution() : modeler.resolution();
-    const revision = String(free ? ff.revision() : modeler.revision());
-    const out = $(free ? 'ff-measure-out' : 'measure-out');
+    const hf = hyperfun();
+    const model = hf ? app.hyperfun.modelJson() : free ? ff.model_json() : modeler.model_json();
+    const resolution = hf ? app.hyperfun.resolution() : free ? ff.resolution() : modeler.resolution();
+    const revision = String(hf ? app.hyperfun.revision() : free ? ff.revision() : modeler.revision());
+    const out = $(hf ? 'hf-measure-out' : free ? 'ff-measure-out' : 'measure-out');
+    const kind = hf ? 'hyperfun-measure' : 'measure';
     out.dataset.kind = '';
     out.textContent = 'Measuring…';
     delete out.dataset.revision;
@@ -239,7 +283,7 @@ export function setupFiles(app) {
     let approximate = 0;
     try {
       if (worker) {
-        const running = worker.run({ kind: 'measure', model, resolution }, {
+        const running = worker.run({ kind, model, resolution }, {
           onProgress: (done, total) => task.progress(done, total),
           onStart: () => task.started(),
         });
@@ -252,7 +296,8 @@ export function setupFiles(app) {
           task.end();
         }
       } else {
-        text = (await tools()).headless_measure(model, resolution);
+        text = hf ? new TextDecoder().decode((await runHere({ kind, model, resolution })).data)
+          : (await tools()).headless_measure(model, resolution);
       }
     } catch (err) {
       out.textContent = '';
@@ -275,7 +320,7 @@ export function setupFiles(app) {
   }
 
   setupMenu($('export'), (kind) => {
-    const exporters = scripting() ? scriptExports : freeform() ? freeformExports : bezierExports;
+    const exporters = scripting() ? scriptExports : hyperfun() ? hyperfunExports : freeform() ? freeformExports : bezierExports;
     if (!Object.hasOwn(exporters, kind)) return;
     try {
       exporters[kind]();

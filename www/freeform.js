@@ -221,7 +221,7 @@ export function setupFreeForm(app) {
     $('ff-info').textContent = line;
     document.body.dataset.ffSurface = info ? `${info[0]},${info[1]}` : '';
     enableItems('#export-menu [data-volume]', true);
-    enableItems('#export-menu [data-bezier]', false);
+    enableItems('#export-menu [data-bezier], #export-menu [data-script]', false);
     document.body.dataset.ffOperation = op;
     document.body.dataset.ffExpression = text;
     $('undo').disabled = !ff.can_undo();

@@ -6,12 +6,13 @@
 //   bezier.js    the Bézier mode (2D view, panel)         freeform.js the Free-form mode
 //   outline.js   the parts of a model of many solids
 //   script.js    the Script mode (editor, runs)           files.js    links, files, exports
+//   hyperfun.js  the HyperFun mode (program, section)     code.js     the modes' code editor
 //   modules.js   which wasm module is fetched, and when
 //
-// Each part gets `app`, what they share: the page module's glue (`glue`), the wasm objects (`modeler`, `ff`, `sv`, `viewer`), the
+// Each part gets `app`, what they share: the page module's glue (`glue`), the wasm objects (`modeler`, `ff`, `sv`, `hv`, `viewer`), the
 // canvases, the work list and workers, the mode (`workspace()`, `setWorkspace`), and the page's
 // verbs (`redraw`, `changed`, `attempt`, `resize`, `resize3`, `panel`). A part's own face is set on
-// `app` as it is made (`app.bezier`, `app.freeform`, `app.script`, `app.files`); parts call each
+// `app` as it is made (`app.bezier`, `app.freeform`, `app.script`, `app.hyperfun`, `app.files`); parts call each
 // other through `app` when events come, never while they are set up.
 import { pageModule, tools, webglModule } from './modules.js';
 import { $, say, messageOf, setupPickers, setupStatus } from './ui.js';
@@ -21,10 +22,13 @@ import { setupBezier } from './bezier.js';
 import { setupOutline } from './outline.js';
 import { setupFreeForm } from './freeform.js';
 import { setupScript } from './script.js';
+import { setupHyperfun } from './hyperfun.js';
 import { setupFiles } from './files.js';
 import { setupView3d } from './view3d.js';
 
-const WORKSPACES = ['bezier', 'freeform', 'script'];
+const WORKSPACES = ['bezier', 'freeform', 'script', 'hyperfun'];
+// The modes whose views are programs' drawings (an editor where the 2D view is).
+const PROGRAMS = ['script', 'hyperfun'];
 const BACKENDS = ['auto', 'webgpu', 'webgl2'];
 
 // A canvas keeps its first context type: falling back to WebGL2 needs a fresh one.
@@ -103,6 +107,7 @@ async function main() {
   ff.forget_history();
   let ffSavedRevision = ff.revision(); // the revision last autosaved (or restored)
   const sv = new ScriptViewer();
+  const hv = new ScriptViewer();
 
   // The 3D view has its own device (a WebGL2 device draws on one canvas only); it is optional: the
   // 2D editor works on without it.
@@ -139,7 +144,7 @@ async function main() {
   const VIEW2 = 1;
   const VIEW3 = 2;
   const app = {
-    glue, wasm, modeler, ff, sv, viewer, workers, canvas, canvas3, runners, VIEW2, VIEW3,
+    glue, wasm, modeler, ff, sv, hv, viewer, workers, canvas, canvas3, runners, VIEW2, VIEW3,
     work: workList($('work')),
     // `latency`: from an edit (`lastEdit`) to the end of the first frame drawn after it.
     // `moves`, `applied`, `frames`: pointer moves coalesced, applied, and frames drawn;
@@ -149,7 +154,7 @@ async function main() {
     /** The Bézier panel's snapshot of the editor, its last frame and its 3D view. */
     panel: () => JSON.parse(modeler.panel()),
   };
-  const part = () => ({ bezier: app.bezier, freeform: app.freeform, script: app.script })[workspace];
+  const part = () => ({ bezier: app.bezier, freeform: app.freeform, script: app.script, hyperfun: app.hyperfun })[workspace];
 
   app.setWorkspace = (name) => {
     workspace = WORKSPACES.includes(name) ? name : 'bezier';
@@ -212,7 +217,7 @@ async function main() {
         stats.latencies.push(stats.latency);
         if (stats.latencies.length > 240) stats.latencies.shift();
       }
-      for (const p of [app.bezier, app.freeform, app.script]) p.prune();
+      for (const p of [app.bezier, app.freeform, app.script, app.hyperfun]) p.prune();
       part().update();
       updateDebug();
     });
@@ -298,6 +303,7 @@ async function main() {
     const [w, h] = modeler.resize_3d(viewer, rect.width, rect.height, ratio());
     ff.resize(viewer, rect.width, rect.height, ratio());
     sv.resize(viewer, rect.width, rect.height, ratio());
+    hv.resize(viewer, rect.width, rect.height, ratio());
     if (canvas3.width !== w) canvas3.width = w;
     if (canvas3.height !== h) canvas3.height = h;
     app.redraw(VIEW3);
@@ -311,7 +317,7 @@ async function main() {
   $('undo').addEventListener('click', () => history(false));
   $('redo').addEventListener('click', () => history(true));
   document.addEventListener('keydown', (e) => {
-    if (!(e.ctrlKey || e.metaKey) || e.altKey || workspace === 'script') return;
+    if (!(e.ctrlKey || e.metaKey) || e.altKey || PROGRAMS.includes(workspace)) return;
     const tag = e.target?.tagName;
     if ((tag === 'INPUT' && e.target.type !== 'radio') || tag === 'TEXTAREA') return;
     const key = e.key.toLowerCase();
@@ -325,6 +331,7 @@ async function main() {
   app.bezier = setupBezier(app);
   app.freeform = setupFreeForm(app);
   app.script = setupScript(app);
+  app.hyperfun = setupHyperfun(app);
   app.files = setupFiles(app);
   setupView3d(app);
 
@@ -337,7 +344,7 @@ async function main() {
       app.setWorkspace(radio.value);
       app.resize();
       app.resize3();
-      if (workspace === 'script') app.script.runIfNew();
+      if (PROGRAMS.includes(workspace)) app[workspace].runIfNew();
       app.redraw();
     });
   }
@@ -358,10 +365,11 @@ async function main() {
   // Hooks for tests and tools: the objects, and what the page holds (GPU objects the renderers
   // hold and made, `[buffers, textures, made]`; the wasm memory in bytes).
   window.bezsolid = {
-    modeler, ff, sv, canvas, canvas3, viewer, saveNow, stats: app.stats,
+    modeler, ff, sv, hv, canvas, canvas3, viewer, saveNow, stats: app.stats,
     redraw: app.redraw,
     setWorkspace: app.setWorkspace,
     runScript: app.script.run,
+    drawHyperfun: app.hyperfun.run,
     gpuObjects: () => [...gpu_objects()],
     // The tools' module on the page (what writes the exports), fetched on first use.
     tools,
@@ -370,10 +378,10 @@ async function main() {
   $('loading').hidden = true;
   requestAnimationFrame(() => {
     modeler.render();
-    if (viewer && workspace !== 'script') part().render3d(viewer);
+    if (viewer && !PROGRAMS.includes(workspace)) part().render3d(viewer);
     part().update();
     saveNow();
-    if (workspace === 'script') app.script.runIfNew();
+    if (PROGRAMS.includes(workspace)) app[workspace].runIfNew();
     // The first frame is drawn: how long after navigation (the benchmarks read it).
     document.body.dataset.firstFrameMs = performance.now().toFixed(1);
     document.body.dataset.ready = 'true';

@@ -6,12 +6,12 @@ import { tools } from './modules.js';
 import { $, say, messageOf, setupMenu, enableItems } from './ui.js';
 import { KEYS, storage } from './storage.js';
 import { lazyRunner } from './work.js';
+import { codeEditor } from './code.js';
 
 /** Sets up the mode on `app` (see main.js); returns what the page asks of it. */
 export function setupScript(app) {
   const { sv, VIEW3 } = app;
   const { plasm_examples, plasm_prelude } = app.glue;
-  const editor = $('script');
   const examples = JSON.parse(plasm_examples());
   const prelude = JSON.parse(plasm_prelude());
   $('prelude-names').replaceChildren(...prelude.names.flatMap((name, k) => {
@@ -20,51 +20,18 @@ export function setupScript(app) {
     return k ? [', ', code] : [code];
   }));
   $('prelude-text').textContent = prelude.text;
-  editor.value = storage.get(KEYS.script) ?? examples.find((e) => e.id === '4.4').source;
-  let ran = false; // whether the editor's script was run since it was opened
-
-  const gutter = $('script-gutter');
-  let marks = new Map(); // line → 'error' | 'warn'
-  let gutterLines = 0;
-  const renderGutter = (force = false) => {
-    const n = editor.value.split('\n').length;
-    if (!force && n === gutterLines) return;
-    gutterLines = n;
-    const out = [];
-    for (let i = 1; i <= n; i++) {
-      const mark = marks.get(i);
-      out.push(mark ? `<span class="${mark}" title="${mark === 'error' ? 'error' : 'warning'}">${i}</span>` : String(i));
-    }
-    gutter.innerHTML = out.join('\n') + '\n\n';
-    gutter.scrollTop = editor.scrollTop;
-  };
-  editor.addEventListener('scroll', () => { gutter.scrollTop = editor.scrollTop; });
-  let saveTimer = 0;
-  editor.addEventListener('input', () => {
-    renderGutter();
-    clearTimeout(saveTimer);
-    saveTimer = setTimeout(() => {
-      if (!storage.set(KEYS.script, editor.value)) say('The script could not be saved in this browser; use Export → Script.', 'warn');
-    }, 300);
+  const code = codeEditor(app, {
+    ids: { editor: 'script', gutter: 'script-gutter' },
+    key: KEYS.script,
+    what: 'script',
+    exportName: 'Script',
+    mode: 'script',
+    onRun: () => run(),
   });
-  addEventListener('pagehide', () => storage.set(KEYS.script, editor.value));
-
-  // The place (line, column from 1, in characters as the interpreter counts them) as an offset
-  // in the editor's text (in UTF-16 units, as the text area counts them).
-  const offsetOf = (line, column) => {
-    const lines = editor.value.split('\n');
-    let offset = 0;
-    for (let i = 0; i < Math.min(line - 1, lines.length); i++) offset += lines[i].length + 1;
-    const chars = Array.from(lines[line - 1] ?? '').slice(0, Math.max(column - 1, 0));
-    return Math.min(offset + chars.join('').length, editor.value.length);
-  };
-  const goTo = (line, column) => {
-    const at = offsetOf(line, column);
-    editor.focus();
-    editor.setSelectionRange(at, Math.min(at + 1, editor.value.length));
-    const lineHeight = parseFloat(getComputedStyle(editor).lineHeight) || 19;
-    editor.scrollTop = Math.max(0, (line - 4) * lineHeight);
-  };
+  const { editor } = code;
+  editor.value = storage.get(KEYS.script) ?? examples.find((e) => e.id === '4.4').source;
+  code.renderGutter(true);
+  let ran = false; // whether the editor's script was run since it was opened
 
   // The script worker starts with the first run (most visits never open this mode).
   const worker = lazyRunner(!!app.runners.surface);
@@ -104,7 +71,7 @@ export function setupScript(app) {
 
   const message = $('script-message');
   const showReport = (report, ms, workerMs) => {
-    marks = new Map();
+    const marks = new Map();
     message.replaceChildren();
     const place = (x) => `Line ${x.line}, column ${x.column}`;
     if (report.error) {
@@ -116,7 +83,7 @@ export function setupScript(app) {
       const go = document.createElement('button');
       go.type = 'button';
       go.textContent = 'Go to';
-      go.addEventListener('click', () => goTo(e.line, e.column));
+      go.addEventListener('click', () => code.goTo(e.line, e.column));
       p.append(go);
       message.append(p);
     }
@@ -128,7 +95,7 @@ export function setupScript(app) {
       message.append(p);
     }
     message.dataset.kind = report.error ? 'error' : report.warnings.length ? 'warn' : '';
-    renderGutter(true);
+    code.mark(marks);
     const count = (n, one, many) => `${n.toLocaleString('en')} ${n === 1 ? one : many}`;
     const parts = [];
     if (report.triangles) parts.push(count(report.triangles, 'triangle', 'triangles'));
@@ -226,24 +193,8 @@ export function setupScript(app) {
   };
   /** Puts `text` in the editor (kept in this browser), not run yet. */
   const load = (text) => {
-    // In the mode, through the editor's own editing, so that its undo (Ctrl+Z) brings back the
-    // text replaced; otherwise (a link opened at start-up, the editor hidden) set plainly.
-    if (editor.value !== text) {
-      let typed = false;
-      if (app.workspace() === 'script') {
-        editor.focus();
-        if (document.activeElement === editor) {
-          editor.select();
-          typed = document.execCommand('insertText', false, text) && editor.value === text;
-        }
-      }
-      if (!typed) editor.value = text;
-      editor.setSelectionRange(0, 0);
-      editor.scrollTop = 0;
-    }
-    storage.set(KEYS.script, text);
+    code.load(text);
     ran = false;
-    renderGutter(true);
   };
   /** Opens `text` in the mode, says `note`, and runs it. */
   const open = (text, note) => {
@@ -269,28 +220,6 @@ export function setupScript(app) {
   });
   $('script-run').addEventListener('click', () => run());
   $('script-stop').addEventListener('click', stop);
-  // Tab indents; after Esc it leaves the editor (the usual way out of a code editor's Tab).
-  let tabEscapes = false;
-  editor.addEventListener('keydown', (e) => {
-    if ((e.ctrlKey || e.metaKey) && e.key === 'Enter') {
-      e.preventDefault();
-      run();
-      return;
-    }
-    if (e.key === 'Escape') {
-      tabEscapes = true;
-      return;
-    }
-    if (e.key === 'Tab' && !tabEscapes && !e.shiftKey && !e.ctrlKey && !e.altKey && !e.metaKey) {
-      e.preventDefault();
-      document.execCommand?.('insertText', false, '  ') || editor.setRangeText('  ', editor.selectionStart, editor.selectionEnd, 'end');
-      return;
-    }
-    tabEscapes = false;
-  });
-  editor.addEventListener('focus', () => { tabEscapes = false; });
-  renderGutter(true);
-
   return {
     /** The script in the editor. */
     text: () => editor.value,

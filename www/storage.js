@@ -6,6 +6,8 @@ export const KEYS = {
   model: 'bezsolid.model.v1',
   freeform: 'bezsolid.freeform.v1',
   script: 'bezsolid.script.v1',
+  hyperfun: 'bezsolid.hyperfun.v1',
+  hyperfunBox: 'bezsolid.hyperfun-box.v1',
   workspace: 'bezsolid.workspace.v1',
   hinted: 'bezsolid.hinted.v1', // the first-visit hint was used or dismissed
 };

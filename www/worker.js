@@ -8,19 +8,11 @@
 // share each time.
 import init, { run_job } from './pkg/bezsolid_web.js';
 import { WASM } from './pkg/assets.js';
+import { decode } from './wire.js';
 
 // The tools' module (not the page's), under its content-hashed name: the browser's cache keeps it
 // across loads.
 const ready = init({ module_or_path: WASM.bezsolid_web });
-const arrays = { bytes: Uint8Array, f32: Float32Array, f64: Float64Array };
-
-// A result buffer: a u32 header length, the JSON header, padding to 8 bytes, the payload.
-const decode = (bytes) => {
-  const length = new DataView(bytes.buffer, bytes.byteOffset).getUint32(0, true);
-  const { payload, ...extra } = JSON.parse(new TextDecoder().decode(bytes.subarray(4, 4 + length)));
-  const start = bytes.byteOffset + Math.ceil((4 + length) / 8) * 8;
-  return { data: new arrays[payload](bytes.buffer.slice(start, bytes.byteOffset + bytes.byteLength)), ...extra };
-};
 
 self.onmessage = async ({ data: { id, ...job } }) => {
   try {

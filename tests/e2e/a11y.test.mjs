@@ -42,6 +42,10 @@ const STATES = {
     await page.click('#script-run');
     await page.waitForFunction(() => !document.body.dataset.working, null, { timeout: 60_000 });
   },
+  hyperfun: async (page) => {
+    await setMode(page, 'hyperfun');
+    await page.waitForFunction(() => document.body.dataset.hfState === 'done', null, { timeout: 60_000 });
+  },
 };
 
 /** axe-core's serious and critical violations of the page as it is. */
@@ -98,12 +102,12 @@ async function walk(page) {
     if (at && at === reached[0]) return reached;
     assert.ok(!at || !reached.includes(at) || at === reached.at(-1), `Tab came back to ${at} before going round`);
     if (at && at !== reached.at(-1)) reached.push(at);
-    if (at === 'view' || at === 'script') await page.keyboard.press('Escape');
+    if (at === 'view' || at === 'script' || at === 'hf') await page.keyboard.press('Escape');
   }
   assert.fail(`Tab did not come round in 200 presses: ${reached.join(', ')}`);
 }
 
-for (const mode of ['bezier', 'freeform', 'script']) {
+for (const mode of ['bezier', 'freeform', 'script', 'hyperfun']) {
   test(`Tab alone reaches every control of the ${mode} mode, and leaves the views`, async () => {
     const { page, errors } = await open(browser);
     if (mode !== 'bezier') await setMode(page, mode);
@@ -205,5 +209,7 @@ test('the 3D view is named for what it shows in each mode', async () => {
   await setMode(page, 'script');
   assert.match(await name(), /script/i);
   assert.doesNotMatch(await name(), /patch/);
+  await setMode(page, 'hyperfun');
+  assert.match(await name(), /HyperFun program/);
   await page.close();
 });

@@ -15,7 +15,7 @@ use bezsolid_core::mesh::exchange::ExportFormat;
 use crate::error::Error;
 
 /// A job, as the page posts it (`{"kind": "surface", "model": …, "resolution": 64}`).
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Job {
     /// The surface a volume model is drawn with: six `f32` per vertex. With `share: [k, n]`,
@@ -113,6 +113,42 @@ pub enum Job {
         script: String,
         /// Which top-level value.
         index: usize,
+    },
+    /// A HyperFun program's drawing (`f32` vertices) and its report (JSON), with a progress
+    /// report after each layer of samples ([`crate::hyperfun::draw`]).
+    HyperfunDraw {
+        /// A HyperFun model file or link (the program and its box).
+        model: String,
+        /// Cells along the box's longest side.
+        resolution: usize,
+    },
+    /// A HyperFun program's field in a plane and its zero contour (`f64`), and the report
+    /// ([`crate::hyperfun::section`]).
+    HyperfunSection {
+        /// A HyperFun model file or link.
+        model: String,
+        /// The plane's normal: 0 (x), 1 (y) or 2 (z).
+        axis: usize,
+        /// Where the plane cuts its axis.
+        at: f64,
+        /// Samples along the plane's longer side.
+        samples: usize,
+    },
+    /// A mesh file of a HyperFun program's solid, with a progress report after each layer.
+    HyperfunMesh {
+        /// A HyperFun model file or link.
+        model: String,
+        /// `stl`, `obj`, `ply`, `3mf` or `glb`.
+        format: ExportFormat,
+        /// Cells along the box's longest side.
+        resolution: usize,
+    },
+    /// What a HyperFun program's solid measures, JSON, on its mesh.
+    HyperfunMeasure {
+        /// A HyperFun model file or link.
+        model: String,
+        /// Cells along the box's longest side.
+        resolution: usize,
     },
 }
 
@@ -267,6 +303,42 @@ pub fn run(job: &Job, progress: impl FnMut(usize, usize)) -> Result<Done, Error>
         Job::PlasmVolume { script, index } => plain(Payload::Bytes(
             crate::script::volume_model(script, *index)?.0.into_bytes(),
         )),
+        Job::HyperfunDraw { model, resolution } => {
+            let drawing = crate::hyperfun::draw(model, *resolution, progress)?;
+            Done {
+                payload: Payload::F32(drawing.floats),
+                approximate: None,
+                report: Some(drawing.report),
+                kept: None,
+            }
+        }
+        Job::HyperfunSection {
+            model,
+            axis,
+            at,
+            samples,
+        } => {
+            let (data, report) = crate::hyperfun::section(model, *axis, *at, *samples)?;
+            Done {
+                payload: Payload::F64(data),
+                approximate: None,
+                report: Some(report),
+                kept: None,
+            }
+        }
+        Job::HyperfunMesh {
+            model,
+            format,
+            resolution,
+        } => plain(Payload::Bytes(crate::hyperfun::export(
+            model,
+            *format,
+            *resolution,
+            progress,
+        )?)),
+        Job::HyperfunMeasure { model, resolution } => plain(Payload::Bytes(
+            crate::hyperfun::measure(model, *resolution, progress)?.into_bytes(),
+        )),
     })
 }
 
@@ -353,6 +425,54 @@ mod tests {
         let want = crate::document::headless::measure_in_steps(&model, 16, |_, _| {}).unwrap();
         assert_eq!(payload, want.data.as_bytes());
         assert!(steps > 0);
+    }
+
+    #[test]
+    fn hyperfun_jobs_draw_cut_mesh_and_measure_with_progress() {
+        let model = crate::hyperfun::model_json(
+            "my_model(x[3], a[1]) { my_model = 1 - x[1]^2 - x[2]^2 - x[3]^2; }",
+            &[-2.0, -2.0, -2.0, 2.0, 2.0, 2.0],
+        )
+        .unwrap();
+        let mut steps = Vec::new();
+        let mut job = |json: serde_json::Value| {
+            run_bytes(json.to_string().as_bytes(), |done, total| {
+                steps.push((done, total));
+            })
+            .unwrap()
+        };
+        let drawn =
+            job(serde_json::json!({"kind": "hyperfun-draw", "model": model, "resolution": 12}));
+        let (header, payload) = decode(&drawn);
+        assert_eq!(header["payload"], "f32");
+        let report: serde_json::Value =
+            serde_json::from_str(header["report"].as_str().unwrap()).unwrap();
+        assert!(report["error"].is_null(), "{report}");
+        let triangles = report["triangles"].as_u64().unwrap() as usize;
+        assert_eq!(
+            payload.len(),
+            triangles * 3 * crate::script::FLOATS_PER_VERTEX * 4
+        );
+        let cut = job(
+            serde_json::json!({"kind": "hyperfun-section", "model": model, "axis": 1, "at": 0.5, "samples": 20}),
+        );
+        assert_eq!(decode(&cut).0["payload"], "f64");
+        let stl = job(
+            serde_json::json!({"kind": "hyperfun-mesh", "model": model, "format": "stl", "resolution": 12}),
+        );
+        let mesh = bezsolid_core::mesh::Format::Stl
+            .read(decode(&stl).1)
+            .unwrap();
+        mesh.check_closed_manifold().unwrap();
+        let measured =
+            job(serde_json::json!({"kind": "hyperfun-measure", "model": model, "resolution": 12}));
+        let m: serde_json::Value = serde_json::from_slice(decode(&measured).1).unwrap();
+        assert!(m["volume"].as_f64().unwrap() > 3.5);
+        assert_eq!(
+            steps.last(),
+            Some(&(13, 13)),
+            "a report per layer of samples"
+        );
     }
 
     #[test]

@@ -9,7 +9,8 @@
 //! - [`view3d`]: the 3D view of a patch or a volume; [`camera`]: the orbit camera every 3D view
 //!   contains; [`scene`]: what a 3D view hands the renderer, and the cache of a surface drawn coarse
 //!   now and fine from the worker;
-//! - [`freeform`]: the Free-form mode; [`script`]: the Script mode;
+//! - [`freeform`]: the Free-form mode; [`script`]: the Script mode; [`hyperfun`]: the HyperFun
+//!   mode;
 //! - [`outline`]: a model of many solids as the outliner edits it, a node at a time; [`parts`]:
 //!   such a model in the page, its one undo history, and the Bézier part open in the editor;
 //! - [`panel`]: what the Bézier mode's panel shows, one snapshot per frame;
@@ -28,6 +29,7 @@ pub mod error;
 pub mod frame2d;
 pub mod freeform;
 pub mod history;
+pub mod hyperfun;
 pub mod jobs;
 pub mod outline;
 pub mod panel;

@@ -149,6 +149,7 @@ fn label(spec: &SolidSpec) -> String {
         }
         SolidSpec::Esc { .. } => "Free-form model".into(),
         SolidSpec::Plasm { .. } => "Script".into(),
+        SolidSpec::Hyperfun { .. } => "HyperFun program".into(),
         SolidSpec::Piecewise { cells, degree, .. } => {
             let what = if cells.len() == 3 { "volume" } else { "patch" };
             let join = |x: &[usize]| {

@@ -64,6 +64,41 @@ pub fn script_link(script: &str) -> Result<String, JsError> {
     crate::script::link(script).map_err(JsError::from)
 }
 
+/// The program and box of a HyperFun model file or link, JSON `{program, box}` (`box` as six
+/// numbers), if it is one.
+#[wasm_bindgen]
+#[must_use]
+pub fn hyperfun_of(text: &str) -> Option<String> {
+    crate::hyperfun::program_of(text)
+}
+
+/// Whether `text` is one of bezsolid's HyperFun exports that carries its model.
+#[wasm_bindgen]
+#[must_use]
+pub fn hyperfun_carries_model(text: &str) -> bool {
+    crate::hyperfun::carries_model(text)
+}
+
+/// The model file (JSON) of a HyperFun program in its box (`[x0, y0, z0, x1, y1, z1]`).
+///
+/// # Errors
+///
+/// A box that is not one, or a program too long.
+#[wasm_bindgen]
+pub fn hyperfun_model_json(program: &str, bounds: &[f64]) -> Result<String, JsError> {
+    crate::hyperfun::model_json(program, bounds).map_err(JsError::from)
+}
+
+/// The share link's fragment (`#v1.…`) of a HyperFun program in its box.
+///
+/// # Errors
+///
+/// A box that is not one, or a program too long for a link.
+#[wasm_bindgen]
+pub fn hyperfun_link(program: &str, bounds: &[f64]) -> Result<String, JsError> {
+    crate::hyperfun::link(program, bounds).map_err(JsError::from)
+}
+
 /// The prelude every script runs after (the paper's toolbox), JSON: `{names, text}`.
 #[wasm_bindgen]
 #[must_use]
