@@ -180,8 +180,10 @@ fn a_hyperfun_program_meshes_within_its_box() {
         "{whole:?}"
     );
     let bbox = &whole[2].1;
+    // Its extreme points are samples where the program is exactly zero: their vertices keep a
+    // thousandth of a cell (1/8 here) off them, so that no triangle is flat.
     for (got, want) in bbox.iter().zip([-0.5, -1.0, -1.0, 1.5, 1.0, 1.0]) {
-        assert!((got - want).abs() < 1e-6, "{bbox:?}");
+        assert!((got - want).abs() < 2e-3 * 0.125, "{bbox:?}");
     }
     // Cut by a box through its centre: the half ball, closed by the cut.
     let half = stats(&[

@@ -4,7 +4,9 @@
 //! `a0 / (1 + (f1/a1)² + (f2/a2)²)`), its primitives `hfSphere` and `hfCylinderX/Y/Z` (whose
 //! definitions are DESIGN's sphere and cylinder), and plain arithmetic for the rest: boxes,
 //! tori, half-spaces, morphs, 2D primitives, and regular Bézier leaves as the explicit Bernstein
-//! sum of a single solid's export. A transform's node sees its own coordinates, an array
+//! sum of a single solid's export; a HyperFun leaf's program as bodies of their own before
+//! `my_model` (renamed apart), called on its coordinates and cut by its box. A transform's node
+//! sees its own coordinates, an array
 //! `M⁻¹ x` computed from its parent's. Every operand is parenthesised, so the file means the
 //! same whatever the precedence of the set operations. 2D trees are prisms along z (`x[3]`
 //! unused).
@@ -72,6 +74,7 @@ fn tree_hf_within(file: &ModelFile, cap: usize) -> Result<String, TreeHfError> {
     let mut w = Writer {
         dim,
         body: String::new(),
+        bodies: String::new(),
         arrays: Vec::new(),
         next: 0,
         numbers: 0,
@@ -86,6 +89,7 @@ fn tree_hf_within(file: &ModelFile, cap: usize) -> Result<String, TreeHfError> {
     if dim == 2 {
         let _ = writeln!(out, "-- A 2D model: x[3] is unused (a prism along z).");
     }
+    out.push_str(&w.bodies);
     let _ = writeln!(out, "my_model(x[3], a[1])\n{{");
     for (name, len) in &w.arrays {
         let _ = writeln!(out, "  array {name}[{len}];");
@@ -100,6 +104,8 @@ fn tree_hf_within(file: &ModelFile, cap: usize) -> Result<String, TreeHfError> {
 struct Writer {
     dim: usize,
     body: String,
+    /// The bodies of HyperFun leaves, renamed, written before `my_model`.
+    bodies: String,
     /// Arrays to declare: name and length.
     arrays: Vec<(String, usize)>,
     next: usize,
@@ -233,13 +239,55 @@ impl Writer {
             SolidSpec::Part { solid, .. } => self.node(solid, &format!("{path}.solid"), q)?,
             SolidSpec::Patch { .. } | SolidSpec::Volume { .. } => self.bezier(spec, path, q)?,
             SolidSpec::Piecewise { .. } => self.piecewise(spec, path, q)?,
-            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } | SolidSpec::Hyperfun { .. } => {
+            SolidSpec::Hyperfun { program, bounds } => self.hyperfun(program, *bounds, path, q)?,
+            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
                 unreachable!("refused by the tree's validation")
             }
         })
     }
 
+    /// A HyperFun leaf: its bodies written before `my_model` under names of their own (each
+    /// prefixed, so that two leaves' bodies and `my_model` never meet), its main body called on
+    /// the leaf's coordinates and cut by its box as the tree cuts it.
+    fn hyperfun(
+        &mut self,
+        text: &str,
+        bounds: Option<[[f64; 3]; 2]>,
+        path: &str,
+        q: &str,
+    ) -> Result<String, TreeHfError> {
+        let program = super::read::Program::parse(text).map_err(|e| {
+            TreeHfError::Model(ModelError::Tree(crate::tree::TreeError {
+                path: format!("{path}.program"),
+                message: format!("invalid HyperFun program: {e}"),
+            }))
+        })?;
+        let prefix = format!("{}_", self.name("hf"));
+        let names: Vec<&str> = program.body_names().collect();
+        // The leaf's own carried model, if it is an export, is not this file's.
+        let own: String = text
+            .lines()
+            .filter(|l| !l.trim_end().starts_with(super::MODEL_MARK))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let _ = writeln!(
+            self.bodies,
+            "-- {path}: a HyperFun program, its bodies renamed"
+        );
+        self.bodies.push_str(&rename_bodies(&own, &names, &prefix));
+        let [lo, hi] = bounds.unwrap_or(crate::model::DEFAULT_HYPERFUN_BOX);
+        let call = format!("{prefix}{}({q}, a)", program.body());
+        let cut = self.strips(q, &lo, &hi);
+        Ok(self.set(path, &format!("({call}) & {cut}")))
+    }
+
     fn cuboid(&mut self, path: &str, q: &str, min: &[f64], max: &[f64]) -> String {
+        let value = self.strips(q, min, max);
+        self.set(path, &value)
+    }
+
+    /// `s_0 & s_1 (& s_2)`, `s_i = (q_i − min_i)(max_i − q_i)`: a box's function.
+    fn strips(&self, q: &str, min: &[f64], max: &[f64]) -> String {
         let strips: Vec<String> = (0..min.len())
             .map(|i| {
                 format!(
@@ -250,11 +298,10 @@ impl Writer {
                 )
             })
             .collect();
-        let value = strips
+        strips
             .into_iter()
             .reduce(|a, b| format!("({a} & {b})"))
-            .unwrap_or_default();
-        self.set(path, &value)
+            .unwrap_or_default()
     }
 
     fn half(&mut self, path: &str, q: &str, normal: &[f64], offset: f64) -> String {
@@ -695,6 +742,36 @@ where
 
 fn axis_name(axis: CoordAxis) -> &'static str {
     ["x", "y", "z"][axis.index()]
+}
+
+/// `text` with every name in `names` (HyperFun's body names, lower case: its names are not
+/// case-sensitive) prefixed by `prefix`, wherever it stands as a whole name outside comments.
+fn rename_bodies(text: &str, names: &[&str], prefix: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 64);
+    let mut rest = text;
+    while let Some(c) = rest.chars().next() {
+        if rest.starts_with("--") {
+            // A comment, to the end of its line.
+            let end = rest.find('\n').unwrap_or(rest.len());
+            out.push_str(&rest[..end]);
+            rest = &rest[end..];
+        } else if c.is_ascii_alphanumeric() || c == '_' {
+            // A name or a number (whose exponent's letters are no name).
+            let end = rest
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '.'))
+                .unwrap_or(rest.len());
+            let word = &rest[..end];
+            if c.is_ascii_alphabetic() && names.iter().any(|n| n.eq_ignore_ascii_case(word)) {
+                out.push_str(prefix);
+            }
+            out.push_str(word);
+            rest = &rest[end..];
+        } else {
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
 }
 
 #[cfg(test)]

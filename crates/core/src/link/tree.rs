@@ -108,6 +108,11 @@ pub(super) enum Node {
         degree: Vec<u8>,
         columns: Vec<Vec<f64>>,
     },
+    /// A HyperFun program (appended): its text and its box, if the node has one.
+    Hyperfun {
+        program: alloc::string::String,
+        bounds: Option<[[f64; 3]; 2]>,
+    },
 }
 
 const AXES: [CoordAxis; 3] = [CoordAxis::X, CoordAxis::Y, CoordAxis::Z];
@@ -158,12 +163,10 @@ pub(super) fn flatten(root: &SolidSpec) -> Result<Vec<Node>, LinkError> {
                     "a free-form model or a script is a model of its own, not a node of a tree",
                 ));
             }
-            SolidSpec::Hyperfun { .. } => {
-                return Err(refused(
-                    "solid",
-                    "a HyperFun program is a model of its own, not a node of a tree",
-                ));
-            }
+            SolidSpec::Hyperfun { program, bounds } => Node::Hyperfun {
+                program: program.clone(),
+                bounds: *bounds,
+            },
             &SolidSpec::Circle { center, radius } => Node::Circle { center, radius },
             &SolidSpec::Sphere { center, radius } => Node::Sphere { center, radius },
             &SolidSpec::Rectangle { min, max } => Node::Rectangle { min, max },
@@ -383,6 +386,7 @@ fn leaf(node: Node) -> Result<SolidSpec, LinkError> {
                     .collect(),
             }
         }
+        Node::Hyperfun { program, bounds } => SolidSpec::Hyperfun { program, bounds },
         // An operation of no children (a union of none): validation names it.
         Node::Union { .. } => SolidSpec::Union { of: Vec::new() },
         Node::Intersection { .. } => SolidSpec::Intersection { of: Vec::new() },

@@ -390,6 +390,8 @@ where
             }
         }
         Shape::Cylinder { .. } | Shape::Half { .. } => return None,
+        // f = program & box ≤ box: where f ≥ level, the box's f is too.
+        Shape::Hyperfun(h) => return leaf_bounds(&h.cut(), level),
     })
 }
 

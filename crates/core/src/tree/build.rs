@@ -26,6 +26,11 @@ impl ModelFile {
     /// node's path).
     pub fn to_tree(&self) -> Result<ModelTree, ModelError> {
         self.check_header()?;
+        // A program alone is a model of its own (the HyperFun mode's, not cut by a tree's rules);
+        // a tree may hold one as a leaf.
+        if matches!(self.solid, SolidSpec::Hyperfun { .. }) {
+            return Err(ModelError::Kind(crate::model::HYPERFUN_ALONE));
+        }
         let dimension = dimension_of(&self.solid).map_err(ModelError::Tree)?;
         Ok(if dimension == 2 {
             ModelTree::Plane(Builder::<2>::build(&self.solid)?)
@@ -63,12 +68,8 @@ fn kind_dimension(spec: &SolidSpec) -> Result<Option<usize>, &'static str> {
         SolidSpec::Plasm { .. } => {
             return Err("a PLaSM script is a model of its own, not a node of a tree");
         }
-        SolidSpec::Hyperfun { .. } => {
-            return Err(
-                "a HyperFun program is a model of its own (draw it in the HyperFun mode, or mesh \
-                 it with `bezsolid mesh`), not a node of a tree",
-            );
-        }
+        // A HyperFun program is of x[3], as HyperFun's polygonizer takes it.
+        SolidSpec::Hyperfun { .. } => Some(3),
         _ => None,
     })
 }
@@ -306,7 +307,11 @@ where
                 }
                 self.node(solid, &field("solid"), map, height)?;
             }
-            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } | SolidSpec::Hyperfun { .. } => {
+            SolidSpec::Hyperfun { program, bounds } => {
+                let leaf = hyperfun::<D>(program, *bounds, path)?;
+                self.leaf(Shape::Hyperfun(Box::new(leaf)), map);
+            }
+            SolidSpec::Esc { .. } | SolidSpec::Plasm { .. } => {
                 unreachable!("refused by kind_dimension")
             }
         }
@@ -547,4 +552,38 @@ pub(crate) fn rotation3([rx, ry, rz]: [f64; 3]) -> [[f64; 3]; 3] {
         core::array::from_fn(|i| core::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
     };
     mul(mul(z, y), x)
+}
+
+/// A HyperFun leaf: its program parsed as HyperFun reads it, within its box (HyperFun's
+/// polygonizer's default where the node has none).
+fn hyperfun<const D: usize>(
+    program: &str,
+    bounds: Option<[[f64; 3]; 2]>,
+    path: &str,
+) -> Result<super::shape::HfLeaf<D>, ModelError> {
+    let tree_error = |p: &str, m: String| ModelError::Tree(error(p, m));
+    if program.len() > crate::hyperfun::read::MAX_SOURCE_BYTES {
+        return Err(ModelError::ProgramTooLong(program.len()));
+    }
+    let [lo, hi] = bounds.unwrap_or(crate::model::DEFAULT_HYPERFUN_BOX);
+    if !(0..3).all(|i| lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i]) {
+        return Err(tree_error(
+            &format!("{path}.box"),
+            "a HyperFun program's box is [[x0, y0, z0], [x1, y1, z1]], finite, with x0 < x1, \
+             y0 < y1 and z0 < z1"
+                .into(),
+        ));
+    }
+    let parsed = crate::hyperfun::read::Program::parse(program).map_err(|e| {
+        tree_error(
+            &format!("{path}.program"),
+            format!("invalid HyperFun program: {e}"),
+        )
+    })?;
+    Ok(super::shape::HfLeaf {
+        text: program.into(),
+        program: parsed,
+        min: core::array::from_fn(|i| lo[i]),
+        max: core::array::from_fn(|i| hi[i]),
+    })
 }

@@ -95,7 +95,7 @@ where
                 let v = offset * DOWN - dot;
                 saturate(v * HALF_UP * HALF_UP)
             }
-            Shape::Bezier(..) | Shape::Piecewise(..) => -f64::MAX,
+            Shape::Bezier(..) | Shape::Piecewise(..) | Shape::Hyperfun(..) => -f64::MAX,
         };
         if f.is_nan() { -f64::MAX } else { f }
     }

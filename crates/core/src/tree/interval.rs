@@ -277,6 +277,11 @@ where
             Interval::new(*offset, *offset).add(dot.neg())
         }
         Shape::Bezier(solid, None) => moved(solid.domain(), lo, hi),
+        // f = program & box ≤ box: the box's bound above, nothing below.
+        Shape::Hyperfun(h) => {
+            let cut = leaf_interval(&h.cut(), lo, hi, scratch);
+            Interval::new(-UNKNOWN, cut.hi)
+        }
         Shape::Piecewise(solid, None) => moved(solid.domain(), lo, hi),
         Shape::Piecewise(_, Some(r)) => {
             let (tlo, thi) = (r.scaled(lo), r.scaled(hi));

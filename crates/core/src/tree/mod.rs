@@ -44,6 +44,8 @@ mod bounds;
 mod build;
 mod check;
 mod far;
+#[cfg(test)]
+mod hyperfun_tests;
 mod interval;
 mod mesh;
 mod parts;

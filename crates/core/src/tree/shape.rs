@@ -44,6 +44,8 @@ where
         Box<crate::piecewise::Piecewise<D>>,
         Option<Box<RegularCells<D>>>,
     ),
+    /// A HyperFun program cut by its box.
+    Hyperfun(Box<HfLeaf<D>>),
 }
 
 impl<const D: usize> Shape<D>
@@ -76,6 +78,7 @@ where
                 let v = solid.evaluate(Dim::<D>::point(p), method);
                 return (v.f, v.preimages, v.exhausted);
             }
+            Self::Hyperfun(h) => (h.eval(p), 0),
             Self::Ball { center, radius } => {
                 let d2: f64 = (0..D)
                     .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
@@ -195,7 +198,77 @@ where
                 let dot: f64 = (0..D).map(|i| normal[i] * p[i]).sum();
                 (offset - dot, core::array::from_fn(|i| -normal[i]))
             }
+            Self::Hyperfun(h) => h.gradient(p),
         }
+    }
+}
+
+/// The largest magnitude a HyperFun leaf's program value keeps (past it, clamped: the
+/// R-functions over it stay finite).
+const HF_LIMIT: f64 = 1e100;
+
+/// A HyperFun program as a leaf: `program & box`, the R-conjunction of the program's value (at
+/// the point, its coordinates past `D` zero) and the box's `s_0 & s_1 (& s_2)` (as
+/// [`Shape::Box`]), so that the leaf is the program's solid within its box, negative outside the
+/// box whatever the program gives there: `f ≤ box` bounds it. Where the program fails (HyperFun's
+/// runtime error, its work cap) or gives no finite number, its value is −1 (outside).
+#[derive(Clone, Debug)]
+pub(super) struct HfLeaf<const D: usize> {
+    /// The program's text (what two leaves are compared by).
+    pub(super) text: alloc::string::String,
+    pub(super) program: crate::hyperfun::read::Program,
+    pub(super) min: [f64; D],
+    pub(super) max: [f64; D],
+}
+
+impl<const D: usize> PartialEq for HfLeaf<D> {
+    fn eq(&self, o: &Self) -> bool {
+        self.text == o.text && self.min == o.min && self.max == o.max
+    }
+}
+
+impl<const D: usize> HfLeaf<D> {
+    /// The box as a [`Shape::Box`], for its bounds.
+    pub(super) fn cut(&self) -> Shape<D>
+    where
+        Dim<D>: Dimension<D>,
+    {
+        Shape::Box {
+            min: self.min,
+            max: self.max,
+        }
+    }
+
+    /// The program's own value at `p`, clamped to `±HF_LIMIT`; −1 where it fails.
+    pub(super) fn program_value(&self, p: [f64; D]) -> f64 {
+        let mut x = [0.0; 3];
+        for (c, v) in x.iter_mut().zip(p) {
+            *c = v;
+        }
+        match self.program.eval(x) {
+            Ok(v) if !v.is_nan() => v.clamp(-HF_LIMIT, HF_LIMIT),
+            _ => -1.0,
+        }
+    }
+
+    fn eval(&self, p: [f64; D]) -> f64 {
+        let s = |i: usize| (p[i] - self.min[i]) * (self.max[i] - p[i]);
+        let cut = (1..D).fold(s(0), |f, i| intersect(f, s(i)));
+        intersect(self.program_value(p), cut)
+    }
+
+    /// `f` and its gradient by central differences (a program has no derivatives of its own),
+    /// a step of a millionth of the box's largest side.
+    fn gradient(&self, p: [f64; D]) -> (f64, [f64; D]) {
+        let side = (0..D).fold(0.0_f64, |m, i| m.max(self.max[i] - self.min[i]));
+        let h = side * 1e-6;
+        let g = core::array::from_fn(|i| {
+            let (mut a, mut b) = (p, p);
+            a[i] -= h;
+            b[i] += h;
+            (self.eval(b) - self.eval(a)) / (2.0 * h)
+        });
+        (self.eval(p), g)
     }
 }
 
