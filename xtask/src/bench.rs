@@ -724,7 +724,8 @@ fn report(measured: &Measured<'_>, quick: bool) -> String {
         let eval = case.contains("grid evaluation")
             || case.starts_with("inverse map")
             || case.starts_with("point-in-solid")
-            || case.starts_with("plasm: Script 4.4");
+            || case.starts_with("plasm: Script 4.4")
+            || case.starts_with("HyperFun export");
         let _ = writeln!(s, "## {case}\n");
         let extra = if case.starts_with("point-in-solid") {
             "queries/s"

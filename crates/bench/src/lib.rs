@@ -3,6 +3,7 @@
 //! has run for a while, and reported as the median of its runs.
 
 pub mod esc;
+pub mod hyperfun;
 pub mod inverse;
 pub mod plasm;
 pub mod tree;
@@ -116,6 +117,7 @@ pub fn suite(clock: &mut dyn Clock, quick: bool) -> Vec<Row> {
     rows.extend(inverse::suite(clock, quick));
     rows.extend(esc::suite(clock, quick));
     rows.extend(plasm::suite(clock, quick));
+    rows.extend(hyperfun::suite(clock, quick));
     rows.extend(tree::suite(clock, quick));
     rows.extend(mesh_suite(clock, quick));
     rows

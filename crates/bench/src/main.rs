@@ -39,6 +39,12 @@ fn one_thread() {
         println!("{}", serde_json::to_string(&rows).unwrap_or_default());
         return;
     }
+    // `--hyperfun`: only the HyperFun exports' evaluation.
+    if std::env::args().any(|a| a == "--hyperfun") {
+        let rows = bezsolid_bench::hyperfun::suite(&mut clock, quick);
+        println!("{}", serde_json::to_string(&rows).unwrap_or_default());
+        return;
+    }
     // `--esc`: only the point-in-solid cases (for working on them).
     if std::env::args().any(|a| a == "--esc") {
         let rows = bezsolid_bench::esc::suite(&mut clock, quick);
