@@ -181,6 +181,45 @@ test('an export opens back as its model; the section and editor at other sizes',
   await page.close();
 });
 
+test('a model of many solids holds a HyperFun program as a part, drawn, linked and exported', async () => {
+  const { page, errors } = await open(browser);
+  const model = {
+    format: 'bezsolid',
+    version: 1,
+    solid: {
+      kind: 'difference',
+      of: [
+        { kind: 'hyperfun', program: PROGRAM, box: [[-8, -8, -3], [8, 8, 3]] },
+        { kind: 'box', min: [-9, -9, 0], max: [9, 9, 4] },
+      ],
+    },
+  };
+  const path = join(ARTIFACTS, 'hyperfun-part.bsolid.json');
+  writeFileSync(path, JSON.stringify(model));
+  await page.setInputFiles('#open-file', path);
+  await page.waitForFunction(() => document.getElementById('model-name').textContent.startsWith('Many solids'));
+  assert.equal(await page.evaluate(() => document.body.dataset.workspace), 'bezier');
+  const items = await page.locator('#outline-tree [role="treeitem"]').allTextContents();
+  assert.ok(items.some((t) => /HyperFun program/.test(t)), items.join(' / '));
+  await page.waitForFunction(() => !document.body.dataset.working, null, { timeout: 60_000 });
+  const half = await ink(page, '#view3d', 'hyperfun-part', [244, 245, 247]);
+  assert.ok(half.ink > 1000, `the part is drawn (${half.ink} pixels)`);
+  // Its HyperFun export calls the program as a body of its own, and opens back as the model.
+  const hf = (await download(page, 'hf')).toString();
+  assert.match(hf, /^hf\d+_my_model\(x\[3\], a\[1\]\)/m);
+  assert.match(hf, /hf\d+_my_model\(x, a\)/);
+  // A link carries the part.
+  await page.click('#copy-link');
+  await page.waitForFunction(() => document.body.dataset.link);
+  const other = await open(browser);
+  await other.page.goto(await page.evaluate(() => document.body.dataset.link));
+  await other.page.waitForFunction(() => document.getElementById('model-name').textContent.startsWith('Many solids'));
+  assert.equal(await other.page.evaluate(() => window.bezsolid.modeler.model_json()), await page.evaluate(() => window.bezsolid.modeler.model_json()));
+  await other.page.close();
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 async function download(page, value) {
   const [file] = await Promise.all([page.waitForEvent('download'), pick(page, 'export', value)]);
   return readFileSync(await file.path());
