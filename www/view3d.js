@@ -7,13 +7,13 @@ import { pointers } from './touch.js';
 
 /** Sets up the input of the 3D view on `app` (see main.js). */
 export function setupView3d(app) {
-  const { modeler, ff, sv, canvas3, VIEW2, VIEW3 } = app;
+  const { modeler, ff, sv, hv, canvas3, VIEW2, VIEW3 } = app;
   const local = (e) => {
     const rect = canvas3.getBoundingClientRect();
     return [e.clientX - rect.left, e.clientY - rect.top];
   };
-  // The free-form and script views only move their camera.
-  const orbiter = () => ({ freeform: ff, script: sv })[app.workspace()] ?? null;
+  // The free-form, script and HyperFun views only move their camera.
+  const orbiter = () => ({ freeform: ff, script: sv, hyperfun: hv })[app.workspace()] ?? null;
   let orbiting = false;
   // A free-form solid being dragged (Alt-drag, or with Drag to move pressed).
   let movingSolid = false;

@@ -72,6 +72,18 @@ test('a .hf file opens, is drawn, edited live, shared, exported and measured', a
   assert.ok(first > 1000, `${first} triangles`);
   const solid = await ink(page, '#view3d', 'hyperfun-ring', [244, 245, 247]);
   assert.ok(solid.ink > 2000, `the solid is drawn (${solid.ink} pixels)`);
+  // A drag orbits the drawing and edits nothing; F frames it again.
+  const bezier = await page.evaluate(() => window.bezsolid.modeler.model_json());
+  const view = await page.locator('#view3d').boundingBox();
+  await page.mouse.move(view.x + view.width / 2, view.y + view.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(view.x + view.width / 2 + 90, view.y + view.height / 2 + 40, { steps: 6 });
+  await page.mouse.up();
+  const turned = await ink(page, '#view3d', 'hyperfun-turned', [244, 245, 247]);
+  assert.ok(!turned.png.equals(solid.png), 'the drag turns the view');
+  assert.equal(await page.evaluate(() => window.bezsolid.modeler.model_json()), bezier);
+  await page.focus('#view3d');
+  await page.keyboard.press('f');
   // The section z = 0 (the slider's middle) crosses the ball and the ring: inside is red.
   await page.waitForFunction(() => Number(document.body.dataset.hfSection) > 0);
   const cut = await ink(page, '#hf-section', 'hyperfun-section', [255, 255, 255]);
