@@ -540,20 +540,8 @@ pub mod headless {
             }
         };
         let space = |mesh: &Mesh, approximate| -> Result<Made<String>, Error> {
-            if mesh.triangles.is_empty() {
-                return Err("the solid is empty at this resolution: nothing to measure".into());
-            }
-            let m = mesh.measure();
-            let json = serde_json::json!({
-                "dimension": 3,
-                "resolution": resolution,
-                "triangles": mesh.triangle_count(),
-                "volume": m.volume,
-                "area": m.area,
-                "bbox": [m.min.x, m.min.y, m.min.z, m.max.x, m.max.y, m.max.z],
-            });
             Ok(Made {
-                data: json.to_string(),
+                data: mesh_measure(mesh, resolution)?,
                 approximate,
             })
         };
@@ -603,6 +591,28 @@ pub mod headless {
             ModelSolid::Volume(s) => solid3_hf(&s),
         }
         .map_err(Error::from)
+    }
+
+    /// What a 3D solid's mesh at `resolution` measures, JSON as the page shows it: `dimension` 3,
+    /// `resolution`, `triangles`, `volume`, `area`, `bbox` (`[x0, y0, z0, x1, y1, z1]`).
+    ///
+    /// # Errors
+    ///
+    /// An empty mesh: nothing to measure.
+    pub fn mesh_measure(mesh: &Mesh, resolution: usize) -> Result<String, Error> {
+        if mesh.triangles.is_empty() {
+            return Err("the solid is empty at this resolution: nothing to measure".into());
+        }
+        let m = mesh.measure();
+        Ok(serde_json::json!({
+            "dimension": 3,
+            "resolution": resolution,
+            "triangles": mesh.triangle_count(),
+            "volume": m.volume,
+            "area": m.area,
+            "bbox": [m.min.x, m.min.y, m.min.z, m.max.x, m.max.y, m.max.z],
+        })
+        .to_string())
     }
 
     /// The zero contours of a patch model as SVG.

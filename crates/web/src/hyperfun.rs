@@ -296,27 +296,17 @@ pub fn export(
 }
 
 /// What a HyperFun model's solid measures on its mesh (see [`mesh`]), JSON as the other modes'
-/// measures: `dimension` 3, `resolution`, `triangles`, `volume`, `area`, `bbox`.
+/// measures ([`crate::document::headless::mesh_measure`]).
 ///
 /// # Errors
 ///
-/// As [`mesh`].
+/// As [`mesh`], or an empty mesh.
 pub fn measure(
     text: &str,
     resolution: usize,
     progress: impl FnMut(usize, usize),
 ) -> Result<String, Error> {
-    let mesh = mesh(text, resolution, progress)?;
-    let m = mesh.measure();
-    Ok(json!({
-        "dimension": 3,
-        "resolution": resolution,
-        "triangles": mesh.triangle_count(),
-        "volume": m.volume,
-        "area": m.area,
-        "bbox": [m.min.x, m.min.y, m.min.z, m.max.x, m.max.y, m.max.z],
-    })
-    .to_string())
+    crate::document::headless::mesh_measure(&mesh(text, resolution, progress)?, resolution)
 }
 
 #[cfg(test)]
