@@ -301,8 +301,31 @@ export function setupHyperfun(app) {
     app.changed();
   });
 
+  // A part of the Bézier mode's model opened here: Put back replaces it, Keep apart forgets it.
+  const partNote = $('hf-part');
+  const detach = () => { partNote.hidden = true; };
+  $('hf-detach').addEventListener('click', () => {
+    detach();
+    say('The program is on its own now; the part stays as it was.');
+  });
+  $('hf-put-back').addEventListener('click', () => {
+    try {
+      app.modeler.outline_set_hyperfun(editor.value, new Float64Array(box));
+    } catch (err) {
+      say(`The part was kept as it was: ${messageOf(err)}`, 'error');
+      return;
+    }
+    detach();
+    app.setWorkspace('bezier');
+    app.resize();
+    app.resize3();
+    say('Put the program back in its part; Undo brings back the part as it was.');
+    app.changed();
+  });
+
   /** Puts `program` (and `newBox`, if given) in the editor, kept in this browser, not drawn yet. */
   const load = (program, newBox) => {
+    detach();
     if (newBox) {
       box = [...newBox];
       showBox(box);
@@ -331,6 +354,16 @@ export function setupHyperfun(app) {
       run({ refit: true });
     },
     run,
+    /** Opens a part of the Bézier mode's model (`{ program, box }`) here, to put back. */
+    editPart: ({ program, box: partBox }) => {
+      app.setWorkspace('hyperfun');
+      load(program, partBox);
+      partNote.hidden = false;
+      app.resize();
+      app.resize3();
+      say('Opened the part\'s program: edit it, then Put back.');
+      run({ refit: true });
+    },
     /** Draws the program once the mode shows, if it was not drawn since it was opened. */
     runIfNew: () => {
       if (!ran) run({ refit: true });

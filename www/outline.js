@@ -171,6 +171,12 @@ export function setupOutline(app) {
     }
   };
 
+  // A HyperFun part's program opens in the HyperFun mode, to be put back from there.
+  $('part-hyperfun').addEventListener('click', () => {
+    const part = modeler.outline_hyperfun();
+    if (part !== undefined) app.hyperfun.editPart(JSON.parse(part));
+  });
+
   /** Brings the outliner up to date with the model (each frame of the Bézier mode). */
   const update = () => {
     const text = modeler.outline();
@@ -188,6 +194,7 @@ export function setupOutline(app) {
     $('no-part').hidden = !state || state.dimension !== 3 || state.open !== null;
     $('no-part-3d').hidden = !state || state.dimension !== 2 || state.open !== null;
     if (!changed) return;
+    $('part-hyperfun').hidden = !state || modeler.outline_hyperfun() === undefined;
     if (state) {
       if (document.activeElement !== nameInput) nameInput.value = state.name;
       $('part-hide').setAttribute('aria-pressed', String(state.hidden));

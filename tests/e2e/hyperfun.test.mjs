@@ -228,6 +228,30 @@ test('a model of many solids holds a HyperFun program as a part, drawn, linked a
   await other.page.waitForFunction(() => document.getElementById('model-name').textContent.startsWith('Many solids'));
   assert.equal(await other.page.evaluate(() => window.bezsolid.modeler.model_json()), await page.evaluate(() => window.bezsolid.modeler.model_json()));
   await other.page.close();
+
+  // The part's program is edited in the HyperFun mode and put back, one undo step.
+  const row = page.locator('#outline-tree [role="treeitem"]', { hasText: 'HyperFun program' });
+  await row.click();
+  await page.waitForSelector('#part-hyperfun:not([hidden])');
+  await page.click('#part-hyperfun');
+  await page.waitForSelector('body[data-workspace="hyperfun"]');
+  assert.equal(await page.inputValue('#hf'), PROGRAM);
+  assert.equal(await page.inputValue('#hf-box'), '-8, -8, -3, 8, 8, 3');
+  assert.equal(await page.locator('#hf-part').isVisible(), true);
+  const edited = PROGRAM.replace('hfSphere(x, centre, 4)', 'hfSphere(x, centre, 5)');
+  await replaceProgram(page, edited);
+  assert.equal(await drawnState(page), 'done');
+  await page.click('#hf-put-back');
+  await page.waitForSelector('body[data-workspace="bezier"]');
+  const put = JSON.parse(await page.evaluate(() => window.bezsolid.modeler.model_json()));
+  assert.equal(put.solid.of[0].program, edited);
+  await page.click('#undo');
+  await page.waitForFunction((p) => JSON.parse(window.bezsolid.modeler.model_json()).solid.of[0].program === p, PROGRAM);
+  // Add puts a new HyperFun part beside the selection.
+  const before = await page.locator('#outline-tree [role="treeitem"]').count();
+  await page.click('button[data-add="hyperfun"]');
+  await page.waitForFunction((n) => document.querySelectorAll('#outline-tree [role="treeitem"]').length > n, before);
+  await page.waitForSelector('#part-hyperfun:not([hidden])');
   assert.deepEqual(errors, []);
   await page.close();
 });

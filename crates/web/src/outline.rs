@@ -44,6 +44,8 @@ pub enum NewNode {
     Half,
     /// A regular 4 × 4 (× 4) Bézier patch or volume of the tree's dimension.
     Bezier,
+    /// A HyperFun program (3D): a ball blended with a torus, in a box around it.
+    Hyperfun,
 }
 
 /// An operation to put around the selected node.
@@ -324,8 +326,15 @@ impl Outline {
                 })?;
                 ModelFile::from_solid2(&v).solid
             }
+            (NewNode::Hyperfun, false) => SolidSpec::Hyperfun {
+                program: hyperfun_part(at),
+                bounds: Some([(at - 0.8).to_array(), (at + 0.8).to_array()]),
+            },
             (NewNode::Cylinder | NewNode::Torus, true) => {
                 return Err(Error::new("cylinders and tori are 3D: this tree is 2D"));
+            }
+            (NewNode::Hyperfun, true) => {
+                return Err(Error::new("HyperFun programs are 3D: this tree is 2D"));
             }
         })
     }
@@ -614,6 +623,19 @@ impl Outline {
         self.commit(root, sel)
     }
 
+    /// The selected node past any named parts around it, and its path: the node a part's
+    /// numbers or program are of.
+    #[must_use]
+    pub fn selected_leaf(&self) -> Option<(Vec<usize>, &SolidSpec)> {
+        let mut path = self.selected.clone();
+        let mut node = self.node(&path)?;
+        while let SolidSpec::Part { solid, .. } = node {
+            path.push(0);
+            node = solid;
+        }
+        Some((path, node))
+    }
+
     /// Replaces the node at `path` by `node` (the selection stays).
     ///
     /// # Errors
@@ -728,6 +750,18 @@ impl Outline {
         *slot = value;
         self.commit(root, sel)
     }
+}
+
+/// The program of a new HyperFun part at `at`: a ball blended with a torus, as HyperFun's
+/// library writes them.
+fn hyperfun_part(at: DVec3) -> String {
+    format!(
+        "-- A ball blended with a ring: edit it in the HyperFun mode.\n\
+         my_model(x[3], a[1])\n{{\n  array centre[3];\n  centre = [{}, {}, {}];\n  \
+         ball = hfSphere(x, centre, 0.35);\n  ring = hfTorusZ(x, centre, 0.5, 0.12);\n  \
+         my_model = hfBlendUni(ball, ring, 0.05, 1, 1);\n}}\n",
+        at.x, at.y, at.z
+    )
 }
 
 #[cfg(test)]

@@ -469,6 +469,43 @@ impl Parts {
         self.edit(editor, |o| o.replace(&path, node))
     }
 
+    /// The program and box of the selected part if it is a HyperFun program.
+    #[must_use]
+    pub fn selected_hyperfun(&self) -> Option<(String, [[f64; 3]; 2])> {
+        match self.outline.selected_leaf()?.1 {
+            SolidSpec::Hyperfun { program, bounds } => Some((
+                program.clone(),
+                bounds.unwrap_or(bezsolid_core::model::DEFAULT_HYPERFUN_BOX),
+            )),
+            _ => None,
+        }
+    }
+
+    /// Puts `program` in `bounds` in place of the selected HyperFun part (one undo step).
+    ///
+    /// # Errors
+    ///
+    /// A selection that is no HyperFun part, or a program the tree refuses (HyperFun's error at
+    /// its line): nothing changes.
+    pub fn set_hyperfun(
+        &mut self,
+        program: &str,
+        bounds: [[f64; 3]; 2],
+        editor: &mut Editor,
+    ) -> Result<(), Error> {
+        let (path, node) = self.outline.selected_leaf().ok_or("nothing is selected")?;
+        if !matches!(node, SolidSpec::Hyperfun { .. }) {
+            return Err(
+                "select a HyperFun part under Parts to put the program in its place".into(),
+            );
+        }
+        let node = SolidSpec::Hyperfun {
+            program: program.into(),
+            bounds: Some(bounds),
+        };
+        self.edit(editor, |o| o.replace(&path, node))
+    }
+
     /// Selects the node at `path` (not an undo step).
     ///
     /// # Errors
@@ -1025,6 +1062,39 @@ mod tests {
 
     /// Built as the page builds it: a volume, parts added, a point of the volume dragged, a
     /// blend's setting moved like a slider; each change one undo step, undone and redone.
+    #[test]
+    fn a_hyperfun_part_is_added_read_and_replaced_in_one_undo_step() {
+        let mut e = volume_editor();
+        let mut parts = Parts::of_editor(&mut e).unwrap();
+        assert_eq!(parts.selected_hyperfun(), None);
+        parts.add(NewNode::Hyperfun, &mut e).unwrap();
+        let (program, [lo, hi]) = parts.selected_hyperfun().expect("the new part is selected");
+        assert!(program.contains("hfBlendUni"));
+        assert!((0..3).all(|i| lo[i] < hi[i]));
+        // The tree evaluates it: inside at its centre.
+        let ModelTree::Space(tree) = parts.tree(&e).unwrap() else {
+            panic!("3D")
+        };
+        let centre = (DVec3::from_array(lo) + DVec3::from_array(hi)) / 2.0;
+        assert!(tree.f(centre) > 0.0);
+        // Named, it is still the selection's program; a new program replaces it, one step.
+        parts.rename("ring", &mut e).unwrap();
+        let bigger = program.replace("0.35", "0.5");
+        parts.set_hyperfun(&bigger, [lo, hi], &mut e).unwrap();
+        assert_eq!(parts.selected_hyperfun().unwrap().0, bigger);
+        assert!(parts.undo(&mut e));
+        assert_eq!(parts.selected_hyperfun().unwrap().0, program);
+        // A program HyperFun refuses changes nothing.
+        let err = parts
+            .set_hyperfun("my_model(x[3], a[1]) { s = 1; }", [lo, hi], &mut e)
+            .unwrap_err();
+        assert!(err.to_string().contains("Left bracket expected"), "{err}");
+        assert_eq!(parts.selected_hyperfun().unwrap().0, program);
+        // Another selection is no HyperFun part.
+        parts.select(&[0], &mut e).unwrap();
+        assert!(parts.set_hyperfun(&program, [lo, hi], &mut e).is_err());
+    }
+
     #[test]
     fn every_change_to_a_model_of_many_solids_is_one_undo_step() {
         let mut e = volume_editor();

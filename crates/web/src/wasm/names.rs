@@ -125,6 +125,7 @@ page_names! {
         Torus = "torus" => NewNode::Torus,
         Half = "half" => NewNode::Half,
         Bezier = "bezier" => NewNode::Bezier,
+        Hyperfun = "hyperfun" => NewNode::Hyperfun,
     }
 
     /// An operation the outliner puts around the selected part.

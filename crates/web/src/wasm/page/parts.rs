@@ -35,6 +35,30 @@ impl Modeler {
         self.with_parts(|parts, editor| parts.add(kind, editor))
     }
 
+    /// The program and box of the selected part if it is a HyperFun program, JSON
+    /// `{program, box}` (`box` as six numbers), else `undefined`.
+    #[must_use]
+    pub fn outline_hyperfun(&self) -> Option<String> {
+        let (program, [lo, hi]) = self.parts.as_ref()?.selected_hyperfun()?;
+        let bounds: Vec<f64> = lo.iter().chain(&hi).copied().collect();
+        Some(serde_json::json!({"program": program, "box": bounds}).to_string())
+    }
+
+    /// Puts `program` in its box (`[x0, y0, z0, x1, y1, z1]`) in place of the selected
+    /// HyperFun part. One undo step.
+    ///
+    /// # Errors
+    ///
+    /// A selection that is no HyperFun part, a box that is not one, or a program the tree
+    /// refuses: nothing changes.
+    pub fn outline_set_hyperfun(&mut self, program: &str, bounds: &[f64]) -> Result<(), JsError> {
+        let &[x0, y0, z0, x1, y1, z1] = bounds else {
+            return Err(JsError::new("a box is six numbers x0, y0, z0, x1, y1, z1"));
+        };
+        let bounds = [[x0, y0, z0], [x1, y1, z1]];
+        self.with_parts(|parts, editor| parts.set_hyperfun(program, bounds, editor))
+    }
+
     /// Adds a cell along `axis` to the selected Bézier part, after its last (the last cells
     /// mirrored across their face; a single patch or volume becomes a piecewise one). One undo
     /// step.
