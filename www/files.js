@@ -270,7 +270,13 @@ export function setupFiles(app) {
   const measure = async () => {
     const free = freeform();
     const hf = hyperfun();
-    const model = hf ? app.hyperfun.modelJson() : free ? ff.model_json() : modeler.model_json();
+    let model;
+    try {
+      model = hf ? app.hyperfun.modelJson() : free ? ff.model_json() : modeler.model_json();
+    } catch (err) {
+      say(`Could not measure the solid: ${messageOf(err)}`, 'error');
+      return;
+    }
     const resolution = hf ? app.hyperfun.resolution() : free ? ff.resolution() : modeler.resolution();
     const revision = String(hf ? app.hyperfun.revision() : free ? ff.revision() : modeler.revision());
     const out = $(hf ? 'hf-measure-out' : free ? 'ff-measure-out' : 'measure-out');

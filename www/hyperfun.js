@@ -86,10 +86,10 @@ export function setupHyperfun(app) {
   // The workers: one meshes, one cuts sections (each started at the first use).
   const mesher = lazyRunner(!!app.runners.surface);
   const cutter = lazyRunner(!!app.runners.surface);
-  const inWorker = async (worker, job, task) => {
+  const inWorker = async (worker, job, task, { cancel = true } = {}) => {
     const w = worker();
     if (w) {
-      w.cancelAll();
+      if (cancel) w.cancelAll();
       return w.run(job, { onStart: () => task?.started(), onProgress: (done, total) => task?.progress(done, total) });
     }
     task?.started();
@@ -119,6 +119,7 @@ export function setupHyperfun(app) {
   let drew = false; // whether the drawing shown is of a program that drew something
   let runTask = null;
   const stop = () => {
+    clearTimeout(liveTimer);
     runSeq += 1;
     mesher()?.cancelAll();
     runTask?.end();
@@ -139,7 +140,7 @@ export function setupHyperfun(app) {
       say(`The program cannot be drawn: ${messageOf(err)}`, 'error');
       return;
     }
-    section();
+    section({ restart: true });
     $('hf-stop').disabled = false;
     document.body.dataset.hfState = 'running';
     runTask?.end();
@@ -173,7 +174,7 @@ export function setupHyperfun(app) {
       : report.triangles
         ? `${report.triangles.toLocaleString('en')} triangles at ${report.cells} cells along the longest side, drawn in ${ms.toFixed(0)} ms.`
           + (report.dimension === 2 ? ' A program of x[2]: its plane solid is drawn through the box along z.' : '')
-        : 'Nothing inside the box: no point of the grid has a value ≥ 0.';
+        : 'Nothing inside the box: no point of the grid has a value above 0.';
     document.body.dataset.hfState = report.error ? 'error' : 'done';
     document.body.dataset.hfTriangles = String(report.error ? 0 : report.triangles);
     app.redraw(VIEW3);
@@ -185,6 +186,8 @@ export function setupHyperfun(app) {
     if (app.workspace() !== 'hyperfun') return;
     // A drawing under way is of the text before: its result is dropped, the new one follows.
     runSeq += 1;
+    runTask?.end();
+    runTask = null;
     document.body.dataset.hfState = 'pending';
     clearTimeout(liveTimer);
     liveTimer = setTimeout(() => run(), delay);
@@ -197,27 +200,45 @@ export function setupHyperfun(app) {
     const k = axisValue();
     return box[k] + (box[k + 3] - box[k]) * Number($('hf-at').value) / 1000;
   };
+  // One section at a time: moving the plane asks again once the one under way is done (its
+  // worker is not torn down every frame); a new program restarts it.
   let sectionSeq = 0;
+  let sectionBusy = false;
+  let sectionAgain = false;
   let lastSection = null;
-  const section = async () => {
-    const seq = ++sectionSeq;
+  const section = async ({ restart = false } = {}) => {
     const axis = axisValue();
     const place = at();
-    $('hf-section-label').textContent = `${'xyz'[axis]} = ${Number(place.toPrecision(4))}`;
+    const label = `${'xyz'[axis]} = ${Number(place.toPrecision(4))}`;
+    $('hf-section-label').textContent = label;
+    $('hf-at').setAttribute('aria-valuetext', label);
+    if (restart) sectionBusy = false;
+    if (sectionBusy) {
+      sectionAgain = true;
+      return;
+    }
     let model;
     try {
       model = modelJson();
     } catch {
       return;
     }
+    const seq = ++sectionSeq;
+    sectionBusy = true;
+    sectionAgain = false;
     let result;
     try {
-      result = await inWorker(cutter, { kind: 'hyperfun-section', model, axis, at: place, samples: SECTION_SAMPLES });
+      result = await inWorker(cutter, { kind: 'hyperfun-section', model, axis, at: place, samples: SECTION_SAMPLES }, null, { cancel: restart });
     } catch (err) {
       if (err.cancelled || seq !== sectionSeq) return;
       lastSection = null;
       drawSection();
       return;
+    } finally {
+      if (seq === sectionSeq) {
+        sectionBusy = false;
+        if (sectionAgain) requestAnimationFrame(() => section());
+      }
     }
     if (seq !== sectionSeq) return;
     const report = JSON.parse(result.report);
@@ -255,7 +276,7 @@ export function setupHyperfun(app) {
         const v = data[j * nx + i];
         const t = peak > 0 ? Math.min(1, Math.sqrt(Math.abs(v) / peak)) : 0;
         const o = ((ny - 1 - j) * nx + i) * 4;
-        const [r, gr, b] = v >= 0 ? [252 - 40 * t, 190 - 120 * t, 180 - 120 * t] : [225 - 120 * t, 235 - 90 * t, 250 - 40 * t];
+        const [r, gr, b] = v > 0 ? [252 - 40 * t, 190 - 120 * t, 180 - 120 * t] : [225 - 120 * t, 235 - 90 * t, 250 - 40 * t];
         image.data.set([r, gr, b, 255], o);
       }
     }
@@ -303,12 +324,23 @@ export function setupHyperfun(app) {
 
   // A part of the Bézier mode's model opened here: Put back replaces it, Keep apart forgets it.
   const partNote = $('hf-part');
-  const detach = () => { partNote.hidden = true; };
+  let partOrigin = null; // the part's program as it was opened
+  const detach = () => {
+    partNote.hidden = true;
+    partOrigin = null;
+  };
   $('hf-detach').addEventListener('click', () => {
     detach();
     say('The program is on its own now; the part stays as it was.');
   });
   $('hf-put-back').addEventListener('click', () => {
+    // The part selected in the model must still be the one opened (a selection or an undo since
+    // may have changed it).
+    const selected = app.modeler.outline_hyperfun();
+    if (selected === undefined || JSON.parse(selected).program !== partOrigin) {
+      say('The part opened here is no longer the one selected in the Bézier mode: select it under Parts, or Keep apart.', 'error');
+      return;
+    }
     try {
       app.modeler.outline_set_hyperfun(editor.value, new Float64Array(box));
     } catch (err) {
@@ -359,6 +391,7 @@ export function setupHyperfun(app) {
       app.setWorkspace('hyperfun');
       load(program, partBox);
       partNote.hidden = false;
+      partOrigin = program;
       app.resize();
       app.resize3();
       say('Opened the part\'s program: edit it, then Put back.');

@@ -780,7 +780,8 @@ impl ModelFile {
         }
         let bounds = bounds.unwrap_or(DEFAULT_HYPERFUN_BOX);
         let [lo, hi] = bounds;
-        if (0..3).any(|i| !(lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i])) {
+        // Each side finite: its corners and its length (a box of ±1e308 has no step to mesh by).
+        if (0..3).any(|i| !((hi[i] - lo[i]).is_finite() && lo[i] < hi[i])) {
             return Err(ModelError::BadBox(bounds));
         }
         Ok((program, bounds))

@@ -40,6 +40,7 @@ fn spec_bytes(spec: &SolidSpec) -> usize {
                     points.iter().map(|p| 24 + 8 * p.len()).sum()
                 }
                 SolidSpec::Part { name, .. } => name.len(),
+                SolidSpec::Hyperfun { program, .. } => program.len(),
                 _ => 0,
             };
         todo.extend(s.children());

@@ -566,7 +566,7 @@ fn hyperfun<const D: usize>(
         return Err(ModelError::ProgramTooLong(program.len()));
     }
     let [lo, hi] = bounds.unwrap_or(crate::model::DEFAULT_HYPERFUN_BOX);
-    if !(0..3).all(|i| lo[i].is_finite() && hi[i].is_finite() && lo[i] < hi[i]) {
+    if !(0..3).all(|i| (hi[i] - lo[i]).is_finite() && lo[i] < hi[i]) {
         return Err(tree_error(
             &format!("{path}.box"),
             "a HyperFun program's box is [[x0, y0, z0], [x1, y1, z1]], finite, with x0 < x1, \
@@ -580,10 +580,33 @@ fn hyperfun<const D: usize>(
             format!("invalid HyperFun program: {e}"),
         )
     })?;
+    // Its main body is called as the tree's export calls it, with a point and one parameter.
+    if parsed.dims() != [3, 1, 1] {
+        let [x, a, s] = parsed.dims();
+        return Err(tree_error(
+            &format!("{path}.program"),
+            format!(
+                "a HyperFun part's model is `{}(x[3], a[1])` (with no `s` array or `s[1]`), not \
+                 one of x[{x}], a[{a}], s[{s}]",
+                parsed.body()
+            ),
+        ));
+    }
+    if parsed.cells() > super::shape::HF_MAX_CELLS {
+        return Err(tree_error(
+            &format!("{path}.program"),
+            format!(
+                "a HyperFun part's arrays and variables hold {} numbers; a part holds at most {}",
+                parsed.cells(),
+                super::shape::HF_MAX_CELLS
+            ),
+        ));
+    }
     Ok(super::shape::HfLeaf {
         text: program.into(),
         program: parsed,
         min: core::array::from_fn(|i| lo[i]),
         max: core::array::from_fn(|i| hi[i]),
+        limit: core::sync::atomic::AtomicU64::new(super::shape::HF_POINT_OPERATIONS),
     })
 }

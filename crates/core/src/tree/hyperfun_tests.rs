@@ -239,3 +239,69 @@ fn the_trees_hyperfun_export_calls_the_leaf_and_agrees() {
     // The export opens back as the model it came from.
     assert_eq!(crate::hyperfun::model_of(&text).unwrap().unwrap(), file);
 }
+
+#[test]
+fn a_leafs_work_is_capped_and_shared_by_a_plan() {
+    // 40,000 loops a point: within a point's own cap, past a plan's share of a million points.
+    let slow = "my_model(x[3], a[1])\n{\n  i = 0;\n  while i < 10000 loop i = i + 1; endloop;\n  \
+                my_model = 1 - x[1]*x[1] - x[2]*x[2] - x[3]*x[3];\n}";
+    let tree = space(S::Union {
+        of: vec![
+            S::Hyperfun {
+                program: slow.into(),
+                bounds: Some([[-2.0; 3], [2.0; 3]]),
+            },
+            S::Sphere {
+                center: [9.0; 3],
+                radius: 0.5,
+            },
+        ],
+    });
+    let v = tree.evaluate(DVec3::ZERO);
+    assert!(v.f > 0.0 && !v.exhausted, "{v:?}");
+    tree.plan(1_000_000);
+    let v = tree.evaluate(DVec3::ZERO);
+    assert!(
+        v.exhausted && v.f < 0.0,
+        "past its share: outside, and said: {v:?}"
+    );
+    tree.plan(100);
+    assert!(!tree.evaluate(DVec3::ZERO).exhausted);
+    // An endless loop stops at the point's cap.
+    let endless = "my_model(x[3], a[1]) { i = 0; while 1 loop i = i + 1; endloop; my_model = i; }";
+    let tree = space(S::Union {
+        of: vec![
+            S::Hyperfun {
+                program: endless.into(),
+                bounds: None,
+            },
+            leaf(),
+        ],
+    });
+    assert!(tree.evaluate(DVec3::ZERO).exhausted);
+}
+
+#[test]
+fn a_part_is_a_model_of_a_point_and_one_parameter_within_a_memory_cap() {
+    let refused = |program: &str| {
+        let file = ModelFile::from_spec(S::Union {
+            of: vec![
+                leaf(),
+                S::Hyperfun {
+                    program: program.into(),
+                    bounds: None,
+                },
+            ],
+        });
+        format!("{}", file.to_tree().unwrap_err())
+    };
+    let err = refused("m(x[2], a[1]) { m = 1 - x[1]*x[1]; }");
+    assert!(
+        err.contains("solid.of[1].program") && err.contains("x[2]"),
+        "{err}"
+    );
+    let err = refused("m(x[3], a[2]) { m = 1; }");
+    assert!(err.contains("a[2]"), "{err}");
+    let err = refused("m(x[3], a[1]) { array big[100000]; big[1] = 1; m = big[1]; }");
+    assert!(err.contains("at most 65536"), "{err}");
+}

@@ -424,6 +424,7 @@ where
             match &leaf.shape {
                 Shape::Bezier(s, None) => s.plan(queries),
                 Shape::Piecewise(p, None) => p.plan_cells(queries),
+                Shape::Hyperfun(h) => h.plan(queries),
                 _ => {}
             }
         }
@@ -438,6 +439,7 @@ where
             match &leaf.shape {
                 Shape::Bezier(s, None) => s.fix_query_work(queries),
                 Shape::Piecewise(p, None) => p.fix_cells_query_work(queries),
+                Shape::Hyperfun(h) => h.plan(queries),
                 _ => {}
             }
         }

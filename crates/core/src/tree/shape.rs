@@ -78,7 +78,10 @@ where
                 let v = solid.evaluate(Dim::<D>::point(p), method);
                 return (v.f, v.preimages, v.exhausted);
             }
-            Self::Hyperfun(h) => (h.eval(p), 0),
+            Self::Hyperfun(h) => {
+                let (f, exhausted) = h.eval(p);
+                return (f, 0, exhausted);
+            }
             Self::Ball { center, radius } => {
                 let d2: f64 = (0..D)
                     .map(|i| (p[i] - center[i]) * (p[i] - center[i]))
@@ -206,19 +209,48 @@ where
 /// The largest magnitude a HyperFun leaf's program value keeps (past it, clamped: the
 /// R-functions over it stay finite).
 const HF_LIMIT: f64 = 1e100;
+/// The operations of the strict reader a HyperFun leaf's program may take at one point when no
+/// plan shares a budget (about 3 ms).
+pub(super) const HF_POINT_OPERATIONS: u64 = 1_000_000;
+/// The operations the points of one plan share, over all HyperFun leaves (about a second, as
+/// the folded nets' budget).
+const HF_PLAN_OPERATIONS: u64 = 300_000_000;
+/// The least a point gets of a plan's budget: a hundred times what a leaf of a few primitives
+/// takes.
+const HF_MIN_OPERATIONS: u64 = 20_000;
+/// The most numbers a HyperFun leaf's arrays and variables may take (its evaluator's memory, 768
+/// KiB).
+pub(super) const HF_MAX_CELLS: usize = 1 << 16;
 
 /// A HyperFun program as a leaf: `program & box`, the R-conjunction of the program's value (at
 /// the point, its coordinates past `D` zero) and the box's `s_0 & s_1 (& s_2)` (as
 /// [`Shape::Box`]), so that the leaf is the program's solid within its box, negative outside the
 /// box whatever the program gives there: `f ≤ box` bounds it. Where the program fails (HyperFun's
-/// runtime error, its work cap) or gives no finite number, its value is −1 (outside).
-#[derive(Clone, Debug)]
+/// runtime error, its work cap) or gives no finite number, its value is −1 (outside); past its
+/// work cap the evaluation also says it ran out (the value is approximate there).
+#[derive(Debug)]
 pub(super) struct HfLeaf<const D: usize> {
     /// The program's text (what two leaves are compared by).
     pub(super) text: alloc::string::String,
     pub(super) program: crate::hyperfun::read::Program,
     pub(super) min: [f64; D],
     pub(super) max: [f64; D],
+    /// The operations one point may take: [`HF_POINT_OPERATIONS`], or a plan's share.
+    pub(super) limit: core::sync::atomic::AtomicU64,
+}
+
+impl<const D: usize> Clone for HfLeaf<D> {
+    fn clone(&self) -> Self {
+        Self {
+            text: self.text.clone(),
+            program: self.program.clone(),
+            min: self.min,
+            max: self.max,
+            limit: core::sync::atomic::AtomicU64::new(
+                self.limit.load(core::sync::atomic::Ordering::Relaxed),
+            ),
+        }
+    }
 }
 
 impl<const D: usize> PartialEq for HfLeaf<D> {
@@ -239,22 +271,35 @@ impl<const D: usize> HfLeaf<D> {
         }
     }
 
-    /// The program's own value at `p`, clamped to `±HF_LIMIT`; −1 where it fails.
-    pub(super) fn program_value(&self, p: [f64; D]) -> f64 {
+    /// Shares the plan's budget among `queries` points (see [`crate::solid::Solid::plan`]).
+    pub(super) fn plan(&self, queries: usize) {
+        let share = HF_PLAN_OPERATIONS / (queries.max(1) as u64);
+        let limit = share.clamp(HF_MIN_OPERATIONS, HF_POINT_OPERATIONS);
+        self.limit
+            .store(limit, core::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// The program's own value at `p`, clamped to `±HF_LIMIT` (−1 where it fails), and whether
+    /// it ran out of its work.
+    pub(super) fn program_value(&self, p: [f64; D]) -> (f64, bool) {
         let mut x = [0.0; 3];
         for (c, v) in x.iter_mut().zip(p) {
             *c = v;
         }
-        match self.program.eval(x) {
-            Ok(v) if !v.is_nan() => v.clamp(-HF_LIMIT, HF_LIMIT),
-            _ => -1.0,
+        let mut run = self.program.evaluator();
+        run.set_limit(self.limit.load(core::sync::atomic::Ordering::Relaxed));
+        match run.eval(&x, &[]) {
+            Ok(v) if !v.is_nan() => (v.clamp(-HF_LIMIT, HF_LIMIT), false),
+            Ok(_) => (-1.0, false),
+            Err(e) => (-1.0, e.kind == crate::hyperfun::read::HfErrorKind::Limit),
         }
     }
 
-    fn eval(&self, p: [f64; D]) -> f64 {
+    fn eval(&self, p: [f64; D]) -> (f64, bool) {
         let s = |i: usize| (p[i] - self.min[i]) * (self.max[i] - p[i]);
         let cut = (1..D).fold(s(0), |f, i| intersect(f, s(i)));
-        intersect(self.program_value(p), cut)
+        let (v, exhausted) = self.program_value(p);
+        (intersect(v, cut), exhausted)
     }
 
     /// `f` and its gradient by central differences (a program has no derivatives of its own),
@@ -266,9 +311,9 @@ impl<const D: usize> HfLeaf<D> {
             let (mut a, mut b) = (p, p);
             a[i] -= h;
             b[i] += h;
-            (self.eval(b) - self.eval(a)) / (2.0 * h)
+            (self.eval(b).0 - self.eval(a).0) / (2.0 * h)
         });
-        (self.eval(p), g)
+        (self.eval(p).0, g)
     }
 }
 

@@ -214,6 +214,12 @@ impl Program {
         self.compiled.bodies.iter().map(|b| b.name.as_str())
     }
 
+    /// The numbers all the text's arrays and variables take (what an [`Evaluator`] allocates).
+    #[must_use]
+    pub fn cells(&self) -> usize {
+        self.compiled.cells
+    }
+
     /// The name of the body evaluated.
     #[must_use]
     pub fn body(&self) -> &str {
@@ -299,6 +305,13 @@ impl Evaluator<'_> {
     pub fn eval(&mut self, x: &[f64], a: &[f64]) -> Result<f64, HfError> {
         let p = self.program;
         self.machine.run(&p.compiled, p.main, x, a)
+    }
+
+    /// Caps each evaluation at `limit` operations (at most [`MAX_OPERATIONS`], which it is
+    /// unless set): past it an evaluation is a [`HfErrorKind::Limit`] error. A caller sharing a
+    /// budget among many points gives each its part.
+    pub fn set_limit(&mut self, limit: u64) {
+        self.machine.limit = limit.min(MAX_OPERATIONS);
     }
 
     /// The operations the last successful evaluation took, as [`MAX_OPERATIONS`] counts them:

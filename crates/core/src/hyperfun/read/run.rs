@@ -72,6 +72,8 @@ pub(crate) struct Machine {
     next_stamp: u32,
     /// The operations the last completed run took (its work, as the budget counts it).
     pub(crate) operations: u64,
+    /// The most operations a run may take ([`MAX_OPERATIONS`] unless set lower).
+    pub(crate) limit: u64,
 }
 
 impl Machine {
@@ -89,6 +91,7 @@ impl Machine {
             frames: Vec::new(),
             next_stamp: 1,
             operations: 0,
+            limit: MAX_OPERATIONS,
         }
     }
 
@@ -139,7 +142,7 @@ impl Machine {
         }
         self.stack.clear();
         self.frames.clear();
-        let mut budget = MAX_OPERATIONS;
+        let mut budget = self.limit;
         let mut cur = main;
         let mut stamp = self.stamp();
         let mut pc = 0;
@@ -160,7 +163,7 @@ impl Machine {
             let runtime =
                 move |message: &'static str| fail(program, here, at, HfErrorKind::Runtime, message);
             let Some(left) = budget.checked_sub(1) else {
-                return Err(over_budget(program, here, at));
+                return Err(over_budget(program, here, at, self.limit));
             };
             budget = left;
             match op {
@@ -220,7 +223,9 @@ impl Machine {
                         Bin::Pow => match power(l, r, &mut budget) {
                             Ok(v) => v,
                             Err(Stop::Error(message)) => return Err(runtime(message)),
-                            Err(Stop::Budget) => return Err(over_budget(program, here, at)),
+                            Err(Stop::Budget) => {
+                                return Err(over_budget(program, here, at, self.limit));
+                            }
                         },
                         Bin::And => r_and(l, r),
                         Bin::Or => r_or(l, r),
@@ -266,7 +271,9 @@ impl Machine {
                     );
                     match v {
                         Ok(v) => self.stack.push(v),
-                        Err(LibStop::Budget) => return Err(over_budget(program, here, at)),
+                        Err(LibStop::Budget) => {
+                            return Err(over_budget(program, here, at, self.limit));
+                        }
                         Err(LibStop::Undefined(message)) => {
                             return Err(fail(program, here, at, HfErrorKind::Unsupported, message));
                         }
@@ -338,7 +345,7 @@ impl Machine {
                 Op::Return => {
                     let v = self.pop();
                     let Some(frame) = self.frames.pop() else {
-                        self.operations = MAX_OPERATIONS - budget;
+                        self.operations = self.limit - budget;
                         return Ok(v);
                     };
                     let caller = &program.bodies[frame.body];
@@ -372,8 +379,8 @@ fn fail(
     HfError::at(kind, pos, message)
 }
 
-fn over_budget(program: &Compiled, body: usize, at: usize) -> HfError {
-    let message = format!("the model runs past {MAX_OPERATIONS} operations at one point");
+fn over_budget(program: &Compiled, body: usize, at: usize, limit: u64) -> HfError {
+    let message = format!("the model runs past {limit} operations at one point");
     fail(program, body, at, HfErrorKind::Limit, message)
 }
 
