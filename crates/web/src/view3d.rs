@@ -1475,8 +1475,11 @@ pub(crate) fn prism(out: &mut Vec<MeshVertex>, a: DVec3, b: DVec3, r: f64, color
     if axis.length() < 1e-12 {
         return;
     }
-    let u = axis.any_orthonormal_vector() * r;
-    let v = axis.normalize().cross(u);
+    // glam's `any_orthonormal_vector` takes a unit vector: of a longer one it is no unit (the
+    // frame's edges along one axis came out as slabs as wide as the edge was long).
+    let dir = axis.normalize();
+    let u = dir.any_orthonormal_vector() * r;
+    let v = dir.cross(u);
     let corners = [u + v, -u + v, -u - v, u - v];
     for k in 0..4 {
         let (p, q) = (corners[k], corners[(k + 1) % 4]);
@@ -1501,6 +1504,27 @@ pub(crate) fn prism(out: &mut Vec<MeshVertex>, a: DVec3, b: DVec3, r: f64, color
 mod tests {
     use super::*;
     use bezsolid_core::Solid2;
+
+    #[test]
+    fn a_prism_is_thin_whatever_its_length_and_direction() {
+        let r = 0.01;
+        for (a, b) in [
+            (DVec3::new(-9.0, -9.0, 0.0), DVec3::new(9.0, -9.0, 0.0)),
+            (DVec3::new(-9.0, -9.0, 0.0), DVec3::new(-9.0, 9.0, 0.0)),
+            (DVec3::new(-9.0, -9.0, 0.0), DVec3::new(-9.0, -9.0, 40.0)),
+            (DVec3::new(1.0, 2.0, 3.0), DVec3::new(-70.0, 5.0, 9.0)),
+        ] {
+            let mut out = Vec::new();
+            prism(&mut out, a, b, r, [1.0; 4]);
+            assert_eq!(out.len(), 24);
+            let dir = (b - a).normalize();
+            for v in &out {
+                let p = DVec3::from(v.position.map(f64::from)) - a;
+                let off = (p - dir * p.dot(dir)).length();
+                assert!(off <= r * 1.5, "{a} → {b}: a vertex {off} from the axis");
+            }
+        }
+    }
     #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
 
