@@ -140,7 +140,7 @@ export function setupHyperfun(app) {
       say(`The program cannot be drawn: ${messageOf(err)}`, 'error');
       return;
     }
-    section({ restart: true });
+    section({ restart: true, model });
     $('hf-stop').disabled = false;
     document.body.dataset.hfState = 'running';
     runTask?.end();
@@ -206,7 +206,7 @@ export function setupHyperfun(app) {
   let sectionBusy = false;
   let sectionAgain = false;
   let lastSection = null;
-  const section = async ({ restart = false } = {}) => {
+  const section = async ({ restart = false, model: given } = {}) => {
     const axis = axisValue();
     const place = at();
     const label = `${'xyz'[axis]} = ${Number(place.toPrecision(4))}`;
@@ -217,9 +217,9 @@ export function setupHyperfun(app) {
       sectionAgain = true;
       return;
     }
-    let model;
+    let model = given;
     try {
-      model = modelJson();
+      model ??= modelJson();
     } catch {
       return;
     }
